@@ -1,0 +1,62 @@
+//! Compiles every GLSL shader in `glsl/` to SPIR-V in `OUT_DIR`, so a shader error fails the
+//! build with the file and line. Files ending in `.glsl` are includes, not stages.
+
+use std::path::{Path, PathBuf};
+
+fn stage_of(path: &Path) -> Option<shaderc::ShaderKind> {
+    match path.extension()?.to_str()? {
+        "vert" => Some(shaderc::ShaderKind::Vertex),
+        "geom" => Some(shaderc::ShaderKind::Geometry),
+        "frag" => Some(shaderc::ShaderKind::Fragment),
+        "comp" => Some(shaderc::ShaderKind::Compute),
+        _ => None,
+    }
+}
+
+fn main() {
+    let glsl_dir = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").unwrap()).join("glsl");
+    let out_dir = PathBuf::from(std::env::var("OUT_DIR").unwrap());
+    println!("cargo:rerun-if-changed={}", glsl_dir.display());
+
+    let compiler = shaderc::Compiler::new().expect("shaderc compiler");
+    let mut entries: Vec<PathBuf> = std::fs::read_dir(&glsl_dir)
+        .expect("read glsl/")
+        .map(|e| e.expect("dir entry").path())
+        .collect();
+    entries.sort();
+
+    let mut failures = Vec::new();
+    for path in &entries {
+        println!("cargo:rerun-if-changed={}", path.display());
+        let Some(kind) = stage_of(path) else { continue };
+        let source = std::fs::read_to_string(path).expect("read shader");
+        let file_name = path.file_name().unwrap().to_str().unwrap().to_owned();
+        let include_dir = glsl_dir.clone();
+        let mut options = shaderc::CompileOptions::new().expect("shaderc options");
+        options.set_target_env(
+            shaderc::TargetEnv::Vulkan,
+            shaderc::EnvVersion::Vulkan1_2 as u32,
+        );
+        options.set_optimization_level(shaderc::OptimizationLevel::Performance);
+        options.set_generate_debug_info();
+        options.set_include_callback(move |name, _kind, _from, _depth| {
+            let p = include_dir.join(name);
+            std::fs::read_to_string(&p)
+                .map(|content| shaderc::ResolvedInclude {
+                    resolved_name: p.display().to_string(),
+                    content,
+                })
+                .map_err(|e| format!("cannot include {}: {e}", p.display()))
+        });
+        match compiler.compile_into_spirv(&source, kind, &file_name, "main", Some(&options)) {
+            Ok(artifact) => {
+                let out = out_dir.join(format!("{file_name}.spv"));
+                std::fs::write(out, artifact.as_binary_u8()).expect("write spv");
+            }
+            Err(e) => failures.push(format!("glsl/{e}")),
+        }
+    }
+    if !failures.is_empty() {
+        panic!("shader compilation failed:\n{}", failures.join("\n"));
+    }
+}

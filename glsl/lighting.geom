@@ -1,0 +1,114 @@
+#version 450
+// Lighting pass, stochastic rasterization (McGuire et al. 2010): cover every pixel that the
+// moving triangle can touch during the frame with the screen-space convex hull of its six
+// vertices. The hull of the part in front of the near plane is the hull of the vertices in
+// front plus the near-plane crossings of every segment to a vertex behind. It is then grown by
+// the pixel square (Minkowski sum), so a pixel is rasterized iff any point of it may be hit:
+// sample positions are jittered over the whole pixel, not at its centre.
+#include "shared.glsl"
+
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 64) out;
+
+layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameParams frame; };
+layout(std430, set = 0, binding = 2) readonly buffer Triangles { TriangleInfo triangles[]; };
+layout(push_constant) uniform Push { PassConstants pc; };
+
+layout(location = 0) in vec3 in_p0[];
+layout(location = 1) in vec3 in_p1[];
+layout(location = 0) flat out uint out_id;
+
+const int MAX_POINTS = 48;  // (<= 12 clipped points) x 4 pixel corners
+
+vec2 to_pixels(vec4 clip) {
+    return (clip.xy / clip.w * 0.5 + 0.5) * vec2(frame.sizes.zw);
+}
+
+float cross_z(vec2 o, vec2 a, vec2 b) {
+    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
+
+void main() {
+    uint id = pc.first_triangle + uint(gl_PrimitiveIDIn);
+    vec4 c[6];
+    vec3 w[6];
+    for (int i = 0; i < 3; ++i) {
+        w[i] = in_p0[i];
+        w[i + 3] = in_p1[i];
+    }
+    for (int i = 0; i < 6; ++i) c[i] = frame.camera_view_proj * vec4(w[i], 1.0);
+    if (outside_one_plane(c)) return;
+
+    bool closed = triangles[id].albedo_closed.w > 0.5;
+    if (closed) {
+        vec3 e = frame.camera_position.xyz;
+        if (faces_away_whole_frame(w[0] - e, w[1] - e, w[2] - e, w[3] - e, w[4] - e, w[5] - e,
+                                   false))
+            return;
+    }
+
+    // Points of the hull, in pixels. Clip w is the view depth for a perspective camera.
+    float near = frame.camera_position.w;
+    vec2 pts[MAX_POINTS];
+    int n = 0;
+    for (int i = 0; i < 6; ++i) {
+        if (c[i].w < near) continue;
+        pts[n++] = to_pixels(c[i]);
+        for (int j = 0; j < 6; ++j) {
+            if (c[j].w >= near) continue;
+            float s = (c[i].w - near) / (c[i].w - c[j].w);
+            pts[n++] = to_pixels(mix(c[i], c[j], s));
+        }
+    }
+    if (n == 0) return;
+
+    // Minkowski sum with the pixel square (half a pixel, plus a margin for rounding).
+    const float r = 0.5 + 1.0 / 64.0;
+    int m = n;
+    for (int i = m - 1; i >= 0; --i) {
+        vec2 q = pts[i];
+        pts[4 * i + 0] = q + vec2(-r, -r);
+        pts[4 * i + 1] = q + vec2(r, -r);
+        pts[4 * i + 2] = q + vec2(r, r);
+        pts[4 * i + 3] = q + vec2(-r, r);
+    }
+    n = 4 * m;
+
+    // Andrew's monotone chain.
+    for (int i = 1; i < n; ++i) {
+        vec2 key = pts[i];
+        int j = i - 1;
+        while (j >= 0 && (pts[j].x > key.x || (pts[j].x == key.x && pts[j].y > key.y))) {
+            pts[j + 1] = pts[j];
+            --j;
+        }
+        pts[j + 1] = key;
+    }
+    vec2 hull[MAX_POINTS + 1];
+    int k = 0;
+    for (int i = 0; i < n; ++i) {
+        while (k >= 2 && cross_z(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+        hull[k++] = pts[i];
+    }
+    int lower = k + 1;
+    for (int i = n - 2; i >= 0; --i) {
+        while (k >= lower && cross_z(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+        hull[k++] = pts[i];
+    }
+    int count = k - 1;  // the last point repeats the first
+    if (count < 3) return;
+
+    // A convex polygon as one strip: 0, 1, count-1, 2, count-2, ...
+    int lo = 1, hi = count - 1;
+    vec2 size = vec2(frame.sizes.zw);
+    for (int i = 0; i < count; ++i) {
+        int idx;
+        if (i == 0) idx = 0;
+        else if ((i & 1) == 1) idx = lo++;
+        else idx = hi--;
+        gl_Position = vec4(hull[idx] / size * 2.0 - 1.0, 0.5, 1.0);
+        out_id = id;
+        EmitVertex();
+    }
+    EndPrimitive();
+}

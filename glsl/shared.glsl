@@ -1,0 +1,174 @@
+// Shared by every shader: the structs that mirror src/technique/gpu_types.rs, the frame
+// parameters, sampling, and geometry helpers. Changing a struct here means changing it there;
+// tests/gpu_layout.rs checks that both agree.
+
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+
+const uint END_OF_LIST = 0u;        // list links are index + 1, so 0 ends a list
+const uint NO_TRIANGLE = 0xffffffffu;
+
+// One fragment of a prism, as stored by the collection sub-pass (16 bytes).
+struct Node {
+    float depth;   // linear distance along the light's view axis
+    float time;    // shutter time in [0, 1]
+    uint id;       // global triangle id
+    uint next;     // index + 1 of the next node of this pixel, END_OF_LIST at the end
+};
+
+// A depth-time range, as stored by the generation sub-pass (24 bytes). t_s <= t_e.
+struct Range {
+    float t_s;
+    float t_e;
+    float d_s;     // depth at t_s
+    float d_e;     // depth at t_e
+    uint id;
+    uint next;
+};
+
+struct SceneVertex {
+    vec4 p0;       // world position at t = 0 (w = 1)
+    vec4 p1;       // world position at t = 1 (w = 1)
+};
+
+struct TriangleInfo {
+    vec4 albedo_closed;  // rgb albedo, w = 1 when the mesh is closed (back faces may be culled)
+};
+
+// Capacities are written by the host when recording; counts by the shaders. A count past its
+// capacity means the pass overflowed and nothing past the capacity was linked in.
+struct Counters {
+    uint node_count;
+    uint node_capacity;
+    uint range_count;
+    uint range_capacity;
+};
+
+struct FrameParams {
+    mat4 light_view;            // world -> light view (right-handed, looking down -z)
+    mat4 light_proj;            // light view -> clip (Vulkan: z in [0, w], y down)
+    mat4 camera_view_proj;      // world -> camera clip
+    mat4 camera_inv_view_proj;
+    vec4 camera_position;       // xyz; w = near plane distance
+    vec4 camera_forward;        // xyz unit; w = far plane distance
+    vec4 light_position;        // xyz; w = 1 for a spot light, 0 for a directional light
+    vec4 light_direction;       // xyz unit; w = cos(cone half angle)
+    vec4 light_params;          // x = intensity (W/sr) or irradiance (W/m^2), y = ambient,
+                                // z = normal offset in shadow texels, w = relative depth bias
+    vec4 light_texel;           // x = world size of a shadow texel per unit depth (spot) or
+                                // absolute (directional)
+    uvec4 sizes;                // xy = shadow map size, zw = image size
+    uvec4 sampling;             // x = samples per pixel, y = seed
+};
+
+// What every pass pushes (16 bytes).
+struct PassConstants {
+    uint first_triangle;        // global id of the draw's first triangle
+    uint first_sample;          // first sample index of this chunk
+    uint sample_count;          // samples in this chunk
+    uint mode;                  // pass-specific
+};
+
+const uint SHADOW_TEMPORAL = 0u;
+const uint SHADOW_PLAIN = 1u;
+const uint SHADOW_NONE = 2u;
+
+// ---- sampling: stratified times, deterministic for (pixel, sample, seed) ----
+
+uint pcg_hash(uint v) {
+    uint state = v * 747796405u + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+uint pixel_key(uvec2 pixel, uint seed) {
+    return pcg_hash(pixel.x + pcg_hash(pixel.y + pcg_hash(seed)));
+}
+
+float rand01(uint key, uint k, uint dimension) {
+    return float(pcg_hash(key ^ pcg_hash(k * 3u + dimension)) >> 8) * (1.0 / 16777216.0);
+}
+
+// Sample k of spp lies in time stratum (k + r) mod spp, r a per-pixel rotation, so that the
+// strata are decorrelated from the sample positions across pixels.
+uint time_stratum(uvec2 pixel, uint k, uint spp, uint seed) {
+    return (k + pixel_key(pixel, seed) % spp) % spp;
+}
+
+float sample_time(uvec2 pixel, uint k, uint spp, uint seed) {
+    uint key = pixel_key(pixel, seed);
+    return (float(time_stratum(pixel, k, spp, seed)) + rand01(key, k, 0u)) / float(spp);
+}
+
+vec2 sample_offset(uvec2 pixel, uint k, uint seed) {
+    uint key = pixel_key(pixel, seed);
+    return vec2(rand01(key, k, 1u), rand01(key, k, 2u));
+}
+
+// ---- geometry ----
+
+// The orientation of a moving triangle, as a cubic in t, is checked through its Bernstein
+// coefficients: if all are negative, the triangle faces away during the whole frame.
+// `f` holds the orientation at t = 0, 1/3, 2/3, 1.
+bool negative_whole_frame(vec4 f) {
+    float b1 = (-5.0 * f.x + 18.0 * f.y - 9.0 * f.z + 2.0 * f.w) / 6.0;
+    float b2 = (2.0 * f.x - 9.0 * f.y + 18.0 * f.z - 5.0 * f.w) / 6.0;
+    return f.x < 0.0 && b1 < 0.0 && b2 < 0.0 && f.w < 0.0;
+}
+
+// How much a triangle (view-space vertices) faces the eye: positive when front-facing with
+// counter-clockwise outward winding. Perspective: eye at the origin; orthographic: along +z.
+float facing(vec3 a, vec3 b, vec3 c, bool orthographic) {
+    vec3 n = cross(b - a, c - a);
+    return orthographic ? n.z : -dot(n, a);
+}
+
+bool faces_away_whole_frame(vec3 a0, vec3 b0, vec3 c0, vec3 a1, vec3 b1, vec3 c1,
+                            bool orthographic) {
+    vec4 f;
+    for (int i = 0; i < 4; ++i) {
+        float t = float(i) / 3.0;
+        f[i] = facing(mix(a0, a1, t), mix(b0, b1, t), mix(c0, c1, t), orthographic);
+    }
+    return negative_whole_frame(f);
+}
+
+// True when all points lie outside one clip plane (so the convex hull of them is invisible).
+bool outside_one_plane(vec4 c[6]) {
+    bool all_l = true, all_r = true, all_b = true, all_t = true, all_n = true, all_f = true;
+    for (int i = 0; i < 6; ++i) {
+        all_l = all_l && c[i].x < -c[i].w;
+        all_r = all_r && c[i].x > c[i].w;
+        all_b = all_b && c[i].y < -c[i].w;
+        all_t = all_t && c[i].y > c[i].w;
+        all_n = all_n && c[i].z < 0.0;
+        all_f = all_f && c[i].z > c[i].w;
+    }
+    return all_l || all_r || all_b || all_t || all_n || all_f;
+}
+
+// Ray-triangle intersection (Moller-Trumbore), both faces. Returns the ray parameter, or -1.
+float intersect_triangle(vec3 origin, vec3 dir, vec3 a, vec3 b, vec3 c) {
+    vec3 e1 = b - a;
+    vec3 e2 = c - a;
+    vec3 p = cross(dir, e2);
+    float det = dot(e1, p);
+    if (abs(det) < 1e-12) return -1.0;
+    float inv = 1.0 / det;
+    vec3 s = origin - a;
+    float u = dot(s, p) * inv;
+    if (u < 0.0 || u > 1.0) return -1.0;
+    vec3 q = cross(s, e1);
+    float v = dot(dir, q) * inv;
+    if (v < 0.0 || u + v > 1.0) return -1.0;
+    float d = dot(e2, q) * inv;
+    return d > 0.0 ? d : -1.0;
+}
+
+// The camera ray through a point of the image, in pixels from the top-left corner.
+void camera_ray(FrameParams frame, vec2 pixel_pos, out vec3 origin, out vec3 dir) {
+    vec2 ndc = pixel_pos / vec2(frame.sizes.zw) * 2.0 - 1.0;
+    vec4 near_p = frame.camera_inv_view_proj * vec4(ndc, 0.0, 1.0);
+    vec4 far_p = frame.camera_inv_view_proj * vec4(ndc, 1.0, 1.0);
+    origin = frame.camera_position.xyz;
+    dir = normalize(far_p.xyz / far_p.w - near_p.xyz / near_p.w);
+}

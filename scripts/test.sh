@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# The project's full check, as the README and CI run it: format, lints, then all tests on
+# lavapipe with the Khronos validation layer (incl. synchronization validation) enabled.
+set -euo pipefail
+
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+bash scripts/setup.sh
+
+# Mesa's device-select layer warns on every Vulkan instance when XDG_RUNTIME_DIR is unset
+# (as in CI containers); a private directory silences it without affecting results.
+if [[ -z "${XDG_RUNTIME_DIR:-}" ]]; then
+    XDG_RUNTIME_DIR="$(mktemp -d /tmp/motion-shadows-xdg.XXXXXX)"
+    trap 'rm -rf -- "$XDG_RUNTIME_DIR"' EXIT
+fi
+export XDG_RUNTIME_DIR
+export MOTION_SHADOWS_VALIDATION=1
+
+cargo fmt --all -- --check
+cargo clippy --all-targets -- -D warnings
+cargo test

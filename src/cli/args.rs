@@ -1,0 +1,127 @@
+//! The command line: a public interface (documented in the README), change it only on purpose.
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "motion-shadows",
+    version,
+    about = "Motion-blurred shadows with the temporal (depth-time ranges) shadow map of Hong & Oh",
+    long_about = "Motion-blurred shadows with the temporal (depth-time ranges) shadow map of \
+                  Hong & Oh, on Vulkan. Without a subcommand, renders the default scene \
+                  (cubes-toward-light) at 1024x768, 8 spp."
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render a scene, write DIR/<scene>-<method>.png and .exr, print a summary.
+    Render(RenderArgs),
+    /// Built-in scenes: list them, or export one as a scene file.
+    #[command(subcommand)]
+    Scene(SceneCommand),
+}
+
+#[derive(Debug, Subcommand)]
+pub enum SceneCommand {
+    /// Print the names of the built-in scenes.
+    List,
+    /// Write a built-in scene as a JSON scene file (to stdout without --out).
+    Export {
+        name: String,
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[command(flatten)]
+        random: RandomCubesArgs,
+    },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MethodArg {
+    /// The depth-time ranges shadow map.
+    Temporal,
+    /// An ordinary shadow map of the scene frozen at mid-shutter (t = 0.5).
+    Plain,
+}
+
+#[derive(Debug, Args, Clone)]
+pub struct RandomCubesArgs {
+    /// random-cubes: number of cubes.
+    #[arg(long, default_value_t = 4000)]
+    pub cubes: usize,
+    /// random-cubes: smallest displacement of a cube over the shutter.
+    #[arg(long, default_value_t = 4.0)]
+    pub speed_min: f32,
+    /// random-cubes: largest displacement of a cube over the shutter.
+    #[arg(long, default_value_t = 8.0)]
+    pub speed_max: f32,
+    /// random-cubes: seed of the placement.
+    #[arg(long, default_value_t = 1)]
+    pub scene_seed: u64,
+}
+
+#[derive(Debug, Args, Clone)]
+pub struct RenderArgs {
+    /// Built-in scene name (see `motion-shadows scene list`).
+    #[arg(
+        long,
+        default_value = "cubes-toward-light",
+        conflicts_with = "scene_file"
+    )]
+    pub scene: String,
+    /// A JSON scene file (format in docs/scene-format.md).
+    #[arg(long)]
+    pub scene_file: Option<PathBuf>,
+    #[arg(long, default_value_t = 1024)]
+    pub width: u32,
+    #[arg(long, default_value_t = 768)]
+    pub height: u32,
+    /// Samples per pixel, 1 to 64.
+    #[arg(long, default_value_t = 8)]
+    pub spp: u32,
+    /// Seed of the sample positions and times.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u32,
+    /// Shadow map resolution WxH (default: the image resolution).
+    #[arg(long, value_parser = parse_size)]
+    pub shadow_size: Option<(u32, u32)>,
+    #[arg(long, value_enum, default_value_t = MethodArg::Temporal)]
+    pub method: MethodArg,
+    /// Output directory.
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// PNG exposure in stops; automatic (99th percentile to 90% white) when absent.
+    #[arg(long, allow_hyphen_values = true)]
+    pub exposure: Option<f32>,
+    /// Print the summary as one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub random: RandomCubesArgs,
+}
+
+impl Default for RenderArgs {
+    fn default() -> Self {
+        match Cli::parse_from(["motion-shadows", "render"]).command {
+            Some(Command::Render(args)) => args,
+            _ => unreachable!("`render` parses to Command::Render"),
+        }
+    }
+}
+
+/// Parses "WxH".
+pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WxH (e.g. 1024x768), got {text:?}"))?;
+    let parse = |s: &str| {
+        s.trim()
+            .parse::<u32>()
+            .map_err(|e| format!("{s:?} in {text:?}: {e}"))
+    };
+    Ok((parse(w)?, parse(h)?))
+}

@@ -1,0 +1,101 @@
+//! `motion-shadows render`: scene -> renderer -> EXR + PNG -> summary.
+
+use super::args::{MethodArg, RandomCubesArgs, RenderArgs};
+use super::summary::summary_text;
+use crate::gpu::{Context, ContextOptions};
+use crate::output::{auto_exposure, write_exr, write_png};
+use crate::render::{Method, RenderSettings, Renderer};
+use crate::scene::{BuiltinOptions, Scene, builtin, load_scene_file};
+use anyhow::Context as _;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::time::Duration;
+
+pub fn builtin_options(random: &RandomCubesArgs) -> BuiltinOptions {
+    BuiltinOptions {
+        cube_count: random.cubes,
+        speed_min: random.speed_min,
+        speed_max: random.speed_max,
+        seed: random.scene_seed,
+    }
+}
+
+pub fn load_scene(args: &RenderArgs) -> anyhow::Result<Scene> {
+    Ok(match &args.scene_file {
+        Some(path) => load_scene_file(path)?,
+        None => builtin(&args.scene, &builtin_options(&args.random))?,
+    })
+}
+
+/// Progress on stderr: a spinner on a terminal, plain lines otherwise (logs, CI).
+fn progress_reporter() -> (Option<ProgressBar>, impl FnMut(&str)) {
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let bar = ProgressBar::new_spinner();
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} [{elapsed}] {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+        );
+        bar.enable_steady_tick(Duration::from_millis(120));
+        bar
+    });
+    let handle = bar.clone();
+    let report = move |msg: &str| match &handle {
+        Some(bar) => bar.set_message(msg.to_owned()),
+        None => eprintln!("{msg}"),
+    };
+    (bar, report)
+}
+
+pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    let (bar, mut report) = progress_reporter();
+    report("loading the scene");
+    let scene = load_scene(args)?;
+    report("creating the Vulkan device");
+    let ctx = Context::headless(&ContextOptions::from_env())?;
+    let settings = RenderSettings {
+        width: args.width,
+        height: args.height,
+        spp: args.spp,
+        seed: args.seed,
+        shadow_size: args.shadow_size,
+        method: match args.method {
+            MethodArg::Temporal => Method::Temporal,
+            MethodArg::Plain => Method::Plain { time: 0.5 },
+        },
+        ..RenderSettings::default()
+    };
+    let mut renderer = Renderer::new(&ctx)?;
+    let result = renderer.render(&scene, &settings, &mut report)?;
+
+    report("writing images");
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating output directory {}", args.out.display()))?;
+    let stem = format!("{}-{}", scene.name, result.stats.method);
+    let exr = args.out.join(format!("{stem}.exr"));
+    let png = args.out.join(format!("{stem}.png"));
+    let exposure = args
+        .exposure
+        .unwrap_or_else(|| auto_exposure(&result.image));
+    write_exr(&exr, &result.image)?;
+    write_png(&png, &result.image, exposure)?;
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    let files = vec![exr.display().to_string(), png.display().to_string()];
+    if args.json {
+        let mut value = serde_json::to_value(&result.stats)?;
+        value["files"] = serde_json::json!(files);
+        value["exposure"] = serde_json::json!(exposure);
+        println!("{}", serde_json::to_string(&value)?);
+    } else {
+        print!("{}", summary_text(&result.stats, &files));
+        println!("PNG exposure: {exposure:+.2} stops");
+    }
+    let messages = ctx.validation_messages();
+    anyhow::ensure!(
+        messages.is_empty(),
+        "the Vulkan validation layer reported {} message(s)",
+        messages.len()
+    );
+    Ok(())
+}

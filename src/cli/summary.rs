@@ -1,0 +1,61 @@
+//! The human-readable summary of a render (the `--json` output is `FrameStats` itself).
+
+use crate::render::FrameStats;
+use std::fmt::Write;
+
+fn mib(bytes: u64) -> String {
+    format!("{:.2} MiB", bytes as f64 / (1024.0 * 1024.0))
+}
+
+pub fn summary_text(stats: &FrameStats, files: &[String]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{} / {}: {}x{}, {} spp, seed {}, shadow map {}x{}, {} triangles",
+        stats.scene,
+        stats.method,
+        stats.width,
+        stats.height,
+        stats.spp,
+        stats.seed,
+        stats.shadow_width,
+        stats.shadow_height,
+        stats.triangles
+    );
+    let _ = writeln!(s, "device: {}", stats.device);
+    if stats.method == "temporal" {
+        let _ = writeln!(s, "fragments N_f: {}", stats.fragments);
+        let _ = writeln!(s, "ranges    N_r: {}", stats.ranges);
+        let _ = writeln!(
+            s,
+            "shadow map memory, equation (2): {} ({} bytes); allocated {}",
+            mib(stats.shadow_map_bytes_eq2),
+            stats.shadow_map_bytes_eq2,
+            mib(stats.shadow_map_bytes_allocated)
+        );
+        if stats.shadow_pass_attempts > 1 {
+            let _ = writeln!(
+                s,
+                "shadow pass ran {} times (buffers grown to fit)",
+                stats.shadow_pass_attempts
+            );
+        }
+    } else {
+        let _ = writeln!(
+            s,
+            "shadow map memory: {}",
+            mib(stats.shadow_map_bytes_allocated)
+        );
+    }
+    let _ = writeln!(s, "GPU time per pass:");
+    for p in &stats.passes {
+        let _ = writeln!(s, "  {:<18} {:>10.2} ms", p.pass, p.gpu_ms);
+    }
+    let total: f64 = stats.passes.iter().map(|p| p.gpu_ms).sum();
+    let _ = writeln!(s, "  {:<18} {:>10.2} ms", "total", total);
+    let _ = writeln!(s, "wall time: {:.1} ms", stats.wall_ms);
+    for f in files {
+        let _ = writeln!(s, "wrote {f}");
+    }
+    s
+}

@@ -1,0 +1,82 @@
+//! The library's one error type. Every fallible public function returns [`Result`].
+
+use ash::vk;
+
+/// Everything that can go wrong in the library, with enough figures to act on it.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The Vulkan loader (`libvulkan.so.1`) could not be opened.
+    #[error(
+        "cannot load the Vulkan loader: {0}. Install it (Debian: `apt-get install libvulkan1 mesa-vulkan-drivers`, or run scripts/setup.sh)"
+    )]
+    Loader(String),
+
+    /// No Vulkan device is visible at all.
+    #[error(
+        "no Vulkan device found{detail}. For a CPU device install lavapipe (Debian: `apt-get install mesa-vulkan-drivers`, or run scripts/setup.sh); check VK_DRIVER_FILES / VK_ICD_FILENAMES if set"
+    )]
+    NoDevice { detail: String },
+
+    /// Devices exist, but none has what the technique needs.
+    #[error("no suitable Vulkan device: {0}")]
+    MissingFeatures(String),
+
+    /// The Khronos validation layer was requested but is not installed.
+    #[error(
+        "the Vulkan validation layer VK_LAYER_KHRONOS_validation is not installed (Debian: `apt-get install vulkan-validationlayers`)"
+    )]
+    ValidationLayerMissing,
+
+    /// A Vulkan call failed.
+    #[error("Vulkan error in {call}: {result}")]
+    Vulkan {
+        call: &'static str,
+        result: vk::Result,
+    },
+
+    /// gpu-allocator could not allocate or free memory.
+    #[error("GPU memory allocation for {what} failed: {source}")]
+    Allocation {
+        what: String,
+        #[source]
+        source: gpu_allocator::AllocationError,
+    },
+
+    /// A buffer the technique needs is larger than the device can address.
+    #[error(
+        "{what} needs {needed_bytes} bytes ({count} elements of {element_bytes} bytes), but this device can address at most {limit_bytes} bytes in one storage buffer (maxStorageBufferRange / maxMemoryAllocationSize); reduce the resolution or the scene"
+    )]
+    DeviceLimit {
+        what: &'static str,
+        count: u64,
+        element_bytes: u64,
+        needed_bytes: u64,
+        limit_bytes: u64,
+    },
+
+    /// A caller-supplied value is out of range.
+    #[error("invalid argument: {0}")]
+    InvalidArgument(String),
+
+    /// The scene could not be loaded or is invalid.
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
+
+    /// Writing an output image failed.
+    #[error(transparent)]
+    Output(#[from] crate::output::OutputError),
+}
+
+/// The library's result type.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Attaches the name of the failing Vulkan call to a `vk::Result`.
+pub(crate) trait VkContext<T> {
+    fn vk(self, call: &'static str) -> Result<T>;
+}
+
+impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
+    fn vk(self, call: &'static str) -> Result<T> {
+        self.map_err(|result| Error::Vulkan { call, result })
+    }
+}

@@ -1,0 +1,186 @@
+//! Buffers that free their memory and handle exactly once, when dropped.
+
+use super::context::{Context, Shared};
+use crate::error::{Error, Result, VkContext};
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use std::sync::Arc;
+
+/// What a buffer is for; decides usage flags and where its memory lives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BufferUsage {
+    /// Read and written by shaders, filled/copied by transfers; device-local.
+    Storage,
+    /// Read by shaders, written by the host every frame.
+    Uniform,
+    /// Shader-readable data written once by the host (scene geometry).
+    HostToDevice,
+    /// Destination of copies that the host reads back.
+    Readback,
+}
+
+impl BufferUsage {
+    fn flags(self) -> vk::BufferUsageFlags {
+        let transfer = vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
+        match self {
+            Self::Storage | Self::HostToDevice => vk::BufferUsageFlags::STORAGE_BUFFER | transfer,
+            Self::Uniform => vk::BufferUsageFlags::UNIFORM_BUFFER,
+            Self::Readback => vk::BufferUsageFlags::TRANSFER_DST,
+        }
+    }
+    fn location(self) -> MemoryLocation {
+        match self {
+            Self::Storage => MemoryLocation::GpuOnly,
+            Self::Uniform | Self::HostToDevice => MemoryLocation::CpuToGpu,
+            Self::Readback => MemoryLocation::GpuToCpu,
+        }
+    }
+}
+
+/// A `VkBuffer` with its own allocation.
+pub struct Buffer {
+    shared: Arc<Shared>,
+    raw: vk::Buffer,
+    allocation: Option<Allocation>,
+    size: u64,
+    name: String,
+}
+
+impl Buffer {
+    /// Creates a buffer of `size` bytes (at least 4, so that empty inputs stay valid).
+    pub fn new(ctx: &Context, name: &str, size: u64, usage: BufferUsage) -> Result<Self> {
+        let size = size.max(4);
+        let device = &ctx.shared.device;
+        let info = vk::BufferCreateInfo::default()
+            .size(size)
+            .usage(usage.flags())
+            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        let raw = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
+        let allocation = ctx
+            .shared
+            .allocator
+            .lock()
+            .map_err(|_| Error::InvalidArgument("allocator mutex poisoned".into()))?
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location: usage.location(),
+                linear: true,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            });
+        let allocation = match allocation {
+            Ok(a) => a,
+            Err(source) => {
+                unsafe { device.destroy_buffer(raw, None) };
+                return Err(Error::Allocation {
+                    what: format!("{name} ({size} bytes)"),
+                    source,
+                });
+            }
+        };
+        let bound =
+            unsafe { device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) };
+        let buffer = Self {
+            shared: ctx.shared.clone(),
+            raw,
+            allocation: Some(allocation),
+            size,
+            name: name.to_owned(),
+        };
+        bound.vk("vkBindBufferMemory")?;
+        Ok(buffer)
+    }
+
+    /// A host-visible buffer holding `data`.
+    pub fn with_data<T: Copy>(
+        ctx: &Context,
+        name: &str,
+        usage: BufferUsage,
+        data: &[T],
+    ) -> Result<Self> {
+        let bytes = std::mem::size_of_val(data);
+        let mut buffer = Self::new(ctx, name, bytes as u64, usage)?;
+        buffer.write(data)?;
+        Ok(buffer)
+    }
+
+    pub fn raw(&self) -> vk::Buffer {
+        self.raw
+    }
+    pub fn size(&self) -> u64 {
+        self.size
+    }
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Writes `data` at the start of a host-visible buffer.
+    pub fn write<T: Copy>(&mut self, data: &[T]) -> Result<()> {
+        let bytes = std::mem::size_of_val(data);
+        let name = self.name.clone();
+        let slice = self
+            .allocation
+            .as_mut()
+            .and_then(|a| a.mapped_slice_mut())
+            .ok_or_else(|| Error::InvalidArgument(format!("{name} is not host-visible")))?;
+        if bytes > slice.len() {
+            return Err(Error::InvalidArgument(format!(
+                "{name}: writing {bytes} bytes into {} bytes",
+                slice.len()
+            )));
+        }
+        // SAFETY: T is Copy (plain data) and the destination is at least `bytes` long.
+        unsafe {
+            std::ptr::copy_nonoverlapping(data.as_ptr() as *const u8, slice.as_mut_ptr(), bytes)
+        };
+        Ok(())
+    }
+
+    /// Reads `count` elements from the start of a host-visible buffer. The caller must have
+    /// waited for the GPU and made its writes available to the host.
+    pub fn read<T: Copy + Default>(&self, count: usize) -> Result<Vec<T>> {
+        let bytes = count * std::mem::size_of::<T>();
+        let slice = self
+            .allocation
+            .as_ref()
+            .and_then(|a| a.mapped_slice())
+            .ok_or_else(|| Error::InvalidArgument(format!("{} is not host-visible", self.name)))?;
+        if bytes > slice.len() {
+            return Err(Error::InvalidArgument(format!(
+                "{}: reading {bytes} bytes from {} bytes",
+                self.name,
+                slice.len()
+            )));
+        }
+        let mut out = vec![T::default(); count];
+        // SAFETY: bounds checked above; T is plain data.
+        unsafe {
+            std::ptr::copy_nonoverlapping(slice.as_ptr(), out.as_mut_ptr() as *mut u8, bytes)
+        };
+        Ok(out)
+    }
+
+    /// The whole buffer as a descriptor range.
+    pub fn descriptor(&self) -> vk::DescriptorBufferInfo {
+        vk::DescriptorBufferInfo {
+            buffer: self.raw,
+            offset: 0,
+            range: vk::WHOLE_SIZE,
+        }
+    }
+}
+
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        unsafe { self.shared.device.destroy_buffer(self.raw, None) };
+        if let Some(allocation) = self.allocation.take() {
+            if let Ok(mut allocator) = self.shared.allocator.lock() {
+                if let Err(e) = allocator.free(allocation) {
+                    log::error!("freeing {}: {e}", self.name);
+                }
+            }
+        }
+    }
+}

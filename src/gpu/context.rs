@@ -1,0 +1,305 @@
+//! The Vulkan context: instance, device, one queue and a gpu-allocator.
+
+use super::debug::{self, MessageSink, Messenger};
+use super::device_select;
+use crate::error::{Error, Result, VkContext};
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use std::mem::ManuallyDrop;
+use std::sync::{Arc, Mutex};
+
+/// How to create a headless context.
+#[derive(Debug, Clone, Default)]
+pub struct ContextOptions {
+    /// Turn on the Khronos validation layer with synchronization validation. Creation fails
+    /// if the layer is not installed.
+    pub validation: bool,
+}
+
+impl ContextOptions {
+    /// Validation on when `MOTION_SHADOWS_VALIDATION=1` (the test script sets it).
+    pub fn from_env() -> Self {
+        Self {
+            validation: std::env::var("MOTION_SHADOWS_VALIDATION").is_ok_and(|v| v == "1"),
+        }
+    }
+}
+
+/// What the library knows about the device it runs on.
+#[derive(Debug, Clone)]
+pub struct DeviceInfo {
+    pub name: String,
+    pub device_type: String,
+    pub driver: String,
+    pub max_storage_buffer_range: u64,
+    pub max_allocation_size: u64,
+    pub timestamp_period_ns: f32,
+    pub timestamp_valid_bits: u32,
+}
+
+/// Objects that must outlive every buffer and pipeline: freed last, in the right order
+/// (allocator before device, device before instance).
+pub(crate) struct Shared {
+    pub device: ash::Device,
+    pub allocator: ManuallyDrop<Mutex<Allocator>>,
+    owned: Option<Owned>,
+}
+
+struct Owned {
+    _entry: ash::Entry,
+    instance: ash::Instance,
+    messenger: Option<Messenger>,
+}
+
+impl Drop for Shared {
+    fn drop(&mut self) {
+        // SAFETY: every resource holding an Arc<Shared> is gone; the allocator must be dropped
+        // before the device is destroyed (it frees its memory blocks then).
+        unsafe { ManuallyDrop::drop(&mut self.allocator) };
+        if let Some(owned) = self.owned.take() {
+            unsafe {
+                self.device.destroy_device(None);
+                drop(owned.messenger);
+                owned.instance.destroy_instance(None);
+            }
+        }
+    }
+}
+
+/// A device, a queue and an allocator. Either created headless ([`Context::headless`]) or
+/// wrapped around a host engine's handles ([`Context::from_raw`]).
+pub struct Context {
+    pub(crate) shared: Arc<Shared>,
+    physical: vk::PhysicalDevice,
+    queue: vk::Queue,
+    queue_family: u32,
+    command_pool: vk::CommandPool,
+    info: DeviceInfo,
+    messages: MessageSink,
+}
+
+fn device_info(instance: &ash::Instance, pd: vk::PhysicalDevice, family: u32) -> DeviceInfo {
+    let mut p11 = vk::PhysicalDeviceMaintenance3Properties::default();
+    let mut driver = vk::PhysicalDeviceDriverProperties::default();
+    let mut p2 = vk::PhysicalDeviceProperties2::default()
+        .push_next(&mut p11)
+        .push_next(&mut driver);
+    unsafe { instance.get_physical_device_properties2(pd, &mut p2) };
+    let props = p2.properties;
+    let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
+    let name = props
+        .device_name_as_c_str()
+        .map(|c| c.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let driver_name = driver
+        .driver_info_as_c_str()
+        .map(|c| c.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    DeviceInfo {
+        name,
+        device_type: format!("{:?}", props.device_type),
+        driver: driver_name,
+        max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
+        max_allocation_size: p11.max_memory_allocation_size,
+        timestamp_period_ns: props.limits.timestamp_period,
+        timestamp_valid_bits: families
+            .get(family as usize)
+            .map_or(0, |f| f.timestamp_valid_bits),
+    }
+}
+
+impl Context {
+    /// Creates an instance and device of its own: a discrete GPU if one has every needed
+    /// feature, else whatever does (lavapipe on a machine without a GPU).
+    pub fn headless(options: &ContextOptions) -> Result<Self> {
+        let entry = unsafe { ash::Entry::load() }.map_err(|e| Error::Loader(e.to_string()))?;
+        if options.validation && !debug::layer_available(&entry) {
+            return Err(Error::ValidationLayerMissing);
+        }
+        let messages: MessageSink = Arc::new(Mutex::new(Vec::new()));
+        let app = vk::ApplicationInfo::default()
+            .application_name(c"motion-shadows")
+            .api_version(vk::API_VERSION_1_3);
+        let layers = [debug::VALIDATION_LAYER.as_ptr()];
+        let extensions = [ash::ext::debug_utils::NAME.as_ptr()];
+        let mut validation_features = vk::ValidationFeaturesEXT::default()
+            .enabled_validation_features(&debug::VALIDATION_FEATURES);
+        // Reports problems in vkCreateInstance/vkDestroyInstance themselves.
+        let creation_sink = Box::into_raw(Box::new(messages.clone()));
+        let mut creation_messenger = debug::messenger_info(creation_sink);
+        let mut info = vk::InstanceCreateInfo::default().application_info(&app);
+        if options.validation {
+            info = info
+                .enabled_layer_names(&layers)
+                .enabled_extension_names(&extensions)
+                .push_next(&mut validation_features)
+                .push_next(&mut creation_messenger);
+        }
+        let instance = unsafe { entry.create_instance(&info, None) };
+        // SAFETY: the creation-time messenger only lives during vkCreateInstance.
+        drop(unsafe { Box::from_raw(creation_sink) });
+        let instance = instance.map_err(|result| match result {
+            vk::Result::ERROR_INCOMPATIBLE_DRIVER => Error::NoDevice {
+                detail: " (the loader found no driver)".into(),
+            },
+            result => Error::Vulkan {
+                call: "vkCreateInstance",
+                result,
+            },
+        })?;
+        let messenger = if options.validation {
+            match Messenger::new(&entry, &instance, messages.clone()) {
+                Ok(m) => Some(m),
+                Err(e) => {
+                    unsafe { instance.destroy_instance(None) };
+                    return Err(e);
+                }
+            }
+        } else {
+            None
+        };
+        let chosen = match device_select::choose(&instance)
+            .and_then(|c| device_select::create_device(&instance, &c).map(|d| (c, d)))
+        {
+            Ok(v) => v,
+            Err(e) => {
+                drop(messenger);
+                unsafe { instance.destroy_instance(None) };
+                return Err(e);
+            }
+        };
+        let (chosen, (device, queue)) = chosen;
+        let owned = Owned {
+            _entry: entry,
+            instance,
+            messenger,
+        };
+        // SAFETY: the handles were just created by us, and `owned` destroys them.
+        unsafe {
+            Self::assemble(
+                &owned.instance.clone(),
+                chosen.physical,
+                device,
+                chosen.queue_family,
+                queue,
+                Some(owned),
+                messages,
+            )
+        }
+    }
+
+    /// Wraps a host engine's Vulkan objects. The library then never destroys them.
+    ///
+    /// # Safety
+    /// - `device` was created from `physical` of `instance`, with a queue of `queue_family`
+    ///   supporting graphics and compute, Vulkan 1.3, and these features enabled:
+    ///   geometryShader, fragmentStoresAndAtomics, shaderInt64, shaderBufferInt64Atomics,
+    ///   dynamicRendering, synchronization2, hostQueryReset.
+    /// - `instance` and `device` outlive the returned context and every object made from it.
+    /// - The library submits to `queue` only through [`super::OneShot`] (which the standalone
+    ///   renderer uses); passes only record into command buffers the host gives them.
+    pub unsafe fn from_raw(
+        instance: &ash::Instance,
+        physical: vk::PhysicalDevice,
+        device: ash::Device,
+        queue_family: u32,
+        queue: vk::Queue,
+    ) -> Result<Self> {
+        unsafe {
+            Self::assemble(
+                instance,
+                physical,
+                device,
+                queue_family,
+                queue,
+                None,
+                Arc::new(Mutex::new(Vec::new())),
+            )
+        }
+    }
+
+    unsafe fn assemble(
+        instance: &ash::Instance,
+        physical: vk::PhysicalDevice,
+        device: ash::Device,
+        queue_family: u32,
+        queue: vk::Queue,
+        owned: Option<Owned>,
+        messages: MessageSink,
+    ) -> Result<Self> {
+        let info = device_info(instance, physical, queue_family);
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: instance.clone(),
+            device: device.clone(),
+            physical_device: physical,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        })
+        .map_err(|source| Error::Allocation {
+            what: "the allocator".into(),
+            source,
+        })?;
+        let shared = Arc::new(Shared {
+            device,
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            owned,
+        });
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        let command_pool = unsafe { shared.device.create_command_pool(&pool_info, None) }
+            .vk("vkCreateCommandPool")?;
+        Ok(Self {
+            shared,
+            physical,
+            queue,
+            queue_family,
+            command_pool,
+            info,
+            messages,
+        })
+    }
+
+    pub fn device(&self) -> &ash::Device {
+        &self.shared.device
+    }
+    pub fn physical_device(&self) -> vk::PhysicalDevice {
+        self.physical
+    }
+    pub fn queue(&self) -> vk::Queue {
+        self.queue
+    }
+    pub fn queue_family(&self) -> u32 {
+        self.queue_family
+    }
+    pub fn info(&self) -> &DeviceInfo {
+        &self.info
+    }
+    pub(crate) fn command_pool(&self) -> vk::CommandPool {
+        self.command_pool
+    }
+
+    /// Every warning and error the validation layer reported so far (empty without it).
+    pub fn validation_messages(&self) -> Vec<String> {
+        self.messages.lock().map(|m| m.clone()).unwrap_or_default()
+    }
+
+    /// The largest storage buffer a shader can address on this device, in bytes.
+    pub fn max_buffer_bytes(&self) -> u64 {
+        self.info
+            .max_storage_buffer_range
+            .min(self.info.max_allocation_size)
+    }
+}
+
+impl Drop for Context {
+    fn drop(&mut self) {
+        unsafe {
+            let _ = self.shared.device.device_wait_idle();
+            self.shared
+                .device
+                .destroy_command_pool(self.command_pool, None);
+        }
+    }
+}

@@ -1,0 +1,26 @@
+//! Layer 1: a thin, honest layer over ash. Nothing here knows about shadows.
+//!
+//! [`Context`] owns (or borrows, see [`Context::from_raw`]) the instance, device and queue,
+//! and a gpu-allocator. [`Buffer`]s free themselves. [`OneShot`] records and submits a
+//! command buffer and waits for it. [`TimestampQueries`] times passes.
+
+mod barrier;
+mod buffer;
+mod commands;
+mod context;
+mod debug;
+mod descriptors;
+mod device_select;
+mod pipeline;
+mod timestamps;
+
+pub use barrier::{Access, memory_barrier};
+pub use buffer::{Buffer, BufferUsage};
+pub use commands::OneShot;
+pub use context::{Context, ContextOptions, DeviceInfo};
+pub use descriptors::{DescriptorBinding, DescriptorKind, DescriptorSet};
+pub use pipeline::{
+    Pipeline, ShaderModule, attachmentless_pipeline, begin_attachmentless, compute_pipeline,
+    pipeline_layout,
+};
+pub use timestamps::TimestampQueries;

@@ -1,0 +1,225 @@
+//! Shader modules and pipelines. The technique's pipelines are all either compute or
+//! attachment-less graphics (fragment shaders write storage buffers), so that is all there is.
+
+use super::context::{Context, Shared};
+use crate::error::{Error, Result, VkContext};
+use ash::vk;
+use std::sync::Arc;
+
+/// A SPIR-V module, destroyed on drop.
+pub struct ShaderModule {
+    shared: Arc<Shared>,
+    raw: vk::ShaderModule,
+}
+
+impl ShaderModule {
+    pub fn new(ctx: &Context, name: &str, spirv: &[u8]) -> Result<Self> {
+        let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv))
+            .map_err(|e| Error::InvalidArgument(format!("SPIR-V of {name}: {e}")))?;
+        let info = vk::ShaderModuleCreateInfo::default().code(&words);
+        let raw =
+            unsafe { ctx.device().create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+        Ok(Self {
+            shared: ctx.shared.clone(),
+            raw,
+        })
+    }
+    pub fn raw(&self) -> vk::ShaderModule {
+        self.raw
+    }
+}
+
+impl Drop for ShaderModule {
+    fn drop(&mut self) {
+        unsafe { self.shared.device.destroy_shader_module(self.raw, None) };
+    }
+}
+
+/// A pipeline and its layout, destroyed together.
+pub struct Pipeline {
+    shared: Arc<Shared>,
+    pub raw: vk::Pipeline,
+    pub layout: vk::PipelineLayout,
+    pub bind_point: vk::PipelineBindPoint,
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        unsafe {
+            self.shared.device.destroy_pipeline(self.raw, None);
+            self.shared
+                .device
+                .destroy_pipeline_layout(self.layout, None);
+        }
+    }
+}
+
+impl Pipeline {
+    /// Binds the pipeline and its one descriptor set.
+    pub fn bind(&self, device: &ash::Device, cmd: vk::CommandBuffer, set: vk::DescriptorSet) {
+        unsafe {
+            device.cmd_bind_pipeline(cmd, self.bind_point, self.raw);
+            device.cmd_bind_descriptor_sets(cmd, self.bind_point, self.layout, 0, &[set], &[]);
+        }
+    }
+
+    /// Pushes `constants` (plain data) to every stage of the layout.
+    pub fn push<T: Copy>(&self, device: &ash::Device, cmd: vk::CommandBuffer, constants: &T) {
+        // SAFETY: T is plain data; the layout's range covers size_of::<T>() (see pipeline_layout).
+        let bytes = unsafe {
+            std::slice::from_raw_parts(constants as *const T as *const u8, std::mem::size_of::<T>())
+        };
+        unsafe { device.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::ALL, 0, bytes) };
+    }
+}
+
+/// A layout with one descriptor set and `push_bytes` of push constants visible to all stages.
+pub fn pipeline_layout(
+    ctx: &Context,
+    set_layout: vk::DescriptorSetLayout,
+    push_bytes: u32,
+) -> Result<vk::PipelineLayout> {
+    let set_layouts = [set_layout];
+    let ranges = [vk::PushConstantRange {
+        stage_flags: vk::ShaderStageFlags::ALL,
+        offset: 0,
+        size: push_bytes,
+    }];
+    let mut info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+    if push_bytes > 0 {
+        info = info.push_constant_ranges(&ranges);
+    }
+    unsafe { ctx.device().create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")
+}
+
+pub fn compute_pipeline(
+    ctx: &Context,
+    set_layout: vk::DescriptorSetLayout,
+    push_bytes: u32,
+    name: &str,
+    spirv: &[u8],
+) -> Result<Pipeline> {
+    let module = ShaderModule::new(ctx, name, spirv)?;
+    let layout = pipeline_layout(ctx, set_layout, push_bytes)?;
+    let stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(module.raw())
+        .name(c"main");
+    let info = [vk::ComputePipelineCreateInfo::default()
+        .stage(stage)
+        .layout(layout)];
+    let raw = unsafe {
+        ctx.device()
+            .create_compute_pipelines(vk::PipelineCache::null(), &info, None)
+    };
+    match raw {
+        Ok(p) => Ok(Pipeline {
+            shared: ctx.shared.clone(),
+            raw: p[0],
+            layout,
+            bind_point: vk::PipelineBindPoint::COMPUTE,
+        }),
+        Err((_, result)) => {
+            unsafe { ctx.device().destroy_pipeline_layout(layout, None) };
+            Err(Error::Vulkan {
+                call: "vkCreateComputePipelines",
+                result,
+            })
+        }
+    }
+}
+
+/// A graphics pipeline with no attachments: triangles in, fragment shader side effects out.
+/// Viewport and scissor are dynamic; no culling, no depth test (the shaders do their own).
+pub fn attachmentless_pipeline(
+    ctx: &Context,
+    set_layout: vk::DescriptorSetLayout,
+    push_bytes: u32,
+    stages: &[(vk::ShaderStageFlags, &str, &[u8])],
+) -> Result<Pipeline> {
+    let modules = stages
+        .iter()
+        .map(|(_, name, spirv)| ShaderModule::new(ctx, name, spirv))
+        .collect::<Result<Vec<_>>>()?;
+    let stage_infos: Vec<_> = stages
+        .iter()
+        .zip(&modules)
+        .map(|((stage, _, _), m)| {
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(*stage)
+                .module(m.raw())
+                .name(c"main")
+        })
+        .collect();
+    let layout = pipeline_layout(ctx, set_layout, push_bytes)?;
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+    let viewport = vk::PipelineViewportStateCreateInfo::default()
+        .viewport_count(1)
+        .scissor_count(1);
+    let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(vk::CullModeFlags::NONE)
+        .line_width(1.0);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let blend = vk::PipelineColorBlendStateCreateInfo::default();
+    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+    let mut rendering = vk::PipelineRenderingCreateInfo::default();
+    let info = [vk::GraphicsPipelineCreateInfo::default()
+        .stages(&stage_infos)
+        .vertex_input_state(&vertex_input)
+        .input_assembly_state(&assembly)
+        .viewport_state(&viewport)
+        .rasterization_state(&raster)
+        .multisample_state(&multisample)
+        .color_blend_state(&blend)
+        .dynamic_state(&dynamic)
+        .layout(layout)
+        .push_next(&mut rendering)];
+    let raw = unsafe {
+        ctx.device()
+            .create_graphics_pipelines(vk::PipelineCache::null(), &info, None)
+    };
+    match raw {
+        Ok(p) => Ok(Pipeline {
+            shared: ctx.shared.clone(),
+            raw: p[0],
+            layout,
+            bind_point: vk::PipelineBindPoint::GRAPHICS,
+        }),
+        Err((_, result)) => {
+            unsafe { ctx.device().destroy_pipeline_layout(layout, None) };
+            Err(Error::Vulkan {
+                call: "vkCreateGraphicsPipelines",
+                result,
+            })
+        }
+    }
+}
+
+/// Begins attachment-less dynamic rendering over `width` x `height` with matching viewport.
+pub fn begin_attachmentless(device: &ash::Device, cmd: vk::CommandBuffer, width: u32, height: u32) {
+    let area = vk::Rect2D {
+        offset: vk::Offset2D { x: 0, y: 0 },
+        extent: vk::Extent2D { width, height },
+    };
+    let info = vk::RenderingInfo::default()
+        .render_area(area)
+        .layer_count(1);
+    let viewport = vk::Viewport {
+        x: 0.0,
+        y: 0.0,
+        width: width as f32,
+        height: height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    };
+    unsafe {
+        device.cmd_begin_rendering(cmd, &info);
+        device.cmd_set_viewport(cmd, 0, &[viewport]);
+        device.cmd_set_scissor(cmd, 0, &[area]);
+    }
+}

@@ -1,0 +1,109 @@
+//! GPU timestamps between passes: `mark(cmd, "collection")` after the collection pass records
+//! the time since the previous mark under that name.
+
+use super::context::{Context, Shared};
+use crate::error::{Result, VkContext};
+use ash::vk;
+use std::sync::Arc;
+
+pub struct TimestampQueries {
+    shared: Arc<Shared>,
+    pool: vk::QueryPool,
+    capacity: u32,
+    labels: Vec<String>,
+    period_ns: f64,
+    valid_mask: u64,
+}
+
+impl TimestampQueries {
+    pub fn new(ctx: &Context, capacity: u32) -> Result<Self> {
+        let info = vk::QueryPoolCreateInfo::default()
+            .query_type(vk::QueryType::TIMESTAMP)
+            .query_count(capacity);
+        let pool =
+            unsafe { ctx.device().create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
+        let bits = ctx.info().timestamp_valid_bits;
+        let this = Self {
+            shared: ctx.shared.clone(),
+            pool,
+            capacity,
+            labels: Vec::new(),
+            period_ns: ctx.info().timestamp_period_ns as f64,
+            valid_mask: if bits >= 64 {
+                u64::MAX
+            } else {
+                (1u64 << bits) - 1
+            },
+        };
+        unsafe { ctx.device().reset_query_pool(pool, 0, capacity) };
+        Ok(this)
+    }
+
+    /// Whether the queue can time at all (timestampValidBits > 0).
+    pub fn supported(&self) -> bool {
+        self.valid_mask != 0
+    }
+
+    /// Forgets earlier marks (host-side reset; the pool must not be in use by the GPU).
+    pub fn clear(&mut self) {
+        unsafe {
+            self.shared
+                .device
+                .reset_query_pool(self.pool, 0, self.capacity)
+        };
+        self.labels.clear();
+    }
+
+    /// Records a timestamp after all earlier commands; `label` names the span since the last.
+    /// Marks beyond the capacity are ignored (timing is best effort, never a failure).
+    pub fn mark(&mut self, cmd: vk::CommandBuffer, label: &str) {
+        if !self.supported() || self.labels.len() as u32 >= self.capacity {
+            return;
+        }
+        unsafe {
+            self.shared.device.cmd_write_timestamp2(
+                cmd,
+                vk::PipelineStageFlags2::ALL_COMMANDS,
+                self.pool,
+                self.labels.len() as u32,
+            )
+        };
+        self.labels.push(label.to_owned());
+    }
+
+    /// (label, milliseconds) of each span, merged by label in first-seen order. Call after
+    /// the submission has completed.
+    pub fn spans_ms(&self) -> Result<Vec<(String, f64)>> {
+        let n = self.labels.len();
+        if n < 2 {
+            return Ok(Vec::new());
+        }
+        let mut raw = vec![0u64; n];
+        unsafe {
+            self.shared.device.get_query_pool_results(
+                self.pool,
+                0,
+                &mut raw,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .vk("vkGetQueryPoolResults")?;
+        let mut spans: Vec<(String, f64)> = Vec::new();
+        for i in 1..n {
+            let ticks = (raw[i] & self.valid_mask).wrapping_sub(raw[i - 1] & self.valid_mask)
+                & self.valid_mask;
+            let ms = ticks as f64 * self.period_ns / 1e6;
+            match spans.iter_mut().find(|(l, _)| *l == self.labels[i]) {
+                Some((_, total)) => *total += ms,
+                None => spans.push((self.labels[i].clone(), ms)),
+            }
+        }
+        Ok(spans)
+    }
+}
+
+impl Drop for TimestampQueries {
+    fn drop(&mut self) {
+        unsafe { self.shared.device.destroy_query_pool(self.pool, None) };
+    }
+}

@@ -1,0 +1,305 @@
+//! Layer 3: the standalone renderer. It creates nothing but what a frame needs on a given
+//! [`Context`], drives the passes, submits and waits, and re-runs the shadow pass when its
+//! buffers were too small, so its output is always exact.
+//!
+//! One frame, in order: scene -> [`upload::flatten`] -> GPU buffers -> collection and
+//! generation (temporal shadow map) -> counters read back, grown and re-run if needed ->
+//! lighting -> radiance read back -> [`RadianceImage`].
+
+pub mod stats;
+pub mod upload;
+
+use crate::error::{Error, Result};
+use crate::gpu::{Buffer, BufferUsage, Context, OneShot, TimestampQueries};
+use crate::output::RadianceImage;
+use crate::scene::Scene;
+use crate::technique::{
+    CollectionPass, FrameParams, FrameSettings, GenerationPass, LightingPass, LightingTarget,
+    PlainShadowMap, PlainShadowPass, SceneGeometry, ShadowSource, TemporalShadowMap,
+};
+pub use stats::{FrameStats, PassTime, equation_2_bytes};
+use std::time::Instant;
+
+/// Which shadow method renders the frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Method {
+    /// The depth-time ranges shadow map (Hong & Oh 2018).
+    Temporal,
+    /// One ordinary shadow map of the scene frozen at `time`, for every sample. Exact for
+    /// static scenes; the baseline for checks.
+    Plain { time: f32 },
+}
+
+impl Method {
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::Temporal => "temporal",
+            Method::Plain { .. } => "plain",
+        }
+    }
+}
+
+pub const MAX_SPP: u32 = 64;
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+#[derive(Debug, Clone)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    pub seed: u32,
+    /// Shadow map resolution; the image resolution when `None` (as in the papers).
+    pub shadow_size: Option<(u32, u32)>,
+    pub method: Method,
+    /// Starting capacities of the fragment and range buffers; `None` picks a guess. Any
+    /// value gives the same image: too small only costs a re-run.
+    pub initial_node_capacity: Option<u32>,
+    pub initial_range_capacity: Option<u32>,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            width: 1024,
+            height: 768,
+            spp: 8,
+            seed: 1,
+            shadow_size: None,
+            method: Method::Temporal,
+            initial_node_capacity: None,
+            initial_range_capacity: None,
+        }
+    }
+}
+
+impl RenderSettings {
+    pub fn shadow_size(&self) -> (u32, u32) {
+        self.shadow_size.unwrap_or((self.width, self.height))
+    }
+
+    pub fn validate(&self) -> Result<()> {
+        let side_ok = |v: u32| (1..=MAX_IMAGE_SIDE).contains(&v);
+        let (sw, sh) = self.shadow_size();
+        if !side_ok(self.width) || !side_ok(self.height) {
+            return Err(Error::InvalidArgument(format!(
+                "image size {}x{}: each side must be 1..={MAX_IMAGE_SIDE}",
+                self.width, self.height
+            )));
+        }
+        if !side_ok(sw) || !side_ok(sh) {
+            return Err(Error::InvalidArgument(format!(
+                "shadow map size {sw}x{sh}: each side must be 1..={MAX_IMAGE_SIDE}"
+            )));
+        }
+        if !(1..=MAX_SPP).contains(&self.spp) {
+            return Err(Error::InvalidArgument(format!(
+                "spp {}: must be 1..={MAX_SPP}",
+                self.spp
+            )));
+        }
+        if let Method::Plain { time } = self.method {
+            if !(0.0..=1.0).contains(&time) {
+                return Err(Error::InvalidArgument(format!(
+                    "plain shadow map time {time}: must be in [0, 1]"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A rendered frame.
+pub struct RenderResult {
+    pub image: RadianceImage,
+    pub stats: FrameStats,
+    /// The temporal shadow map of the frame (for inspection), when the method built one.
+    pub shadow_map: Option<TemporalShadowMap>,
+}
+
+/// The passes, created once and reused across frames.
+pub struct Renderer<'a> {
+    ctx: &'a Context,
+    collection: CollectionPass,
+    generation: GenerationPass,
+    lighting: LightingPass,
+    plain: PlainShadowPass,
+    timestamps: TimestampQueries,
+}
+
+impl<'a> Renderer<'a> {
+    pub fn new(ctx: &'a Context) -> Result<Self> {
+        Ok(Self {
+            ctx,
+            collection: CollectionPass::new(ctx)?,
+            generation: GenerationPass::new(ctx)?,
+            lighting: LightingPass::new(ctx)?,
+            plain: PlainShadowPass::new(ctx)?,
+            timestamps: TimestampQueries::new(ctx, 16)?,
+        })
+    }
+
+    /// Renders `scene`. `progress` receives a line for each step that may take a while.
+    pub fn render(
+        &mut self,
+        scene: &Scene,
+        settings: &RenderSettings,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<RenderResult> {
+        let start = Instant::now();
+        settings.validate()?;
+        scene.validate()?;
+        let ctx = self.ctx;
+        let image_size = (settings.width, settings.height);
+        let shadow_size = settings.shadow_size();
+
+        progress("uploading the scene");
+        let (vertices, triangles) = upload::flatten(scene);
+        let geometry = SceneGeometry::new(ctx, &vertices, &triangles)?;
+        let mut frame_settings =
+            FrameSettings::new(image_size, shadow_size, settings.spp, settings.seed);
+        frame_settings.ambient = scene.ambient;
+        let params = FrameParams::new(
+            &upload::camera_view(scene, image_size),
+            &upload::light_view(scene, shadow_size),
+            &frame_settings,
+        );
+        let frame = Buffer::with_data(ctx, "frame params", BufferUsage::Uniform, &[params])?;
+        let target = LightingTarget::new(ctx, settings.width, settings.height, settings.spp)?;
+        let mut passes = Vec::new();
+
+        let mut attempts = 0;
+        let (mut temporal_map, mut plain_map) = (None, None);
+        match settings.method {
+            Method::Temporal => {
+                let pixels = shadow_size.0 * shadow_size.1;
+                let mut map = TemporalShadowMap::new(
+                    ctx,
+                    shadow_size.0,
+                    shadow_size.1,
+                    settings
+                        .initial_node_capacity
+                        .unwrap_or(pixels.saturating_mul(2)),
+                    settings.initial_range_capacity.unwrap_or(pixels),
+                )?;
+                loop {
+                    attempts += 1;
+                    progress(&format!(
+                        "shadow pass (attempt {attempts}): {} triangles, room for {} fragments and {} ranges",
+                        geometry.triangle_count(),
+                        map.node_capacity(),
+                        map.range_capacity()
+                    ));
+                    self.run_timed(&mut passes, |this, cmd, ts| {
+                        let device = this.ctx.device();
+                        this.collection.record(device, cmd, &frame, &geometry, &map);
+                        ts.mark(cmd, "collection");
+                        this.generation.record(device, cmd, &frame, &map);
+                        ts.mark(cmd, "generation");
+                        map.record_counter_readback(device, cmd);
+                    })?;
+                    let counts = map.read_counters()?;
+                    if !map.needs_more_room(&counts) {
+                        break;
+                    }
+                    // The timings of an overflowed attempt do not describe a frame.
+                    passes.clear();
+                    progress(&format!(
+                        "shadow pass needed {} fragments and {} ranges; growing the buffers and re-running",
+                        counts.node_count, counts.range_count
+                    ));
+                    map.grow_to_fit(ctx, &counts)?;
+                }
+                temporal_map = Some(map);
+            }
+            Method::Plain { time } => {
+                let map = PlainShadowMap::new(ctx, shadow_size.0, shadow_size.1, 1)?;
+                self.run_timed(&mut passes, |this, cmd, ts| {
+                    this.plain
+                        .record(this.ctx.device(), cmd, &frame, &geometry, &map, &[time]);
+                    ts.mark(cmd, "plain shadow map");
+                })?;
+                plain_map = Some(map);
+            }
+        }
+
+        progress(&format!(
+            "lighting pass: {}x{} pixels, {} spp",
+            settings.width, settings.height, settings.spp
+        ));
+        let shadow = match (&temporal_map, &plain_map) {
+            (Some(m), _) => ShadowSource::Temporal(m),
+            (_, Some(m)) => ShadowSource::Plain(m),
+            _ => ShadowSource::None,
+        };
+        self.run_timed(&mut passes, |this, cmd, ts| {
+            let device = this.ctx.device();
+            this.lighting
+                .record(device, cmd, &frame, &geometry, shadow, &target);
+            ts.mark(cmd, "lighting");
+            target.record_readback(device, cmd);
+        })?;
+        let image = RadianceImage::new(settings.width, settings.height, target.read_rgb()?)?;
+
+        let counts = temporal_map
+            .as_ref()
+            .map(|m| m.read_counters())
+            .transpose()?
+            .unwrap_or_default();
+        let shadow_pixels = shadow_size.0 as u64 * shadow_size.1 as u64;
+        let (fragments, ranges) = (counts.node_count as u64, counts.range_count as u64);
+        let stats = FrameStats {
+            scene: scene.name.clone(),
+            method: settings.method.name().to_owned(),
+            width: settings.width,
+            height: settings.height,
+            shadow_width: shadow_size.0,
+            shadow_height: shadow_size.1,
+            spp: settings.spp,
+            seed: settings.seed,
+            triangles: geometry.triangle_count(),
+            fragments,
+            ranges,
+            shadow_map_bytes_eq2: if temporal_map.is_some() {
+                equation_2_bytes(fragments, ranges, shadow_pixels)
+            } else {
+                0
+            },
+            shadow_map_bytes_allocated: temporal_map
+                .as_ref()
+                .map(|m| m.allocated_bytes())
+                .or(plain_map.as_ref().map(|m| m.depths.size()))
+                .unwrap_or(0),
+            shadow_pass_attempts: attempts,
+            samples_per_chunk: target.samples_per_chunk(),
+            passes,
+            wall_ms: start.elapsed().as_secs_f64() * 1e3,
+            device: format!("{} ({})", ctx.info().name, ctx.info().driver),
+        };
+        Ok(RenderResult {
+            image,
+            stats,
+            shadow_map: temporal_map,
+        })
+    }
+
+    /// Records with `record` between timestamps, submits, waits, and appends the spans.
+    fn run_timed(
+        &mut self,
+        passes: &mut Vec<PassTime>,
+        record: impl FnOnce(&mut Self, ash::vk::CommandBuffer, &mut TimestampQueries),
+    ) -> Result<()> {
+        let mut ts = std::mem::replace(&mut self.timestamps, TimestampQueries::new(self.ctx, 16)?);
+        ts.clear();
+        let one_shot = OneShot::new(self.ctx)?;
+        one_shot.run(|cmd| {
+            ts.mark(cmd, "start");
+            record(self, cmd, &mut ts);
+            Ok(())
+        })?;
+        for (pass, gpu_ms) in ts.spans_ms()? {
+            passes.push(PassTime { pass, gpu_ms });
+        }
+        self.timestamps = ts;
+        Ok(())
+    }
+}

@@ -1,0 +1,47 @@
+//! What a render reports: the paper's figures (N_f, N_r, equation (2)) and timings.
+
+use serde::Serialize;
+
+/// Bytes per fragment node and per range, as in the paper's equation (2).
+pub const NODE_BYTES: u64 = 16;
+pub const RANGE_BYTES: u64 = 24;
+
+#[derive(Debug, Clone, Serialize)]
+pub struct PassTime {
+    pub pass: String,
+    /// GPU time from timestamp queries, milliseconds.
+    pub gpu_ms: f64,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct FrameStats {
+    pub scene: String,
+    pub method: String,
+    pub width: u32,
+    pub height: u32,
+    pub shadow_width: u32,
+    pub shadow_height: u32,
+    pub spp: u32,
+    pub seed: u32,
+    pub triangles: u32,
+    /// N_f: fragments stored by the collection sub-pass.
+    pub fragments: u64,
+    /// N_r: depth-time ranges stored by the generation sub-pass.
+    pub ranges: u64,
+    /// Equation (2): N_f * 16 + N_r * 24 + 2 * shadow pixels * 4 bytes.
+    pub shadow_map_bytes_eq2: u64,
+    /// Bytes the shadow map's buffers actually occupy.
+    pub shadow_map_bytes_allocated: u64,
+    /// How many times the shadow pass ran (more than 1 when its buffers had to grow).
+    pub shadow_pass_attempts: u32,
+    pub samples_per_chunk: u32,
+    pub passes: Vec<PassTime>,
+    /// Wall-clock time of the whole render, including uploads and pipeline creation.
+    pub wall_ms: f64,
+    pub device: String,
+}
+
+/// Equation (2) of the 2018 paper.
+pub fn equation_2_bytes(fragments: u64, ranges: u64, shadow_pixels: u64) -> u64 {
+    fragments * NODE_BYTES + ranges * RANGE_BYTES + 2 * shadow_pixels * 4
+}

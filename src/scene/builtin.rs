@@ -1,0 +1,446 @@
+//! Built-in test scenes. Each is built as a `SceneFile` and converted through the same path
+//! as a file on disk, so `builtin(name)` always equals loading `scene_to_json(builtin_file(name))`.
+
+use std::path::Path;
+
+use glam::{Vec2, Vec3};
+
+use super::file::{
+    BoxSpec, CameraFile, LightFile, MeshSpec, ObjectFile, PlaneSpec, SCENE_FORMAT, SceneFile,
+    TransformFile,
+};
+use super::rng::SplitMix64;
+use super::{Scene, SceneError};
+
+/// The first name is the default scene.
+pub const BUILTIN_NAMES: &[&str] = &["cubes-toward-light", "random-cubes"];
+
+/// Parameters of the procedural scenes (only `random-cubes` uses them).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BuiltinOptions {
+    pub cube_count: usize,
+    /// Displacement of each cube over the shutter is uniform in [speed_min, speed_max].
+    pub speed_min: f32,
+    pub speed_max: f32,
+    pub seed: u64,
+}
+
+impl Default for BuiltinOptions {
+    fn default() -> Self {
+        Self {
+            cube_count: 4000,
+            speed_min: 4.0,
+            speed_max: 8.0,
+            seed: 1,
+        }
+    }
+}
+
+pub fn builtin(name: &str, opts: &BuiltinOptions) -> Result<Scene, SceneError> {
+    builtin_file(name, opts)?.to_scene(Path::new("."), name)
+}
+
+pub fn builtin_file(name: &str, opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
+    match name {
+        "cubes-toward-light" => Ok(cubes_toward_light()),
+        "random-cubes" => random_cubes(opts),
+        _ => Err(SceneError::UnknownBuiltin {
+            name: name.to_owned(),
+            available: BUILTIN_NAMES.iter().map(|s| s.to_string()).collect(),
+        }),
+    }
+}
+
+fn translate(t: Vec3) -> TransformFile {
+    TransformFile {
+        translation: Some(t),
+        ..Default::default()
+    }
+}
+
+fn object(
+    name: &str,
+    albedo: Vec3,
+    closed: bool,
+    mesh: MeshSpec,
+    t0: TransformFile,
+    t1: Option<TransformFile>,
+) -> ObjectFile {
+    ObjectFile {
+        name: name.to_owned(),
+        albedo,
+        closed,
+        mesh,
+        t0: (t0 != TransformFile::default()).then_some(t0),
+        t1,
+    }
+}
+
+fn ground(size: f32, subdivisions: u32) -> ObjectFile {
+    let mesh = MeshSpec::Plane(PlaneSpec {
+        size: Vec2::splat(size),
+        subdivisions,
+    });
+    object(
+        "ground",
+        Vec3::splat(0.8),
+        false,
+        mesh,
+        TransformFile::default(),
+        None,
+    )
+}
+
+/// Hong & Oh 2018, Fig. 9: two finely tessellated cubes fly toward a spot light, so their
+/// shadows grow and blur, next to a static pillar whose shadow must stay sharp. The cubes
+/// hang well away from the light axis so the camera sees their shadows beside them.
+fn cubes_toward_light() -> SceneFile {
+    let light = Vec3::new(0.0, 12.0, 2.0);
+    // 22 x 22 quads per face: 2 cubes * 12 * 22^2 = 11,616 of the ~12,140 triangles.
+    let cube = MeshSpec::Box(BoxSpec {
+        size: Vec3::splat(1.5),
+        subdivisions: 22,
+    });
+    let toward_light = |c: Vec3| c + (light - c).normalize() * 2.5;
+
+    let left = Vec3::new(-2.0, 4.0, 0.5);
+    let right = Vec3::new(2.2, 3.5, -1.5);
+    let spin = |deg: f32, at: Vec3| TransformFile {
+        translation: Some(at),
+        rotation_axis: Some(Vec3::new(0.3, 1.0, 0.2)),
+        rotation_deg: Some(deg),
+        scale: None,
+    };
+    let pillar = MeshSpec::Box(BoxSpec {
+        size: Vec3::new(0.6, 2.0, 0.6),
+        subdivisions: 1,
+    });
+    SceneFile {
+        format: SCENE_FORMAT.to_owned(),
+        name: Some("cubes-toward-light".to_owned()),
+        camera: CameraFile {
+            position: Vec3::new(0.0, 7.0, 14.0),
+            target: Vec3::new(0.0, 0.5, 0.0),
+            up: Vec3::Y,
+            fov_y_deg: 45.0,
+            near: 0.1,
+            far: 100.0,
+        },
+        // Ground below the light: 0.8/pi * 250 * cos / 12.2^2 ~ 0.42 radiance.
+        light: LightFile::Spot {
+            position: light,
+            direction: Vec3::ZERO - light, // at the origin; `-light` would print -0.0
+            cone_angle_deg: 40.0,
+            intensity: 250.0,
+            near: 0.5,
+            far: 50.0,
+        },
+        ambient: 0.0,
+        objects: vec![
+            ground(20.0, 16),
+            object(
+                "cube-left",
+                Vec3::new(0.8, 0.3, 0.25),
+                true,
+                cube.clone(),
+                translate(left),
+                Some(translate(toward_light(left))),
+            ),
+            object(
+                "cube-right",
+                Vec3::new(0.25, 0.45, 0.8),
+                true,
+                cube,
+                spin(0.0, right),
+                Some(spin(35.0, toward_light(right))),
+            ),
+            // In front, so nothing it casts or hides overlaps the cubes' shadows.
+            object(
+                "pillar",
+                Vec3::new(0.85, 0.75, 0.4),
+                true,
+                pillar,
+                translate(Vec3::new(2.0, 1.0, 6.0)),
+                None,
+            ),
+        ],
+    }
+}
+
+/// Pleasant, not garish: moderate saturation and value, any hue.
+fn random_albedo(rng: &mut SplitMix64) -> Vec3 {
+    let (h, s, v) = (
+        rng.range(0.0, 6.0),
+        rng.range(0.45, 0.75),
+        rng.range(0.6, 0.9),
+    );
+    let f = |n: f32| {
+        let k = (n + h) % 6.0;
+        v - v * s * k.min(4.0 - k).clamp(0.0, 1.0)
+    };
+    Vec3::new(f(5.0), f(3.0), f(1.0))
+}
+
+/// Hong & Oh 2017, Fig. 8: a dense field of unit cubes each flying in its own random
+/// direction, over a ground plane, lit from above by a spot light covering the field.
+fn random_cubes(opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
+    let BuiltinOptions {
+        cube_count,
+        speed_min,
+        speed_max,
+        seed,
+    } = *opts;
+    if cube_count == 0 {
+        return Err(SceneError::Invalid(
+            "random-cubes: cube_count must be >= 1".into(),
+        ));
+    }
+    if !(speed_min.is_finite()
+        && speed_max.is_finite()
+        && 0.0 <= speed_min
+        && speed_min <= speed_max)
+    {
+        return Err(SceneError::Invalid(format!(
+            "random-cubes: need finite 0 <= speed_min <= speed_max, got {speed_min}..{speed_max}"
+        )));
+    }
+    // ~10% of the volume filled by cubes: dense but with gaps for light.
+    let side = 2.2 * (cube_count as f32).cbrt();
+    // Half-size of the box swept over the shutter; the +1 keeps cubes above the ground.
+    let half = side * 0.5 + speed_max;
+    let center = Vec3::new(0.0, half + 1.0, 0.0);
+
+    let mut rng = SplitMix64::new(seed);
+    let unit = MeshSpec::Box(BoxSpec {
+        size: Vec3::ONE,
+        subdivisions: 1,
+    });
+    let mut objects = Vec::with_capacity(cube_count + 1);
+    for i in 0..cube_count {
+        let p0 = center
+            + Vec3::new(
+                rng.range(-0.5, 0.5),
+                rng.range(-0.5, 0.5),
+                rng.range(-0.5, 0.5),
+            ) * side;
+        let t0 = TransformFile {
+            translation: Some(p0),
+            rotation_axis: Some(rng.unit_vector()),
+            rotation_deg: Some(rng.range(0.0, 360.0)),
+            scale: None,
+        };
+        let p1 = p0 + rng.unit_vector() * rng.range(speed_min, speed_max);
+        let albedo = random_albedo(&mut rng);
+        objects.push(object(
+            &format!("cube-{i}"),
+            albedo,
+            true,
+            unit.clone(),
+            t0,
+            Some(translate(p1)),
+        ));
+    }
+
+    // Light twice the field's half-size above its top: a 40 degree half-angle cone then
+    // covers the whole swept box (its top corners are at atan(sqrt2/2) ~ 35 degrees).
+    let cone = 40.0_f32;
+    let light_height = center.y + 3.0 * half;
+    let ground_half = light_height * cone.to_radians().tan();
+    objects.insert(0, ground(2.0 * ground_half, 8));
+
+    // Orbit distance at which a fov-45 camera sees the swept box's bounding sphere.
+    let radius = half * 3.0_f32.sqrt();
+    let target = Vec3::new(0.0, center.y * 0.8, 0.0);
+    let distance = 2.8 * radius;
+    Ok(SceneFile {
+        format: SCENE_FORMAT.to_owned(),
+        name: Some("random-cubes".to_owned()),
+        camera: CameraFile {
+            position: target + Vec3::new(0.0, 0.45, 1.0).normalize() * distance,
+            target,
+            up: Vec3::Y,
+            fov_y_deg: 45.0,
+            near: (0.01 * distance).max(0.1),
+            far: 2.0 * (distance + ground_half),
+        },
+        // Ground right below the light at radiance ~0.5: I = 0.5 * pi / 0.8 * d^2.
+        light: LightFile::Spot {
+            position: Vec3::new(0.0, light_height, 0.0),
+            direction: Vec3::NEG_Y,
+            cone_angle_deg: cone,
+            intensity: 0.5 * std::f32::consts::PI / 0.8 * light_height * light_height,
+            near: half,
+            far: 1.1 * light_height / cone.to_radians().cos(),
+        },
+        ambient: 0.0,
+        objects,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::file::{parse_scene_json, scene_to_json};
+    use super::super::{Light, Mesh};
+    use super::*;
+
+    fn centre(points: &[Vec3]) -> Vec3 {
+        points.iter().sum::<Vec3>() / points.len() as f32
+    }
+
+    fn small(count: usize, seed: u64) -> BuiltinOptions {
+        BuiltinOptions {
+            cube_count: count,
+            seed,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn json_round_trip_equals_builtin() {
+        for &name in BUILTIN_NAMES {
+            let opts = BuiltinOptions::default();
+            let json = scene_to_json(&builtin_file(name, &opts).unwrap());
+            let loaded = parse_scene_json(&json, Path::new("."), "exported.json").unwrap();
+            assert_eq!(loaded, builtin(name, &opts).unwrap(), "{name}");
+        }
+    }
+
+    #[test]
+    fn cubes_toward_light_size_and_motion() {
+        let s = builtin("cubes-toward-light", &BuiltinOptions::default()).unwrap();
+        assert!(
+            (11_000..13_000).contains(&s.triangle_count()),
+            "{}",
+            s.triangle_count()
+        );
+        let mesh = |n: &str| s.meshes.iter().find(|m| m.name == n).unwrap();
+        assert_eq!(mesh("pillar").t0, mesh("pillar").t1);
+        assert_ne!(mesh("ground").t0.len(), 0);
+        let Light::Spot(light) = &s.light else {
+            panic!("spot expected")
+        };
+        for cube in ["cube-left", "cube-right"] {
+            let (c0, c1) = (centre(&mesh(cube).t0), centre(&mesh(cube).t1));
+            assert!(((c1 - c0).length() - 2.5).abs() < 1e-3);
+            assert!((light.position - c1).length() < (light.position - c0).length() - 2.4);
+        }
+    }
+
+    /// Every shadow-casting vertex, at both ends of the shutter, projects from the light onto
+    /// the ground inside the light cone, the ground plane and the camera's view (aspect 1,
+    /// the narrowest likely), so the blurred and sharp shadows are all on screen.
+    #[test]
+    fn cubes_toward_light_shadows_are_lit_and_visible() {
+        let s = builtin("cubes-toward-light", &BuiltinOptions::default()).unwrap();
+        let Light::Spot(light) = &s.light else {
+            panic!("spot expected")
+        };
+        let c = &s.camera;
+        let forward = (c.target - c.position).normalize();
+        let right = forward.cross(c.up).normalize();
+        let up = right.cross(forward);
+        let tan_half = (c.fov_y_deg.to_radians() * 0.5).tan();
+        let ndc = |p: Vec3| {
+            let rel = p - c.position;
+            let depth = rel.dot(forward);
+            assert!(depth > c.near && depth < c.far);
+            Vec2::new(rel.dot(right), rel.dot(up)) / (depth * tan_half)
+        };
+        let cos_cone = light.cone_angle_deg.to_radians().cos();
+        let casters: Vec<&Mesh> = s.meshes.iter().filter(|m| m.name != "ground").collect();
+        assert_eq!(casters.len(), 3);
+        for m in casters {
+            for &p in m.t0.iter().chain(&m.t1) {
+                let ray = p - light.position;
+                let hit = light.position + ray * (light.position.y / -ray.y);
+                let to_hit = (hit - light.position).normalize();
+                assert!(
+                    to_hit.dot(light.direction) > cos_cone + 0.02,
+                    "{} outside cone",
+                    m.name
+                );
+                assert!(
+                    hit.x.abs() < 9.0 && hit.z.abs() < 9.0,
+                    "{} off the ground",
+                    m.name
+                );
+                let ndc = ndc(hit);
+                assert!(
+                    ndc.x.abs() < 0.95 && ndc.y.abs() < 0.95,
+                    "{} shadow off screen: {ndc}",
+                    m.name
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn random_cubes_deterministic_per_seed() {
+        let a = builtin("random-cubes", &small(10, 3)).unwrap();
+        assert_eq!(a, builtin("random-cubes", &small(10, 3)).unwrap());
+        assert_ne!(a, builtin("random-cubes", &small(10, 4)).unwrap());
+        assert_eq!(a.meshes.len(), 11);
+        assert_eq!(a.triangle_count(), 10 * 12 + 2 * 64);
+    }
+
+    #[test]
+    fn random_cubes_speeds_colours_and_coverage() {
+        let opts = BuiltinOptions {
+            cube_count: 200,
+            speed_min: 2.0,
+            speed_max: 3.0,
+            seed: 9,
+        };
+        let s = builtin("random-cubes", &opts).unwrap();
+        let Light::Spot(light) = &s.light else {
+            panic!("spot expected")
+        };
+        let cos_cone = light.cone_angle_deg.to_radians().cos();
+        for m in s.meshes.iter().filter(|m| m.name.starts_with("cube-")) {
+            assert!(m.closed && m.t0.len() == 36);
+            let speed = (centre(&m.t1) - centre(&m.t0)).length();
+            assert!(
+                (2.0 - 1e-3..=3.0 + 1e-3).contains(&speed),
+                "{}: speed {speed}",
+                m.name
+            );
+            assert!(m.albedo.min_element() >= 0.1 && m.albedo.max_element() <= 0.9);
+            for &p in m.t0.iter().chain(&m.t1) {
+                assert!(p.y > 0.0, "{} goes below the ground", m.name);
+                assert!((p - light.position).normalize().dot(light.direction) > cos_cone);
+            }
+        }
+    }
+
+    #[test]
+    fn bad_names_and_options_are_errors() {
+        match builtin("nope", &BuiltinOptions::default()) {
+            Err(SceneError::UnknownBuiltin { name, available }) => {
+                assert_eq!(name, "nope");
+                assert_eq!(available, BUILTIN_NAMES);
+            }
+            other => panic!("{other:?}"),
+        }
+        for opts in [
+            small(0, 1),
+            BuiltinOptions {
+                speed_min: 5.0,
+                speed_max: 4.0,
+                ..Default::default()
+            },
+            BuiltinOptions {
+                speed_min: -1.0,
+                ..Default::default()
+            },
+            BuiltinOptions {
+                speed_max: f32::INFINITY,
+                ..Default::default()
+            },
+        ] {
+            assert!(
+                matches!(builtin("random-cubes", &opts), Err(SceneError::Invalid(_))),
+                "{opts:?}"
+            );
+        }
+    }
+}

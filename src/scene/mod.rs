@@ -1,0 +1,26 @@
+//! Scene description: runtime types (`Scene`, `Mesh`, lights, camera), the JSON scene
+//! file format (docs/scene-format.md) and the built-in test scenes.
+//!
+//! Conventions shared by all of it: right-handed, y up, angles in degrees, shutter time t in
+//! [0, 1] with every vertex moving linearly from its t0 to its t1 position, triangles
+//! counter-clockwise seen from their front (outside). `builtin()` builds a `SceneFile` and
+//! converts it exactly like a loaded file, so there is a single path to a `Scene`.
+
+mod builtin;
+mod error;
+mod file;
+mod obj;
+mod pretty;
+mod primitives;
+mod rng;
+mod types;
+mod validate;
+
+pub use builtin::{BUILTIN_NAMES, BuiltinOptions, builtin, builtin_file};
+pub use error::SceneError;
+pub use file::{
+    BoxSpec, CameraFile, LightFile, MeshSpec, ObjectFile, PlaneSpec, SCENE_FORMAT, SceneFile,
+    TransformFile, TrianglesSpec, load_scene_file, parse_scene_json, scene_to_json,
+};
+pub use primitives::{RigidTransform, box_mesh, plane_mesh};
+pub use types::{Camera, DirectionalLight, Light, Mesh, Scene, SpotLight};

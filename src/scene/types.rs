@@ -1,0 +1,114 @@
+//! Runtime scene description handed to the renderer. Plain data: file parsing lives in
+//! `file.rs`, checks in `validate.rs`. Conventions: right-handed, y up, metres-free units,
+//! shutter time t in [0, 1].
+
+use glam::Vec3;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    pub name: String,
+    pub camera: Camera,
+    pub light: Light,
+    /// Ambient term: outgoing radiance adds `ambient * albedo` everywhere, shadowed or not.
+    pub ambient: f32,
+    pub meshes: Vec<Mesh>,
+}
+
+/// Triangle list: t0.len() == t1.len(), multiple of 3. Vertex i moves linearly from t0[i]
+/// to t1[i] over the shutter t in [0,1]. Front faces are counter-clockwise, i.e.
+/// cross(b - a, c - a) is the outward normal.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh {
+    pub name: String,
+    /// Diffuse reflectance per channel, in [0, 1].
+    pub albedo: Vec3,
+    /// True when the surface is watertight and consistently wound (may be used for culling
+    /// or silhouette tricks); open surfaces such as ground planes are false.
+    pub closed: bool,
+    pub t0: Vec<Vec3>,
+    pub t1: Vec<Vec3>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Camera {
+    pub position: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    /// Full vertical field of view, degrees.
+    pub fov_y_deg: f32,
+    pub near: f32,
+    pub far: f32,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum Light {
+    Spot(SpotLight),
+    Directional(DirectionalLight),
+}
+
+/// A point light with a hard cone. cone_angle_deg is the HALF angle of the cone
+/// (0 < a <= 89). intensity: radiant intensity in W/sr, so a surface at distance d whose
+/// normal makes angle theta with the light direction gets radiance
+/// albedo/pi * intensity * cos(theta) / d^2 (times visibility).
+/// `direction` is unit length in scenes built by this module; hand-built scenes only need
+/// it non-zero. near/far bound the shadow map's perspective depth range.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpotLight {
+    pub position: Vec3,
+    pub direction: Vec3,
+    pub cone_angle_deg: f32,
+    pub intensity: f32,
+    pub near: f32,
+    pub far: f32,
+}
+
+/// Parallel light travelling along `direction`; `irradiance` in W/m^2 on a surface facing
+/// it, so radiance = albedo/pi * irradiance * cos(theta) (times visibility).
+///
+/// Shadow map: the light "eye" sits at `eye() = center - direction * distance` and looks
+/// along `direction`; the orthographic box spans [-half_extent, half_extent] on both axes
+/// across the direction and depths [near, far] measured from the eye along `direction`.
+/// So `center` is at depth `distance`, and near < distance < far keeps it inside.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DirectionalLight {
+    pub direction: Vec3,
+    pub irradiance: f32,
+    pub center: Vec3,
+    pub half_extent: f32,
+    pub distance: f32,
+    pub near: f32,
+    pub far: f32,
+}
+
+impl DirectionalLight {
+    /// Where the orthographic shadow camera sits (see the type's documentation).
+    pub fn eye(&self) -> Vec3 {
+        self.center - self.direction.normalize_or_zero() * self.distance
+    }
+}
+
+impl Mesh {
+    pub fn triangle_count(&self) -> usize {
+        self.t0.len() / 3
+    }
+}
+
+impl Scene {
+    pub fn triangle_count(&self) -> usize {
+        self.meshes.iter().map(Mesh::triangle_count).sum()
+    }
+
+    /// Axis-aligned bounds (min, max) over all t0 and t1 positions, i.e. over the whole
+    /// shutter (linear motion stays inside). A scene without vertices gives (0, 0), so no
+    /// infinities reach camera or shadow-map fitting.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let mut points = self
+            .meshes
+            .iter()
+            .flat_map(|m| m.t0.iter().chain(m.t1.iter()));
+        let Some(&first) = points.next() else {
+            return (Vec3::ZERO, Vec3::ZERO);
+        };
+        points.fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)))
+    }
+}

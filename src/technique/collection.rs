@@ -1,0 +1,118 @@
+//! Collection sub-pass (paper 4.1-4.2): the prisms of all moving triangles, rasterized from
+//! the light, every fragment appended to its pixel's list.
+
+use super::geometry::SceneGeometry;
+use super::gpu_types::PassConstants;
+use super::shaders;
+use super::shadow_map::TemporalShadowMap;
+use crate::error::Result;
+use crate::gpu::{
+    Access, Buffer, Context, DescriptorBinding, DescriptorKind, DescriptorSet, Pipeline,
+    attachmentless_pipeline, begin_attachmentless, memory_barrier,
+};
+use ash::vk;
+
+pub struct CollectionPass {
+    set: DescriptorSet,
+    pipeline: Pipeline,
+}
+
+pub(crate) fn bindings(list: &[(u32, DescriptorKind)]) -> Vec<DescriptorBinding> {
+    list.iter()
+        .map(|&(binding, kind)| DescriptorBinding {
+            binding,
+            kind,
+            stages: vk::ShaderStageFlags::ALL,
+        })
+        .collect()
+}
+
+impl CollectionPass {
+    pub fn new(ctx: &Context) -> Result<Self> {
+        use DescriptorKind::{Storage, Uniform};
+        let set = DescriptorSet::new(
+            ctx,
+            &bindings(&[
+                (0, Uniform),
+                (1, Storage),
+                (2, Storage),
+                (3, Storage),
+                (4, Storage),
+                (5, Storage),
+            ]),
+        )?;
+        let pipeline = attachmentless_pipeline(
+            ctx,
+            set.layout(),
+            std::mem::size_of::<PassConstants>() as u32,
+            &[
+                (
+                    vk::ShaderStageFlags::VERTEX,
+                    "scene.vert",
+                    shaders::SCENE_VERT,
+                ),
+                (
+                    vk::ShaderStageFlags::GEOMETRY,
+                    "collection.geom",
+                    shaders::COLLECTION_GEOM,
+                ),
+                (
+                    vk::ShaderStageFlags::FRAGMENT,
+                    "collection.frag",
+                    shaders::COLLECTION_FRAG,
+                ),
+            ],
+        )?;
+        Ok(Self { set, pipeline })
+    }
+
+    /// Records: clear the lists, draw every triangle's prism. `frame` holds [`super::FrameParams`].
+    /// The map's counters say afterwards whether it had room (see `TemporalShadowMap`).
+    pub fn record(
+        &mut self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        frame: &Buffer,
+        geometry: &SceneGeometry,
+        map: &TemporalShadowMap,
+    ) {
+        self.set.bind(&[
+            frame,
+            &geometry.vertices,
+            &geometry.triangles,
+            &map.heads,
+            &map.nodes,
+            &map.counters,
+        ]);
+        // Earlier frames may still read these lists.
+        memory_barrier(
+            device,
+            cmd,
+            Access::ANY_SHADER_READ
+                .and(Access::COMPUTE_RW)
+                .and(Access::FRAGMENT_RW)
+                .and(Access::TRANSFER_READ),
+            Access::TRANSFER_WRITE,
+        );
+        let counters = [0, map.node_capacity(), 0, map.range_capacity()];
+        unsafe {
+            device.cmd_fill_buffer(cmd, map.heads.raw(), 0, vk::WHOLE_SIZE, 0);
+            let bytes: &[u8] = std::slice::from_raw_parts(counters.as_ptr() as *const u8, 16);
+            device.cmd_update_buffer(cmd, map.counters.raw(), 0, bytes);
+        }
+        memory_barrier(
+            device,
+            cmd,
+            Access::TRANSFER_WRITE,
+            Access::FRAGMENT_RW.and(Access::COMPUTE_RW),
+        );
+        begin_attachmentless(device, cmd, map.width(), map.height());
+        self.pipeline.bind(device, cmd, self.set.raw());
+        self.pipeline.push(device, cmd, &PassConstants::default());
+        unsafe {
+            device.cmd_draw(cmd, 3 * geometry.triangle_count(), 1, 0, 0);
+            device.cmd_end_rendering(cmd);
+        }
+        memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::COMPUTE_RW);
+    }
+}

@@ -1,0 +1,112 @@
+//! Rust mirrors of the structs in `glsl/shared.glsl`. Sizes and field offsets are checked
+//! against the shaders by `tests/gpu_layout.rs`.
+
+use glam::{Mat4, UVec4, Vec4};
+
+/// One fragment of a prism (16 bytes): linear light depth, shutter time, triangle id, link.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Node {
+    pub depth: f32,
+    pub time: f32,
+    pub id: u32,
+    /// Index + 1 of the next node of the same pixel; 0 ends the list.
+    pub next: u32,
+}
+
+/// A depth-time range (24 bytes): the triangle `id` covers the pixel from `t_s` to `t_e`,
+/// at a depth going linearly from `d_s` to `d_e`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Range {
+    pub t_s: f32,
+    pub t_e: f32,
+    pub d_s: f32,
+    pub d_e: f32,
+    pub id: u32,
+    pub next: u32,
+}
+
+/// A vertex's world positions at t = 0 and t = 1 (w = 1).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SceneVertex {
+    pub p0: Vec4,
+    pub p1: Vec4,
+}
+
+/// Per-triangle shading data: rgb albedo, w = 1 when the mesh is closed.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct TriangleInfo {
+    pub albedo_closed: Vec4,
+}
+
+/// Fragment and range counts (written by shaders) and capacities (written when recording).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Counters {
+    pub node_count: u32,
+    pub node_capacity: u32,
+    pub range_count: u32,
+    pub range_capacity: u32,
+}
+
+/// Everything a frame's shaders need to know about the camera, light and sampling (std140).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FrameParams {
+    pub light_view: Mat4,
+    pub light_proj: Mat4,
+    pub camera_view_proj: Mat4,
+    pub camera_inv_view_proj: Mat4,
+    /// xyz; w = near plane distance.
+    pub camera_position: Vec4,
+    /// xyz unit; w = far plane distance.
+    pub camera_forward: Vec4,
+    /// xyz; w = 1 spot, 0 directional.
+    pub light_position: Vec4,
+    /// xyz unit; w = cos(cone half angle).
+    pub light_direction: Vec4,
+    /// x = intensity or irradiance, y = ambient, z = normal offset (texels), w = depth bias.
+    pub light_params: Vec4,
+    /// x = world size of a shadow texel per unit depth (spot) or absolute (directional).
+    pub light_texel: Vec4,
+    /// xy = shadow map size, zw = image size.
+    pub sizes: UVec4,
+    /// x = samples per pixel, y = seed.
+    pub sampling: UVec4,
+}
+
+/// What every pass pushes (16 bytes).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct PassConstants {
+    pub first_triangle: u32,
+    pub first_sample: u32,
+    pub sample_count: u32,
+    pub mode: u32,
+}
+
+/// `PassConstants::mode` of the resolve pass: which shadow test it applies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u32)]
+pub enum ShadowMode {
+    /// The depth-time ranges of a [`super::TemporalShadowMap`].
+    Temporal = 0,
+    /// One ordinary shadow map ([`super::PlainShadowMap`]) for every sample.
+    Plain = 1,
+    /// No shadows at all.
+    None = 2,
+}
+
+/// The visibility buffer's "no triangle" id (and the plain shadow map's).
+pub const NO_TRIANGLE: u32 = u32::MAX;
+
+const _: () = {
+    assert!(std::mem::size_of::<Node>() == 16);
+    assert!(std::mem::size_of::<Range>() == 24);
+    assert!(std::mem::size_of::<SceneVertex>() == 32);
+    assert!(std::mem::size_of::<FrameParams>() == 4 * 64 + 8 * 16);
+    assert!(std::mem::size_of::<PassConstants>() == 16);
+};

@@ -1,0 +1,268 @@
+//! Lighting pass (paper 3.3, McGuire et al. 2010): stochastic rasterization from the camera
+//! into a sample-level visibility buffer, then shading and the shadow test per sample.
+//!
+//! Why a visibility buffer and not MSAA: lavapipe offers at most 4 samples per pixel, and the
+//! papers use 8 to 20. Keeping the nearest (distance, triangle) per sample with a 64-bit
+//! atomicMin lets one geometry pass serve as many samples as fit in a storage buffer, and
+//! shading runs once per visible sample instead of once per covering fragment.
+
+use super::collection::bindings;
+use super::geometry::SceneGeometry;
+use super::gpu_types::{PassConstants, ShadowMode};
+use super::plain_shadow::PlainShadowMap;
+use super::shaders;
+use super::shadow_map::TemporalShadowMap;
+use crate::error::{Error, Result};
+use crate::gpu::{
+    Access, Buffer, BufferUsage, Context, DescriptorKind, DescriptorSet, Pipeline,
+    attachmentless_pipeline, begin_attachmentless, compute_pipeline, memory_barrier,
+};
+use ash::vk;
+
+/// The most samples one geometry pass handles (bounded further by the device's buffer limit).
+pub const MAX_SAMPLES_PER_CHUNK: u32 = 16;
+
+/// Where the lighting pass renders: the per-sample visibility buffer of one chunk and the
+/// accumulated linear radiance (RGBA32F per pixel; alpha unused).
+pub struct LightingTarget {
+    width: u32,
+    height: u32,
+    spp: u32,
+    samples_per_chunk: u32,
+    pub visibility: Buffer,
+    pub radiance: Buffer,
+    readback: Buffer,
+}
+
+impl LightingTarget {
+    pub fn new(ctx: &Context, width: u32, height: u32, spp: u32) -> Result<Self> {
+        if width == 0 || height == 0 {
+            return Err(Error::InvalidArgument(format!(
+                "image size {width}x{height}"
+            )));
+        }
+        let pixels = width as u64 * height as u64;
+        let limit = ctx.max_buffer_bytes();
+        let fit = (limit / (pixels * 8)).min(MAX_SAMPLES_PER_CHUNK as u64) as u32;
+        if fit == 0 || pixels * 16 > limit {
+            return Err(Error::DeviceLimit {
+                what: "the visibility buffer (one 8-byte sample per pixel)",
+                count: pixels,
+                element_bytes: 8,
+                needed_bytes: pixels * 8,
+                limit_bytes: limit,
+            });
+        }
+        let samples_per_chunk = spp.clamp(1, fit);
+        Ok(Self {
+            width,
+            height,
+            spp,
+            samples_per_chunk,
+            visibility: Buffer::new(
+                ctx,
+                "visibility",
+                pixels * 8 * samples_per_chunk as u64,
+                BufferUsage::Storage,
+            )?,
+            radiance: Buffer::new(ctx, "radiance", pixels * 16, BufferUsage::Storage)?,
+            readback: Buffer::new(ctx, "radiance readback", pixels * 16, BufferUsage::Readback)?,
+        })
+    }
+
+    /// Samples per pixel the target was made for (every one shares the pixel's average).
+    pub fn spp(&self) -> u32 {
+        self.spp
+    }
+
+    pub fn samples_per_chunk(&self) -> u32 {
+        self.samples_per_chunk
+    }
+
+    /// Records the copy that [`Self::read_rgb`] reads after the submission completes.
+    pub fn record_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ);
+        let region = [vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size: self.radiance.size(),
+        }];
+        unsafe { device.cmd_copy_buffer(cmd, self.radiance.raw(), self.readback.raw(), &region) };
+        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+    }
+
+    /// Linear radiance, 3 floats per pixel, top row first.
+    pub fn read_rgb(&self) -> Result<Vec<f32>> {
+        let rgba = self
+            .readback
+            .read::<f32>((self.width * self.height * 4) as usize)?;
+        Ok(rgba
+            .chunks_exact(4)
+            .flat_map(|p| [p[0], p[1], p[2]])
+            .collect())
+    }
+}
+
+/// What the lighting pass tests shadows against.
+#[derive(Clone, Copy)]
+pub enum ShadowSource<'a> {
+    Temporal(&'a TemporalShadowMap),
+    /// Layer 0 of a plain shadow map, for every sample.
+    Plain(&'a PlainShadowMap),
+    None,
+}
+
+pub struct LightingPass {
+    raster_set: DescriptorSet,
+    raster: Pipeline,
+    resolve_set: DescriptorSet,
+    resolve: Pipeline,
+    /// Bound where a shadow source is not used, so every binding is always valid.
+    placeholder: Buffer,
+}
+
+impl LightingPass {
+    pub fn new(ctx: &Context) -> Result<Self> {
+        use DescriptorKind::{Storage, Uniform};
+        let push = std::mem::size_of::<PassConstants>() as u32;
+        let raster_set = DescriptorSet::new(
+            ctx,
+            &bindings(&[(0, Uniform), (1, Storage), (2, Storage), (3, Storage)]),
+        )?;
+        let raster = attachmentless_pipeline(
+            ctx,
+            raster_set.layout(),
+            push,
+            &[
+                (
+                    vk::ShaderStageFlags::VERTEX,
+                    "scene.vert",
+                    shaders::SCENE_VERT,
+                ),
+                (
+                    vk::ShaderStageFlags::GEOMETRY,
+                    "lighting.geom",
+                    shaders::LIGHTING_GEOM,
+                ),
+                (
+                    vk::ShaderStageFlags::FRAGMENT,
+                    "lighting.frag",
+                    shaders::LIGHTING_FRAG,
+                ),
+            ],
+        )?;
+        let resolve_set = DescriptorSet::new(
+            ctx,
+            &bindings(&[
+                (0, Uniform),
+                (1, Storage),
+                (2, Storage),
+                (3, Storage),
+                (4, Storage),
+                (5, Storage),
+                (6, Storage),
+                (7, Storage),
+            ]),
+        )?;
+        let resolve = compute_pipeline(
+            ctx,
+            resolve_set.layout(),
+            push,
+            "resolve.comp",
+            shaders::RESOLVE_COMP,
+        )?;
+        let placeholder = Buffer::new(ctx, "placeholder", 64, BufferUsage::Storage)?;
+        Ok(Self {
+            raster_set,
+            raster,
+            resolve_set,
+            resolve,
+            placeholder,
+        })
+    }
+
+    /// Records the whole lighting pass for the target's samples per pixel (as many chunks as the
+    /// target needs), leaving the averaged radiance in `target.radiance`. The shadow source
+    /// must have been recorded earlier in the same or an earlier submission.
+    pub fn record(
+        &mut self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        frame: &Buffer,
+        geometry: &SceneGeometry,
+        shadow: ShadowSource<'_>,
+        target: &LightingTarget,
+    ) {
+        let spp = target.spp;
+        let p = &self.placeholder;
+        let (mode, range_heads, ranges, plain) = match shadow {
+            ShadowSource::Temporal(map) => (ShadowMode::Temporal, &map.range_heads, &map.ranges, p),
+            ShadowSource::Plain(map) => (ShadowMode::Plain, p, p, &map.depths),
+            ShadowSource::None => (ShadowMode::None, p, p, p),
+        };
+        self.raster_set.bind(&[
+            frame,
+            &geometry.vertices,
+            &geometry.triangles,
+            &target.visibility,
+        ]);
+        self.resolve_set.bind(&[
+            frame,
+            &geometry.vertices,
+            &geometry.triangles,
+            &target.visibility,
+            &target.radiance,
+            range_heads,
+            ranges,
+            plain,
+        ]);
+        memory_barrier(
+            device,
+            cmd,
+            Access::COMPUTE_RW.and(Access::TRANSFER_READ),
+            Access::TRANSFER_WRITE,
+        );
+        unsafe { device.cmd_fill_buffer(cmd, target.radiance.raw(), 0, vk::WHOLE_SIZE, 0) };
+        let mut first = 0;
+        while first < spp {
+            let count = target.samples_per_chunk.min(spp - first);
+            let constants = PassConstants {
+                first_triangle: 0,
+                first_sample: first,
+                sample_count: count,
+                mode: mode as u32,
+            };
+            // The previous chunk's resolve read the visibility buffer.
+            memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_WRITE);
+            unsafe {
+                device.cmd_fill_buffer(cmd, target.visibility.raw(), 0, vk::WHOLE_SIZE, u32::MAX)
+            };
+            memory_barrier(
+                device,
+                cmd,
+                Access::TRANSFER_WRITE,
+                Access::FRAGMENT_RW.and(Access::COMPUTE_RW),
+            );
+            begin_attachmentless(device, cmd, target.width, target.height);
+            self.raster.bind(device, cmd, self.raster_set.raw());
+            self.raster.push(device, cmd, &constants);
+            unsafe {
+                device.cmd_draw(cmd, 3 * geometry.triangle_count(), 1, 0, 0);
+                device.cmd_end_rendering(cmd);
+            }
+            memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::COMPUTE_RW);
+            self.resolve.bind(device, cmd, self.resolve_set.raw());
+            self.resolve.push(device, cmd, &constants);
+            unsafe {
+                device.cmd_dispatch(cmd, target.width.div_ceil(8), target.height.div_ceil(8), 1)
+            };
+            first += count;
+        }
+        memory_barrier(
+            device,
+            cmd,
+            Access::COMPUTE_RW,
+            Access::COMPUTE_RW.and(Access::TRANSFER_READ),
+        );
+    }
+}

@@ -1,0 +1,28 @@
+//! Layer 2: the technique. One module per pass; each pass owns its pipelines and descriptor
+//! sets and records into a command buffer that the caller gives it. Nothing here creates a
+//! device, submits or waits: the caller drives the frame (see `crate::render`).
+//!
+//! A frame: [`CollectionPass`] fills a [`TemporalShadowMap`] with prism fragments,
+//! [`GenerationPass`] turns them into depth-time ranges, [`LightingPass`] renders the camera
+//! view with stochastic rasterization and tests each sample against the ranges.
+
+mod collection;
+mod generation;
+mod geometry;
+pub mod gpu_types;
+mod lighting;
+mod plain_shadow;
+mod shaders;
+mod shadow_map;
+mod view;
+
+pub use collection::CollectionPass;
+pub use generation::GenerationPass;
+pub use geometry::SceneGeometry;
+pub use gpu_types::{
+    Counters, FrameParams, Node, PassConstants, Range, SceneVertex, ShadowMode, TriangleInfo,
+};
+pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, ShadowSource};
+pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
+pub use shadow_map::{ShadowMapContents, TemporalShadowMap};
+pub use view::{CameraView, FrameSettings, LightKind, LightView};

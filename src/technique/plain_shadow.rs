@@ -1,0 +1,111 @@
+//! Ordinary shadow maps at given times: the nearest (depth, triangle id) per pixel. The
+//! static reference for tests, and the building block of time-dependent shadow maps.
+
+use super::collection::bindings;
+use super::geometry::SceneGeometry;
+use super::gpu_types::PassConstants;
+use super::shaders;
+use crate::error::{Error, Result};
+use crate::gpu::{
+    Access, Buffer, BufferUsage, Context, DescriptorKind, DescriptorSet, Pipeline,
+    attachmentless_pipeline, begin_attachmentless, memory_barrier,
+};
+use ash::vk;
+
+/// `layers` shadow maps of `width` x `height`, each texel a u64 (depth bits << 32 | id).
+pub struct PlainShadowMap {
+    width: u32,
+    height: u32,
+    layers: u32,
+    pub depths: Buffer,
+}
+
+impl PlainShadowMap {
+    pub fn new(ctx: &Context, width: u32, height: u32, layers: u32) -> Result<Self> {
+        let count = width as u64 * height as u64 * layers.max(1) as u64;
+        let bytes = count * 8;
+        if bytes > ctx.max_buffer_bytes() {
+            return Err(Error::DeviceLimit {
+                what: "the plain shadow maps",
+                count,
+                element_bytes: 8,
+                needed_bytes: bytes,
+                limit_bytes: ctx.max_buffer_bytes(),
+            });
+        }
+        Ok(Self {
+            width,
+            height,
+            layers: layers.max(1),
+            depths: Buffer::new(ctx, "plain shadow maps", bytes, BufferUsage::Storage)?,
+        })
+    }
+    pub fn layers(&self) -> u32 {
+        self.layers
+    }
+}
+
+pub struct PlainShadowPass {
+    set: DescriptorSet,
+    pipeline: Pipeline,
+}
+
+impl PlainShadowPass {
+    pub fn new(ctx: &Context) -> Result<Self> {
+        use DescriptorKind::{Storage, Uniform};
+        let set = DescriptorSet::new(ctx, &bindings(&[(0, Uniform), (1, Storage), (3, Storage)]))?;
+        let pipeline = attachmentless_pipeline(
+            ctx,
+            set.layout(),
+            std::mem::size_of::<PassConstants>() as u32,
+            &[
+                (
+                    vk::ShaderStageFlags::VERTEX,
+                    "shadow_depth.vert",
+                    shaders::SHADOW_DEPTH_VERT,
+                ),
+                (
+                    vk::ShaderStageFlags::FRAGMENT,
+                    "shadow_depth.frag",
+                    shaders::SHADOW_DEPTH_FRAG,
+                ),
+            ],
+        )?;
+        Ok(Self { set, pipeline })
+    }
+
+    /// Renders layer i of `map` at `times[i]`.
+    pub fn record(
+        &mut self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        frame: &Buffer,
+        geometry: &SceneGeometry,
+        map: &PlainShadowMap,
+        times: &[f32],
+    ) {
+        self.set.bind(&[frame, &geometry.vertices, &map.depths]);
+        memory_barrier(
+            device,
+            cmd,
+            Access::ANY_SHADER_READ.and(Access::FRAGMENT_RW),
+            Access::TRANSFER_WRITE,
+        );
+        unsafe { device.cmd_fill_buffer(cmd, map.depths.raw(), 0, vk::WHOLE_SIZE, u32::MAX) };
+        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::FRAGMENT_RW);
+        begin_attachmentless(device, cmd, map.width, map.height);
+        self.pipeline.bind(device, cmd, self.set.raw());
+        for (layer, &t) in times.iter().enumerate().take(map.layers as usize) {
+            let constants = PassConstants {
+                first_triangle: 0,
+                first_sample: layer as u32,
+                sample_count: 0,
+                mode: t.to_bits(),
+            };
+            self.pipeline.push(device, cmd, &constants);
+            unsafe { device.cmd_draw(cmd, 3 * geometry.triangle_count(), 1, 0, 0) };
+        }
+        unsafe { device.cmd_end_rendering(cmd) };
+        memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::ANY_SHADER_READ);
+    }
+}

@@ -1,0 +1,17 @@
+//! SPIR-V compiled from `glsl/` by build.rs.
+
+macro_rules! spirv {
+    ($name:literal) => {
+        include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".spv"))
+    };
+}
+
+pub const SCENE_VERT: &[u8] = spirv!("scene.vert");
+pub const COLLECTION_GEOM: &[u8] = spirv!("collection.geom");
+pub const COLLECTION_FRAG: &[u8] = spirv!("collection.frag");
+pub const GENERATION_COMP: &[u8] = spirv!("generation.comp");
+pub const LIGHTING_GEOM: &[u8] = spirv!("lighting.geom");
+pub const LIGHTING_FRAG: &[u8] = spirv!("lighting.frag");
+pub const RESOLVE_COMP: &[u8] = spirv!("resolve.comp");
+pub const SHADOW_DEPTH_VERT: &[u8] = spirv!("shadow_depth.vert");
+pub const SHADOW_DEPTH_FRAG: &[u8] = spirv!("shadow_depth.frag");

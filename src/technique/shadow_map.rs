@@ -1,0 +1,243 @@
+//! The temporal shadow map: per-pixel linked lists of prism fragments (collection sub-pass)
+//! and of depth-time ranges (generation sub-pass), in plain storage buffers that a host's own
+//! shader can bind (layouts in `glsl/shared.glsl`).
+
+use super::gpu_types::{Counters, Node, Range};
+use crate::error::{Error, Result};
+use crate::gpu::{Access, Buffer, BufferUsage, Context, OneShot, memory_barrier};
+use ash::vk;
+
+pub struct TemporalShadowMap {
+    width: u32,
+    height: u32,
+    node_capacity: u32,
+    range_capacity: u32,
+    /// Per pixel: index + 1 of the newest node, 0 for none.
+    pub heads: Buffer,
+    pub nodes: Buffer,
+    /// [`Counters`]: counts written by the passes, capacities by the collection pass.
+    pub counters: Buffer,
+    /// Per pixel: index + 1 of the first range, 0 for none.
+    pub range_heads: Buffer,
+    pub ranges: Buffer,
+    counters_readback: Buffer,
+}
+
+fn checked_bytes(ctx: &Context, what: &'static str, count: u64, element: u64) -> Result<u64> {
+    let needed = count * element;
+    let limit = ctx.max_buffer_bytes();
+    if needed > limit || count >= u32::MAX as u64 {
+        return Err(Error::DeviceLimit {
+            what,
+            count,
+            element_bytes: element,
+            needed_bytes: needed,
+            limit_bytes: limit,
+        });
+    }
+    Ok(needed)
+}
+
+impl TemporalShadowMap {
+    /// A map of `width` x `height` pixels with room for the given numbers of fragments and
+    /// ranges. Too small is never wrong, only slower: see [`Self::needs_more_room`].
+    pub fn new(
+        ctx: &Context,
+        width: u32,
+        height: u32,
+        node_capacity: u32,
+        range_capacity: u32,
+    ) -> Result<Self> {
+        if width == 0 || height == 0 {
+            return Err(Error::InvalidArgument(format!(
+                "shadow map size {width}x{height}"
+            )));
+        }
+        let pixels = width as u64 * height as u64;
+        let head_bytes = checked_bytes(ctx, "the shadow map's list heads", pixels, 4)?;
+        let node_bytes = checked_bytes(
+            ctx,
+            "the fragment (node) buffer",
+            node_capacity.max(1) as u64,
+            16,
+        )?;
+        let range_bytes = checked_bytes(ctx, "the range buffer", range_capacity.max(1) as u64, 24)?;
+        Ok(Self {
+            width,
+            height,
+            node_capacity: node_capacity.max(1),
+            range_capacity: range_capacity.max(1),
+            heads: Buffer::new(ctx, "node heads", head_bytes, BufferUsage::Storage)?,
+            nodes: Buffer::new(ctx, "nodes", node_bytes, BufferUsage::Storage)?,
+            counters: Buffer::new(ctx, "counters", 16, BufferUsage::Storage)?,
+            range_heads: Buffer::new(ctx, "range heads", head_bytes, BufferUsage::Storage)?,
+            ranges: Buffer::new(ctx, "ranges", range_bytes, BufferUsage::Storage)?,
+            counters_readback: Buffer::new(ctx, "counters readback", 16, BufferUsage::Readback)?,
+        })
+    }
+
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+    pub fn node_capacity(&self) -> u32 {
+        self.node_capacity
+    }
+    pub fn range_capacity(&self) -> u32 {
+        self.range_capacity
+    }
+
+    /// Bytes of GPU memory the map's buffers occupy.
+    pub fn allocated_bytes(&self) -> u64 {
+        [
+            &self.heads,
+            &self.nodes,
+            &self.counters,
+            &self.range_heads,
+            &self.ranges,
+        ]
+        .iter()
+        .map(|b| b.size())
+        .sum()
+    }
+
+    /// Whether a frame with these counts overflowed this map (its output is then incomplete
+    /// and the frame must be recorded again after [`Self::grow_to_fit`]).
+    pub fn needs_more_room(&self, counts: &Counters) -> bool {
+        counts.node_count > self.node_capacity || counts.range_count > self.range_capacity
+    }
+
+    /// Reallocates to hold exactly what `counts` says a frame needs (and at least the
+    /// current capacities). Errors with the figures if the device cannot address that much.
+    pub fn grow_to_fit(&mut self, ctx: &Context, counts: &Counters) -> Result<()> {
+        let nodes = counts.node_count.max(self.node_capacity);
+        // A range needs at most one fragment, so the fragment count bounds the range count
+        // of the re-run (whose node list is then complete).
+        let ranges = counts.range_count.max(self.range_capacity).max(
+            if counts.node_count > self.node_capacity {
+                counts.node_count
+            } else {
+                0
+            },
+        );
+        *self = Self::new(ctx, self.width, self.height, nodes, ranges)?;
+        Ok(())
+    }
+
+    /// Records a copy of the counters for [`Self::read_counters`] (after the submission
+    /// completes). Call after the generation pass.
+    pub fn record_counter_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ);
+        let region = [vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size: 16,
+        }];
+        unsafe {
+            device.cmd_copy_buffer(
+                cmd,
+                self.counters.raw(),
+                self.counters_readback.raw(),
+                &region,
+            )
+        };
+        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+    }
+
+    pub fn read_counters(&self) -> Result<Counters> {
+        let words = self.counters_readback.read::<u32>(4)?;
+        Ok(Counters {
+            node_count: words[0],
+            node_capacity: words[1],
+            range_count: words[2],
+            range_capacity: words[3],
+        })
+    }
+
+    /// Copies the whole map back to the host (for tests, heat maps and debugging).
+    pub fn download(&self, ctx: &Context) -> Result<ShadowMapContents> {
+        let counts = self.read_counters()?;
+        let pixels = (self.width * self.height) as usize;
+        let nodes = counts.node_count.min(self.node_capacity) as usize;
+        let ranges = counts.range_count.min(self.range_capacity) as usize;
+        Ok(ShadowMapContents {
+            width: self.width,
+            height: self.height,
+            heads: download(ctx, &self.heads, pixels)?,
+            nodes: download(ctx, &self.nodes, nodes)?,
+            range_heads: download(ctx, &self.range_heads, pixels)?,
+            ranges: download(ctx, &self.ranges, ranges)?,
+        })
+    }
+}
+
+/// Copies the first `count` elements of a device-local buffer to the host.
+pub(crate) fn download<T: Copy + Default>(
+    ctx: &Context,
+    buffer: &Buffer,
+    count: usize,
+) -> Result<Vec<T>> {
+    let bytes = (count * std::mem::size_of::<T>()) as u64;
+    if bytes == 0 {
+        return Ok(Vec::new());
+    }
+    let staging = Buffer::new(ctx, "download", bytes, BufferUsage::Readback)?;
+    let device = ctx.device();
+    OneShot::new(ctx)?.run(|cmd| {
+        memory_barrier(
+            device,
+            cmd,
+            Access::ANY_SHADER_READ
+                .and(Access::COMPUTE_RW)
+                .and(Access::FRAGMENT_RW),
+            Access::TRANSFER_READ,
+        );
+        let region = [vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size: bytes,
+        }];
+        unsafe { device.cmd_copy_buffer(cmd, buffer.raw(), staging.raw(), &region) };
+        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+        Ok(())
+    })?;
+    staging.read(count)
+}
+
+/// A host copy of a temporal shadow map.
+#[derive(Debug, Clone)]
+pub struct ShadowMapContents {
+    pub width: u32,
+    pub height: u32,
+    pub heads: Vec<u32>,
+    pub nodes: Vec<Node>,
+    pub range_heads: Vec<u32>,
+    pub ranges: Vec<Range>,
+}
+
+impl ShadowMapContents {
+    fn walk<T: Copy>(items: &[T], first: u32, next: impl Fn(&T) -> u32) -> Vec<T> {
+        let mut out = Vec::new();
+        let mut link = first;
+        while link != 0 && (link as usize) <= items.len() && out.len() <= items.len() {
+            let item = items[link as usize - 1];
+            out.push(item);
+            link = next(&item);
+        }
+        out
+    }
+
+    /// The fragments stored at pixel (x, y).
+    pub fn nodes_at(&self, x: u32, y: u32) -> Vec<Node> {
+        let first = self.heads[(y * self.width + x) as usize];
+        Self::walk(&self.nodes, first, |n| n.next)
+    }
+
+    /// The depth-time ranges stored at pixel (x, y).
+    pub fn ranges_at(&self, x: u32, y: u32) -> Vec<Range> {
+        let first = self.range_heads[(y * self.width + x) as usize];
+        Self::walk(&self.ranges, first, |r| r.next)
+    }
+}
