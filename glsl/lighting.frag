@@ -18,19 +18,19 @@ void main() {
     uint p = pixel.y * frame.sizes.z + pixel.x;
     SceneVertex a = vertices[3u * in_id], b = vertices[3u * in_id + 1u],
                 c = vertices[3u * in_id + 2u];
-    uint spp = frame.sampling.x, seed = frame.sampling.y;
+    uint spp = frame.sampling.x;
+    uint key = pixel_key(pixel, frame.sampling.y);
+    vec3 origin = frame.camera_position.xyz;
     float near = frame.camera_position.w, far = frame.camera_forward.w;
     for (uint j = 0u; j < pc.sample_count; ++j) {
-        uint k = pc.first_sample + j;
-        float t = sample_time(pixel, k, spp, seed);
-        vec3 origin, dir;
-        camera_ray(frame, vec2(pixel) + sample_offset(pixel, k, seed), origin, dir);
-        float d = intersect_triangle(origin, dir, mix(a.p0.xyz, a.p1.xyz, t),
-                                     mix(b.p0.xyz, b.p1.xyz, t), mix(c.p0.xyz, c.p1.xyz, t));
-        if (d < 0.0) continue;
-        float view_depth = d * dot(dir, frame.camera_forward.xyz);
-        if (view_depth < near || view_depth > far) continue;
-        uint64_t packed = (uint64_t(floatBitsToUint(d)) << 32) | uint64_t(in_id);
+        float t;
+        vec2 offset;
+        pixel_sample(key, pc.first_sample + j, spp, t, offset);
+        vec3 dir = camera_ray(frame, vec2(pixel) + offset);
+        float depth = intersect_triangle(origin, dir, mix(a.p0.xyz, a.p1.xyz, t),
+                                         mix(b.p0.xyz, b.p1.xyz, t), mix(c.p0.xyz, c.p1.xyz, t));
+        if (depth < near || depth > far) continue;
+        uint64_t packed = (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(in_id);
         atomicMin(visibility[p * pc.sample_count + j], packed);
     }
 }

@@ -55,14 +55,15 @@ bool shadowed_plain(uint index, float depth, uint own) {
     return uintBitsToFloat(uint(nearest >> 32)) < depth;
 }
 
-vec3 shade(uvec2 pixel, uint k, uint64_t hit) {
+vec3 shade(uvec2 pixel, uint key, uint k, uint64_t hit) {
     uint id = uint(hit & 0xffffffffUL);
     if (id == NO_TRIANGLE) return vec3(0.0);
-    float dist = uintBitsToFloat(uint(hit >> 32));
-    float t = sample_time(pixel, k, frame.sampling.x, frame.sampling.y);
-    vec3 origin, dir;
-    camera_ray(frame, vec2(pixel) + sample_offset(pixel, k, frame.sampling.y), origin, dir);
-    vec3 p = origin + dist * dir;
+    float view_depth = uintBitsToFloat(uint(hit >> 32));
+    float t;
+    vec2 offset;
+    pixel_sample(key, k, frame.sampling.x, t, offset);
+    vec3 dir = camera_ray(frame, vec2(pixel) + offset);
+    vec3 p = frame.camera_position.xyz + view_depth * dir;
 
     SceneVertex a = vertices[3u * id], b = vertices[3u * id + 1u], c = vertices[3u * id + 2u];
     vec3 pa = mix(a.p0.xyz, a.p1.xyz, t), pb = mix(b.p0.xyz, b.p1.xyz, t);
@@ -103,9 +104,10 @@ void main() {
     uvec2 pixel = gl_GlobalInvocationID.xy;
     if (pixel.x >= frame.sizes.z || pixel.y >= frame.sizes.w) return;
     uint p = pixel.y * frame.sizes.z + pixel.x;
+    uint key = pixel_key(pixel, frame.sampling.y);
     vec3 sum = vec3(0.0);
     for (uint j = 0u; j < pc.sample_count; ++j) {
-        sum += shade(pixel, pc.first_sample + j, visibility[p * pc.sample_count + j]);
+        sum += shade(pixel, key, pc.first_sample + j, visibility[p * pc.sample_count + j]);
     }
     radiance[p] += vec4(sum / float(frame.sampling.x), 0.0);
 }

@@ -56,6 +56,9 @@ struct FrameParams {
                                 // z = normal offset in shadow texels, w = relative depth bias
     vec4 light_texel;           // x = world size of a shadow texel per unit depth (spot) or
                                 // absolute (directional)
+    vec4 camera_ray00;          // ray direction through the image's top-left corner
+    vec4 camera_ray_dx;         // change of the ray direction per pixel to the right
+    vec4 camera_ray_dy;         // change of the ray direction per pixel down
     uvec4 sizes;                // xy = shadow map size, zw = image size
     uvec4 sampling;             // x = samples per pixel, y = seed
 };
@@ -80,28 +83,23 @@ uint pcg_hash(uint v) {
     return (word >> 22u) ^ word;
 }
 
+// Computed once per pixel; every sample of the pixel derives from it.
 uint pixel_key(uvec2 pixel, uint seed) {
     return pcg_hash(pixel.x + pcg_hash(pixel.y + pcg_hash(seed)));
 }
 
-float rand01(uint key, uint k, uint dimension) {
-    return float(pcg_hash(key ^ pcg_hash(k * 3u + dimension)) >> 8) * (1.0 / 16777216.0);
+// Sample k of spp lies in time stratum (k + r) mod spp, r = key mod spp a per-pixel
+// rotation, so that strata are decorrelated from sample positions across pixels.
+uint time_stratum(uint key, uint k, uint spp) {
+    return (k + key % spp) % spp;
 }
 
-// Sample k of spp lies in time stratum (k + r) mod spp, r a per-pixel rotation, so that the
-// strata are decorrelated from the sample positions across pixels.
-uint time_stratum(uvec2 pixel, uint k, uint spp, uint seed) {
-    return (k + pixel_key(pixel, seed) % spp) % spp;
-}
-
-float sample_time(uvec2 pixel, uint k, uint spp, uint seed) {
-    uint key = pixel_key(pixel, seed);
-    return (float(time_stratum(pixel, k, spp, seed)) + rand01(key, k, 0u)) / float(spp);
-}
-
-vec2 sample_offset(uvec2 pixel, uint k, uint seed) {
-    uint key = pixel_key(pixel, seed);
-    return vec2(rand01(key, k, 1u), rand01(key, k, 2u));
+// The time in [0, 1) and the position in the pixel ([0, 1)^2) of sample k.
+void pixel_sample(uint key, uint k, uint spp, out float t, out vec2 offset) {
+    uint h = pcg_hash(key ^ pcg_hash(k));
+    t = (float(time_stratum(key, k, spp)) + float(h >> 8) * (1.0 / 16777216.0)) / float(spp);
+    uint g = pcg_hash(h);
+    offset = (vec2(float(g & 0xffffu), float(g >> 16)) + 0.5) * (1.0 / 65536.0);
 }
 
 // ---- geometry ----
@@ -164,11 +162,10 @@ float intersect_triangle(vec3 origin, vec3 dir, vec3 a, vec3 b, vec3 c) {
     return d > 0.0 ? d : -1.0;
 }
 
-// The camera ray through a point of the image, in pixels from the top-left corner.
-void camera_ray(FrameParams frame, vec2 pixel_pos, out vec3 origin, out vec3 dir) {
-    vec2 ndc = pixel_pos / vec2(frame.sizes.zw) * 2.0 - 1.0;
-    vec4 near_p = frame.camera_inv_view_proj * vec4(ndc, 0.0, 1.0);
-    vec4 far_p = frame.camera_inv_view_proj * vec4(ndc, 1.0, 1.0);
-    origin = frame.camera_position.xyz;
-    dir = normalize(far_p.xyz / far_p.w - near_p.xyz / near_p.w);
+// The camera ray through a point of the image, in pixels from the top-left corner. `dir` is
+// scaled so that its component along the view axis is 1: the ray parameter of a hit is its
+// view depth, comparable across triangles and directly testable against near and far.
+vec3 camera_ray(FrameParams frame, vec2 pixel_pos) {
+    return frame.camera_ray00.xyz + pixel_pos.x * frame.camera_ray_dx.xyz
+           + pixel_pos.y * frame.camera_ray_dy.xyz;
 }

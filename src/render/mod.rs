@@ -14,8 +14,9 @@ use crate::gpu::{Buffer, BufferUsage, Context, OneShot, TimestampQueries};
 use crate::output::RadianceImage;
 use crate::scene::Scene;
 use crate::technique::{
-    CollectionPass, FrameParams, FrameSettings, GenerationPass, LightingPass, LightingTarget,
-    PlainShadowMap, PlainShadowPass, SceneGeometry, ShadowSource, TemporalShadowMap,
+    CollectionPass, FrameInputs, FrameParams, FrameSettings, GenerationPass, LightingPass,
+    LightingTarget, PlainShadowMap, PlainShadowPass, SceneGeometry, ShadowSource,
+    TemporalShadowMap,
 };
 pub use stats::{FrameStats, PassTime, equation_2_bytes};
 use std::time::Instant;
@@ -164,6 +165,10 @@ impl<'a> Renderer<'a> {
             &frame_settings,
         );
         let frame = Buffer::with_data(ctx, "frame params", BufferUsage::Uniform, &[params])?;
+        let inputs = FrameInputs {
+            frame: &frame,
+            geometry: &geometry,
+        };
         let target = LightingTarget::new(ctx, settings.width, settings.height, settings.spp)?;
         let mut passes = Vec::new();
 
@@ -191,7 +196,7 @@ impl<'a> Renderer<'a> {
                     ));
                     self.run_timed(&mut passes, |this, cmd, ts| {
                         let device = this.ctx.device();
-                        this.collection.record(device, cmd, &frame, &geometry, &map);
+                        this.collection.record(device, cmd, inputs, &map);
                         ts.mark(cmd, "collection");
                         this.generation.record(device, cmd, &frame, &map);
                         ts.mark(cmd, "generation");
@@ -215,7 +220,7 @@ impl<'a> Renderer<'a> {
                 let map = PlainShadowMap::new(ctx, shadow_size.0, shadow_size.1, 1)?;
                 self.run_timed(&mut passes, |this, cmd, ts| {
                     this.plain
-                        .record(this.ctx.device(), cmd, &frame, &geometry, &map, &[time]);
+                        .record(this.ctx.device(), cmd, inputs, &map, &[time]);
                     ts.mark(cmd, "plain shadow map");
                 })?;
                 plain_map = Some(map);
@@ -234,8 +239,7 @@ impl<'a> Renderer<'a> {
         self.run_timed(&mut passes, |this, cmd, ts| {
             let device = this.ctx.device();
             this.lighting
-                .record(device, cmd, &frame, &geometry, shadow, &target);
-            ts.mark(cmd, "lighting");
+                .record(device, cmd, inputs, shadow, &target, Some(ts));
             target.record_readback(device, cmd);
         })?;
         let image = RadianceImage::new(settings.width, settings.height, target.read_rgb()?)?;

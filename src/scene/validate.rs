@@ -116,6 +116,13 @@ fn check_light(light: &Light) -> Result<(), SceneError> {
                 ));
             }
             finite(what, "distance", d.distance)?;
+            // The shadow camera looks from center - direction * distance at center.
+            if d.distance <= 0.0 {
+                return Err(invalid(
+                    what,
+                    format!("distance must be > 0, got {}", d.distance),
+                ));
+            }
             depth_range(what, d.near, d.far)
         }
     }

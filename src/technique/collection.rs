@@ -1,13 +1,13 @@
 //! Collection sub-pass (paper 4.1-4.2): the prisms of all moving triangles, rasterized from
 //! the light, every fragment appended to its pixel's list.
 
-use super::geometry::SceneGeometry;
+use super::geometry::FrameInputs;
 use super::gpu_types::PassConstants;
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
 use crate::error::Result;
 use crate::gpu::{
-    Access, Buffer, Context, DescriptorBinding, DescriptorKind, DescriptorSet, Pipeline,
+    Access, Context, DescriptorBinding, DescriptorKind, DescriptorSet, Pipeline,
     attachmentless_pipeline, begin_attachmentless, memory_barrier,
 };
 use ash::vk;
@@ -72,10 +72,10 @@ impl CollectionPass {
         &mut self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
-        frame: &Buffer,
-        geometry: &SceneGeometry,
+        inputs: FrameInputs<'_>,
         map: &TemporalShadowMap,
     ) {
+        let FrameInputs { frame, geometry } = inputs;
         self.set.bind(&[
             frame,
             &geometry.vertices,

@@ -61,3 +61,11 @@ impl SceneGeometry {
         self.triangle_count
     }
 }
+
+/// What every pass of a frame reads: the frame parameters ([`super::FrameParams`] in a
+/// uniform buffer) and the scene's triangles.
+#[derive(Clone, Copy)]
+pub struct FrameInputs<'a> {
+    pub frame: &'a Buffer,
+    pub geometry: &'a SceneGeometry,
+}

@@ -72,6 +72,11 @@ pub struct FrameParams {
     pub light_params: Vec4,
     /// x = world size of a shadow texel per unit depth (spot) or absolute (directional).
     pub light_texel: Vec4,
+    /// Ray direction through the image's top-left corner, with unit component along the view
+    /// axis; `camera_ray_dx`/`dy` are its change per pixel right and down.
+    pub camera_ray00: Vec4,
+    pub camera_ray_dx: Vec4,
+    pub camera_ray_dy: Vec4,
     /// xy = shadow map size, zw = image size.
     pub sizes: UVec4,
     /// x = samples per pixel, y = seed.
@@ -107,6 +112,6 @@ const _: () = {
     assert!(std::mem::size_of::<Node>() == 16);
     assert!(std::mem::size_of::<Range>() == 24);
     assert!(std::mem::size_of::<SceneVertex>() == 32);
-    assert!(std::mem::size_of::<FrameParams>() == 4 * 64 + 8 * 16);
+    assert!(std::mem::size_of::<FrameParams>() == 4 * 64 + 11 * 16);
     assert!(std::mem::size_of::<PassConstants>() == 16);
 };

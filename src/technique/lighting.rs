@@ -7,7 +7,7 @@
 //! shading runs once per visible sample instead of once per covering fragment.
 
 use super::collection::bindings;
-use super::geometry::SceneGeometry;
+use super::geometry::FrameInputs;
 use super::gpu_types::{PassConstants, ShadowMode};
 use super::plain_shadow::PlainShadowMap;
 use super::shaders;
@@ -15,7 +15,8 @@ use super::shadow_map::TemporalShadowMap;
 use crate::error::{Error, Result};
 use crate::gpu::{
     Access, Buffer, BufferUsage, Context, DescriptorKind, DescriptorSet, Pipeline,
-    attachmentless_pipeline, begin_attachmentless, compute_pipeline, memory_barrier,
+    TimestampQueries, attachmentless_pipeline, begin_attachmentless, compute_pipeline,
+    memory_barrier,
 };
 use ash::vk;
 
@@ -183,17 +184,19 @@ impl LightingPass {
 
     /// Records the whole lighting pass for the target's samples per pixel (as many chunks as the
     /// target needs), leaving the averaged radiance in `target.radiance`. The shadow source
-    /// must have been recorded earlier in the same or an earlier submission.
+    /// must have been recorded earlier in the same or an earlier submission. With `timestamps`,
+    /// marks "lighting raster" and "lighting shade" after each chunk's two halves.
     pub fn record(
         &mut self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
-        frame: &Buffer,
-        geometry: &SceneGeometry,
+        inputs: FrameInputs<'_>,
         shadow: ShadowSource<'_>,
         target: &LightingTarget,
+        mut timestamps: Option<&mut TimestampQueries>,
     ) {
         let spp = target.spp;
+        let FrameInputs { frame, geometry } = inputs;
         let p = &self.placeholder;
         let (mode, range_heads, ranges, plain) = match shadow {
             ShadowSource::Temporal(map) => (ShadowMode::Temporal, &map.range_heads, &map.ranges, p),
@@ -250,12 +253,18 @@ impl LightingPass {
                 device.cmd_draw(cmd, 3 * geometry.triangle_count(), 1, 0, 0);
                 device.cmd_end_rendering(cmd);
             }
+            if let Some(ts) = timestamps.as_deref_mut() {
+                ts.mark(cmd, "lighting raster");
+            }
             memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::COMPUTE_RW);
             self.resolve.bind(device, cmd, self.resolve_set.raw());
             self.resolve.push(device, cmd, &constants);
             unsafe {
                 device.cmd_dispatch(cmd, target.width.div_ceil(8), target.height.div_ceil(8), 1)
             };
+            if let Some(ts) = timestamps.as_deref_mut() {
+                ts.mark(cmd, "lighting shade");
+            }
             first += count;
         }
         memory_barrier(

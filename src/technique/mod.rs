@@ -12,13 +12,13 @@ mod geometry;
 pub mod gpu_types;
 mod lighting;
 mod plain_shadow;
-mod shaders;
+pub mod shaders;
 mod shadow_map;
 mod view;
 
 pub use collection::CollectionPass;
 pub use generation::GenerationPass;
-pub use geometry::SceneGeometry;
+pub use geometry::{FrameInputs, SceneGeometry};
 pub use gpu_types::{
     Counters, FrameParams, Node, PassConstants, Range, SceneVertex, ShadowMode, TriangleInfo,
 };

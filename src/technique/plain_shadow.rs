@@ -2,7 +2,7 @@
 //! static reference for tests, and the building block of time-dependent shadow maps.
 
 use super::collection::bindings;
-use super::geometry::SceneGeometry;
+use super::geometry::FrameInputs;
 use super::gpu_types::PassConstants;
 use super::shaders;
 use crate::error::{Error, Result};
@@ -79,11 +79,11 @@ impl PlainShadowPass {
         &mut self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
-        frame: &Buffer,
-        geometry: &SceneGeometry,
+        inputs: FrameInputs<'_>,
         map: &PlainShadowMap,
         times: &[f32],
     ) {
+        let FrameInputs { frame, geometry } = inputs;
         self.set.bind(&[frame, &geometry.vertices, &map.depths]);
         memory_barrier(
             device,

@@ -1,4 +1,4 @@
-//! SPIR-V compiled from `glsl/` by build.rs.
+//! SPIR-V compiled from `glsl/` by build.rs, for hosts that build their own pipelines.
 
 macro_rules! spirv {
     ($name:literal) => {
@@ -15,3 +15,4 @@ pub const LIGHTING_FRAG: &[u8] = spirv!("lighting.frag");
 pub const RESOLVE_COMP: &[u8] = spirv!("resolve.comp");
 pub const SHADOW_DEPTH_VERT: &[u8] = spirv!("shadow_depth.vert");
 pub const SHADOW_DEPTH_FRAG: &[u8] = spirv!("shadow_depth.frag");
+pub const LAYOUT_PROBE_COMP: &[u8] = spirv!("layout_probe.comp");

@@ -154,9 +154,27 @@ impl FrameSettings {
     }
 }
 
+/// Camera ray directions as an affine function of the pixel position (see `camera_ray` in
+/// shared.glsl): the ray through pixel position (x, y) is `ray00 + x * dx + y * dy`.
+fn camera_ray_basis(camera: &CameraView, image_size: (u32, u32)) -> [Vec4; 3] {
+    let to_world = camera.view.inverse();
+    let right = to_world.x_axis.truncate();
+    let up = to_world.y_axis.truncate();
+    let forward = -to_world.z_axis.truncate();
+    // Vulkan projection: x_ndc = x_view / (aspect tan), y_ndc = -y_view / tan at unit depth.
+    let half_w = 1.0 / camera.proj.x_axis.x;
+    let half_h = 1.0 / camera.proj.y_axis.y.abs();
+    let ray00 = forward - half_w * right + half_h * up;
+    let dx = right * (2.0 * half_w / image_size.0 as f32);
+    let dy = -up * (2.0 * half_h / image_size.1 as f32);
+    [ray00.extend(0.0), dx.extend(0.0), dy.extend(0.0)]
+}
+
 impl FrameParams {
     pub fn new(camera: &CameraView, light: &LightView, settings: &FrameSettings) -> Self {
         let view_proj = camera.proj * camera.view;
+        let [camera_ray00, camera_ray_dx, camera_ray_dy] =
+            camera_ray_basis(camera, settings.image_size);
         let (light_w, light_value, cos_cone) = match light.kind {
             LightKind::Spot {
                 cos_cone,
@@ -180,6 +198,9 @@ impl FrameParams {
                 settings.depth_bias,
             ),
             light_texel: Vec4::new(light.texel, 0.0, 0.0, 0.0),
+            camera_ray00,
+            camera_ray_dx,
+            camera_ray_dy,
             sizes: UVec4::new(
                 settings.shadow_size.0,
                 settings.shadow_size.1,

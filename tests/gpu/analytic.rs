@@ -1,0 +1,145 @@
+//! Depth-time ranges against closed-form expectations.
+
+use crate::support::gpu::{
+    assert_no_validation_messages, context, mesh, overhead_directional, scene, square,
+    temporal_map, translated,
+};
+use crate::support::prism_model::{LightSetup, edge_margin_at_pixel, prism_triangles};
+use glam::{Vec3, Vec4};
+use motion_shadows::render::upload::light_view;
+use motion_shadows::technique::Range;
+
+const SIZE: (u32, u32) = (64, 64);
+
+/// World x and z of the centre of shadow-map pixel (x, y), by inverting the light's matrices.
+fn pixel_centre_world(scene: &motion_shadows::scene::Scene, x: u32, y: u32) -> Vec3 {
+    let light = light_view(scene, SIZE);
+    let ndc = glam::Vec2::new(
+        (x as f32 + 0.5) / SIZE.0 as f32 * 2.0 - 1.0,
+        (y as f32 + 0.5) / SIZE.1 as f32 * 2.0 - 1.0,
+    );
+    let world = (light.proj * light.view).inverse() * Vec4::new(ndc.x, ndc.y, 0.5, 1.0);
+    world.truncate() / world.w
+}
+
+/// Merges time intervals that touch (within `eps`) into disjoint ones.
+fn union(mut intervals: Vec<(f32, f32)>, eps: f32) -> Vec<(f32, f32)> {
+    intervals.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut out: Vec<(f32, f32)> = Vec::new();
+    for (s, e) in intervals {
+        match out.last_mut() {
+            Some(last) if s <= last.1 + eps => last.1 = last.1.max(e),
+            _ => out.push((s, e)),
+        }
+    }
+    out
+}
+
+/// A square translating parallel to the light's image plane: at every pixel of a row through
+/// it, the ranges' union is the analytic interval during which the square covers the pixel
+/// centre, at the square's constant depth.
+///
+/// Tolerance on times: 2e-3. The side surfaces of this prism are planes, so the prism is
+/// exact; what remains is rasterization snapping vertices to 1/256 pixel, which shifts an
+/// edge by 1/256 px, i.e. 1/256 / 32 = 1.2e-4 in time at 32 px of motion, plus f32 rounding.
+#[test]
+fn translating_square_ranges_match_analytic_times_and_depths() {
+    let ctx = context();
+    // The box is 16 units wide over 64 pixels: 0.25 units per pixel. The square (side 2) moves
+    // 8 units = 32 pixels in +x over the shutter, at height 1 under a light 10 units up.
+    let (x0, z0, side, height, travel) = (-5.0f32, -1.0f32, 2.0f32, 1.0f32, 8.0f32);
+    let t0 = square(x0, z0, side, height);
+    let t1 = translated(&t0, Vec3::X * travel);
+    let s = scene(
+        "translating-square",
+        overhead_directional(8.0),
+        vec![mesh("square", t0, t1, false)],
+    );
+    let map = temporal_map(&ctx, &s, SIZE);
+    let expected_depth = 10.0 - height;
+
+    let mut checked = 0;
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let centre = pixel_centre_world(&s, x, y);
+            let inside_z = centre.z > z0 + 0.01 && centre.z < z0 + side - 0.01;
+            let ranges = map.ranges_at(x, y);
+            if !inside_z {
+                if (centre.z - z0).abs() > 0.01 && (centre.z - z0 - side).abs() > 0.01 {
+                    assert!(ranges.is_empty(), "pixel ({x},{y}) off the path has ranges");
+                }
+                continue;
+            }
+            // The square covers x in [x0 + travel t, x0 + side + travel t].
+            let enter = ((centre.x - x0 - side) / travel).clamp(0.0, 1.0);
+            let leave = ((centre.x - x0) / travel).clamp(0.0, 1.0);
+            if leave - enter < 1e-3 {
+                continue; // never or only touched: no interval to compare
+            }
+            for r in &ranges {
+                assert!((r.d_s - expected_depth).abs() < 1e-4, "({x},{y}) {r:?}");
+                assert!((r.d_e - expected_depth).abs() < 1e-4, "({x},{y}) {r:?}");
+            }
+            let got = union(ranges.iter().map(|r| (r.t_s, r.t_e)).collect(), 1e-4);
+            assert_eq!(got.len(), 1, "pixel ({x},{y}): {ranges:?}");
+            assert!(
+                (got[0].0 - enter).abs() < 2e-3 && (got[0].1 - leave).abs() < 2e-3,
+                "pixel ({x},{y}): ranges {got:?}, analytic [{enter}, {leave}]"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 150, "only {checked} pixels checked");
+    assert_no_validation_messages(&ctx);
+}
+
+/// A static triangle yields exactly one range [0, 1] at constant depth at each pixel whose
+/// centre it covers, and none elsewhere.
+#[test]
+fn static_triangle_gives_one_full_range_per_covered_pixel() {
+    let ctx = context();
+    let tri = vec![
+        Vec3::new(-4.0, 2.0, -3.0),
+        Vec3::new(-1.0, 2.0, 4.0),
+        Vec3::new(5.0, 2.0, -1.0),
+    ];
+    let s = scene(
+        "static-triangle",
+        overhead_directional(8.0),
+        vec![mesh("triangle", tri.clone(), tri.clone(), false)],
+    );
+    let map = temporal_map(&ctx, &s, SIZE);
+    let light = light_view(&s, SIZE);
+    let setup = LightSetup {
+        view: light.view,
+        proj: light.proj,
+        orthographic: true,
+        width: SIZE.0,
+        height: SIZE.1,
+    };
+    let p = [tri[0], tri[1], tri[2]];
+    // The cap alone says which pixel centres are covered (the sides have no area).
+    let caps = &prism_triangles(&setup, p, p, false)[..1];
+    let mut covered = 0;
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            if edge_margin_at_pixel(caps, &setup, x, y) < 0.01 {
+                continue;
+            }
+            let inside =
+                !crate::support::prism_model::fragments_at_pixel(caps, &setup, x, y).is_empty();
+            let ranges: Vec<Range> = map.ranges_at(x, y);
+            if inside {
+                covered += 1;
+                assert_eq!(ranges.len(), 1, "pixel ({x},{y}): {ranges:?}");
+                let r = ranges[0];
+                assert_eq!((r.t_s, r.t_e), (0.0, 1.0), "pixel ({x},{y})");
+                assert!((r.d_s - 8.0).abs() < 1e-4 && r.d_s == r.d_e, "{r:?}");
+            } else {
+                assert!(ranges.is_empty(), "pixel ({x},{y}) outside: {ranges:?}");
+            }
+        }
+    }
+    assert!(covered > 300, "only {covered} covered pixels");
+    assert_no_validation_messages(&ctx);
+}

@@ -1,0 +1,13 @@
+//! GPU tests: every one runs on a real Vulkan device (lavapipe in CI) with the validation
+//! layer and synchronization validation on, and fails if either is missing.
+
+#[path = "../support/mod.rs"]
+mod support;
+
+mod analytic;
+mod errors;
+mod generation;
+mod layout;
+mod lighting;
+mod prism;
+mod validation;

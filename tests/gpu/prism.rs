@@ -1,0 +1,94 @@
+//! The GPU's prisms against an independent CPU model of the geometry shader's triangulation
+//! (tests/support/prism_model.rs): same fragment count, times and depths at every pixel whose
+//! centre is clear of all prism edges, in the centre-vertex case and in the crossing case.
+
+use crate::support::gpu::{
+    assert_no_validation_messages, context, mesh, overhead_spot, scene, temporal_map,
+};
+use crate::support::prism_model::{
+    EdgeCase, LightSetup, edge_cases, edge_margin_at_pixel, fragments_at_pixel, prism_triangles,
+};
+use glam::{Quat, Vec3};
+use motion_shadows::render::upload::light_view;
+
+const SIZE: (u32, u32) = (96, 96);
+
+fn compare_with_model(p0: [Vec3; 3], p1: [Vec3; 3], want: EdgeCase) {
+    let ctx = context();
+    let s = scene(
+        "prism",
+        overhead_spot(10.0, 30.0),
+        vec![mesh("moving", p0.to_vec(), p1.to_vec(), false)],
+    );
+    let light = light_view(&s, SIZE);
+    let setup = LightSetup {
+        view: light.view,
+        proj: light.proj,
+        orthographic: false,
+        width: SIZE.0,
+        height: SIZE.1,
+    };
+    assert!(
+        edge_cases(&setup, p0, p1).contains(&want),
+        "the test motion must exercise {want:?}"
+    );
+    let model = prism_triangles(&setup, p0, p1, false);
+    let map = temporal_map(&ctx, &s, SIZE);
+
+    let (mut probes, mut with_fragments) = (0, 0);
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            if edge_margin_at_pixel(&model, &setup, x, y) < 0.02 {
+                continue;
+            }
+            let mut want_frags = fragments_at_pixel(&model, &setup, x, y);
+            let mut got = map.nodes_at(x, y);
+            assert_eq!(
+                got.len(),
+                want_frags.len(),
+                "pixel ({x},{y}): GPU {got:?}, model {want_frags:?}"
+            );
+            got.sort_by(|a, b| a.time.total_cmp(&b.time).then(a.depth.total_cmp(&b.depth)));
+            want_frags.sort_by(|a, b| a.time.total_cmp(&b.time).then(a.depth.total_cmp(&b.depth)));
+            for (g, w) in got.iter().zip(&want_frags) {
+                assert!(
+                    (g.time - w.time).abs() < 2e-3 && (g.depth - w.depth).abs() < 2e-3 * w.depth,
+                    "pixel ({x},{y}): GPU {g:?}, model {w:?}"
+                );
+            }
+            probes += 1;
+            with_fragments += usize::from(!got.is_empty());
+        }
+    }
+    assert!(
+        with_fragments > 200,
+        "only {with_fragments} covered probes of {probes}"
+    );
+    assert_no_validation_messages(&ctx);
+}
+
+#[test]
+fn centre_vertex_prism_matches_cpu_model() {
+    let p0 = [
+        Vec3::new(-2.0, 2.0, -1.0),
+        Vec3::new(-0.5, 2.0, 1.5),
+        Vec3::new(0.5, 2.0, -1.5),
+    ];
+    // Moves sideways and toward the light: four triangles around each side's centre.
+    let p1 = p0.map(|p| p + Vec3::new(2.5, 1.5, 0.5));
+    compare_with_model(p0, p1, EdgeCase::Centre);
+}
+
+#[test]
+fn crossing_edge_prism_matches_cpu_model() {
+    let p0 = [
+        Vec3::new(-1.5, 2.0, 0.0),
+        Vec3::new(1.5, 2.0, 0.0),
+        Vec3::new(0.0, 2.0, 2.0),
+    ];
+    // A 60 degree turn about the vertical through the midpoint of edge 0-1: that edge at t=0
+    // and at t=1 cross on the screen.
+    let turn = Quat::from_rotation_y(60f32.to_radians());
+    let p1 = p0.map(|p| turn * p + Vec3::new(0.3, 0.5, 0.0));
+    compare_with_model(p0, p1, EdgeCase::Crossing);
+}
