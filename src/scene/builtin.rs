@@ -119,8 +119,8 @@ fn cubes_toward_light() -> SceneFile {
         format: SCENE_FORMAT.to_owned(),
         name: Some("cubes-toward-light".to_owned()),
         camera: CameraFile {
-            position: Vec3::new(0.0, 7.0, 14.0),
-            target: Vec3::new(0.0, 0.5, 0.0),
+            position: Vec3::new(0.0, 8.0, 16.0),
+            target: Vec3::new(0.0, 2.6, 0.0),
             up: Vec3::Y,
             fov_y_deg: 45.0,
             near: 0.1,
