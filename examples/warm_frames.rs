@@ -1,7 +1,7 @@
 //! Renders the default scene several times with one renderer and prints each frame's GPU time
 //! per pass: the first frame includes shader compilation, later ones are warm.
 //!
-//! `cargo run --release --example warm_frames -- [frames] [width] [height] [spp]`
+//! `cargo run --release --example warm_frames -- [frames] [width] [height] [spp] [samples per chunk]`
 
 use motion_shadows::gpu::{Context, ContextOptions};
 use motion_shadows::render::{RenderSettings, Renderer};
@@ -20,6 +20,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         width: arg(1, 1024),
         height: arg(2, 768),
         spp: arg(3, 8),
+        max_samples_per_chunk: arg(4, 16),
         ..RenderSettings::default()
     };
     for frame in 0..arg(0, 3) {

@@ -4,7 +4,8 @@
 // ranges. An odd group leaves its farthest fragment alone; it becomes a zero-length range
 // [t, t] (it happens where the prism is cut by the light's near or far plane, or at a
 // pixel centre exactly on a prism edge), kept so that nothing is dropped and counted by tests.
-// Quadratic in the list length, but needs no per-pixel storage, so no list is ever too long.
+// A list longer than MAX_LIST_NODES is not paired but counted (Counters.overlong_pixels), and
+// the renderer reports it as an error with the figures: nothing is dropped silently.
 #include "shared.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -20,43 +21,78 @@ bool before(Node x, uint xi, Node y, uint yi) {
     return x.depth < y.depth || (x.depth == y.depth && xi < yi);
 }
 
+uint out_head = END_OF_LIST;
+
+void emit(Node a, Node b) {
+    Range r;
+    bool a_first = a.time <= b.time;
+    r.t_s = a_first ? a.time : b.time;
+    r.t_e = a_first ? b.time : a.time;
+    r.d_s = a_first ? a.depth : b.depth;
+    r.d_e = a_first ? b.depth : a.depth;
+    r.id = a.id;
+    uint index = atomicAdd(counters.range_count, 1u);
+    if (index >= counters.range_capacity) return;
+    r.next = out_head;
+    ranges[index] = r;
+    out_head = index + 1u;
+}
+
+// The list is copied out, Shell-sorted by (id, depth, node index) and paired in one sweep.
+Node local_nodes[MAX_LIST_NODES];
+uint local_index[MAX_LIST_NODES];
+
+bool sorts_after(Node x, uint xi, Node y, uint yi) {
+    return x.id > y.id || (x.id == y.id && before(y, yi, x, xi));
+}
+
+void sort_and_pair(uint n) {
+    const uint gaps[6] = uint[6](132u, 57u, 23u, 10u, 4u, 1u);
+    for (int g = 0; g < 6; ++g) {
+        uint gap = gaps[g];
+        for (uint i = gap; i < n; ++i) {
+            Node key = local_nodes[i];
+            uint key_index = local_index[i];
+            uint j = i;
+            while (j >= gap && sorts_after(local_nodes[j - gap], local_index[j - gap], key,
+                                           key_index)) {
+                local_nodes[j] = local_nodes[j - gap];
+                local_index[j] = local_index[j - gap];
+                j -= gap;
+            }
+            local_nodes[j] = key;
+            local_index[j] = key_index;
+        }
+    }
+    uint i = 0u;
+    while (i < n) {
+        bool pair = i + 1u < n && local_nodes[i + 1u].id == local_nodes[i].id;
+        emit(local_nodes[i], pair ? local_nodes[i + 1u] : local_nodes[i]);
+        i += pair ? 2u : 1u;
+    }
+}
+
 void main() {
     uvec2 pixel = gl_GlobalInvocationID.xy;
     if (pixel.x >= frame.sizes.x || pixel.y >= frame.sizes.y) return;
     uint p = pixel.y * frame.sizes.x + pixel.x;
-    uint first = heads[p];
-    uint out_head = END_OF_LIST;
 
-    for (uint a = first; a != END_OF_LIST; a = nodes[a - 1u].next) {
-        Node na = nodes[a - 1u];
-        uint rank = 0u;          // fragments of the same triangle before this one
-        uint partner = END_OF_LIST;
-        Node np;
-        for (uint b = first; b != END_OF_LIST; b = nodes[b - 1u].next) {
-            Node nb = nodes[b - 1u];
-            if (b == a || nb.id != na.id) continue;
-            if (before(nb, b, na, a)) {
-                rank++;
-            } else if (partner == END_OF_LIST || before(nb, b, np, partner)) {
-                partner = b;
-                np = nb;
-            }
-        }
-        if ((rank & 1u) == 1u) continue;  // an exit fragment: its entry emits the range
-        if (partner == END_OF_LIST) np = na;
-
-        Range r;
-        bool entry_first = na.time <= np.time;
-        r.t_s = entry_first ? na.time : np.time;
-        r.t_e = entry_first ? np.time : na.time;
-        r.d_s = entry_first ? na.depth : np.depth;
-        r.d_e = entry_first ? np.depth : na.depth;
-        r.id = na.id;
-        uint index = atomicAdd(counters.range_count, 1u);
-        if (index >= counters.range_capacity) continue;
-        r.next = out_head;
-        ranges[index] = r;
-        out_head = index + 1u;
+    uint n = 0u;
+    uint a = heads[p];
+    for (; a != END_OF_LIST && n < MAX_LIST_NODES; a = nodes[a - 1u].next) {
+        local_nodes[n] = nodes[a - 1u];
+        local_index[n] = a;
+        ++n;
     }
+    if (a != END_OF_LIST) {
+        // Count the rest only to report it; cheap, and bounded by the node capacity.
+        for (; a != END_OF_LIST && n < 8u * MAX_LIST_NODES; a = nodes[a - 1u].next) ++n;
+        atomicAdd(counters.overlong_pixels, 1u);
+        atomicMax(counters.longest_list, n);
+        range_heads[p] = END_OF_LIST;
+        return;
+    }
+    atomicMax(counters.longest_list, n);
+    sort_and_pair(n);
     range_heads[p] = out_head;
 }

@@ -17,6 +17,7 @@ void main() {
     nodes[1] = Node(1.5, 0.25, 7u, 9u);
     ranges[1] = Range(0.125, 0.75, 2.5, 3.5, 11u, 13u);
     vertices[1] = SceneVertex(vec4(1, 2, 3, 4), vec4(5, 6, 7, 8));
-    counters = Counters(pc.first_triangle, pc.first_sample, pc.sample_count, pc.mode);
+    counters = Counters(pc.first_triangle, pc.first_sample, pc.sample_count, pc.mode, 31u, 32u,
+                        33u, 34u);
     frame_copy = frame;
 }

@@ -36,12 +36,23 @@ struct TriangleInfo {
 
 // Capacities are written by the host when recording; counts by the shaders. A count past its
 // capacity means the pass overflowed and nothing past the capacity was linked in.
+// `overlong_pixels` counts shadow-map pixels whose list exceeded MAX_LIST_NODES (their ranges
+// are not generated: the frame is an error), `longest_list` is the longest list seen.
 struct Counters {
     uint node_count;
     uint node_capacity;
     uint range_count;
     uint range_capacity;
+    uint overlong_pixels;
+    uint longest_list;
+    uint reserved0;
+    uint reserved1;
 };
+
+// The most fragments one shadow-map pixel may hold. The generation pass sorts a pixel's list
+// in private memory; this bound also keeps every shader loop far below lavapipe's limit of
+// 65535 loop iterations per invocation, past which it silently leaves loops.
+const uint MAX_LIST_NODES = 512u;
 
 struct FrameParams {
     mat4 light_view;            // world -> light view (right-handed, looking down -z)

@@ -54,6 +54,18 @@ pub enum Error {
         limit_bytes: u64,
     },
 
+    /// Some shadow-map pixels hold more prism fragments than the generation pass can pair.
+    #[error(
+        "{pixels} shadow-map pixel(s) hold more than {limit} prism fragments (longest list: {longest}{more}); the generation pass pairs at most {limit} per pixel. The scene has too many moving surfaces behind one another as seen from the light"
+    )]
+    FragmentListTooLong {
+        pixels: u32,
+        longest: u32,
+        /// " or more" when the count was cut short.
+        more: &'static str,
+        limit: u32,
+    },
+
     /// A caller-supplied value is out of range.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),

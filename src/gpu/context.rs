@@ -205,6 +205,14 @@ impl Context {
         queue_family: u32,
         queue: vk::Queue,
     ) -> Result<Self> {
+        // What was enabled cannot be queried, but what the device lacks can be refused.
+        let missing = device_select::missing_features(instance, physical);
+        if !missing.is_empty() {
+            return Err(Error::MissingFeatures(format!(
+                "the host's device lacks {}",
+                missing.join(", ")
+            )));
+        }
         unsafe {
             Self::assemble(
                 instance,

@@ -26,7 +26,18 @@ pub(crate) struct Chosen {
     pub kind: vk::PhysicalDeviceType,
 }
 
-fn missing_features(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Vec<String> {
+/// The required features a device lacks, named with what they are for. `have` follows
+/// [`REQUIRED`].
+fn name_missing(have: [vk::Bool32; REQUIRED.len()]) -> Vec<String> {
+    REQUIRED
+        .iter()
+        .zip(have)
+        .filter(|(_, ok)| *ok == vk::FALSE)
+        .map(|((name, why), _)| format!("{name} ({why})"))
+        .collect()
+}
+
+pub(crate) fn missing_features(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Vec<String> {
     let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
     let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
     let mut f2 = vk::PhysicalDeviceFeatures2::default()
@@ -43,12 +54,7 @@ fn missing_features(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Vec<Str
         f13.synchronization2,
         f12.host_query_reset,
     ];
-    REQUIRED
-        .iter()
-        .zip(have)
-        .filter(|(_, ok)| *ok == vk::FALSE)
-        .map(|((name, why), _)| format!("{name} ({why})"))
-        .collect()
+    name_missing(have)
 }
 
 fn graphics_compute_family(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<u32> {
@@ -163,4 +169,24 @@ pub(crate) fn create_device(
         })?;
     let queue = unsafe { device.get_device_queue(chosen.queue_family, 0) };
     Ok((device, queue))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_missing_feature_is_named_with_its_purpose() {
+        let mut have = [vk::TRUE; REQUIRED.len()];
+        assert!(name_missing(have).is_empty());
+        have[0] = vk::FALSE;
+        have[3] = vk::FALSE;
+        let missing = name_missing(have);
+        assert_eq!(missing.len(), 2);
+        assert!(missing[0].starts_with("geometryShader ("), "{missing:?}");
+        assert!(
+            missing[1].starts_with("shaderBufferInt64Atomics ("),
+            "{missing:?}"
+        );
+    }
 }

@@ -15,8 +15,8 @@ use crate::output::RadianceImage;
 use crate::scene::Scene;
 use crate::technique::{
     CollectionPass, FrameInputs, FrameParams, FrameSettings, GenerationPass, LightingPass,
-    LightingTarget, PlainShadowMap, PlainShadowPass, SceneGeometry, ShadowSource,
-    TemporalShadowMap,
+    LightingTarget, MAX_SAMPLES_PER_CHUNK, PlainShadowMap, PlainShadowPass, SceneGeometry,
+    ShadowSource, TemporalShadowMap,
 };
 pub use stats::{FrameStats, PassTime, equation_2_bytes};
 use std::time::Instant;
@@ -56,6 +56,9 @@ pub struct RenderSettings {
     /// value gives the same image: too small only costs a re-run.
     pub initial_node_capacity: Option<u32>,
     pub initial_range_capacity: Option<u32>,
+    /// Samples per pixel one lighting geometry pass handles (1 = one pass per sample; for
+    /// measurements). Any value gives the same image.
+    pub max_samples_per_chunk: u32,
 }
 
 impl Default for RenderSettings {
@@ -69,6 +72,7 @@ impl Default for RenderSettings {
             method: Method::Temporal,
             initial_node_capacity: None,
             initial_range_capacity: None,
+            max_samples_per_chunk: MAX_SAMPLES_PER_CHUNK,
         }
     }
 }
@@ -169,7 +173,13 @@ impl<'a> Renderer<'a> {
             frame: &frame,
             geometry: &geometry,
         };
-        let target = LightingTarget::new(ctx, settings.width, settings.height, settings.spp)?;
+        let target = LightingTarget::new(
+            ctx,
+            settings.width,
+            settings.height,
+            settings.spp,
+            settings.max_samples_per_chunk,
+        )?;
         let mut passes = Vec::new();
 
         let mut attempts = 0;
@@ -204,6 +214,7 @@ impl<'a> Renderer<'a> {
                     })?;
                     let counts = map.read_counters()?;
                     if !map.needs_more_room(&counts) {
+                        map.check_complete(&counts)?;
                         break;
                     }
                     // The timings of an overflowed attempt do not describe a frame.
@@ -274,6 +285,7 @@ impl<'a> Renderer<'a> {
                 .or(plain_map.as_ref().map(|m| m.depths.size()))
                 .unwrap_or(0),
             shadow_pass_attempts: attempts,
+            longest_fragment_list: counts.longest_list,
             samples_per_chunk: target.samples_per_chunk(),
             passes,
             wall_ms: start.elapsed().as_secs_f64() * 1e3,

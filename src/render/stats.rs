@@ -32,6 +32,9 @@ pub struct FrameStats {
     pub shadow_map_bytes_eq2: u64,
     /// Bytes the shadow map's buffers actually occupy.
     pub shadow_map_bytes_allocated: u64,
+    /// The most fragments any one shadow-map pixel held (the generation pass pairs up to
+    /// `technique::gpu_types::MAX_LIST_NODES`).
+    pub longest_fragment_list: u32,
     /// How many times the shadow pass ran (more than 1 when its buffers had to grow).
     pub shadow_pass_attempts: u32,
     pub samples_per_chunk: u32,

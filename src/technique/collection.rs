@@ -2,7 +2,7 @@
 //! the light, every fragment appended to its pixel's list.
 
 use super::geometry::FrameInputs;
-use super::gpu_types::PassConstants;
+use super::gpu_types::{Counters, PassConstants};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
 use crate::error::Result;
@@ -94,10 +94,18 @@ impl CollectionPass {
                 .and(Access::TRANSFER_READ),
             Access::TRANSFER_WRITE,
         );
-        let counters = [0, map.node_capacity(), 0, map.range_capacity()];
+        let counters = Counters {
+            node_capacity: map.node_capacity(),
+            range_capacity: map.range_capacity(),
+            ..Counters::default()
+        };
         unsafe {
             device.cmd_fill_buffer(cmd, map.heads.raw(), 0, vk::WHOLE_SIZE, 0);
-            let bytes: &[u8] = std::slice::from_raw_parts(counters.as_ptr() as *const u8, 16);
+            // SAFETY: Counters is plain data.
+            let bytes: &[u8] = std::slice::from_raw_parts(
+                &counters as *const Counters as *const u8,
+                std::mem::size_of::<Counters>(),
+            );
             device.cmd_update_buffer(cmd, map.counters.raw(), 0, bytes);
         }
         memory_barrier(

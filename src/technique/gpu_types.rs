@@ -50,7 +50,16 @@ pub struct Counters {
     pub node_capacity: u32,
     pub range_count: u32,
     pub range_capacity: u32,
+    /// Shadow-map pixels holding more than [`MAX_LIST_NODES`] fragments: not turned into
+    /// ranges, so such a frame is an error.
+    pub overlong_pixels: u32,
+    /// The longest fragment list of the frame (counted up to 8 x [`MAX_LIST_NODES`]).
+    pub longest_list: u32,
+    pub reserved: [u32; 2],
 }
+
+/// The most fragments one shadow-map pixel may hold (`MAX_LIST_NODES` in shared.glsl).
+pub const MAX_LIST_NODES: u32 = 512;
 
 /// Everything a frame's shaders need to know about the camera, light and sampling (std140).
 #[repr(C)]
@@ -114,4 +123,5 @@ const _: () = {
     assert!(std::mem::size_of::<SceneVertex>() == 32);
     assert!(std::mem::size_of::<FrameParams>() == 4 * 64 + 11 * 16);
     assert!(std::mem::size_of::<PassConstants>() == 16);
+    assert!(std::mem::size_of::<Counters>() == 32);
 };

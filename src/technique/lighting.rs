@@ -36,7 +36,15 @@ pub struct LightingTarget {
 }
 
 impl LightingTarget {
-    pub fn new(ctx: &Context, width: u32, height: u32, spp: u32) -> Result<Self> {
+    /// A target for `spp` samples per pixel, handling up to `max_samples_per_chunk` (at most
+    /// [`MAX_SAMPLES_PER_CHUNK`], and what the device's buffer limit allows) per geometry pass.
+    pub fn new(
+        ctx: &Context,
+        width: u32,
+        height: u32,
+        spp: u32,
+        max_samples_per_chunk: u32,
+    ) -> Result<Self> {
         if width == 0 || height == 0 {
             return Err(Error::InvalidArgument(format!(
                 "image size {width}x{height}"
@@ -54,7 +62,7 @@ impl LightingTarget {
                 limit_bytes: limit,
             });
         }
-        let samples_per_chunk = spp.clamp(1, fit);
+        let samples_per_chunk = spp.min(max_samples_per_chunk).clamp(1, fit);
         Ok(Self {
             width,
             height,

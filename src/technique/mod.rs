@@ -20,7 +20,8 @@ pub use collection::CollectionPass;
 pub use generation::GenerationPass;
 pub use geometry::{FrameInputs, SceneGeometry};
 pub use gpu_types::{
-    Counters, FrameParams, Node, PassConstants, Range, SceneVertex, ShadowMode, TriangleInfo,
+    Counters, FrameParams, MAX_LIST_NODES, Node, PassConstants, Range, SceneVertex, ShadowMode,
+    TriangleInfo,
 };
 pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, ShadowSource};
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};

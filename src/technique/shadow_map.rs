@@ -2,7 +2,9 @@
 //! and of depth-time ranges (generation sub-pass), in plain storage buffers that a host's own
 //! shader can bind (layouts in `glsl/shared.glsl`).
 
-use super::gpu_types::{Counters, Node, Range};
+use super::gpu_types::{Counters, MAX_LIST_NODES, Node, Range};
+
+const COUNTER_BYTES: u64 = std::mem::size_of::<Counters>() as u64;
 use crate::error::{Error, Result};
 use crate::gpu::{Access, Buffer, BufferUsage, Context, OneShot, memory_barrier};
 use ash::vk;
@@ -69,10 +71,15 @@ impl TemporalShadowMap {
             range_capacity: range_capacity.max(1),
             heads: Buffer::new(ctx, "node heads", head_bytes, BufferUsage::Storage)?,
             nodes: Buffer::new(ctx, "nodes", node_bytes, BufferUsage::Storage)?,
-            counters: Buffer::new(ctx, "counters", 16, BufferUsage::Storage)?,
+            counters: Buffer::new(ctx, "counters", COUNTER_BYTES, BufferUsage::Storage)?,
             range_heads: Buffer::new(ctx, "range heads", head_bytes, BufferUsage::Storage)?,
             ranges: Buffer::new(ctx, "ranges", range_bytes, BufferUsage::Storage)?,
-            counters_readback: Buffer::new(ctx, "counters readback", 16, BufferUsage::Readback)?,
+            counters_readback: Buffer::new(
+                ctx,
+                "counters readback",
+                COUNTER_BYTES,
+                BufferUsage::Readback,
+            )?,
         })
     }
 
@@ -109,8 +116,27 @@ impl TemporalShadowMap {
         counts.node_count > self.node_capacity || counts.range_count > self.range_capacity
     }
 
+    /// An error if the frame that produced `counts` had pixels whose fragment lists were too
+    /// long to pair (their ranges are missing): the frame must not be used.
+    pub fn check_complete(&self, counts: &Counters) -> Result<()> {
+        if counts.overlong_pixels == 0 {
+            return Ok(());
+        }
+        Err(Error::FragmentListTooLong {
+            pixels: counts.overlong_pixels,
+            longest: counts.longest_list,
+            more: if counts.longest_list >= 8 * MAX_LIST_NODES {
+                " or more"
+            } else {
+                ""
+            },
+            limit: MAX_LIST_NODES,
+        })
+    }
+
     /// Reallocates to hold exactly what `counts` says a frame needs (and at least the
     /// current capacities). Errors with the figures if the device cannot address that much.
+    /// The old buffers are freed at once: call only when no submission using them is pending.
     pub fn grow_to_fit(&mut self, ctx: &Context, counts: &Counters) -> Result<()> {
         let nodes = counts.node_count.max(self.node_capacity);
         // A range needs at most one fragment, so the fragment count bounds the range count
@@ -133,7 +159,7 @@ impl TemporalShadowMap {
         let region = [vk::BufferCopy {
             src_offset: 0,
             dst_offset: 0,
-            size: 16,
+            size: COUNTER_BYTES,
         }];
         unsafe {
             device.cmd_copy_buffer(
@@ -147,13 +173,7 @@ impl TemporalShadowMap {
     }
 
     pub fn read_counters(&self) -> Result<Counters> {
-        let words = self.counters_readback.read::<u32>(4)?;
-        Ok(Counters {
-            node_count: words[0],
-            node_capacity: words[1],
-            range_count: words[2],
-            range_capacity: words[3],
-        })
+        Ok(self.counters_readback.read::<Counters>(1)?[0])
     }
 
     /// Copies the whole map back to the host (for tests, heat maps and debugging).

@@ -72,7 +72,7 @@ fn shared_structs_match_glsl() {
     let nodes = out("nodes", 32);
     let ranges = out("ranges", 48);
     let vertices = out("vertices", 64);
-    let counters = out("counters", 16);
+    let counters = out("counters", 32);
     let frame_copy = out("frame copy", std::mem::size_of::<FrameParams>() as u64);
     set.bind(&[&frame, &nodes, &ranges, &vertices, &counters, &frame_copy]);
     let constants = PassConstants {
@@ -147,14 +147,17 @@ fn shared_structs_match_glsl() {
     let vertex: SceneVertex = cast(&download(&vertices, 64), 1);
     assert_eq!(vertex.p0, Vec4::new(1.0, 2.0, 3.0, 4.0));
     assert_eq!(vertex.p1, Vec3::new(5.0, 6.0, 7.0).extend(8.0));
-    let c: Counters = cast(&download(&counters, 16), 0);
+    let c: Counters = cast(&download(&counters, 32), 0);
     assert_eq!(
         c,
         Counters {
             node_count: 21,
             node_capacity: 22,
             range_count: 23,
-            range_capacity: 24
+            range_capacity: 24,
+            overlong_pixels: 31,
+            longest_list: 32,
+            reserved: [33, 34],
         }
     );
     let copy: FrameParams = cast(

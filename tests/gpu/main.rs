@@ -5,6 +5,7 @@
 mod support;
 
 mod analytic;
+mod embedding;
 mod errors;
 mod generation;
 mod layout;

@@ -1,3 +1,4 @@
 #![allow(dead_code)]
 pub mod gpu;
+pub mod host;
 pub mod prism_model;

@@ -1,0 +1,328 @@
+//! A minimal "host engine": its own `ash::Entry`, instance, device, queue, command pool and
+//! fence, created without any help from the library, so that tests and `examples/embed.rs`
+//! can check that `Context::from_raw` and the passes work inside someone else's Vulkan setup.
+//!
+//! Shared by the GPU tests (`tests/support/mod.rs`) and the example (which includes this file
+//! with `#[path]`).
+
+use ash::vk;
+use std::ffi::{CStr, c_void};
+use std::sync::{Arc, Mutex};
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// Every WARNING and ERROR the validation layer reported to the host's messenger.
+pub type Messages = Arc<Mutex<Vec<String>>>;
+
+/// The host's debug messenger. The boxed sink is registered as the callback's user data both
+/// here and in the `VkInstanceCreateInfo` chain (which the layer also uses during
+/// `vkDestroyInstance`), so it is freed only after the instance is gone.
+struct Messenger {
+    loader: ash::ext::debug_utils::Instance,
+    handle: vk::DebugUtilsMessengerEXT,
+}
+
+pub struct Host {
+    pub entry: ash::Entry,
+    pub instance: ash::Instance,
+    pub physical: vk::PhysicalDevice,
+    pub device: ash::Device,
+    pub queue_family: u32,
+    pub queue: vk::Queue,
+    /// Validation messages (stays empty without validation).
+    pub messages: Messages,
+    pub device_name: String,
+    pool: vk::CommandPool,
+    cmd: vk::CommandBuffer,
+    fence: vk::Fence,
+    messenger: Option<Messenger>,
+    /// `Box<Messages>` handed to the layer as user data; freed in Drop after the instance.
+    sink: *mut Messages,
+}
+
+unsafe extern "system" fn on_message(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    _types: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user: *mut c_void,
+) -> vk::Bool32 {
+    // SAFETY: the layer passes valid callback data or null; `user` is our boxed sink, which
+    // outlives the instance.
+    let text = unsafe { data.as_ref() }
+        .and_then(|d| unsafe { d.message_as_c_str() })
+        .map(|m| m.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let line = format!("[host {severity:?}] {text}");
+    eprintln!("vulkan validation: {line}");
+    if let Some(sink) = unsafe { (user as *const Messages).as_ref() } {
+        if let Ok(mut messages) = sink.lock() {
+            messages.push(line);
+        }
+    }
+    vk::FALSE
+}
+
+fn messenger_info(sink: *mut Messages) -> vk::DebugUtilsMessengerCreateInfoEXT<'static> {
+    vk::DebugUtilsMessengerCreateInfoEXT::default()
+        .message_severity(
+            vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
+                | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+        )
+        .message_type(
+            vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
+                | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+        )
+        .pfn_user_callback(Some(on_message))
+        .user_data(sink as *mut c_void)
+}
+
+/// Whether `pd` has every feature the library's safety contract asks for.
+fn has_features(instance: &ash::Instance, pd: vk::PhysicalDevice) -> bool {
+    let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
+    let mut f2 = vk::PhysicalDeviceFeatures2::default()
+        .push_next(&mut f12)
+        .push_next(&mut f13);
+    unsafe { instance.get_physical_device_features2(pd, &mut f2) };
+    let f = f2.features;
+    [
+        f.geometry_shader,
+        f.fragment_stores_and_atomics,
+        f.shader_int64,
+        f12.shader_buffer_int64_atomics,
+        f12.host_query_reset,
+        f13.dynamic_rendering,
+        f13.synchronization2,
+    ]
+    .iter()
+    .all(|&b| b == vk::TRUE)
+}
+
+/// A Vulkan 1.3 device with the features and a graphics+compute queue family; discrete GPUs
+/// first, CPU devices last (the same preference as `Context::headless`, so that a test that
+/// compares the two renders on the same device).
+fn pick_device(instance: &ash::Instance) -> Result<(vk::PhysicalDevice, u32, String), String> {
+    let devices = unsafe { instance.enumerate_physical_devices() }
+        .map_err(|e| format!("vkEnumeratePhysicalDevices: {e}"))?;
+    let rank = |t: vk::PhysicalDeviceType| match t {
+        vk::PhysicalDeviceType::DISCRETE_GPU => 0,
+        vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
+        vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
+        vk::PhysicalDeviceType::CPU => 3,
+        _ => 4,
+    };
+    let mut best: Option<(u32, vk::PhysicalDevice, u32, String)> = None;
+    for pd in devices {
+        let props = unsafe { instance.get_physical_device_properties(pd) };
+        if props.api_version < vk::API_VERSION_1_3 || !has_features(instance, pd) {
+            continue;
+        }
+        let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
+        let Some(family) = families.iter().position(|q| {
+            q.queue_flags
+                .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
+        }) else {
+            continue;
+        };
+        let name = props
+            .device_name_as_c_str()
+            .map(|c| c.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let r = rank(props.device_type);
+        if best.as_ref().is_none_or(|b| r < b.0) {
+            best = Some((r, pd, family as u32, name));
+        }
+    }
+    best.map(|(_, pd, family, name)| (pd, family, name))
+        .ok_or_else(|| "no Vulkan 1.3 device with the features motion-shadows needs".to_owned())
+}
+
+impl Host {
+    /// Creates the host's instance (with the Khronos validation layer, synchronization
+    /// validation and a debug messenger when `validation`), picks a device and creates it
+    /// with exactly the features listed in `Context::from_raw`'s safety contract.
+    pub fn new(validation: bool) -> Result<Host, String> {
+        let entry = unsafe { ash::Entry::load() }.map_err(|e| format!("Vulkan loader: {e}"))?;
+        if validation {
+            let layers = unsafe { entry.enumerate_instance_layer_properties() }
+                .map_err(|e| format!("vkEnumerateInstanceLayerProperties: {e}"))?;
+            if !layers
+                .iter()
+                .any(|l| l.layer_name_as_c_str().ok() == Some(VALIDATION_LAYER))
+            {
+                return Err("VK_LAYER_KHRONOS_validation is not installed".into());
+            }
+        }
+        let messages: Messages = Arc::new(Mutex::new(Vec::new()));
+        let sink = Box::into_raw(Box::new(messages.clone()));
+        // Until `Host` exists, each error path frees what was created so far.
+        let free_sink = || drop(unsafe { Box::from_raw(sink) });
+
+        let app = vk::ApplicationInfo::default()
+            .application_name(c"motion-shadows host")
+            .engine_name(c"embed-host")
+            .api_version(vk::API_VERSION_1_3);
+        let layers = [VALIDATION_LAYER.as_ptr()];
+        let extensions = [ash::ext::debug_utils::NAME.as_ptr()];
+        let enables = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+        let mut features =
+            vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
+        let mut creation_messenger = messenger_info(sink);
+        let mut info = vk::InstanceCreateInfo::default().application_info(&app);
+        if validation {
+            info = info
+                .enabled_layer_names(&layers)
+                .enabled_extension_names(&extensions)
+                .push_next(&mut features)
+                .push_next(&mut creation_messenger);
+        }
+        let instance = match unsafe { entry.create_instance(&info, None) } {
+            Ok(i) => i,
+            Err(e) => {
+                free_sink();
+                return Err(format!("vkCreateInstance: {e}"));
+            }
+        };
+        let destroy_instance = |instance: &ash::Instance, messenger: Option<Messenger>| unsafe {
+            if let Some(m) = messenger {
+                m.loader.destroy_debug_utils_messenger(m.handle, None);
+            }
+            instance.destroy_instance(None);
+            free_sink();
+        };
+        let messenger = if validation {
+            let loader = ash::ext::debug_utils::Instance::new(&entry, &instance);
+            match unsafe { loader.create_debug_utils_messenger(&messenger_info(sink), None) } {
+                Ok(handle) => Some(Messenger { loader, handle }),
+                Err(e) => {
+                    destroy_instance(&instance, None);
+                    return Err(format!("vkCreateDebugUtilsMessengerEXT: {e}"));
+                }
+            }
+        } else {
+            None
+        };
+        let (physical, queue_family, device_name) = match pick_device(&instance) {
+            Ok(v) => v,
+            Err(e) => {
+                destroy_instance(&instance, messenger);
+                return Err(e);
+            }
+        };
+
+        let priorities = [1.0f32];
+        let queues = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(queue_family)
+            .queue_priorities(&priorities)];
+        let core = vk::PhysicalDeviceFeatures::default()
+            .geometry_shader(true)
+            .fragment_stores_and_atomics(true)
+            .shader_int64(true);
+        let mut f12 = vk::PhysicalDeviceVulkan12Features::default()
+            .shader_buffer_int64_atomics(true)
+            .host_query_reset(true);
+        let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
+            .dynamic_rendering(true)
+            .synchronization2(true);
+        let device_info = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queues)
+            .enabled_features(&core)
+            .push_next(&mut f12)
+            .push_next(&mut f13);
+        let device = match unsafe { instance.create_device(physical, &device_info, None) } {
+            Ok(d) => d,
+            Err(e) => {
+                destroy_instance(&instance, messenger);
+                return Err(format!("vkCreateDevice: {e}"));
+            }
+        };
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
+
+        let mut host = Host {
+            entry,
+            instance,
+            physical,
+            device,
+            queue_family,
+            queue,
+            messages,
+            device_name,
+            pool: vk::CommandPool::null(),
+            cmd: vk::CommandBuffer::null(),
+            fence: vk::Fence::null(),
+            messenger,
+            sink,
+        };
+        // From here on, Drop cleans up whatever was created.
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        host.pool = unsafe { host.device.create_command_pool(&pool_info, None) }
+            .map_err(|e| format!("vkCreateCommandPool: {e}"))?;
+        let alloc = vk::CommandBufferAllocateInfo::default()
+            .command_pool(host.pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        host.cmd = unsafe { host.device.allocate_command_buffers(&alloc) }
+            .map_err(|e| format!("vkAllocateCommandBuffers: {e}"))?[0];
+        host.fence = unsafe {
+            host.device
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+        }
+        .map_err(|e| format!("vkCreateFence: {e}"))?;
+        Ok(host)
+    }
+
+    /// Records `f` into the host's own command buffer, submits it on the host's queue with
+    /// the host's fence, and waits for it.
+    pub fn record_and_wait(&self, f: impl FnOnce(vk::CommandBuffer)) -> Result<(), String> {
+        let d = &self.device;
+        unsafe {
+            d.reset_command_buffer(self.cmd, vk::CommandBufferResetFlags::empty())
+                .map_err(|e| format!("vkResetCommandBuffer: {e}"))?;
+            d.reset_fences(&[self.fence])
+                .map_err(|e| format!("vkResetFences: {e}"))?;
+            let begin = vk::CommandBufferBeginInfo::default()
+                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            d.begin_command_buffer(self.cmd, &begin)
+                .map_err(|e| format!("vkBeginCommandBuffer: {e}"))?;
+        }
+        f(self.cmd);
+        unsafe {
+            d.end_command_buffer(self.cmd)
+                .map_err(|e| format!("vkEndCommandBuffer: {e}"))?;
+            let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(self.cmd)];
+            let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
+            d.queue_submit2(self.queue, &submit, self.fence)
+                .map_err(|e| format!("vkQueueSubmit2: {e}"))?;
+            d.wait_for_fences(&[self.fence], true, u64::MAX)
+                .map_err(|e| format!("vkWaitForFences: {e}"))?;
+        }
+        Ok(())
+    }
+
+    /// Everything the host's validation messenger collected so far.
+    pub fn validation_messages(&self) -> Vec<String> {
+        self.messages.lock().map(|m| m.clone()).unwrap_or_default()
+    }
+}
+
+impl Drop for Host {
+    fn drop(&mut self) {
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            // Null handles (a failed `new`) are ignored by the destroy calls.
+            self.device.destroy_fence(self.fence, None);
+            // Frees `cmd` with it.
+            self.device.destroy_command_pool(self.pool, None);
+            self.device.destroy_device(None);
+            if let Some(m) = self.messenger.take() {
+                m.loader.destroy_debug_utils_messenger(m.handle, None);
+            }
+            self.instance.destroy_instance(None);
+            // SAFETY: nothing refers to the sink once the instance is destroyed.
+            drop(Box::from_raw(self.sink));
+        }
+    }
+}
