@@ -49,7 +49,15 @@ struct Owned {
     _entry: ash::Entry,
     instance: ash::Instance,
     messenger: Option<Messenger>,
+    /// The sink of the messenger chained into VkInstanceCreateInfo, which the layer also uses
+    /// during vkDestroyInstance: freed only after that.
+    creation_sink: *mut MessageSink,
 }
+
+// SAFETY: the creation sink is only touched by the layer's callback (behind its mutex) and
+// freed once, in Shared::drop.
+unsafe impl Send for Owned {}
+unsafe impl Sync for Owned {}
 
 impl Drop for Shared {
     fn drop(&mut self) {
@@ -61,6 +69,7 @@ impl Drop for Shared {
                 self.device.destroy_device(None);
                 drop(owned.messenger);
                 owned.instance.destroy_instance(None);
+                drop(Box::from_raw(owned.creation_sink));
             }
         }
     }
@@ -136,8 +145,11 @@ impl Context {
                 .push_next(&mut creation_messenger);
         }
         let instance = unsafe { entry.create_instance(&info, None) };
-        // SAFETY: the creation-time messenger only lives during vkCreateInstance.
-        drop(unsafe { Box::from_raw(creation_sink) });
+        let instance = instance.map_err(|result| {
+            // SAFETY: no instance, so no layer holds the creation sink any more.
+            drop(unsafe { Box::from_raw(creation_sink) });
+            result
+        });
         let instance = instance.map_err(|result| match result {
             vk::Result::ERROR_INCOMPATIBLE_DRIVER => Error::NoDevice {
                 detail: " (the loader found no driver)".into(),
@@ -151,7 +163,10 @@ impl Context {
             match Messenger::new(&entry, &instance, messages.clone()) {
                 Ok(m) => Some(m),
                 Err(e) => {
-                    unsafe { instance.destroy_instance(None) };
+                    unsafe {
+                        instance.destroy_instance(None);
+                        drop(Box::from_raw(creation_sink));
+                    }
                     return Err(e);
                 }
             }
@@ -164,7 +179,10 @@ impl Context {
             Ok(v) => v,
             Err(e) => {
                 drop(messenger);
-                unsafe { instance.destroy_instance(None) };
+                unsafe {
+                    instance.destroy_instance(None);
+                    drop(Box::from_raw(creation_sink));
+                }
                 return Err(e);
             }
         };
@@ -173,6 +191,7 @@ impl Context {
             _entry: entry,
             instance,
             messenger,
+            creation_sink,
         };
         // SAFETY: the handles were just created by us, and `owned` destroys them.
         unsafe {
@@ -198,6 +217,8 @@ impl Context {
     /// - `instance` and `device` outlive the returned context and every object made from it.
     /// - The library submits to `queue` only through [`super::OneShot`] (which the standalone
     ///   renderer uses); passes only record into command buffers the host gives them.
+    /// - No work using the context's objects is pending when they, or the context, are
+    ///   dropped (the context does not wait on a host's device).
     pub unsafe fn from_raw(
         instance: &ash::Instance,
         physical: vk::PhysicalDevice,
@@ -288,7 +309,8 @@ impl Context {
         self.command_pool
     }
 
-    /// Every warning and error the validation layer reported so far (empty without it).
+    /// Every warning and error the validation layer reported so far: empty without the layer,
+    /// and always empty for a [`Context::from_raw`] context (the host's own messenger gets them).
     pub fn validation_messages(&self) -> Vec<String> {
         self.messages.lock().map(|m| m.clone()).unwrap_or_default()
     }
@@ -304,7 +326,10 @@ impl Context {
 impl Drop for Context {
     fn drop(&mut self) {
         unsafe {
-            let _ = self.shared.device.device_wait_idle();
+            // A host's device is the host's to synchronize: never stall it from here.
+            if self.shared.owned.is_some() {
+                let _ = self.shared.device.device_wait_idle();
+            }
             self.shared
                 .device
                 .destroy_command_pool(self.command_pool, None);
