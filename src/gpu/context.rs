@@ -145,10 +145,9 @@ impl Context {
                 .push_next(&mut creation_messenger);
         }
         let instance = unsafe { entry.create_instance(&info, None) };
-        let instance = instance.map_err(|result| {
+        let instance = instance.inspect_err(|_| {
             // SAFETY: no instance, so no layer holds the creation sink any more.
             drop(unsafe { Box::from_raw(creation_sink) });
-            result
         });
         let instance = instance.map_err(|result| match result {
             vk::Result::ERROR_INCOMPATIBLE_DRIVER => Error::NoDevice {

@@ -160,7 +160,7 @@ fn cubes_toward_light() -> SceneFile {
                 Vec3::new(0.85, 0.75, 0.4),
                 true,
                 pillar,
-                translate(Vec3::new(2.0, 1.0, 6.0)),
+                translate(Vec3::new(2.4, 1.0, 4.6)),
                 None,
             ),
         ],
