@@ -11,6 +11,7 @@ layout(std430, set = 0, binding = 2) buffer Ranges { Range ranges[]; };
 layout(std430, set = 0, binding = 3) buffer Vertices { SceneVertex vertices[]; };
 layout(std430, set = 0, binding = 4) buffer CounterBlock { Counters counters; };
 layout(std430, set = 0, binding = 5) buffer FrameCopy { FrameParams frame_copy; };
+layout(std430, set = 0, binding = 6) buffer PushCopy { PassConstants push_copy; };
 layout(push_constant) uniform Push { PassConstants pc; };
 
 void main() {
@@ -20,4 +21,5 @@ void main() {
     counters = Counters(pc.first_triangle, pc.first_sample, pc.sample_count, pc.mode, 31u, 32u,
                         33u, 34u);
     frame_copy = frame;
+    push_copy = pc;
 }

@@ -26,6 +26,7 @@ void main() {
         float t;
         vec2 offset;
         pixel_sample(key, pc.first_sample + j, spp, t, offset);
+        if ((pc.flags & FIXED_TIME) != 0u) t = pc.time;
         vec3 dir = camera_ray(frame, vec2(pixel) + offset);
         float depth = intersect_triangle(origin, dir, mix(a.p0.xyz, a.p1.xyz, t),
                                          mix(b.p0.xyz, b.p1.xyz, t), mix(c.p0.xyz, c.p1.xyz, t));

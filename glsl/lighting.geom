@@ -32,9 +32,13 @@ void main() {
     uint id = pc.first_triangle + uint(gl_PrimitiveIDIn);
     vec4 c[6];
     vec3 w[6];
+    // With one time for every sample (reference slices) the triangle is where it is at that
+    // time: its hull is the triangle itself, half the points to sort.
+    bool fixed_time = (pc.flags & FIXED_TIME) != 0u;
+    int corners = fixed_time ? 3 : 6;
     for (int i = 0; i < 3; ++i) {
-        w[i] = in_p0[i];
-        w[i + 3] = in_p1[i];
+        w[i] = fixed_time ? mix(in_p0[i], in_p1[i], pc.time) : in_p0[i];
+        w[i + 3] = fixed_time ? w[i] : in_p1[i];
     }
     for (int i = 0; i < 6; ++i) c[i] = frame.camera_view_proj * vec4(w[i], 1.0);
     if (outside_one_plane(c)) return;
@@ -51,10 +55,10 @@ void main() {
     float near = frame.camera_position.w;
     vec2 pts[MAX_POINTS];
     int n = 0;
-    for (int i = 0; i < 6; ++i) {
+    for (int i = 0; i < corners; ++i) {
         if (c[i].w < near) continue;
         pts[n++] = to_pixels(c[i]);
-        for (int j = 0; j < 6; ++j) {
+        for (int j = 0; j < corners; ++j) {
             if (c[j].w >= near) continue;
             float s = (c[i].w - near) / (c[i].w - c[j].w);
             pts[n++] = to_pixels(mix(c[i], c[j], s));

@@ -16,6 +16,7 @@ layout(std430, set = 0, binding = 4) buffer Accumulation { vec4 radiance[]; };
 layout(std430, set = 0, binding = 5) readonly buffer RangeHeads { uint range_heads[]; };
 layout(std430, set = 0, binding = 6) readonly buffer Ranges { Range ranges[]; };
 layout(std430, set = 0, binding = 7) readonly buffer PlainDepths { uint64_t plain_depths[]; };
+layout(std430, set = 0, binding = 8) readonly buffer TsmDepths { uint tsm_depths[]; };
 layout(push_constant) uniform Push { PassConstants pc; };
 
 const float PI = 3.14159265358979323846;
@@ -55,6 +56,13 @@ bool shadowed_plain(uint index, float depth, uint own) {
     return uintBitsToFloat(uint(nearest >> 32)) < depth;
 }
 
+// Time-dependent shadow maps: the map of the sample's time stratum, depth only, no id (the
+// time mismatch between that map and the sample is the method's self-shadow artifact).
+bool shadowed_tsm(uint index, float depth, uint stratum) {
+    uint layer_size = frame.sizes.x * frame.sizes.y;
+    return uintBitsToFloat(tsm_depths[stratum * layer_size + index]) < depth;
+}
+
 vec3 shade(uvec2 pixel, uint key, uint k, uint64_t hit) {
     uint id = uint(hit & 0xffffffffUL);
     if (id == NO_TRIANGLE) return vec3(0.0);
@@ -62,6 +70,7 @@ vec3 shade(uvec2 pixel, uint key, uint k, uint64_t hit) {
     float t;
     vec2 offset;
     pixel_sample(key, k, frame.sampling.x, t, offset);
+    if ((pc.flags & FIXED_TIME) != 0u) t = pc.time;
     vec3 dir = camera_ray(frame, vec2(pixel) + offset);
     vec3 p = frame.camera_position.xyz + view_depth * dir;
 
@@ -92,8 +101,15 @@ vec3 shade(uvec2 pixel, uint key, uint k, uint64_t hit) {
         float depth;
         if (to_shadow_map(q, index, depth)) {
             depth *= 1.0 - frame.light_params.w;
-            bool dark = pc.mode == SHADOW_TEMPORAL ? shadowed_temporal(index, depth, t, id)
-                                                   : shadowed_plain(index, depth, id);
+            bool dark;
+            if (pc.mode == SHADOW_TEMPORAL) {
+                dark = shadowed_temporal(index, depth, t, id);
+            } else if (pc.mode == SHADOW_TSM) {
+                dark = shadowed_tsm(index, depth,
+                                    time_stratum(key, k, frame.sampling.x));
+            } else {
+                dark = shadowed_plain(index, depth, id);
+            }
             if (dark) return ambient;
         }
     }

@@ -74,17 +74,30 @@ struct FrameParams {
     uvec4 sampling;             // x = samples per pixel, y = seed
 };
 
-// What every pass pushes (16 bytes).
+// What every pass pushes (32 bytes).
 struct PassConstants {
     uint first_triangle;        // global id of the draw's first triangle
-    uint first_sample;          // first sample index of this chunk
+    uint first_sample;          // first sample index of this chunk (shadow maps: the layer)
     uint sample_count;          // samples in this chunk
-    uint mode;                  // pass-specific
+    uint mode;                  // lighting: SHADOW_*; shadow maps: DEPTH_*
+    float time;                 // shadow maps: the scene's time; lighting: see FIXED_TIME
+    uint flags;
+    uint reserved0;
+    uint reserved1;
 };
 
-const uint SHADOW_TEMPORAL = 0u;
-const uint SHADOW_PLAIN = 1u;
+// Lighting pass shadow tests.
+const uint SHADOW_TEMPORAL = 0u;    // depth-time ranges
+const uint SHADOW_PLAIN = 1u;       // one ordinary map (depth and id) for every sample
 const uint SHADOW_NONE = 2u;
+const uint SHADOW_TSM = 3u;         // time-dependent shadow maps: sample in stratum s uses map s
+
+// Lighting pass flag: every sample at time pc.time (brute-force reference slices).
+const uint FIXED_TIME = 1u;
+
+// Ordinary shadow map contents.
+const uint DEPTH_AND_ID = 0u;       // 64 bits: depth bits << 32 | triangle id
+const uint DEPTH_ONLY = 1u;         // 32 bits: depth bits (as the papers' TSM stores)
 
 // ---- sampling: stratified times, deterministic for (pixel, sample, seed) ----
 

@@ -44,6 +44,10 @@ pub enum SceneCommand {
 pub enum MethodArg {
     /// The depth-time ranges shadow map.
     Temporal,
+    /// Time-dependent shadow maps: one depth map per time stratum (as many as spp).
+    Tsm,
+    /// Brute-force accumulation over --slices times: the ground truth.
+    Reference,
     /// An ordinary shadow map of the scene frozen at mid-shutter (t = 0.5).
     Plain,
 }
@@ -91,6 +95,9 @@ pub struct RenderArgs {
     pub shadow_size: Option<(u32, u32)>,
     #[arg(long, value_enum, default_value_t = MethodArg::Temporal)]
     pub method: MethodArg,
+    /// Reference: number of time slices averaged (the papers use 3000).
+    #[arg(long, default_value_t = 1024)]
+    pub slices: u32,
     /// Output directory.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,

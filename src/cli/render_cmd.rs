@@ -60,6 +60,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         shadow_size: args.shadow_size,
         method: match args.method {
             MethodArg::Temporal => Method::Temporal,
+            MethodArg::Tsm => Method::Tsm,
+            MethodArg::Reference => Method::Reference {
+                slices: args.slices,
+            },
             MethodArg::Plain => Method::Plain { time: 0.5 },
         },
         ..RenderSettings::default()

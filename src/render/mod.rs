@@ -2,11 +2,13 @@
 //! [`Context`], drives the passes, submits and waits, and re-runs the shadow pass when its
 //! buffers were too small, so its output is always exact.
 //!
-//! One frame, in order: scene -> [`upload::flatten`] -> GPU buffers -> collection and
-//! generation (temporal shadow map) -> counters read back, grown and re-run if needed ->
-//! lighting -> radiance read back -> [`RadianceImage`].
+//! One frame, in order: scene -> [`upload::flatten`] -> GPU buffers -> the method's shadow
+//! pass (for the temporal method: collection and generation, counters read back, grown and
+//! re-run if needed) -> lighting -> radiance read back -> [`RadianceImage`].
 
+mod methods;
 pub mod stats;
+pub mod times;
 pub mod upload;
 
 use crate::error::{Error, Result};
@@ -15,9 +17,9 @@ use crate::output::RadianceImage;
 use crate::scene::Scene;
 use crate::technique::{
     CollectionPass, FrameInputs, FrameParams, FrameSettings, GenerationPass, LightingPass,
-    LightingTarget, MAX_SAMPLES_PER_CHUNK, PlainShadowMap, PlainShadowPass, SceneGeometry,
-    ShadowSource, TemporalShadowMap,
+    LightingTarget, MAX_SAMPLES_PER_CHUNK, PlainShadowPass, SceneGeometry, TemporalShadowMap,
 };
+use methods::ShadowOutcome;
 pub use stats::{FrameStats, PassTime, equation_2_bytes};
 use std::time::Instant;
 
@@ -26,6 +28,13 @@ use std::time::Instant;
 pub enum Method {
     /// The depth-time ranges shadow map (Hong & Oh 2018).
     Temporal,
+    /// Time-dependent shadow maps (Akenine-Moller et al. 2007, as McGuire et al. 2010 run
+    /// them): one depth map per time stratum, at a random time in it; sample k tests the map
+    /// of its stratum.
+    Tsm,
+    /// Brute force: the scene at `slices` stratified times, each with an ordinary shadow map
+    /// at that time and one jittered sample per pixel, averaged. The ground truth.
+    Reference { slices: u32 },
     /// One ordinary shadow map of the scene frozen at `time`, for every sample. Exact for
     /// static scenes; the baseline for checks.
     Plain { time: f32 },
@@ -35,11 +44,22 @@ impl Method {
     pub fn name(&self) -> &'static str {
         match self {
             Method::Temporal => "temporal",
+            Method::Tsm => "tsm",
+            Method::Reference { .. } => "reference",
             Method::Plain { .. } => "plain",
+        }
+    }
+
+    /// Samples each pixel averages: the slices of the reference, else the settings' spp.
+    fn samples_per_pixel(&self, spp: u32) -> u32 {
+        match self {
+            Method::Reference { slices } => *slices,
+            _ => spp,
         }
     }
 }
 
+pub const MAX_REFERENCE_SLICES: u32 = 100_000;
 pub const MAX_SPP: u32 = 64;
 pub const MAX_IMAGE_SIDE: u32 = 16384;
 
@@ -102,14 +122,17 @@ impl RenderSettings {
                 self.spp
             )));
         }
-        if let Method::Plain { time } = self.method {
-            if !(0.0..=1.0).contains(&time) {
-                return Err(Error::InvalidArgument(format!(
-                    "plain shadow map time {time}: must be in [0, 1]"
-                )));
+        match self.method {
+            Method::Plain { time } if !(0.0..=1.0).contains(&time) => Err(Error::InvalidArgument(
+                format!("plain shadow map time {time}: must be in [0, 1]"),
+            )),
+            Method::Reference { slices } if !(1..=MAX_REFERENCE_SLICES).contains(&slices) => {
+                Err(Error::InvalidArgument(format!(
+                    "reference slices {slices}: must be 1..={MAX_REFERENCE_SLICES}"
+                )))
             }
+            _ => Ok(()),
         }
-        Ok(())
     }
 }
 
@@ -156,12 +179,12 @@ impl<'a> Renderer<'a> {
         let ctx = self.ctx;
         let image_size = (settings.width, settings.height);
         let shadow_size = settings.shadow_size();
+        let spp = settings.method.samples_per_pixel(settings.spp);
 
         progress("uploading the scene");
         let (vertices, triangles) = upload::flatten(scene);
         let geometry = SceneGeometry::new(ctx, &vertices, &triangles)?;
-        let mut frame_settings =
-            FrameSettings::new(image_size, shadow_size, settings.spp, settings.seed);
+        let mut frame_settings = FrameSettings::new(image_size, shadow_size, spp, settings.seed);
         frame_settings.ambient = scene.ambient;
         let params = FrameParams::new(
             &upload::camera_view(scene, image_size),
@@ -173,95 +196,42 @@ impl<'a> Renderer<'a> {
             frame: &frame,
             geometry: &geometry,
         };
-        let target = LightingTarget::new(
-            ctx,
-            settings.width,
-            settings.height,
-            settings.spp,
-            settings.max_samples_per_chunk,
-        )?;
+        let max_chunk = match settings.method {
+            // One slice per chunk: each slice has a shadow map of its own.
+            Method::Reference { .. } => 1,
+            _ => settings.max_samples_per_chunk,
+        };
+        let target = LightingTarget::new(ctx, settings.width, settings.height, spp, max_chunk)?;
         let mut passes = Vec::new();
 
-        let mut attempts = 0;
-        let (mut temporal_map, mut plain_map) = (None, None);
-        match settings.method {
-            Method::Temporal => {
-                let pixels = shadow_size.0 * shadow_size.1;
-                let mut map = TemporalShadowMap::new(
-                    ctx,
-                    shadow_size.0,
-                    shadow_size.1,
-                    settings
-                        .initial_node_capacity
-                        .unwrap_or(pixels.saturating_mul(2)),
-                    settings.initial_range_capacity.unwrap_or(pixels),
-                )?;
-                loop {
-                    attempts += 1;
-                    progress(&format!(
-                        "shadow pass (attempt {attempts}): {} triangles, room for {} fragments and {} ranges",
-                        geometry.triangle_count(),
-                        map.node_capacity(),
-                        map.range_capacity()
-                    ));
-                    self.run_timed(&mut passes, |this, cmd, ts| {
-                        let device = this.ctx.device();
-                        this.collection.record(device, cmd, inputs, &map);
-                        ts.mark(cmd, "collection");
-                        this.generation.record(device, cmd, &frame, &map);
-                        ts.mark(cmd, "generation");
-                        map.record_counter_readback(device, cmd);
-                    })?;
-                    let counts = map.read_counters()?;
-                    if !map.needs_more_room(&counts) {
-                        map.check_complete(&counts)?;
-                        break;
-                    }
-                    // The timings of an overflowed attempt do not describe a frame.
-                    passes.clear();
-                    progress(&format!(
-                        "shadow pass needed {} fragments and {} ranges; growing the buffers and re-running",
-                        counts.node_count, counts.range_count
-                    ));
-                    map.grow_to_fit(ctx, &counts)?;
-                }
-                temporal_map = Some(map);
+        let outcome = match settings.method {
+            Method::Temporal => self.temporal_shadow(inputs, settings, &mut passes, progress)?,
+            Method::Tsm => self.time_dependent_shadow(inputs, settings, &mut passes, progress)?,
+            Method::Plain { time } => self.plain_shadow(inputs, settings, time, &mut passes)?,
+            Method::Reference { slices } => {
+                self.reference(inputs, settings, slices, &target, &mut passes, progress)?
             }
-            Method::Plain { time } => {
-                let map = PlainShadowMap::new(ctx, shadow_size.0, shadow_size.1, 1)?;
-                self.run_timed(&mut passes, |this, cmd, ts| {
-                    this.plain
-                        .record(this.ctx.device(), cmd, inputs, &map, &[time]);
-                    ts.mark(cmd, "plain shadow map");
-                })?;
-                plain_map = Some(map);
-            }
-        }
-
-        progress(&format!(
-            "lighting pass: {}x{} pixels, {} spp",
-            settings.width, settings.height, settings.spp
-        ));
-        let shadow = match (&temporal_map, &plain_map) {
-            (Some(m), _) => ShadowSource::Temporal(m),
-            (_, Some(m)) => ShadowSource::Plain(m),
-            _ => ShadowSource::None,
         };
-        self.run_timed(&mut passes, |this, cmd, ts| {
-            let device = this.ctx.device();
-            this.lighting
-                .record(device, cmd, inputs, shadow, &target, Some(ts));
-            target.record_readback(device, cmd);
+        if !matches!(outcome, ShadowOutcome::Lit) {
+            progress(&format!(
+                "lighting pass: {}x{} pixels, {} spp",
+                settings.width, settings.height, settings.spp
+            ));
+            let shadow = outcome.source();
+            self.run_timed(&mut passes, |this, cmd, ts| {
+                this.lighting
+                    .record(this.ctx.device(), cmd, inputs, shadow, &target, Some(ts));
+            })?;
+        }
+        self.run_timed(&mut passes, |this, cmd, _| {
+            target.record_readback(this.ctx.device(), cmd)
         })?;
         let image = RadianceImage::new(settings.width, settings.height, target.read_rgb()?)?;
 
-        let counts = temporal_map
-            .as_ref()
-            .map(|m| m.read_counters())
-            .transpose()?
-            .unwrap_or_default();
+        let counts = outcome.counters()?;
         let shadow_pixels = shadow_size.0 as u64 * shadow_size.1 as u64;
         let (fragments, ranges) = (counts.node_count as u64, counts.range_count as u64);
+        let temporal = matches!(outcome, ShadowOutcome::Temporal { .. });
         let stats = FrameStats {
             scene: scene.name.clone(),
             method: settings.method.name().to_owned(),
@@ -269,22 +239,18 @@ impl<'a> Renderer<'a> {
             height: settings.height,
             shadow_width: shadow_size.0,
             shadow_height: shadow_size.1,
-            spp: settings.spp,
+            spp,
             seed: settings.seed,
             triangles: geometry.triangle_count(),
             fragments,
             ranges,
-            shadow_map_bytes_eq2: if temporal_map.is_some() {
+            shadow_map_bytes_eq2: if temporal {
                 equation_2_bytes(fragments, ranges, shadow_pixels)
             } else {
                 0
             },
-            shadow_map_bytes_allocated: temporal_map
-                .as_ref()
-                .map(|m| m.allocated_bytes())
-                .or(plain_map.as_ref().map(|m| m.depths.size()))
-                .unwrap_or(0),
-            shadow_pass_attempts: attempts,
+            shadow_map_bytes_allocated: outcome.allocated_bytes(),
+            shadow_pass_attempts: outcome.attempts(),
             longest_fragment_list: counts.longest_list,
             samples_per_chunk: target.samples_per_chunk(),
             passes,
@@ -294,7 +260,7 @@ impl<'a> Renderer<'a> {
         Ok(RenderResult {
             image,
             stats,
-            shadow_map: temporal_map,
+            shadow_map: outcome.into_temporal_map(),
         })
     }
 

@@ -9,11 +9,12 @@ use super::file::{
     BoxSpec, CameraFile, LightFile, MeshSpec, ObjectFile, PlaneSpec, SCENE_FORMAT, SceneFile,
     TransformFile,
 };
+use super::leg::leg_toward_light;
 use super::rng::SplitMix64;
 use super::{Scene, SceneError};
 
 /// The first name is the default scene.
-pub const BUILTIN_NAMES: &[&str] = &["cubes-toward-light", "random-cubes"];
+pub const BUILTIN_NAMES: &[&str] = &["cubes-toward-light", "random-cubes", "leg-toward-light"];
 
 /// Parameters of the procedural scenes (only `random-cubes` uses them).
 #[derive(Debug, Clone, PartialEq)]
@@ -44,6 +45,7 @@ pub fn builtin_file(name: &str, opts: &BuiltinOptions) -> Result<SceneFile, Scen
     match name {
         "cubes-toward-light" => Ok(cubes_toward_light()),
         "random-cubes" => random_cubes(opts),
+        "leg-toward-light" => Ok(leg_toward_light()),
         _ => Err(SceneError::UnknownBuiltin {
             name: name.to_owned(),
             available: BUILTIN_NAMES.iter().map(|s| s.to_string()).collect(),
@@ -51,14 +53,14 @@ pub fn builtin_file(name: &str, opts: &BuiltinOptions) -> Result<SceneFile, Scen
     }
 }
 
-fn translate(t: Vec3) -> TransformFile {
+pub(super) fn translate(t: Vec3) -> TransformFile {
     TransformFile {
         translation: Some(t),
         ..Default::default()
     }
 }
 
-fn object(
+pub(super) fn object(
     name: &str,
     albedo: Vec3,
     closed: bool,
@@ -76,7 +78,7 @@ fn object(
     }
 }
 
-fn ground(size: f32, subdivisions: u32) -> ObjectFile {
+pub(super) fn ground(size: f32, subdivisions: u32) -> ObjectFile {
     let mesh = MeshSpec::Plane(PlaneSpec {
         size: Vec2::splat(size),
         subdivisions,

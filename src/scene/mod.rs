@@ -9,6 +9,7 @@
 mod builtin;
 mod error;
 mod file;
+mod leg;
 mod obj;
 mod pretty;
 mod primitives;

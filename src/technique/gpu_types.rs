@@ -92,14 +92,44 @@ pub struct FrameParams {
     pub sampling: UVec4,
 }
 
-/// What every pass pushes (16 bytes).
+/// What every pass pushes (32 bytes).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PassConstants {
     pub first_triangle: u32,
+    /// First sample of a lighting chunk; the layer of an ordinary shadow map.
     pub first_sample: u32,
     pub sample_count: u32,
+    /// Lighting: a [`ShadowMode`]; ordinary shadow maps: a [`DepthFormat`].
     pub mode: u32,
+    /// Ordinary shadow maps: the scene's time; lighting: the time of every sample when
+    /// `flags` has [`FIXED_TIME`].
+    pub time: f32,
+    pub flags: u32,
+    pub reserved: [u32; 2],
+}
+
+/// `PassConstants::flags` of the lighting pass: every sample at `PassConstants::time`.
+pub const FIXED_TIME: u32 = 1;
+
+/// What an ordinary shadow map stores per texel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u32)]
+pub enum DepthFormat {
+    /// 8 bytes: depth bits << 32 | triangle id (lets the shadow test skip the receiver's own
+    /// triangle).
+    DepthAndId = 0,
+    /// 4 bytes: depth alone, as the papers' time-dependent shadow maps store it.
+    DepthOnly = 1,
+}
+
+impl DepthFormat {
+    pub fn bytes(self) -> u64 {
+        match self {
+            Self::DepthAndId => 8,
+            Self::DepthOnly => 4,
+        }
+    }
 }
 
 /// `PassConstants::mode` of the resolve pass: which shadow test it applies.
@@ -112,6 +142,8 @@ pub enum ShadowMode {
     Plain = 1,
     /// No shadows at all.
     None = 2,
+    /// Time-dependent shadow maps: a sample in time stratum s tests map s (depth only).
+    Tsm = 3,
 }
 
 /// The visibility buffer's "no triangle" id (and the plain shadow map's).
@@ -122,6 +154,6 @@ const _: () = {
     assert!(std::mem::size_of::<Range>() == 24);
     assert!(std::mem::size_of::<SceneVertex>() == 32);
     assert!(std::mem::size_of::<FrameParams>() == 4 * 64 + 11 * 16);
-    assert!(std::mem::size_of::<PassConstants>() == 16);
+    assert!(std::mem::size_of::<PassConstants>() == 32);
     assert!(std::mem::size_of::<Counters>() == 32);
 };

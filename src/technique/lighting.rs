@@ -8,7 +8,7 @@
 
 use super::collection::bindings;
 use super::geometry::FrameInputs;
-use super::gpu_types::{PassConstants, ShadowMode};
+use super::gpu_types::{FIXED_TIME, PassConstants, ShadowMode};
 use super::plain_shadow::PlainShadowMap;
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
@@ -116,8 +116,12 @@ impl LightingTarget {
 #[derive(Clone, Copy)]
 pub enum ShadowSource<'a> {
     Temporal(&'a TemporalShadowMap),
-    /// Layer 0 of a plain shadow map, for every sample.
+    /// Layer 0 of an ordinary shadow map with ids ([`DepthFormat::DepthAndId`]), for every
+    /// sample.
     Plain(&'a PlainShadowMap),
+    /// Time-dependent shadow maps: one depth-only layer per time stratum (as many layers as
+    /// samples per pixel); a sample tests the layer of its stratum.
+    TimeDependent(&'a PlainShadowMap),
     None,
 }
 
@@ -171,6 +175,7 @@ impl LightingPass {
                 (5, Storage),
                 (6, Storage),
                 (7, Storage),
+                (8, Storage),
             ]),
         )?;
         let resolve = compute_pipeline(
@@ -203,13 +208,67 @@ impl LightingPass {
         target: &LightingTarget,
         mut timestamps: Option<&mut TimestampQueries>,
     ) {
-        let spp = target.spp;
+        self.record_clear(device, cmd, target);
+        let mut first = 0;
+        while first < target.spp {
+            let count = target.samples_per_chunk.min(target.spp - first);
+            let samples = Samples {
+                first,
+                count,
+                fixed_time: None,
+            };
+            self.record_samples(
+                device,
+                cmd,
+                inputs,
+                shadow,
+                target,
+                samples,
+                timestamps.as_deref_mut(),
+            );
+            first += count;
+        }
+    }
+
+    /// Zeroes the target's radiance, before a frame's first [`Self::record_samples`].
+    pub fn record_clear(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        target: &LightingTarget,
+    ) {
+        memory_barrier(
+            device,
+            cmd,
+            Access::COMPUTE_RW.and(Access::TRANSFER_READ),
+            Access::TRANSFER_WRITE,
+        );
+        unsafe { device.cmd_fill_buffer(cmd, target.radiance.raw(), 0, vk::WHOLE_SIZE, 0) };
+        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_RW);
+    }
+
+    /// Renders one chunk of samples (at most the target's samples per chunk) and adds their
+    /// share (1/spp each) to the target's radiance.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_samples(
+        &mut self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        inputs: FrameInputs<'_>,
+        shadow: ShadowSource<'_>,
+        target: &LightingTarget,
+        samples: Samples,
+        mut timestamps: Option<&mut TimestampQueries>,
+    ) {
         let FrameInputs { frame, geometry } = inputs;
         let p = &self.placeholder;
-        let (mode, range_heads, ranges, plain) = match shadow {
-            ShadowSource::Temporal(map) => (ShadowMode::Temporal, &map.range_heads, &map.ranges, p),
-            ShadowSource::Plain(map) => (ShadowMode::Plain, p, p, &map.depths),
-            ShadowSource::None => (ShadowMode::None, p, p, p),
+        let (mode, range_heads, ranges, plain, tsm) = match shadow {
+            ShadowSource::Temporal(map) => {
+                (ShadowMode::Temporal, &map.range_heads, &map.ranges, p, p)
+            }
+            ShadowSource::Plain(map) => (ShadowMode::Plain, p, p, &map.depths, p),
+            ShadowSource::TimeDependent(maps) => (ShadowMode::Tsm, p, p, p, &maps.depths),
+            ShadowSource::None => (ShadowMode::None, p, p, p, p),
         };
         self.raster_set.bind(&[
             frame,
@@ -226,54 +285,48 @@ impl LightingPass {
             range_heads,
             ranges,
             plain,
+            tsm,
         ]);
+        let count = samples.count.clamp(1, target.samples_per_chunk);
+        let constants = PassConstants {
+            first_sample: samples.first,
+            sample_count: count,
+            mode: mode as u32,
+            time: samples.fixed_time.unwrap_or(0.0),
+            flags: if samples.fixed_time.is_some() {
+                FIXED_TIME
+            } else {
+                0
+            },
+            ..PassConstants::default()
+        };
+        // The previous chunk's resolve read the visibility buffer.
+        memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_WRITE);
+        unsafe {
+            device.cmd_fill_buffer(cmd, target.visibility.raw(), 0, vk::WHOLE_SIZE, u32::MAX)
+        };
         memory_barrier(
             device,
             cmd,
-            Access::COMPUTE_RW.and(Access::TRANSFER_READ),
             Access::TRANSFER_WRITE,
+            Access::FRAGMENT_RW.and(Access::COMPUTE_RW),
         );
-        unsafe { device.cmd_fill_buffer(cmd, target.radiance.raw(), 0, vk::WHOLE_SIZE, 0) };
-        let mut first = 0;
-        while first < spp {
-            let count = target.samples_per_chunk.min(spp - first);
-            let constants = PassConstants {
-                first_triangle: 0,
-                first_sample: first,
-                sample_count: count,
-                mode: mode as u32,
-            };
-            // The previous chunk's resolve read the visibility buffer.
-            memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_WRITE);
-            unsafe {
-                device.cmd_fill_buffer(cmd, target.visibility.raw(), 0, vk::WHOLE_SIZE, u32::MAX)
-            };
-            memory_barrier(
-                device,
-                cmd,
-                Access::TRANSFER_WRITE,
-                Access::FRAGMENT_RW.and(Access::COMPUTE_RW),
-            );
-            begin_attachmentless(device, cmd, target.width, target.height);
-            self.raster.bind(device, cmd, self.raster_set.raw());
-            self.raster.push(device, cmd, &constants);
-            unsafe {
-                device.cmd_draw(cmd, 3 * geometry.triangle_count(), 1, 0, 0);
-                device.cmd_end_rendering(cmd);
-            }
-            if let Some(ts) = timestamps.as_deref_mut() {
-                ts.mark(cmd, "lighting raster");
-            }
-            memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::COMPUTE_RW);
-            self.resolve.bind(device, cmd, self.resolve_set.raw());
-            self.resolve.push(device, cmd, &constants);
-            unsafe {
-                device.cmd_dispatch(cmd, target.width.div_ceil(8), target.height.div_ceil(8), 1)
-            };
-            if let Some(ts) = timestamps.as_deref_mut() {
-                ts.mark(cmd, "lighting shade");
-            }
-            first += count;
+        begin_attachmentless(device, cmd, target.width, target.height);
+        self.raster.bind(device, cmd, self.raster_set.raw());
+        self.raster.push(device, cmd, &constants);
+        unsafe {
+            device.cmd_draw(cmd, 3 * geometry.triangle_count(), 1, 0, 0);
+            device.cmd_end_rendering(cmd);
+        }
+        if let Some(ts) = timestamps.as_deref_mut() {
+            ts.mark(cmd, "lighting raster");
+        }
+        memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::COMPUTE_RW);
+        self.resolve.bind(device, cmd, self.resolve_set.raw());
+        self.resolve.push(device, cmd, &constants);
+        unsafe { device.cmd_dispatch(cmd, target.width.div_ceil(8), target.height.div_ceil(8), 1) };
+        if let Some(ts) = timestamps {
+            ts.mark(cmd, "lighting shade");
         }
         memory_barrier(
             device,
@@ -282,4 +335,13 @@ impl LightingPass {
             Access::COMPUTE_RW.and(Access::TRANSFER_READ),
         );
     }
+}
+
+/// Which samples [`LightingPass::record_samples`] renders.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Samples {
+    pub first: u32,
+    pub count: u32,
+    /// Every sample at this time instead of its own stratified time (reference slices).
+    pub fixed_time: Option<f32>,
 }

@@ -20,10 +20,10 @@ pub use collection::CollectionPass;
 pub use generation::GenerationPass;
 pub use geometry::{FrameInputs, SceneGeometry};
 pub use gpu_types::{
-    Counters, FrameParams, MAX_LIST_NODES, Node, PassConstants, Range, SceneVertex, ShadowMode,
-    TriangleInfo,
+    Counters, DepthFormat, FIXED_TIME, FrameParams, MAX_LIST_NODES, Node, PassConstants, Range,
+    SceneVertex, ShadowMode, TriangleInfo,
 };
-pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, ShadowSource};
+pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, Samples, ShadowSource};
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
 pub use shadow_map::{ShadowMapContents, TemporalShadowMap};
 pub use view::{CameraView, FrameSettings, LightKind, LightView};

@@ -1,9 +1,10 @@
-//! Ordinary shadow maps at given times: the nearest (depth, triangle id) per pixel. The
-//! static reference for tests, and the building block of time-dependent shadow maps.
+//! Ordinary shadow maps at given times: the nearest depth (and triangle id) per pixel, one
+//! layer per time. The baseline for static scenes, the brute-force reference's per-slice map,
+//! and time-dependent shadow maps (one depth-only layer per time stratum).
 
 use super::collection::bindings;
 use super::geometry::FrameInputs;
-use super::gpu_types::PassConstants;
+use super::gpu_types::{DepthFormat, PassConstants};
 use super::shaders;
 use crate::error::{Error, Result};
 use crate::gpu::{
@@ -12,23 +13,30 @@ use crate::gpu::{
 };
 use ash::vk;
 
-/// `layers` shadow maps of `width` x `height`, each texel a u64 (depth bits << 32 | id).
+/// `layers` shadow maps of `width` x `height` in one buffer, layer after layer.
 pub struct PlainShadowMap {
     width: u32,
     height: u32,
     layers: u32,
+    format: DepthFormat,
     pub depths: Buffer,
 }
 
 impl PlainShadowMap {
-    pub fn new(ctx: &Context, width: u32, height: u32, layers: u32) -> Result<Self> {
+    pub fn new(
+        ctx: &Context,
+        width: u32,
+        height: u32,
+        layers: u32,
+        format: DepthFormat,
+    ) -> Result<Self> {
         let count = width as u64 * height as u64 * layers.max(1) as u64;
-        let bytes = count * 8;
+        let bytes = count * format.bytes();
         if bytes > ctx.max_buffer_bytes() {
             return Err(Error::DeviceLimit {
-                what: "the plain shadow maps",
+                what: "the ordinary shadow maps",
                 count,
-                element_bytes: 8,
+                element_bytes: format.bytes(),
                 needed_bytes: bytes,
                 limit_bytes: ctx.max_buffer_bytes(),
             });
@@ -37,11 +45,19 @@ impl PlainShadowMap {
             width,
             height,
             layers: layers.max(1),
-            depths: Buffer::new(ctx, "plain shadow maps", bytes, BufferUsage::Storage)?,
+            format,
+            depths: Buffer::new(ctx, "ordinary shadow maps", bytes, BufferUsage::Storage)?,
         })
     }
     pub fn layers(&self) -> u32 {
         self.layers
+    }
+    pub fn format(&self) -> DepthFormat {
+        self.format
+    }
+    /// Bytes of the maps' texels (the papers' figure for TSM: layers x 4 x pixels).
+    pub fn bytes(&self) -> u64 {
+        self.depths.size()
     }
 }
 
@@ -53,7 +69,10 @@ pub struct PlainShadowPass {
 impl PlainShadowPass {
     pub fn new(ctx: &Context) -> Result<Self> {
         use DescriptorKind::{Storage, Uniform};
-        let set = DescriptorSet::new(ctx, &bindings(&[(0, Uniform), (1, Storage), (3, Storage)]))?;
+        let set = DescriptorSet::new(
+            ctx,
+            &bindings(&[(0, Uniform), (1, Storage), (3, Storage), (4, Storage)]),
+        )?;
         let pipeline = attachmentless_pipeline(
             ctx,
             set.layout(),
@@ -84,7 +103,8 @@ impl PlainShadowPass {
         times: &[f32],
     ) {
         let FrameInputs { frame, geometry } = inputs;
-        self.set.bind(&[frame, &geometry.vertices, &map.depths]);
+        self.set
+            .bind(&[frame, &geometry.vertices, &map.depths, &map.depths]);
         memory_barrier(
             device,
             cmd,
@@ -97,10 +117,10 @@ impl PlainShadowPass {
         self.pipeline.bind(device, cmd, self.set.raw());
         for (layer, &t) in times.iter().enumerate().take(map.layers as usize) {
             let constants = PassConstants {
-                first_triangle: 0,
                 first_sample: layer as u32,
-                sample_count: 0,
-                mode: t.to_bits(),
+                mode: map.format as u32,
+                time: t,
+                ..PassConstants::default()
             };
             self.pipeline.push(device, cmd, &constants);
             unsafe { device.cmd_draw(cmd, 3 * geometry.triangle_count(), 1, 0, 0) };

@@ -30,6 +30,7 @@ fn shared_structs_match_glsl() {
             binding(3, Storage),
             binding(4, Storage),
             binding(5, Storage),
+            binding(6, Storage),
         ],
     )
     .unwrap();
@@ -74,12 +75,24 @@ fn shared_structs_match_glsl() {
     let vertices = out("vertices", 64);
     let counters = out("counters", 32);
     let frame_copy = out("frame copy", std::mem::size_of::<FrameParams>() as u64);
-    set.bind(&[&frame, &nodes, &ranges, &vertices, &counters, &frame_copy]);
+    let push_copy = out("push copy", std::mem::size_of::<PassConstants>() as u64);
+    set.bind(&[
+        &frame,
+        &nodes,
+        &ranges,
+        &vertices,
+        &counters,
+        &frame_copy,
+        &push_copy,
+    ]);
     let constants = PassConstants {
         first_triangle: 21,
         first_sample: 22,
         sample_count: 23,
         mode: 24,
+        time: 0.625,
+        flags: 26,
+        reserved: [27, 28],
     };
     OneShot::new(&ctx)
         .unwrap()

@@ -1,0 +1,208 @@
+//! The shadow side of each method: what the renderer records before (or, for the reference,
+//! instead of) the lighting pass.
+
+use super::times::{REFERENCE_SALT, TSM_SALT, stratified_times};
+use super::{PassTime, RenderSettings, Renderer};
+use crate::error::Result;
+use crate::technique::{
+    Counters, DepthFormat, FrameInputs, LightingTarget, PlainShadowMap, Samples, ShadowSource,
+    TemporalShadowMap,
+};
+
+/// Reference slices recorded per submission: bounds the command buffer, paces progress.
+const SLICES_PER_SUBMISSION: u32 = 32;
+
+/// What a method's shadow step produced.
+pub(super) enum ShadowOutcome {
+    Temporal {
+        map: Box<TemporalShadowMap>,
+        attempts: u32,
+    },
+    Plain(PlainShadowMap),
+    TimeDependent(PlainShadowMap),
+    /// The reference lit the image itself, slice by slice.
+    Lit,
+}
+
+impl ShadowOutcome {
+    pub(super) fn source(&self) -> ShadowSource<'_> {
+        match self {
+            Self::Temporal { map, .. } => ShadowSource::Temporal(map),
+            Self::Plain(map) => ShadowSource::Plain(map),
+            Self::TimeDependent(maps) => ShadowSource::TimeDependent(maps),
+            Self::Lit => ShadowSource::None,
+        }
+    }
+
+    pub(super) fn counters(&self) -> Result<Counters> {
+        match self {
+            Self::Temporal { map, .. } => map.read_counters(),
+            _ => Ok(Counters::default()),
+        }
+    }
+
+    pub(super) fn allocated_bytes(&self) -> u64 {
+        match self {
+            Self::Temporal { map, .. } => map.allocated_bytes(),
+            Self::Plain(map) | Self::TimeDependent(map) => map.bytes(),
+            Self::Lit => 0,
+        }
+    }
+
+    pub(super) fn attempts(&self) -> u32 {
+        match self {
+            Self::Temporal { attempts, .. } => *attempts,
+            _ => 1,
+        }
+    }
+
+    pub(super) fn into_temporal_map(self) -> Option<TemporalShadowMap> {
+        match self {
+            Self::Temporal { map, .. } => Some(*map),
+            _ => None,
+        }
+    }
+}
+
+impl Renderer<'_> {
+    /// Collection and generation; grown and re-run until nothing overflowed.
+    pub(super) fn temporal_shadow(
+        &mut self,
+        inputs: FrameInputs<'_>,
+        settings: &RenderSettings,
+        passes: &mut Vec<PassTime>,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<ShadowOutcome> {
+        let (width, height) = settings.shadow_size();
+        let pixels = width * height;
+        let mut map = TemporalShadowMap::new(
+            self.ctx,
+            width,
+            height,
+            settings
+                .initial_node_capacity
+                .unwrap_or(pixels.saturating_mul(2)),
+            settings.initial_range_capacity.unwrap_or(pixels),
+        )?;
+        let mut attempts = 0;
+        loop {
+            attempts += 1;
+            progress(&format!(
+                "shadow pass (attempt {attempts}): {} triangles, room for {} fragments and {} ranges",
+                inputs.geometry.triangle_count(),
+                map.node_capacity(),
+                map.range_capacity()
+            ));
+            self.run_timed(passes, |this, cmd, ts| {
+                let device = this.ctx.device();
+                this.collection.record(device, cmd, inputs, &map);
+                ts.mark(cmd, "collection");
+                this.generation.record(device, cmd, inputs.frame, &map);
+                ts.mark(cmd, "generation");
+                map.record_counter_readback(device, cmd);
+            })?;
+            let counts = map.read_counters()?;
+            if !map.needs_more_room(&counts) {
+                map.check_complete(&counts)?;
+                return Ok(ShadowOutcome::Temporal {
+                    map: Box::new(map),
+                    attempts,
+                });
+            }
+            // The timings of an overflowed attempt do not describe a frame.
+            passes.clear();
+            progress(&format!(
+                "shadow pass needed {} fragments and {} ranges; growing the buffers and re-running",
+                counts.node_count, counts.range_count
+            ));
+            map.grow_to_fit(self.ctx, &counts)?;
+        }
+    }
+
+    /// One depth-only map per time stratum, each at a random time inside its stratum: as many
+    /// draws of the scene as samples per pixel.
+    pub(super) fn time_dependent_shadow(
+        &mut self,
+        inputs: FrameInputs<'_>,
+        settings: &RenderSettings,
+        passes: &mut Vec<PassTime>,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<ShadowOutcome> {
+        let (width, height) = settings.shadow_size();
+        let layers = settings.spp;
+        progress(&format!("time-dependent shadow maps: {layers} maps"));
+        let maps = PlainShadowMap::new(self.ctx, width, height, layers, DepthFormat::DepthOnly)?;
+        let times = stratified_times(layers, settings.seed, TSM_SALT);
+        self.run_timed(passes, |this, cmd, ts| {
+            this.plain
+                .record(this.ctx.device(), cmd, inputs, &maps, &times);
+            ts.mark(cmd, "tsm shadow maps");
+        })?;
+        Ok(ShadowOutcome::TimeDependent(maps))
+    }
+
+    pub(super) fn plain_shadow(
+        &mut self,
+        inputs: FrameInputs<'_>,
+        settings: &RenderSettings,
+        time: f32,
+        passes: &mut Vec<PassTime>,
+    ) -> Result<ShadowOutcome> {
+        let (width, height) = settings.shadow_size();
+        let map = PlainShadowMap::new(self.ctx, width, height, 1, DepthFormat::DepthAndId)?;
+        self.run_timed(passes, |this, cmd, ts| {
+            this.plain
+                .record(this.ctx.device(), cmd, inputs, &map, &[time]);
+            ts.mark(cmd, "plain shadow map");
+        })?;
+        Ok(ShadowOutcome::Plain(map))
+    }
+
+    /// Brute force: per slice, an ordinary shadow map at the slice's time and one sample per
+    /// pixel at that time (jittered in the pixel), added with weight 1/slices.
+    pub(super) fn reference(
+        &mut self,
+        inputs: FrameInputs<'_>,
+        settings: &RenderSettings,
+        slices: u32,
+        target: &LightingTarget,
+        passes: &mut Vec<PassTime>,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<ShadowOutcome> {
+        let (width, height) = settings.shadow_size();
+        let map = PlainShadowMap::new(self.ctx, width, height, 1, DepthFormat::DepthAndId)?;
+        let times = stratified_times(slices, settings.seed, REFERENCE_SALT);
+        let mut first = 0;
+        while first < slices {
+            let last = (first + SLICES_PER_SUBMISSION).min(slices);
+            progress(&format!("reference: slices {first}..{last} of {slices}"));
+            self.run_timed(passes, |this, cmd, ts| {
+                let device = this.ctx.device();
+                if first == 0 {
+                    this.lighting.record_clear(device, cmd, target);
+                }
+                for slice in first..last {
+                    let t = times[slice as usize];
+                    this.plain.record(device, cmd, inputs, &map, &[t]);
+                    let samples = Samples {
+                        first: slice,
+                        count: 1,
+                        fixed_time: Some(t),
+                    };
+                    this.lighting.record_samples(
+                        device,
+                        cmd,
+                        inputs,
+                        ShadowSource::Plain(&map),
+                        target,
+                        samples,
+                        None,
+                    );
+                }
+                ts.mark(cmd, "reference slices");
+            })?;
+            first = last;
+        }
+        Ok(ShadowOutcome::Lit)
+    }
+}
