@@ -95,7 +95,7 @@ void main() {
         clip[i + 3] = s1[i].clip;
     }
     if (outside_one_plane(clip)) return;
-    bool closed = triangles[triangle_id].albedo_closed.w > 0.5;
+    bool closed = has_flag(triangles[triangle_id], TRIANGLE_CLOSED);
     if (closed && faces_away_whole_frame(v0[0], v0[1], v0[2], v1[0], v1[1], v1[2], orthographic))
         return;
 

@@ -43,7 +43,7 @@ void main() {
     for (int i = 0; i < 6; ++i) c[i] = frame.camera_view_proj * vec4(w[i], 1.0);
     if (outside_one_plane(c)) return;
 
-    bool closed = triangles[id].albedo_closed.w > 0.5;
+    bool closed = has_flag(triangles[id], TRIANGLE_CLOSED);
     if (closed) {
         vec3 e = frame.camera_position.xyz;
         if (faces_away_whole_frame(w[0] - e, w[1] - e, w[2] - e, w[3] - e, w[4] - e, w[5] - e,

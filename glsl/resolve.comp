@@ -2,7 +2,8 @@
 // Lighting pass, shading: per pixel, for each sample of the chunk, rebuild the hit point from
 // the visibility buffer, shade it (Lambert, point light with a hard cone or directional
 // light), test its shadow at exactly the sample's time, and add the chunk's share of the box
-// filter average to the accumulated radiance.
+// filter average to the accumulated radiance (alpha: the share of samples that see a moving
+// triangle).
 #extension GL_EXT_shader_atomic_int64 : require
 #include "shared.glsl"
 
@@ -79,7 +80,7 @@ vec3 shade(uvec2 pixel, uint key, uint k, uint64_t hit) {
     vec3 pc_ = mix(c.p0.xyz, c.p1.xyz, t);
     vec3 n = normalize(cross(pb - pa, pc_ - pa));
     if (dot(n, -dir) < 0.0) n = -n;  // two-sided: the face the camera sees
-    vec3 albedo = triangles[id].albedo_closed.rgb;
+    vec3 albedo = triangles[id].albedo_flags.rgb;
 
     bool spot = frame.light_position.w > 0.5;
     vec3 to_light = spot ? frame.light_position.xyz - p : -frame.light_direction.xyz;
@@ -122,8 +123,12 @@ void main() {
     uint p = pixel.y * frame.sizes.z + pixel.x;
     uint key = pixel_key(pixel, frame.sampling.y);
     vec3 sum = vec3(0.0);
+    float moving = 0.0;  // samples that see a moving triangle: the moving-object mask
     for (uint j = 0u; j < pc.sample_count; ++j) {
-        sum += shade(pixel, key, pc.first_sample + j, visibility[p * pc.sample_count + j]);
+        uint64_t hit = visibility[p * pc.sample_count + j];
+        sum += shade(pixel, key, pc.first_sample + j, hit);
+        uint id = uint(hit & 0xffffffffUL);
+        if (id != NO_TRIANGLE && has_flag(triangles[id], TRIANGLE_MOVING)) moving += 1.0;
     }
-    radiance[p] += vec4(sum / float(frame.sampling.x), 0.0);
+    radiance[p] += vec4(sum, moving) / float(frame.sampling.x);
 }

@@ -31,8 +31,15 @@ struct SceneVertex {
 };
 
 struct TriangleInfo {
-    vec4 albedo_closed;  // rgb albedo, w = 1 when the mesh is closed (back faces may be culled)
+    vec4 albedo_flags;   // rgb albedo, w = TRIANGLE_* flags (as a float)
 };
+
+const uint TRIANGLE_CLOSED = 1u;   // its mesh is closed: faces away all frame -> may be culled
+const uint TRIANGLE_MOVING = 2u;   // some vertex moves during the frame
+
+bool has_flag(TriangleInfo info, uint flag) {
+    return (uint(info.albedo_flags.w) & flag) != 0u;
+}
 
 // Capacities are written by the host when recording; counts by the shaders. A count past its
 // capacity means the pass overflowed and nothing past the capacity was linked in.

@@ -139,6 +139,9 @@ impl RenderSettings {
 /// A rendered frame.
 pub struct RenderResult {
     pub image: RadianceImage,
+    /// Per pixel, the share of its samples that see a moving triangle (the moving-object
+    /// mask of comparisons).
+    pub moving_coverage: Vec<f32>,
     pub stats: FrameStats,
     /// The temporal shadow map of the frame (for inspection), when the method built one.
     pub shadow_map: Option<TemporalShadowMap>,
@@ -227,6 +230,7 @@ impl<'a> Renderer<'a> {
             target.record_readback(this.ctx.device(), cmd)
         })?;
         let image = RadianceImage::new(settings.width, settings.height, target.read_rgb()?)?;
+        let moving_coverage = target.read_moving_coverage()?;
 
         let counts = outcome.counters()?;
         let shadow_pixels = shadow_size.0 as u64 * shadow_size.1 as u64;
@@ -259,6 +263,7 @@ impl<'a> Renderer<'a> {
         };
         Ok(RenderResult {
             image,
+            moving_coverage,
             stats,
             shadow_map: outcome.into_temporal_map(),
         })

@@ -2,7 +2,9 @@
 //! camera and light as matrices.
 
 use crate::scene::{Light, Scene};
-use crate::technique::{CameraView, LightView, SceneVertex, TriangleInfo};
+use crate::technique::{
+    CameraView, LightView, SceneVertex, TRIANGLE_CLOSED, TRIANGLE_MOVING, TriangleInfo,
+};
 
 /// Every mesh's triangles in scene order; triangle ids follow that order.
 pub fn flatten(scene: &Scene) -> (Vec<SceneVertex>, Vec<TriangleInfo>) {
@@ -15,10 +17,11 @@ pub fn flatten(scene: &Scene) -> (Vec<SceneVertex>, Vec<TriangleInfo>) {
                 p1: p1.extend(1.0),
             });
         }
-        let info = TriangleInfo {
-            albedo_closed: mesh.albedo.extend(if mesh.closed { 1.0 } else { 0.0 }),
-        };
-        triangles.extend(std::iter::repeat_n(info, mesh.triangle_count()));
+        let closed = if mesh.closed { TRIANGLE_CLOSED } else { 0 };
+        for (t0, t1) in mesh.t0.chunks_exact(3).zip(mesh.t1.chunks_exact(3)) {
+            let moving = if t0 == t1 { 0 } else { TRIANGLE_MOVING };
+            triangles.push(TriangleInfo::new(mesh.albedo, closed | moving));
+        }
     }
     (vertices, triangles)
 }

@@ -35,11 +35,25 @@ pub struct SceneVertex {
     pub p1: Vec4,
 }
 
-/// Per-triangle shading data: rgb albedo, w = 1 when the mesh is closed.
+/// Per-triangle shading data: rgb albedo, w = [`TRIANGLE_CLOSED`] | [`TRIANGLE_MOVING`] flags
+/// (as a float).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct TriangleInfo {
-    pub albedo_closed: Vec4,
+    pub albedo_flags: Vec4,
+}
+
+/// The triangle's mesh is closed: a triangle facing away all frame may be culled.
+pub const TRIANGLE_CLOSED: u32 = 1;
+/// Some vertex of the triangle moves during the frame.
+pub const TRIANGLE_MOVING: u32 = 2;
+
+impl TriangleInfo {
+    pub fn new(albedo: glam::Vec3, flags: u32) -> Self {
+        Self {
+            albedo_flags: albedo.extend(flags as f32),
+        }
+    }
 }
 
 /// Fragment and range counts (written by shaders) and capacities (written when recording).

@@ -88,7 +88,7 @@ impl LightingTarget {
         self.samples_per_chunk
     }
 
-    /// Records the copy that [`Self::read_rgb`] reads after the submission completes.
+    /// Records the copy that [`Self::read`] reads after the submission completes.
     pub fn record_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
         memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ);
         let region = [vk::BufferCopy {
@@ -109,6 +109,14 @@ impl LightingTarget {
             .chunks_exact(4)
             .flat_map(|p| [p[0], p[1], p[2]])
             .collect())
+    }
+
+    /// Per pixel, the share of its samples that see a moving triangle.
+    pub fn read_moving_coverage(&self) -> Result<Vec<f32>> {
+        let rgba = self
+            .readback
+            .read::<f32>((self.width * self.height * 4) as usize)?;
+        Ok(rgba.chunks_exact(4).map(|p| p[3]).collect())
     }
 }
 

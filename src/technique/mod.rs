@@ -21,7 +21,7 @@ pub use generation::GenerationPass;
 pub use geometry::{FrameInputs, SceneGeometry};
 pub use gpu_types::{
     Counters, DepthFormat, FIXED_TIME, FrameParams, MAX_LIST_NODES, Node, PassConstants, Range,
-    SceneVertex, ShadowMode, TriangleInfo,
+    SceneVertex, ShadowMode, TRIANGLE_CLOSED, TRIANGLE_MOVING, TriangleInfo,
 };
 pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, Samples, ShadowSource};
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};

@@ -5,6 +5,7 @@
 mod support;
 
 mod analytic;
+mod baselines;
 mod embedding;
 mod errors;
 mod generation;
