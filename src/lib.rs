@@ -8,6 +8,7 @@
 //!    [`output`] (EXR/PNG), and the `motion-shadows` binary.
 
 pub mod cli;
+pub mod compare;
 pub mod error;
 pub mod gpu;
 pub mod output;

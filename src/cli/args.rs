@@ -24,6 +24,51 @@ pub enum Command {
     /// Built-in scenes: list them, or export one as a scene file.
     #[command(subcommand)]
     Scene(SceneCommand),
+    /// Render reference, temporal and TSM images of one scene; write a side-by-side PNG,
+    /// false-colour error images, and a table of errors, times and memory.
+    Compare(CompareArgs),
+}
+
+/// The papers' image experiments.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Preset {
+    /// 2018 paper, Fig. 9: cubes-toward-light at 8 spp.
+    Fig9,
+    /// 2018 paper, Fig. 10: a leg moving toward the light (leg-toward-light) at 20 spp.
+    Fig10,
+}
+
+#[derive(Debug, Args, Clone)]
+pub struct CompareArgs {
+    /// A paper experiment: sets the scene and spp (explicit --scene/--spp override it).
+    #[arg(long, value_enum)]
+    pub preset: Option<Preset>,
+    /// Built-in scene (default: cubes-toward-light, or the preset's).
+    #[arg(long, conflicts_with = "scene_file")]
+    pub scene: Option<String>,
+    #[arg(long)]
+    pub scene_file: Option<PathBuf>,
+    #[arg(long, default_value_t = 1024)]
+    pub width: u32,
+    #[arg(long, default_value_t = 768)]
+    pub height: u32,
+    /// Samples per pixel of temporal and TSM (default 8, or the preset's).
+    #[arg(long)]
+    pub spp: Option<u32>,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u32,
+    #[arg(long, value_parser = parse_size)]
+    pub shadow_size: Option<(u32, u32)>,
+    /// Time slices of the brute-force reference (the papers use 3000).
+    #[arg(long, default_value_t = 1024)]
+    pub slices: u32,
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Print the table as one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub random: RandomCubesArgs,
 }
 
 #[derive(Debug, Subcommand)]

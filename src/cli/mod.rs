@@ -1,5 +1,6 @@
 //! The `motion-shadows` binary's commands.
 
 pub mod args;
+pub mod compare_cmd;
 pub mod render_cmd;
 pub mod summary;

@@ -28,7 +28,7 @@ pub fn load_scene(args: &RenderArgs) -> anyhow::Result<Scene> {
 }
 
 /// Progress on stderr: a spinner on a terminal, plain lines otherwise (logs, CI).
-fn progress_reporter() -> (Option<ProgressBar>, impl FnMut(&str)) {
+pub fn progress_reporter() -> (Option<ProgressBar>, impl FnMut(&str)) {
     let bar = std::io::stderr().is_terminal().then(|| {
         let bar = ProgressBar::new_spinner();
         bar.set_style(

@@ -1,0 +1,247 @@
+//! `motion-shadows compare`: reference, temporal and TSM of one scene, judged against the
+//! reference over the whole image and over the moving-object mask.
+
+use super::args::{CompareArgs, Preset};
+use super::render_cmd::{builtin_options, progress_reporter};
+use crate::compare::{ErrorStats, Rgb8Image, error_image, error_stats, side_by_side};
+use crate::gpu::{Context, ContextOptions};
+use crate::output::{RadianceImage, auto_exposure, write_exr, write_png, write_rgb8_png};
+use crate::render::{FrameStats, Method, RenderSettings, Renderer};
+use crate::scene::{builtin, load_scene_file};
+use anyhow::Context as _;
+use serde::Serialize;
+use std::path::Path;
+
+/// A pixel belongs to the moving-object mask when most of its reference samples see a moving
+/// triangle.
+const MASK_COVERAGE: f32 = 0.5;
+
+#[derive(Serialize)]
+struct MethodRow {
+    method: String,
+    errors: Option<ErrorStats>,
+    /// GPU time of the method's shadow passes and of its lighting, milliseconds.
+    shadow_ms: f64,
+    lighting_ms: f64,
+    shadow_map_bytes: u64,
+    stats: FrameStats,
+}
+
+#[derive(Serialize)]
+struct Report {
+    scene: String,
+    width: u32,
+    height: u32,
+    spp: u32,
+    reference_slices: u32,
+    moving_mask_pixels: usize,
+    methods: Vec<MethodRow>,
+    files: Vec<String>,
+}
+
+fn preset_defaults(preset: Option<Preset>) -> (&'static str, u32) {
+    match preset {
+        Some(Preset::Fig10) => ("leg-toward-light", 20),
+        Some(Preset::Fig9) | None => ("cubes-toward-light", 8),
+    }
+}
+
+fn split_times(stats: &FrameStats) -> (f64, f64) {
+    let lighting = |p: &str| p.starts_with("lighting") || p == "reference slices";
+    let sum = |keep: &dyn Fn(&str) -> bool| {
+        stats
+            .passes
+            .iter()
+            .filter(|p| keep(&p.pass))
+            .fold(0.0, |total, p| total + p.gpu_ms)
+    };
+    (sum(&|p| !lighting(p)), sum(&lighting))
+}
+
+fn write_pair(
+    dir: &Path,
+    stem: &str,
+    image: &RadianceImage,
+    exposure: f32,
+) -> anyhow::Result<Vec<String>> {
+    let exr = dir.join(format!("{stem}.exr"));
+    let png = dir.join(format!("{stem}.png"));
+    write_exr(&exr, image)?;
+    write_png(&png, image, exposure)?;
+    Ok(vec![exr.display().to_string(), png.display().to_string()])
+}
+
+pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+    let (bar, mut report) = progress_reporter();
+    let (preset_scene, preset_spp) = preset_defaults(args.preset);
+    let spp = args.spp.unwrap_or(preset_spp);
+    let scene = match (&args.scene_file, &args.scene) {
+        (Some(path), _) => load_scene_file(path)?,
+        (None, name) => builtin(
+            name.as_deref().unwrap_or(preset_scene),
+            &builtin_options(&args.random),
+        )?,
+    };
+    let ctx = Context::headless(&ContextOptions::from_env())?;
+    let mut renderer = Renderer::new(&ctx)?;
+    let settings = |method| RenderSettings {
+        width: args.width,
+        height: args.height,
+        spp,
+        seed: args.seed,
+        shadow_size: args.shadow_size,
+        method,
+        ..RenderSettings::default()
+    };
+
+    report(&format!("reference ({} slices)", args.slices));
+    let reference = renderer.render(
+        &scene,
+        &settings(Method::Reference {
+            slices: args.slices,
+        }),
+        &mut report,
+    )?;
+    let mask: Vec<bool> = reference
+        .moving_coverage
+        .iter()
+        .map(|&c| c > MASK_COVERAGE)
+        .collect();
+    let mask_pixels = mask.iter().filter(|&&m| m).count();
+    let temporal = renderer.render(&scene, &settings(Method::Temporal), &mut report)?;
+    let tsm = renderer.render(&scene, &settings(Method::Tsm), &mut report)?;
+
+    report("writing images");
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating output directory {}", args.out.display()))?;
+    let exposure = auto_exposure(&reference.image);
+    let mut files = Vec::new();
+    let mut rows = Vec::new();
+    let mut panels = Vec::new();
+    let mut error_panels = Vec::new();
+    // One scale for both error images, so they can be compared by eye: a tenth of the
+    // reference's robust peak radiance.
+    let max_error = (crate::compare::peak_radiance(&reference.image) * 0.1) as f32;
+    for result in [&reference, &temporal, &tsm] {
+        let method = result.stats.method.clone();
+        let stem = format!("{}-{method}", scene.name);
+        files.extend(write_pair(&args.out, &stem, &result.image, exposure)?);
+        let label = match method.as_str() {
+            "reference" => format!("reference M={}", args.slices),
+            _ => format!("{method} {spp} spp"),
+        };
+        panels.push((
+            label.clone(),
+            Rgb8Image::from_radiance(&result.image, exposure)?,
+        ));
+        let errors = if method == "reference" {
+            None
+        } else {
+            let heat = error_image(&result.image, &reference.image, max_error.max(1e-6))?;
+            let path = args.out.join(format!("{stem}-error.png"));
+            write_rgb8_png(&path, heat.width, heat.height, &heat.data)?;
+            files.push(path.display().to_string());
+            error_panels.push((format!("{method} error"), heat));
+            let mask = (mask_pixels > 0).then_some(mask.as_slice());
+            Some(error_stats(&result.image, &reference.image, mask)?)
+        };
+        let (shadow_ms, lighting_ms) = split_times(&result.stats);
+        rows.push(MethodRow {
+            method,
+            errors,
+            shadow_ms,
+            lighting_ms,
+            shadow_map_bytes: if result.stats.shadow_map_bytes_eq2 > 0 {
+                result.stats.shadow_map_bytes_eq2
+            } else {
+                result.stats.shadow_map_bytes_allocated
+            },
+            stats: result.stats.clone(),
+        });
+    }
+    let refs: Vec<(&str, &Rgb8Image)> = panels.iter().map(|(l, i)| (l.as_str(), i)).collect();
+    let side = side_by_side(&refs, [24, 24, 24]);
+    let side_path = args.out.join(format!("{}-compare.png", scene.name));
+    write_rgb8_png(&side_path, side.width, side.height, &side.data)?;
+    let refs: Vec<(&str, &Rgb8Image)> = error_panels.iter().map(|(l, i)| (l.as_str(), i)).collect();
+    let errors = side_by_side(&refs, [24, 24, 24]);
+    let errors_path = args.out.join(format!("{}-compare-error.png", scene.name));
+    write_rgb8_png(&errors_path, errors.width, errors.height, &errors.data)?;
+    files.insert(0, errors_path.display().to_string());
+    files.insert(0, side_path.display().to_string());
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+
+    let report_data = Report {
+        scene: scene.name.clone(),
+        width: args.width,
+        height: args.height,
+        spp,
+        reference_slices: args.slices,
+        moving_mask_pixels: mask_pixels,
+        methods: rows,
+        files,
+    };
+    if args.json {
+        println!("{}", serde_json::to_string(&report_data)?);
+    } else {
+        print!("{}", table(&report_data));
+    }
+    let messages = ctx.validation_messages();
+    anyhow::ensure!(
+        messages.is_empty(),
+        "the Vulkan validation layer reported {} message(s)",
+        messages.len()
+    );
+    Ok(())
+}
+
+fn table(r: &Report) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{}: {}x{}, {} spp, reference {} slices, moving-object mask {} pixels",
+        r.scene, r.width, r.height, r.spp, r.reference_slices, r.moving_mask_pixels
+    );
+    let _ = writeln!(
+        s,
+        "{:<10} {:>10} {:>9} {:>12} {:>11} {:>11} {:>12} {:>12}",
+        "method",
+        "RMSE",
+        "PSNR dB",
+        "RMSE mask",
+        "PSNR mask",
+        "shadow ms",
+        "lighting ms",
+        "shadow MiB"
+    );
+    for row in &r.methods {
+        let (rmse, psnr, rmse_m, psnr_m) = match &row.errors {
+            Some(e) => (
+                format!("{:.5}", e.rmse),
+                format!("{:.2}", e.psnr_db),
+                e.rmse_masked.map_or("-".into(), |v| format!("{v:.5}")),
+                e.psnr_masked_db.map_or("-".into(), |v| format!("{v:.2}")),
+            ),
+            None => ("-".into(), "-".into(), "-".into(), "-".into()),
+        };
+        let _ = writeln!(
+            s,
+            "{:<10} {:>10} {:>9} {:>12} {:>11} {:>11.1} {:>12.1} {:>12.2}",
+            row.method,
+            rmse,
+            psnr,
+            rmse_m,
+            psnr_m,
+            row.shadow_ms,
+            row.lighting_ms,
+            row.shadow_map_bytes as f64 / (1024.0 * 1024.0)
+        );
+    }
+    for f in &r.files {
+        let _ = writeln!(s, "wrote {f}");
+    }
+    s
+}
