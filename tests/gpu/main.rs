@@ -6,6 +6,7 @@ mod support;
 
 mod analytic;
 mod baselines;
+mod cli;
 mod embedding;
 mod errors;
 mod generation;
