@@ -136,8 +136,8 @@ fn frame(host: &Host, width: u32, height: u32, spp: u32) -> Res<()> {
         // The whole frame in the host's command buffer, on the host's queue and fence. The
         // passes put the barriers they need between themselves.
         host.record_and_wait(|cmd| {
-            collection.record(device, cmd, inputs, &map);
-            generation.record(device, cmd, &frame, &map);
+            collection.record(device, cmd, inputs, &map, None);
+            generation.record(device, cmd, &frame, &map, None);
             map.record_counter_readback(device, cmd);
             lighting.record(
                 device,

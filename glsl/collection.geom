@@ -18,16 +18,19 @@ layout(location = 1) in vec3 in_p1[];
 layout(location = 0) out float out_depth;
 layout(location = 1) out float out_time;
 layout(location = 2) flat out uint out_id;
+layout(location = 3) flat out uint out_surface;  // SURFACE_*
 
 struct PrismVertex { vec4 clip; float depth; float time; };
 
 uint triangle_id;
+uint surface = SURFACE_SIDE;
 
 void emit_vertex(PrismVertex v) {
     gl_Position = v.clip;
     out_depth = v.depth;
     out_time = v.time;
     out_id = triangle_id;
+    out_surface = surface;
     EmitVertex();
 }
 
@@ -99,8 +102,11 @@ void main() {
     if (closed && faces_away_whole_frame(v0[0], v0[1], v0[2], v1[0], v1[1], v1[2], orthographic))
         return;
 
+    surface = SURFACE_CAP0;
     emit_triangle(s0[0], s0[1], s0[2]);
+    surface = SURFACE_CAP1;
     emit_triangle(s1[0], s1[1], s1[2]);
+    surface = SURFACE_SIDE;
     for (int e = 0; e < 3; ++e) {
         int a = e, b = (e + 1) % 3;
         emit_side(s0[a], s0[b], s1[a], s1[b]);

@@ -16,6 +16,10 @@ layout(std430, set = 0, binding = 4) readonly buffer Nodes { Node nodes[]; };
 layout(std430, set = 0, binding = 5) buffer CounterBlock { Counters counters; };
 layout(std430, set = 0, binding = 6) writeonly buffer RangeHeads { uint range_heads[]; };
 layout(std430, set = 0, binding = 7) writeonly buffer Ranges { Range ranges[]; };
+// With USE_COVERAGE: at a pixel the coverage map marks, only the covering triangle's range is
+// stored (the 2017 paper's extension); the others are counted, not stored.
+layout(std430, set = 0, binding = 8) readonly buffer Coverage { uint coverage[]; };
+layout(push_constant) uniform Push { PassConstants pc; };
 
 bool before(Node x, uint xi, Node y, uint yi) {
     return x.depth < y.depth || (x.depth == y.depth && xi < yi);
@@ -46,7 +50,7 @@ bool sorts_after(Node x, uint xi, Node y, uint yi) {
     return x.id > y.id || (x.id == y.id && before(y, yi, x, xi));
 }
 
-void sort_and_pair(uint n) {
+void sort_and_pair(uint n, uint cover) {
     const uint gaps[6] = uint[6](132u, 57u, 23u, 10u, 4u, 1u);
     for (int g = 0; g < 6; ++g) {
         uint gap = gaps[g];
@@ -64,12 +68,16 @@ void sort_and_pair(uint n) {
             local_index[j] = key_index;
         }
     }
-    uint i = 0u;
+    uint i = 0u, all_ranges = 0u;
     while (i < n) {
         bool pair = i + 1u < n && local_nodes[i + 1u].id == local_nodes[i].id;
-        emit(local_nodes[i], pair ? local_nodes[i + 1u] : local_nodes[i]);
+        if (cover == NO_TRIANGLE || local_nodes[i].id == cover) {
+            emit(local_nodes[i], pair ? local_nodes[i + 1u] : local_nodes[i]);
+        }
+        ++all_ranges;
         i += pair ? 2u : 1u;
     }
+    if (all_ranges > 0u) atomicAdd(counters.ranges_without_coverage, all_ranges);
 }
 
 void main() {
@@ -93,6 +101,6 @@ void main() {
         return;
     }
     atomicMax(counters.longest_list, n);
-    sort_and_pair(n);
+    sort_and_pair(n, (pc.flags & USE_COVERAGE) != 0u ? coverage[p] : NO_TRIANGLE);
     range_heads[p] = out_head;
 }

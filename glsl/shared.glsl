@@ -52,8 +52,8 @@ struct Counters {
     uint range_capacity;
     uint overlong_pixels;
     uint longest_list;
-    uint reserved0;
-    uint reserved1;
+    uint ranges_without_coverage;   // what range_count would be without the coverage map
+    uint reserved;
 };
 
 // The most fragments one shadow-map pixel may hold. The generation pass sorts a pixel's list
@@ -101,6 +101,23 @@ const uint SHADOW_TSM = 3u;         // time-dependent shadow maps: sample in str
 
 // Lighting pass flag: every sample at time pc.time (brute-force reference slices).
 const uint FIXED_TIME = 1u;
+// Collection and generation flag: build / use the coverage map (2017 paper's extension).
+const uint USE_COVERAGE = 2u;
+
+const uint SHADOW_COVERAGE = 4u;    // coverage map, then depth-time ranges
+
+// Which surface of a prism a fragment lies on (nearest map, coverage passes).
+const uint SURFACE_CAP0 = 0u;       // the triangle at t = 0
+const uint SURFACE_CAP1 = 1u;       // the triangle at t = 1
+const uint SURFACE_SIDE = 2u;       // a side surface: an edge sweeping over the pixel
+
+// The nearest map packs (depth bits << 32 | surface << 30 | triangle id): ids below 2^30.
+const uint NEAREST_ID_MASK = 0x3fffffffu;
+const uint64_t NEAREST_EMPTY = 0xffffffffffffffffUL;
+
+uint64_t pack_nearest(float depth, uint surface, uint id) {
+    return (uint64_t(floatBitsToUint(max(depth, 0.0))) << 32) | uint64_t((surface << 30) | id);
+}
 
 // Ordinary shadow map contents.
 const uint DEPTH_AND_ID = 0u;       // 64 bits: depth bits << 32 | triangle id

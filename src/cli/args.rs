@@ -89,6 +89,8 @@ pub enum SceneCommand {
 pub enum MethodArg {
     /// The depth-time ranges shadow map.
     Temporal,
+    /// The temporal shadow map with the coverage map (2017 paper's extension).
+    Coverage,
     /// Time-dependent shadow maps: one depth map per time stratum (as many as spp).
     Tsm,
     /// Brute-force accumulation over --slices times: the ground truth.

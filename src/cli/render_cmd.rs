@@ -61,6 +61,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         method: match args.method {
             MethodArg::Temporal => Method::Temporal,
             MethodArg::Tsm => Method::Tsm,
+            MethodArg::Coverage => Method::Coverage,
             MethodArg::Reference => Method::Reference {
                 slices: args.slices,
             },

@@ -23,9 +23,19 @@ pub fn summary_text(stats: &FrameStats, files: &[String]) -> String {
         stats.triangles
     );
     let _ = writeln!(s, "device: {}", stats.device);
-    if stats.method == "temporal" {
+    if stats.method == "temporal" || stats.method == "coverage" {
         let _ = writeln!(s, "fragments N_f: {}", stats.fragments);
         let _ = writeln!(s, "ranges    N_r: {}", stats.ranges);
+        if stats.method == "coverage" {
+            let _ = writeln!(
+                s,
+                "ranges without the coverage map: {} ({:.1}x more); equation (2) without it: {}; nearest + coverage maps: {}",
+                stats.ranges_without_coverage,
+                stats.ranges_without_coverage as f64 / stats.ranges.max(1) as f64,
+                mib(stats.shadow_map_bytes_eq2_without_coverage),
+                mib(stats.coverage_map_bytes)
+            );
+        }
         let _ = writeln!(
             s,
             "shadow map memory, equation (2): {} ({} bytes); allocated {}",

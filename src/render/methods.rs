@@ -3,10 +3,10 @@
 
 use super::times::{REFERENCE_SALT, TSM_SALT, stratified_times};
 use super::{PassTime, RenderSettings, Renderer};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::technique::{
-    Counters, DepthFormat, FrameInputs, LightingTarget, PlainShadowMap, Samples, ShadowSource,
-    TemporalShadowMap,
+    Counters, CoverageMap, DepthFormat, FrameInputs, LightingTarget, MAX_COVERAGE_TRIANGLES,
+    PlainShadowMap, Samples, ShadowSource, TemporalShadowMap,
 };
 
 /// Reference slices recorded per submission: bounds the command buffer, paces progress.
@@ -16,6 +16,7 @@ const SLICES_PER_SUBMISSION: u32 = 32;
 pub(super) enum ShadowOutcome {
     Temporal {
         map: Box<TemporalShadowMap>,
+        coverage: Option<Box<CoverageMap>>,
         attempts: u32,
     },
     Plain(PlainShadowMap),
@@ -27,6 +28,11 @@ pub(super) enum ShadowOutcome {
 impl ShadowOutcome {
     pub(super) fn source(&self) -> ShadowSource<'_> {
         match self {
+            Self::Temporal {
+                map,
+                coverage: Some(cover),
+                ..
+            } => ShadowSource::Coverage(map, cover),
             Self::Temporal { map, .. } => ShadowSource::Temporal(map),
             Self::Plain(map) => ShadowSource::Plain(map),
             Self::TimeDependent(maps) => ShadowSource::TimeDependent(maps),
@@ -43,9 +49,20 @@ impl ShadowOutcome {
 
     pub(super) fn allocated_bytes(&self) -> u64 {
         match self {
-            Self::Temporal { map, .. } => map.allocated_bytes(),
+            Self::Temporal { map, coverage, .. } => {
+                map.allocated_bytes() + coverage.as_ref().map_or(0, |c| c.allocated_bytes())
+            }
             Self::Plain(map) | Self::TimeDependent(map) => map.bytes(),
             Self::Lit => 0,
+        }
+    }
+
+    pub(super) fn coverage_bytes(&self) -> u64 {
+        match self {
+            Self::Temporal {
+                coverage: Some(c), ..
+            } => c.allocated_bytes(),
+            _ => 0,
         }
     }
 
@@ -65,11 +82,13 @@ impl ShadowOutcome {
 }
 
 impl Renderer<'_> {
-    /// Collection and generation; grown and re-run until nothing overflowed.
+    /// Collection and generation (with the coverage passes between them when `with_coverage`);
+    /// grown and re-run until nothing overflowed.
     pub(super) fn temporal_shadow(
         &mut self,
         inputs: FrameInputs<'_>,
         settings: &RenderSettings,
+        with_coverage: bool,
         passes: &mut Vec<PassTime>,
         progress: &mut dyn FnMut(&str),
     ) -> Result<ShadowOutcome> {
@@ -84,6 +103,17 @@ impl Renderer<'_> {
                 .unwrap_or(pixels.saturating_mul(2)),
             settings.initial_range_capacity.unwrap_or(pixels),
         )?;
+        let coverage = if with_coverage {
+            if inputs.geometry.triangle_count() >= MAX_COVERAGE_TRIANGLES {
+                return Err(Error::InvalidArgument(format!(
+                    "the coverage map handles fewer than {MAX_COVERAGE_TRIANGLES} triangles, the scene has {}",
+                    inputs.geometry.triangle_count()
+                )));
+            }
+            Some(Box::new(CoverageMap::new(self.ctx, width, height)?))
+        } else {
+            None
+        };
         let mut attempts = 0;
         loop {
             attempts += 1;
@@ -95,9 +125,15 @@ impl Renderer<'_> {
             ));
             self.run_timed(passes, |this, cmd, ts| {
                 let device = this.ctx.device();
-                this.collection.record(device, cmd, inputs, &map);
+                this.collection
+                    .record(device, cmd, inputs, &map, coverage.as_deref());
                 ts.mark(cmd, "collection");
-                this.generation.record(device, cmd, inputs.frame, &map);
+                if let Some(cover) = &coverage {
+                    this.coverage.record(device, cmd, inputs, cover);
+                    ts.mark(cmd, "coverage");
+                }
+                this.generation
+                    .record(device, cmd, inputs.frame, &map, coverage.as_deref());
                 ts.mark(cmd, "generation");
                 map.record_counter_readback(device, cmd);
             })?;
@@ -106,6 +142,7 @@ impl Renderer<'_> {
                 map.check_complete(&counts)?;
                 return Ok(ShadowOutcome::Temporal {
                     map: Box::new(map),
+                    coverage,
                     attempts,
                 });
             }

@@ -16,8 +16,9 @@ use crate::gpu::{Buffer, BufferUsage, Context, OneShot, TimestampQueries};
 use crate::output::RadianceImage;
 use crate::scene::Scene;
 use crate::technique::{
-    CollectionPass, FrameInputs, FrameParams, FrameSettings, GenerationPass, LightingPass,
-    LightingTarget, MAX_SAMPLES_PER_CHUNK, PlainShadowPass, SceneGeometry, TemporalShadowMap,
+    CollectionPass, CoveragePass, FrameInputs, FrameParams, FrameSettings, GenerationPass,
+    LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, PlainShadowPass, SceneGeometry,
+    TemporalShadowMap,
 };
 use methods::ShadowOutcome;
 pub use stats::{FrameStats, PassTime, equation_2_bytes};
@@ -28,6 +29,9 @@ use std::time::Instant;
 pub enum Method {
     /// The depth-time ranges shadow map (Hong & Oh 2018).
     Temporal,
+    /// The temporal shadow map with the coverage map of the 2017 paper: pixels one triangle
+    /// covers, nearest, all frame long keep only that triangle's range.
+    Coverage,
     /// Time-dependent shadow maps (Akenine-Moller et al. 2007, as McGuire et al. 2010 run
     /// them): one depth map per time stratum, at a random time in it; sample k tests the map
     /// of its stratum.
@@ -44,6 +48,7 @@ impl Method {
     pub fn name(&self) -> &'static str {
         match self {
             Method::Temporal => "temporal",
+            Method::Coverage => "coverage",
             Method::Tsm => "tsm",
             Method::Reference { .. } => "reference",
             Method::Plain { .. } => "plain",
@@ -152,6 +157,7 @@ pub struct Renderer<'a> {
     ctx: &'a Context,
     collection: CollectionPass,
     generation: GenerationPass,
+    coverage: CoveragePass,
     lighting: LightingPass,
     plain: PlainShadowPass,
     timestamps: TimestampQueries,
@@ -163,6 +169,7 @@ impl<'a> Renderer<'a> {
             ctx,
             collection: CollectionPass::new(ctx)?,
             generation: GenerationPass::new(ctx)?,
+            coverage: CoveragePass::new(ctx)?,
             lighting: LightingPass::new(ctx)?,
             plain: PlainShadowPass::new(ctx)?,
             timestamps: TimestampQueries::new(ctx, 16)?,
@@ -208,7 +215,12 @@ impl<'a> Renderer<'a> {
         let mut passes = Vec::new();
 
         let outcome = match settings.method {
-            Method::Temporal => self.temporal_shadow(inputs, settings, &mut passes, progress)?,
+            Method::Temporal => {
+                self.temporal_shadow(inputs, settings, false, &mut passes, progress)?
+            }
+            Method::Coverage => {
+                self.temporal_shadow(inputs, settings, true, &mut passes, progress)?
+            }
             Method::Tsm => self.time_dependent_shadow(inputs, settings, &mut passes, progress)?,
             Method::Plain { time } => self.plain_shadow(inputs, settings, time, &mut passes)?,
             Method::Reference { slices } => {
@@ -248,11 +260,22 @@ impl<'a> Renderer<'a> {
             triangles: geometry.triangle_count(),
             fragments,
             ranges,
+            ranges_without_coverage: counts.ranges_without_coverage as u64,
             shadow_map_bytes_eq2: if temporal {
                 equation_2_bytes(fragments, ranges, shadow_pixels)
             } else {
                 0
             },
+            shadow_map_bytes_eq2_without_coverage: if temporal {
+                equation_2_bytes(
+                    fragments,
+                    counts.ranges_without_coverage as u64,
+                    shadow_pixels,
+                )
+            } else {
+                0
+            },
+            coverage_map_bytes: outcome.coverage_bytes(),
             shadow_map_bytes_allocated: outcome.allocated_bytes(),
             shadow_pass_attempts: outcome.attempts(),
             longest_fragment_list: counts.longest_list,

@@ -28,8 +28,14 @@ pub struct FrameStats {
     pub fragments: u64,
     /// N_r: depth-time ranges stored by the generation sub-pass.
     pub ranges: u64,
+    /// N_r without the coverage map (equal to `ranges` for other methods).
+    pub ranges_without_coverage: u64,
     /// Equation (2): N_f * 16 + N_r * 24 + 2 * shadow pixels * 4 bytes.
     pub shadow_map_bytes_eq2: u64,
+    /// Equation (2) with the ranges stored without the coverage map.
+    pub shadow_map_bytes_eq2_without_coverage: u64,
+    /// The nearest, coverage and cover-depth maps (coverage method; 0 otherwise).
+    pub coverage_map_bytes: u64,
     /// Bytes the shadow map's buffers actually occupy.
     pub shadow_map_bytes_allocated: u64,
     /// The most fragments any one shadow-map pixel held (the generation pass pairs up to

@@ -1,19 +1,22 @@
 //! Generation sub-pass (paper 4.3): fragments to depth-time ranges, once per shadow-map pixel.
 
 use super::collection::bindings;
-use super::gpu_types::PassConstants;
+use super::coverage::CoverageMap;
+use super::gpu_types::{PassConstants, USE_COVERAGE};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
 use crate::error::Result;
 use crate::gpu::{
-    Access, Buffer, Context, DescriptorKind, DescriptorSet, Pipeline, compute_pipeline,
-    memory_barrier,
+    Access, Buffer, BufferUsage, Context, DescriptorKind, DescriptorSet, Pipeline,
+    compute_pipeline, memory_barrier,
 };
 use ash::vk;
 
 pub struct GenerationPass {
     set: DescriptorSet,
     pipeline: Pipeline,
+    /// Bound as the coverage map when there is none.
+    placeholder: Buffer,
 }
 
 impl GenerationPass {
@@ -28,6 +31,7 @@ impl GenerationPass {
                 (5, Storage),
                 (6, Storage),
                 (7, Storage),
+                (8, Storage),
             ]),
         )?;
         let pipeline = compute_pipeline(
@@ -37,17 +41,25 @@ impl GenerationPass {
             "generation.comp",
             shaders::GENERATION_COMP,
         )?;
-        Ok(Self { set, pipeline })
+        let placeholder = Buffer::new(ctx, "no coverage map", 4, BufferUsage::Storage)?;
+        Ok(Self {
+            set,
+            pipeline,
+            placeholder,
+        })
     }
 
     /// Records the range generation; must follow [`super::CollectionPass::record`] on the
-    /// same map. Leaves the ranges readable by any later shader.
+    /// same map (and [`super::CoveragePass::record`] when `coverage` is given: then a covered
+    /// pixel keeps only its covering triangle's range). Leaves the ranges readable by any
+    /// later shader.
     pub fn record(
         &mut self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
         frame: &Buffer,
         map: &TemporalShadowMap,
+        coverage: Option<&CoverageMap>,
     ) {
         self.set.bind(&[
             frame,
@@ -56,9 +68,14 @@ impl GenerationPass {
             &map.counters,
             &map.range_heads,
             &map.ranges,
+            coverage.map_or(&self.placeholder, |c| &c.coverage),
         ]);
         self.pipeline.bind(device, cmd, self.set.raw());
-        self.pipeline.push(device, cmd, &PassConstants::default());
+        let constants = PassConstants {
+            flags: if coverage.is_some() { USE_COVERAGE } else { 0 },
+            ..PassConstants::default()
+        };
+        self.pipeline.push(device, cmd, &constants);
         unsafe { device.cmd_dispatch(cmd, map.width().div_ceil(8), map.height().div_ceil(8), 1) };
         memory_barrier(
             device,

@@ -69,7 +69,9 @@ pub struct Counters {
     pub overlong_pixels: u32,
     /// The longest fragment list of the frame (counted up to 8 x [`MAX_LIST_NODES`]).
     pub longest_list: u32,
-    pub reserved: [u32; 2],
+    /// What `range_count` would be without the coverage map (equal to it without one).
+    pub ranges_without_coverage: u32,
+    pub reserved: u32,
 }
 
 /// The most fragments one shadow-map pixel may hold (`MAX_LIST_NODES` in shared.glsl).
@@ -125,6 +127,8 @@ pub struct PassConstants {
 
 /// `PassConstants::flags` of the lighting pass: every sample at `PassConstants::time`.
 pub const FIXED_TIME: u32 = 1;
+/// `PassConstants::flags` of collection and generation: build / use the coverage map.
+pub const USE_COVERAGE: u32 = 2;
 
 /// What an ordinary shadow map stores per texel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -158,6 +162,8 @@ pub enum ShadowMode {
     None = 2,
     /// Time-dependent shadow maps: a sample in time stratum s tests map s (depth only).
     Tsm = 3,
+    /// The coverage map, then the depth-time ranges (2017 paper's extension).
+    Coverage = 4,
 }
 
 /// The visibility buffer's "no triangle" id (and the plain shadow map's).

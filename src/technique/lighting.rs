@@ -7,6 +7,7 @@
 //! shading runs once per visible sample instead of once per covering fragment.
 
 use super::collection::bindings;
+use super::coverage::CoverageMap;
 use super::geometry::FrameInputs;
 use super::gpu_types::{FIXED_TIME, PassConstants, ShadowMode};
 use super::plain_shadow::PlainShadowMap;
@@ -127,6 +128,8 @@ pub enum ShadowSource<'a> {
     /// Layer 0 of an ordinary shadow map with ids ([`DepthFormat::DepthAndId`]), for every
     /// sample.
     Plain(&'a PlainShadowMap),
+    /// A temporal shadow map generated with a coverage map, and that map.
+    Coverage(&'a TemporalShadowMap, &'a CoverageMap),
     /// Time-dependent shadow maps: one depth-only layer per time stratum (as many layers as
     /// samples per pixel); a sample tests the layer of its stratum.
     TimeDependent(&'a PlainShadowMap),
@@ -184,6 +187,7 @@ impl LightingPass {
                 (6, Storage),
                 (7, Storage),
                 (8, Storage),
+                (9, Storage),
             ]),
         )?;
         let resolve = compute_pipeline(
@@ -270,13 +274,21 @@ impl LightingPass {
     ) {
         let FrameInputs { frame, geometry } = inputs;
         let p = &self.placeholder;
-        let (mode, range_heads, ranges, plain, tsm) = match shadow {
+        let (mode, range_heads, ranges, plain, tsm, coverage) = match shadow {
             ShadowSource::Temporal(map) => {
-                (ShadowMode::Temporal, &map.range_heads, &map.ranges, p, p)
+                (ShadowMode::Temporal, &map.range_heads, &map.ranges, p, p, p)
             }
-            ShadowSource::Plain(map) => (ShadowMode::Plain, p, p, &map.depths, p),
-            ShadowSource::TimeDependent(maps) => (ShadowMode::Tsm, p, p, p, &maps.depths),
-            ShadowSource::None => (ShadowMode::None, p, p, p, p),
+            ShadowSource::Coverage(map, cover) => (
+                ShadowMode::Coverage,
+                &map.range_heads,
+                &map.ranges,
+                p,
+                p,
+                &cover.coverage,
+            ),
+            ShadowSource::Plain(map) => (ShadowMode::Plain, p, p, &map.depths, p, p),
+            ShadowSource::TimeDependent(maps) => (ShadowMode::Tsm, p, p, p, &maps.depths, p),
+            ShadowSource::None => (ShadowMode::None, p, p, p, p, p),
         };
         self.raster_set.bind(&[
             frame,
@@ -294,6 +306,7 @@ impl LightingPass {
             ranges,
             plain,
             tsm,
+            coverage,
         ]);
         let count = samples.count.clamp(1, target.samples_per_chunk);
         let constants = PassConstants {

@@ -7,6 +7,7 @@
 //! view with stochastic rasterization and tests each sample against the ranges.
 
 mod collection;
+mod coverage;
 mod generation;
 mod geometry;
 pub mod gpu_types;
@@ -17,11 +18,12 @@ mod shadow_map;
 mod view;
 
 pub use collection::CollectionPass;
+pub use coverage::{CoverageMap, CoveragePass, MAX_COVERAGE_TRIANGLES};
 pub use generation::GenerationPass;
 pub use geometry::{FrameInputs, SceneGeometry};
 pub use gpu_types::{
     Counters, DepthFormat, FIXED_TIME, FrameParams, MAX_LIST_NODES, Node, PassConstants, Range,
-    SceneVertex, ShadowMode, TRIANGLE_CLOSED, TRIANGLE_MOVING, TriangleInfo,
+    SceneVertex, ShadowMode, TRIANGLE_CLOSED, TRIANGLE_MOVING, TriangleInfo, USE_COVERAGE,
 };
 pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, Samples, ShadowSource};
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};

@@ -16,3 +16,5 @@ pub const RESOLVE_COMP: &[u8] = spirv!("resolve.comp");
 pub const SHADOW_DEPTH_VERT: &[u8] = spirv!("shadow_depth.vert");
 pub const SHADOW_DEPTH_FRAG: &[u8] = spirv!("shadow_depth.frag");
 pub const LAYOUT_PROBE_COMP: &[u8] = spirv!("layout_probe.comp");
+pub const COVERAGE_FRAG: &[u8] = spirv!("coverage.frag");
+pub const COVERAGE_RESET_FRAG: &[u8] = spirv!("coverage_reset.frag");

@@ -75,8 +75,8 @@ fn render_embedded(host: &Host, scene: &Scene) -> Embedded {
             "the shadow map still overflows after growing"
         );
         host.record_and_wait(|cmd| {
-            collection.record(device, cmd, inputs, &map);
-            generation.record(device, cmd, &frame, &map);
+            collection.record(device, cmd, inputs, &map, None);
+            generation.record(device, cmd, &frame, &map, None);
             map.record_counter_readback(device, cmd);
             lighting.record(
                 device,

@@ -170,7 +170,8 @@ fn shared_structs_match_glsl() {
             range_capacity: 24,
             overlong_pixels: 31,
             longest_list: 32,
-            reserved: [33, 34],
+            ranges_without_coverage: 33,
+            reserved: 34,
         }
     );
     let copy: FrameParams = cast(

@@ -7,6 +7,7 @@ mod support;
 mod analytic;
 mod baselines;
 mod cli;
+mod coverage;
 mod embedding;
 mod errors;
 mod generation;

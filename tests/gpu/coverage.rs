@@ -1,0 +1,162 @@
+//! The coverage map (2017 paper's extension): fewer ranges, the same image, and never a pixel
+//! marked covered unless one triangle is its nearest occluder all frame long.
+
+use crate::support::gpu::{
+    assert_no_validation_messages, context, mesh, overhead_directional, overhead_spot, render,
+    scene, square, translated,
+};
+use glam::{Quat, Vec2, Vec3};
+use motion_shadows::render::{Method, RenderResult, RenderSettings};
+use motion_shadows::scene::{Scene, box_mesh, plane_mesh};
+
+fn settings(method: Method) -> RenderSettings {
+    RenderSettings {
+        width: 128,
+        height: 96,
+        spp: 4,
+        seed: 5,
+        shadow_size: Some((64, 64)),
+        method,
+        ..RenderSettings::default()
+    }
+}
+
+fn both(ctx: &motion_shadows::gpu::Context, s: &Scene) -> (RenderResult, RenderResult) {
+    (
+        render(ctx, s, &settings(Method::Temporal)),
+        render(ctx, s, &settings(Method::Coverage)),
+    )
+}
+
+/// A static block over a static ground: under the block only the block's range is stored.
+#[test]
+fn covered_pixels_keep_one_range_and_the_image_is_the_same() {
+    let ctx = context();
+    let ground = plane_mesh(Vec2::splat(12.0), 8);
+    let block: Vec<Vec3> = box_mesh(Vec3::new(3.0, 1.0, 3.0), 2)
+        .iter()
+        .map(|p| *p + Vec3::Y * 2.0)
+        .collect();
+    let s = scene(
+        "static-block",
+        overhead_spot(8.0, 50.0),
+        vec![
+            mesh("ground", ground.clone(), ground, false),
+            mesh("block", block.clone(), block, true),
+        ],
+    );
+    let (temporal, coverage) = both(&ctx, &s);
+    let c = &coverage.stats;
+    eprintln!(
+        "static block: ranges {} with coverage, {} without ({} temporal)",
+        c.ranges, c.ranges_without_coverage, temporal.stats.ranges
+    );
+    assert_eq!(c.ranges_without_coverage, temporal.stats.ranges);
+    assert!(c.ranges < c.ranges_without_coverage, "nothing was covered");
+    assert!(coverage.image.rgb == temporal.image.rgb, "images differ");
+    assert_no_validation_messages(&ctx);
+}
+
+/// Both methods at a size where every shadow texel is small, same samples: the images must
+/// be identical, and the coverage method must not store more ranges.
+fn assert_same_image(s: &Scene) -> (RenderResult, RenderResult) {
+    let ctx = context();
+    let (temporal, coverage) = both(&ctx, s);
+    assert_eq!(
+        coverage.stats.ranges_without_coverage,
+        temporal.stats.ranges
+    );
+    assert!(coverage.stats.ranges <= temporal.stats.ranges);
+    let pixels = temporal.image.rgb.len() / 3;
+    let differ = (0..pixels)
+        .filter(|&i| (0..3).any(|c| temporal.image.rgb[3 * i + c] != coverage.image.rgb[3 * i + c]))
+        .count();
+    assert_eq!(differ, 0, "{differ} of {pixels} pixels differ");
+    assert_no_validation_messages(&ctx);
+    (temporal, coverage)
+}
+
+fn ground() -> motion_shadows::scene::Mesh {
+    let g = plane_mesh(Vec2::splat(14.0), 4);
+    mesh("ground", g.clone(), g, false)
+}
+
+/// A triangle turning half a turn about its centre (vertices move straight through it) covers
+/// pixels near the centre at t = 0 and t = 1, but not in between: the caps pass marks them, and
+/// only the reset of a pixel that the triangle's own edges sweep over unmarks them. With the
+/// ground behind, a wrong mark would drop the ground's range there: the range count and the
+/// image catch it.
+#[test]
+fn covering_at_both_ends_but_not_between_is_not_covered() {
+    let centre = Vec3::new(0.5, 2.0, 0.3);
+    let t0: Vec<Vec3> = [
+        Vec3::new(-2.0, 0.0, -1.5),
+        Vec3::new(-0.5, 0.0, 2.5),
+        Vec3::new(2.5, 0.0, -1.0),
+    ]
+    .iter()
+    .map(|v| centre + *v)
+    .collect();
+    let half_turn = Quat::from_rotation_y(std::f32::consts::PI);
+    let t1: Vec<Vec3> = t0
+        .iter()
+        .map(|p| centre + half_turn * (*p - centre))
+        .collect();
+    let s = scene(
+        "half-turn",
+        overhead_directional(8.0),
+        vec![ground(), mesh("turning", t0, t1, false)],
+    );
+    let (temporal, coverage) = assert_same_image(&s);
+    assert_eq!(
+        coverage.stats.ranges, temporal.stats.ranges,
+        "a swept pixel was marked covered"
+    );
+}
+
+/// A static square (the covering triangle pair) with a small square crossing in front of it
+/// mid-frame: the crossed pixels must be reset, or the small square's shadow on the big one
+/// would vanish from the image. Elsewhere under the big square only its own range is kept.
+#[test]
+fn a_blocker_crossing_in_front_mid_frame_resets_the_pixel() {
+    let big = square(-3.0, -3.0, 6.0, 1.0);
+    let small0 = square(-6.0, -0.5, 1.0, 2.5);
+    let small1 = translated(&small0, Vec3::X * 10.0);
+    let s = scene(
+        "crossing-blocker",
+        overhead_directional(8.0),
+        vec![
+            ground(),
+            mesh("big", big.clone(), big, false),
+            mesh("small", small0, small1, false),
+        ],
+    );
+    let (temporal, coverage) = assert_same_image(&s);
+    assert!(
+        coverage.stats.ranges < temporal.stats.ranges,
+        "the big square's uncrossed pixels should keep one range"
+    );
+}
+
+/// The covering triangle moves in depth: a square rises through a static smaller square, so the
+/// small one is nearer to the light for the first half of the frame and farther for the second.
+/// At t = 1 the rising square is the nearest, and both its caps cover the pixels; only comparing
+/// each fragment with the covering square's depth at that fragment's time resets them. A mark
+/// would drop the small square's range and light the rising square where the small one shadows
+/// it early in the frame.
+#[test]
+fn a_covering_triangle_moving_in_depth_is_reset_by_what_it_passes() {
+    let rising0 = square(-3.0, -3.0, 6.0, 1.0);
+    let rising1 = translated(&rising0, Vec3::Y * 2.0);
+    let middle = square(-1.0, -1.0, 2.0, 2.0);
+    let s = scene(
+        "rising-square",
+        overhead_directional(8.0),
+        vec![
+            ground(),
+            mesh("rising", rising0, rising1, false),
+            mesh("middle", middle.clone(), middle, false),
+        ],
+    );
+    assert_same_image(&s);
+}
