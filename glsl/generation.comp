@@ -16,8 +16,8 @@ layout(std430, set = 0, binding = 4) readonly buffer Nodes { Node nodes[]; };
 layout(std430, set = 0, binding = 5) buffer CounterBlock { Counters counters; };
 layout(std430, set = 0, binding = 6) writeonly buffer RangeHeads { uint range_heads[]; };
 layout(std430, set = 0, binding = 7) writeonly buffer Ranges { Range ranges[]; };
-// With USE_COVERAGE: at a pixel the coverage map marks, only the covering triangle's range is
-// stored (the 2017 paper's extension); the others are counted, not stored.
+// With USE_COVERAGE: at a pixel the coverage map marks, no range is stored (the 2017 paper's
+// extension: the coverage map itself says what shadows there); they are only counted.
 layout(std430, set = 0, binding = 8) readonly buffer Coverage { uint coverage[]; };
 layout(push_constant) uniform Push { PassConstants pc; };
 
@@ -71,9 +71,7 @@ void sort_and_pair(uint n, uint cover) {
     uint i = 0u, all_ranges = 0u;
     while (i < n) {
         bool pair = i + 1u < n && local_nodes[i + 1u].id == local_nodes[i].id;
-        if (cover == NO_TRIANGLE || local_nodes[i].id == cover) {
-            emit(local_nodes[i], pair ? local_nodes[i + 1u] : local_nodes[i]);
-        }
+        if (cover == NO_TRIANGLE) emit(local_nodes[i], pair ? local_nodes[i + 1u] : local_nodes[i]);
         ++all_ranges;
         i += pair ? 2u : 1u;
     }

@@ -19,6 +19,7 @@ layout(std430, set = 0, binding = 6) readonly buffer Ranges { Range ranges[]; };
 layout(std430, set = 0, binding = 7) readonly buffer PlainDepths { uint64_t plain_depths[]; };
 layout(std430, set = 0, binding = 8) readonly buffer TsmDepths { uint tsm_depths[]; };
 layout(std430, set = 0, binding = 9) readonly buffer Coverage { uint coverage[]; };
+layout(std430, set = 0, binding = 10) readonly buffer CoverDepth { vec2 cover_depth[]; };
 layout(push_constant) uniform Push { PassConstants pc; };
 
 const float PI = 3.14159265358979323846;
@@ -107,13 +108,19 @@ vec3 shade(uvec2 pixel, uint key, uint k, uint64_t hit) {
             if (pc.mode == SHADOW_TEMPORAL) {
                 dark = shadowed_temporal(index, depth, t, id);
             } else if (pc.mode == SHADOW_COVERAGE) {
-                // The 2017 paper's final test: the covering triangle does not shadow itself;
-                // elsewhere the ranges decide. At a covered texel they hold just the covering
-                // triangle's range, so "covered: shadowed" becomes "shadowed if behind it",
-                // which keeps neighbouring triangles of one surface from shadowing each other
-                // where a texel straddles their shared edge.
+                // The 2017 paper's final test: the covering triangle does not shadow itself,
+                // it shadows everything else at a covered texel, and elsewhere the ranges
+                // decide. "Shadows everything else" is made "shadows what is behind it" (its
+                // depth at the sample's time, from the coverage map), as its range would:
+                // neighbouring triangles of one surface must not shadow each other where a
+                // texel straddles their shared edge.
                 uint cover = coverage[index];
-                dark = cover != id && shadowed_temporal(index, depth, t, id);
+                if (cover == NO_TRIANGLE) {
+                    dark = shadowed_temporal(index, depth, t, id);
+                } else {
+                    vec2 d = cover_depth[index];
+                    dark = cover != id && mix(d.x, d.y, t) < depth;
+                }
             } else if (pc.mode == SHADOW_TSM) {
                 dark = shadowed_tsm(index, depth,
                                     time_stratum(key, k, frame.sampling.x));

@@ -154,6 +154,10 @@ pub struct RenderArgs {
     /// Print the summary as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
+    /// Temporal/coverage: also write heat maps of the ranges stored per shadow-map pixel
+    /// (for coverage, with and without the coverage map, on one scale).
+    #[arg(long)]
+    pub heatmaps: bool,
     #[command(flatten)]
     pub random: RandomCubesArgs,
 }

@@ -83,10 +83,14 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         .unwrap_or_else(|| auto_exposure(&result.image));
     write_exr(&exr, &result.image)?;
     write_png(&png, &result.image, exposure)?;
+    let mut files = vec![exr.display().to_string(), png.display().to_string()];
+    if args.heatmaps {
+        report("writing heat maps");
+        files.extend(write_heat_maps(&ctx, &result, &args.out, &stem)?);
+    }
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    let files = vec![exr.display().to_string(), png.display().to_string()];
     if args.json {
         let mut value = serde_json::to_value(&result.stats)?;
         value["files"] = serde_json::json!(files);
@@ -103,4 +107,42 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         messages.len()
     );
     Ok(())
+}
+
+/// Heat maps of the ranges stored per shadow-map pixel; for the coverage method also without
+/// the coverage map, on the same scale so the two compare at a glance.
+fn write_heat_maps(
+    ctx: &Context,
+    result: &crate::render::RenderResult,
+    dir: &std::path::Path,
+    stem: &str,
+) -> anyhow::Result<Vec<String>> {
+    let Some(map) = &result.shadow_map else {
+        anyhow::bail!(
+            "--heatmaps needs a method with depth-time ranges (temporal or coverage), not {}",
+            result.stats.method
+        );
+    };
+    let contents = map.download(ctx)?;
+    let stored = contents.ranges_per_pixel();
+    let mut maps = vec![(format!("{stem}-ranges.png"), stored)];
+    if result.stats.method == "coverage" {
+        let without = contents.ranges_without_coverage_per_pixel();
+        maps.push((format!("{stem}-ranges-without-coverage.png"), without));
+    }
+    let max = maps
+        .iter()
+        .flat_map(|(_, v)| v.iter().copied())
+        .max()
+        .unwrap_or(0)
+        .max(1) as f32;
+    let mut files = Vec::new();
+    for (name, counts) in maps {
+        let values: Vec<f32> = counts.iter().map(|&c| c as f32).collect();
+        let heat = crate::compare::heat_map(&values, contents.width, contents.height, max)?;
+        let path = dir.join(name);
+        crate::output::write_rgb8_png(&path, heat.width, heat.height, &heat.data)?;
+        files.push(path.display().to_string());
+    }
+    Ok(files)
 }

@@ -160,53 +160,77 @@ fn format_3_significant(value: f32) -> String {
 }
 
 /// False-colour picture of the absolute luminance error `|L(image) - L(reference)|` per
-/// pixel, mapped through [`inferno`] from 0 (black) to `max_error` (pale yellow; larger
-/// errors are clamped), with a colour bar on the right labelled "0" at the bottom and
-/// `max_error` (3 significant digits) at the top.
-///
-/// The error picture occupies columns `0..width` and rows `0..height` of the result; the bar
-/// and labels follow to the right on a dark grey background. Very short images get a taller
-/// result (the rows below the error picture dark grey) so that both labels fit.
+/// pixel, as a [`heat_map`] from 0 to `max_error`.
 pub fn error_image(
     image: &RadianceImage,
     reference: &RadianceImage,
     max_error: f32,
 ) -> Result<Rgb8Image, CompareError> {
     check_pair(image, reference)?;
-    if !(max_error.is_finite() && max_error > 0.0) {
-        return Err(CompareError::MaxError(max_error));
+    let errors: Vec<f32> = image
+        .rgb
+        .chunks_exact(3)
+        .zip(reference.rgb.chunks_exact(3))
+        .map(|(a, b)| (luminance([a[0], a[1], a[2]]) - luminance([b[0], b[1], b[2]])).abs())
+        .collect();
+    heat_map(&errors, image.width, image.height, max_error)
+}
+
+/// False-colour picture of one value per pixel (row-major, top row first), mapped through
+/// [`inferno`] from 0 (black) to `max_value` (pale yellow; larger values are clamped), with a
+/// colour bar on the right labelled "0" at the bottom and `max_value` (3 significant digits)
+/// at the top.
+///
+/// The picture occupies columns `0..width` and rows `0..height` of the result; the bar and
+/// labels follow to the right on a dark grey background. Very short images get a taller
+/// result (the rows below the picture dark grey) so that both labels fit.
+pub fn heat_map(
+    values: &[f32],
+    width: u32,
+    height: u32,
+    max_value: f32,
+) -> Result<Rgb8Image, CompareError> {
+    let expected = width as usize * height as usize;
+    if values.len() != expected {
+        return Err(CompareError::DataLength {
+            which: "heat map values",
+            width,
+            height,
+            expected,
+            actual: values.len(),
+        });
+    }
+    if !(max_value.is_finite() && max_value > 0.0) {
+        return Err(CompareError::MaxError(max_value));
     }
 
     // Large labels for ordinary pictures, small ones where they would crowd a tiny image.
-    let scale = if image.height >= 96 { 2 } else { 1 };
-    let top_label = format_3_significant(max_error);
+    let scale = if height >= 96 { 2 } else { 1 };
+    let top_label = format_3_significant(max_value);
     let label_width = text_width(&top_label, scale).max(text_width("0", scale));
     let glyph_height = GLYPH_HEIGHT * scale;
-    let height = image.height.max(2 * glyph_height + GAP);
-    let bar_x = image.width.saturating_add(GAP);
+    let out_height = height.max(2 * glyph_height + GAP);
+    let bar_x = width.saturating_add(GAP);
     let label_x = bar_x.saturating_add(BAR_WIDTH + GAP);
-    let width = label_x.saturating_add(label_width + GAP);
+    let out_width = label_x.saturating_add(label_width + GAP);
 
-    let mut out = Rgb8Image::new(width, height);
-    out.fill_rect(0, 0, width, height, PANEL_BACKGROUND);
-
-    let pixels = image.rgb.chunks_exact(3).zip(reference.rgb.chunks_exact(3));
-    let columns = (0..image.height).flat_map(|y| (0..image.width).map(move |x| (x, y)));
-    for ((x, y), (a, b)) in columns.zip(pixels) {
-        let error = (luminance([a[0], a[1], a[2]]) - luminance([b[0], b[1], b[2]])).abs();
-        out.put(x, y, inferno(error / max_error));
+    let mut out = Rgb8Image::new(out_width, out_height);
+    out.fill_rect(0, 0, out_width, out_height, PANEL_BACKGROUND);
+    let columns = (0..height).flat_map(|y| (0..width).map(move |x| (x, y)));
+    for ((x, y), v) in columns.zip(values) {
+        out.put(x, y, inferno(v / max_value));
     }
 
-    // Bottom row exactly 0, top row exactly `max_error`, as the labels say.
-    for y in 0..height {
-        let t = (height - 1 - y) as f32 / (height - 1) as f32;
+    // Bottom row exactly 0, top row exactly `max_value`, as the labels say.
+    for y in 0..out_height {
+        let t = (out_height - 1 - y) as f32 / (out_height - 1) as f32;
         out.fill_rect(bar_x, y, BAR_WIDTH, 1, inferno(t));
     }
     draw_text(&mut out, label_x, 0, &top_label, scale, LABEL_COLOR);
     draw_text(
         &mut out,
         label_x,
-        height - glyph_height,
+        out_height - glyph_height,
         "0",
         scale,
         LABEL_COLOR,

@@ -51,7 +51,7 @@ impl GenerationPass {
 
     /// Records the range generation; must follow [`super::CollectionPass::record`] on the
     /// same map (and [`super::CoveragePass::record`] when `coverage` is given: then a covered
-    /// pixel keeps only its covering triangle's range). Leaves the ranges readable by any
+    /// pixel stores no range: the coverage map holds what shadows there). Leaves the ranges readable by any
     /// later shader.
     pub fn record(
         &mut self,

@@ -188,6 +188,7 @@ impl LightingPass {
                 (7, Storage),
                 (8, Storage),
                 (9, Storage),
+                (10, Storage),
             ]),
         )?;
         let resolve = compute_pipeline(
@@ -274,10 +275,16 @@ impl LightingPass {
     ) {
         let FrameInputs { frame, geometry } = inputs;
         let p = &self.placeholder;
-        let (mode, range_heads, ranges, plain, tsm, coverage) = match shadow {
-            ShadowSource::Temporal(map) => {
-                (ShadowMode::Temporal, &map.range_heads, &map.ranges, p, p, p)
-            }
+        let (mode, range_heads, ranges, plain, tsm, coverage, cover_depth) = match shadow {
+            ShadowSource::Temporal(map) => (
+                ShadowMode::Temporal,
+                &map.range_heads,
+                &map.ranges,
+                p,
+                p,
+                p,
+                p,
+            ),
             ShadowSource::Coverage(map, cover) => (
                 ShadowMode::Coverage,
                 &map.range_heads,
@@ -285,10 +292,11 @@ impl LightingPass {
                 p,
                 p,
                 &cover.coverage,
+                &cover.cover_depth,
             ),
-            ShadowSource::Plain(map) => (ShadowMode::Plain, p, p, &map.depths, p, p),
-            ShadowSource::TimeDependent(maps) => (ShadowMode::Tsm, p, p, p, &maps.depths, p),
-            ShadowSource::None => (ShadowMode::None, p, p, p, p, p),
+            ShadowSource::Plain(map) => (ShadowMode::Plain, p, p, &map.depths, p, p, p),
+            ShadowSource::TimeDependent(maps) => (ShadowMode::Tsm, p, p, p, &maps.depths, p, p),
+            ShadowSource::None => (ShadowMode::None, p, p, p, p, p, p),
         };
         self.raster_set.bind(&[
             frame,
@@ -307,6 +315,7 @@ impl LightingPass {
             plain,
             tsm,
             coverage,
+            cover_depth,
         ]);
         let count = samples.count.clamp(1, target.samples_per_chunk);
         let constants = PassConstants {

@@ -255,6 +255,29 @@ impl ShadowMapContents {
         Self::walk(&self.nodes, first, |n| n.next)
     }
 
+    /// Ranges stored per pixel, row-major (for heat maps).
+    pub fn ranges_per_pixel(&self) -> Vec<u32> {
+        (0..self.height)
+            .flat_map(|y| (0..self.width).map(move |x| (x, y)))
+            .map(|(x, y)| self.ranges_at(x, y).len() as u32)
+            .collect()
+    }
+
+    /// Ranges per pixel that generation would store without a coverage map: per triangle,
+    /// half its fragments rounded up (pairs, and an odd one's zero-length range).
+    pub fn ranges_without_coverage_per_pixel(&self) -> Vec<u32> {
+        (0..self.height)
+            .flat_map(|y| (0..self.width).map(move |x| (x, y)))
+            .map(|(x, y)| {
+                let mut ids: Vec<u32> = self.nodes_at(x, y).iter().map(|n| n.id).collect();
+                ids.sort_unstable();
+                ids.chunk_by(|a, b| a == b)
+                    .map(|group| group.len().div_ceil(2) as u32)
+                    .sum()
+            })
+            .collect()
+    }
+
     /// The depth-time ranges stored at pixel (x, y).
     pub fn ranges_at(&self, x: u32, y: u32) -> Vec<Range> {
         let first = self.range_heads[(y * self.width + x) as usize];
