@@ -8,7 +8,6 @@
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameParams frame; };
 layout(std430, set = 0, binding = 3) buffer Heads { uint heads[]; };
-layout(std430, set = 0, binding = 4) writeonly buffer Nodes { Node nodes[]; };
 layout(std430, set = 0, binding = 5) buffer CounterBlock { Counters counters; };
 layout(std430, set = 0, binding = 6) buffer Nearest { uint64_t nearest[]; };
 layout(push_constant) uniform Push { PassConstants pc; };
@@ -28,5 +27,5 @@ void main() {
     if (index >= counters.node_capacity) return;
     uint head = pixel.y * frame.sizes.x + pixel.x;
     uint next = atomicExchange(heads[head], index + 1u);
-    nodes[index] = Node(in_depth, clamp(in_time, 0.0, 1.0), in_id, next);
+    NodeArray(pc.node_address).nodes[index] = Node(in_depth, clamp(in_time, 0.0, 1.0), in_id, next);
 }

@@ -12,10 +12,8 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameParams frame; };
 layout(std430, set = 0, binding = 3) readonly buffer Heads { uint heads[]; };
-layout(std430, set = 0, binding = 4) readonly buffer Nodes { Node nodes[]; };
 layout(std430, set = 0, binding = 5) buffer CounterBlock { Counters counters; };
 layout(std430, set = 0, binding = 6) writeonly buffer RangeHeads { uint range_heads[]; };
-layout(std430, set = 0, binding = 7) writeonly buffer Ranges { Range ranges[]; };
 // With USE_COVERAGE: at a pixel the coverage map marks, no range is stored (the 2017 paper's
 // extension: the coverage map itself says what shadows there); they are only counted.
 layout(std430, set = 0, binding = 8) readonly buffer Coverage { uint coverage[]; };
@@ -26,6 +24,8 @@ bool before(Node x, uint xi, Node y, uint yi) {
 }
 
 uint out_head = END_OF_LIST;
+NodeArray node_array;
+RangeArray range_array;
 
 void emit(Node a, Node b) {
     Range r;
@@ -38,7 +38,7 @@ void emit(Node a, Node b) {
     uint index = atomicAdd(counters.range_count, 1u);
     if (index >= counters.range_capacity) return;
     r.next = out_head;
-    ranges[index] = r;
+    range_array.ranges[index] = r;
     out_head = index + 1u;
 }
 
@@ -83,16 +83,18 @@ void main() {
     if (pixel.x >= frame.sizes.x || pixel.y >= frame.sizes.y) return;
     uint p = pixel.y * frame.sizes.x + pixel.x;
 
+    node_array = NodeArray(pc.node_address);
+    range_array = RangeArray(pc.range_address);
     uint n = 0u;
     uint a = heads[p];
-    for (; a != END_OF_LIST && n < MAX_LIST_NODES; a = nodes[a - 1u].next) {
-        local_nodes[n] = nodes[a - 1u];
+    for (; a != END_OF_LIST && n < MAX_LIST_NODES; a = node_array.nodes[a - 1u].next) {
+        local_nodes[n] = node_array.nodes[a - 1u];
         local_index[n] = a;
         ++n;
     }
     if (a != END_OF_LIST) {
         // Count the rest only to report it; cheap, and bounded by the node capacity.
-        for (; a != END_OF_LIST && n < 8u * MAX_LIST_NODES; a = nodes[a - 1u].next) ++n;
+        for (; a != END_OF_LIST && n < 8u * MAX_LIST_NODES; a = node_array.nodes[a - 1u].next) ++n;
         atomicAdd(counters.overlong_pixels, 1u);
         atomicMax(counters.longest_list, n);
         range_heads[p] = END_OF_LIST;

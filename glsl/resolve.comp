@@ -15,7 +15,6 @@ layout(std430, set = 0, binding = 2) readonly buffer Triangles { TriangleInfo tr
 layout(std430, set = 0, binding = 3) readonly buffer Visibility { uint64_t visibility[]; };
 layout(std430, set = 0, binding = 4) buffer Accumulation { vec4 radiance[]; };
 layout(std430, set = 0, binding = 5) readonly buffer RangeHeads { uint range_heads[]; };
-layout(std430, set = 0, binding = 6) readonly buffer Ranges { Range ranges[]; };
 layout(std430, set = 0, binding = 7) readonly buffer PlainDepths { uint64_t plain_depths[]; };
 layout(std430, set = 0, binding = 8) readonly buffer TsmDepths { uint tsm_depths[]; };
 layout(std430, set = 0, binding = 9) readonly buffer Coverage { uint coverage[]; };
@@ -41,8 +40,9 @@ bool to_shadow_map(vec3 p, out uint index, out float depth) {
 // Is a receiver at light depth `depth`, on triangle `own`, in shadow at time t? Ranges of the
 // receiver's own triangle are skipped (the self-shadow fix of the paper, 3.3).
 bool shadowed_temporal(uint index, float depth, float t, uint own) {
-    for (uint r = range_heads[index]; r != END_OF_LIST; r = ranges[r - 1u].next) {
-        Range range = ranges[r - 1u];
+    RangeArray range_array = RangeArray(pc.range_address);
+    for (uint r = range_heads[index]; r != END_OF_LIST; r = range_array.ranges[r - 1u].next) {
+        Range range = range_array.ranges[r - 1u];
         if (range.id == own || t < range.t_s || t > range.t_e) continue;
         float span = range.t_e - range.t_s;
         float occluder = span > 0.0 ? mix(range.d_s, range.d_e, (t - range.t_s) / span)

@@ -3,6 +3,7 @@
 // tests/gpu_layout.rs checks that both agree.
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_buffer_reference : require
 
 const uint END_OF_LIST = 0u;        // list links are index + 1, so 0 ends a list
 const uint NO_TRIANGLE = 0xffffffffu;
@@ -81,7 +82,7 @@ struct FrameParams {
     uvec4 sampling;             // x = samples per pixel, y = seed
 };
 
-// What every pass pushes (32 bytes).
+// What every pass pushes (48 bytes).
 struct PassConstants {
     uint first_triangle;        // global id of the draw's first triangle
     uint first_sample;          // first sample index of this chunk (shadow maps: the layer)
@@ -91,7 +92,12 @@ struct PassConstants {
     uint flags;
     uint reserved0;
     uint reserved1;
+    uint64_t node_address;      // the fragment (node) buffer, reached by address: it may be
+    uint64_t range_address;     // larger than one storage-buffer descriptor can cover
 };
+
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer NodeArray { Node nodes[]; };
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer RangeArray { Range ranges[]; };
 
 // Lighting pass shadow tests.
 const uint SHADOW_TEMPORAL = 0u;    // depth-time ranges

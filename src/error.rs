@@ -44,7 +44,7 @@ pub enum Error {
 
     /// A buffer the technique needs is larger than the device can address.
     #[error(
-        "{what} needs {needed_bytes} bytes ({count} elements of {element_bytes} bytes), but this device can address at most {limit_bytes} bytes in one storage buffer (maxStorageBufferRange / maxMemoryAllocationSize); reduce the resolution or the scene"
+        "{what} needs {needed_bytes} bytes ({count} elements of {element_bytes} bytes), but this device can address at most {limit_bytes} bytes in one buffer (maxStorageBufferRange for descriptors, maxMemoryAllocationSize for buffers reached by address); reduce the resolution or the scene"
     )]
     DeviceLimit {
         what: &'static str,

@@ -24,7 +24,14 @@ impl BufferUsage {
     fn flags(self) -> vk::BufferUsageFlags {
         let transfer = vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
         match self {
-            Self::Storage | Self::HostToDevice => vk::BufferUsageFlags::STORAGE_BUFFER | transfer,
+            // Device-local storage may be reached through its address (fragment and range
+            // buffers beyond one descriptor's range).
+            Self::Storage => {
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS
+                    | transfer
+            }
+            Self::HostToDevice => vk::BufferUsageFlags::STORAGE_BUFFER | transfer,
             Self::Uniform => vk::BufferUsageFlags::UNIFORM_BUFFER,
             Self::Readback => vk::BufferUsageFlags::TRANSFER_DST,
         }
@@ -160,6 +167,13 @@ impl Buffer {
             std::ptr::copy_nonoverlapping(slice.as_ptr(), out.as_mut_ptr() as *mut u8, bytes)
         };
         Ok(out)
+    }
+
+    /// The buffer's device address, for shaders that reach it through a buffer reference
+    /// (only [`BufferUsage::Storage`] buffers have one).
+    pub fn device_address(&self) -> u64 {
+        let info = vk::BufferDeviceAddressInfo::default().buffer(self.raw);
+        unsafe { self.shared.device.get_buffer_device_address(&info) }
     }
 
     /// The whole buffer as a descriptor range.

@@ -212,7 +212,7 @@ impl Context {
     /// - `device` was created from `physical` of `instance`, with a queue of `queue_family`
     ///   supporting graphics and compute, Vulkan 1.3, and these features enabled:
     ///   geometryShader, fragmentStoresAndAtomics, shaderInt64, shaderBufferInt64Atomics,
-    ///   dynamicRendering, synchronization2, hostQueryReset.
+    ///   dynamicRendering, synchronization2, hostQueryReset, bufferDeviceAddress.
     /// - `instance` and `device` outlive the returned context and every object made from it.
     /// - The library submits to `queue` only through [`super::OneShot`] (which the standalone
     ///   renderer uses); passes only record into command buffers the host gives them.
@@ -261,7 +261,7 @@ impl Context {
             device: device.clone(),
             physical_device: physical,
             debug_settings: Default::default(),
-            buffer_device_address: false,
+            buffer_device_address: true,
             allocation_sizes: Default::default(),
         })
         .map_err(|source| Error::Allocation {
@@ -314,7 +314,13 @@ impl Context {
         self.messages.lock().map(|m| m.clone()).unwrap_or_default()
     }
 
-    /// The largest storage buffer a shader can address on this device, in bytes.
+    /// The largest buffer the shaders reach through its device address (the fragment and
+    /// range buffers), in bytes: one allocation.
+    pub fn max_addressed_buffer_bytes(&self) -> u64 {
+        self.info.max_allocation_size
+    }
+
+    /// The largest storage buffer a shader can address through a descriptor, in bytes.
     pub fn max_buffer_bytes(&self) -> u64 {
         self.info
             .max_storage_buffer_range

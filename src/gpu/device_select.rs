@@ -18,6 +18,10 @@ const REQUIRED: &[(&str, &str)] = &[
     ("dynamicRendering", "attachment-less render passes"),
     ("synchronization2", "pipeline barriers"),
     ("hostQueryReset", "timestamp queries"),
+    (
+        "bufferDeviceAddress",
+        "fragment and range buffers larger than one storage-buffer descriptor",
+    ),
 ];
 
 pub(crate) struct Chosen {
@@ -53,6 +57,7 @@ pub(crate) fn missing_features(instance: &ash::Instance, pd: vk::PhysicalDevice)
         f13.dynamic_rendering,
         f13.synchronization2,
         f12.host_query_reset,
+        f12.buffer_device_address,
     ];
     name_missing(have)
 }
@@ -151,7 +156,8 @@ pub(crate) fn create_device(
         .shader_int64(true);
     let mut f12 = vk::PhysicalDeviceVulkan12Features::default()
         .shader_buffer_int64_atomics(true)
-        .host_query_reset(true);
+        .host_query_reset(true)
+        .buffer_device_address(true);
     let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
         .dynamic_rendering(true)
         .synchronization2(true);

@@ -68,7 +68,6 @@ impl CollectionPass {
                 (1, Storage),
                 (2, Storage),
                 (3, Storage),
-                (4, Storage),
                 (5, Storage),
                 (6, Storage),
             ]),
@@ -104,7 +103,6 @@ impl CollectionPass {
             &geometry.vertices,
             &geometry.triangles,
             &map.heads,
-            &map.nodes,
             &map.counters,
             coverage.map_or(&self.placeholder, |c| &c.nearest),
         ]);
@@ -145,6 +143,7 @@ impl CollectionPass {
         self.pipeline.bind(device, cmd, self.set.raw());
         let constants = PassConstants {
             flags: if coverage.is_some() { USE_COVERAGE } else { 0 },
+            node_address: map.nodes.device_address(),
             ..PassConstants::default()
         };
         self.pipeline.push(device, cmd, &constants);

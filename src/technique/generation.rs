@@ -27,10 +27,8 @@ impl GenerationPass {
             &bindings(&[
                 (0, Uniform),
                 (3, Storage),
-                (4, Storage),
                 (5, Storage),
                 (6, Storage),
-                (7, Storage),
                 (8, Storage),
             ]),
         )?;
@@ -64,15 +62,15 @@ impl GenerationPass {
         self.set.bind(&[
             frame,
             &map.heads,
-            &map.nodes,
             &map.counters,
             &map.range_heads,
-            &map.ranges,
             coverage.map_or(&self.placeholder, |c| &c.coverage),
         ]);
         self.pipeline.bind(device, cmd, self.set.raw());
         let constants = PassConstants {
             flags: if coverage.is_some() { USE_COVERAGE } else { 0 },
+            node_address: map.nodes.device_address(),
+            range_address: map.ranges.device_address(),
             ..PassConstants::default()
         };
         self.pipeline.push(device, cmd, &constants);

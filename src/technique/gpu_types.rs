@@ -108,7 +108,7 @@ pub struct FrameParams {
     pub sampling: UVec4,
 }
 
-/// What every pass pushes (32 bytes).
+/// What every pass pushes (48 bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PassConstants {
@@ -123,6 +123,10 @@ pub struct PassConstants {
     pub time: f32,
     pub flags: u32,
     pub reserved: [u32; 2],
+    /// Device address of the fragment (node) buffer, for passes that read or write it.
+    pub node_address: u64,
+    /// Device address of the range buffer.
+    pub range_address: u64,
 }
 
 /// `PassConstants::flags` of the lighting pass: every sample at `PassConstants::time`.
@@ -174,6 +178,6 @@ const _: () = {
     assert!(std::mem::size_of::<Range>() == 24);
     assert!(std::mem::size_of::<SceneVertex>() == 32);
     assert!(std::mem::size_of::<FrameParams>() == 4 * 64 + 11 * 16);
-    assert!(std::mem::size_of::<PassConstants>() == 32);
+    assert!(std::mem::size_of::<PassConstants>() == 48);
     assert!(std::mem::size_of::<Counters>() == 32);
 };

@@ -184,7 +184,6 @@ impl LightingPass {
                 (3, Storage),
                 (4, Storage),
                 (5, Storage),
-                (6, Storage),
                 (7, Storage),
                 (8, Storage),
                 (9, Storage),
@@ -311,7 +310,6 @@ impl LightingPass {
             &target.visibility,
             &target.radiance,
             range_heads,
-            ranges,
             plain,
             tsm,
             coverage,
@@ -328,6 +326,7 @@ impl LightingPass {
             } else {
                 0
             },
+            range_address: ranges.device_address(),
             ..PassConstants::default()
         };
         // The previous chunk's resolve read the visibility buffer.

@@ -25,9 +25,10 @@ pub struct TemporalShadowMap {
     counters_readback: Buffer,
 }
 
-fn checked_bytes(ctx: &Context, what: &'static str, count: u64, element: u64) -> Result<u64> {
+/// Bytes of a buffer of `count` elements, if the device can hold it: `limit` is what one
+/// descriptor can address, or (for buffers reached by address) one allocation.
+fn checked_bytes(what: &'static str, count: u64, element: u64, limit: u64) -> Result<u64> {
     let needed = count * element;
-    let limit = ctx.max_buffer_bytes();
     if needed > limit || count >= u32::MAX as u64 {
         return Err(Error::DeviceLimit {
             what,
@@ -56,14 +57,20 @@ impl TemporalShadowMap {
             )));
         }
         let pixels = width as u64 * height as u64;
-        let head_bytes = checked_bytes(ctx, "the shadow map's list heads", pixels, 4)?;
+        let (bound, addressed) = (ctx.max_buffer_bytes(), ctx.max_addressed_buffer_bytes());
+        let head_bytes = checked_bytes("the shadow map's list heads", pixels, 4, bound)?;
         let node_bytes = checked_bytes(
-            ctx,
             "the fragment (node) buffer",
             node_capacity.max(1) as u64,
             16,
+            addressed,
         )?;
-        let range_bytes = checked_bytes(ctx, "the range buffer", range_capacity.max(1) as u64, 24)?;
+        let range_bytes = checked_bytes(
+            "the range buffer",
+            range_capacity.max(1) as u64,
+            24,
+            addressed,
+        )?;
         Ok(Self {
             width,
             height,
@@ -139,15 +146,16 @@ impl TemporalShadowMap {
     /// The old buffers are freed at once: call only when no submission using them is pending.
     pub fn grow_to_fit(&mut self, ctx: &Context, counts: &Counters) -> Result<()> {
         let nodes = counts.node_count.max(self.node_capacity);
-        // A range needs at most one fragment, so the fragment count bounds the range count
-        // of the re-run (whose node list is then complete).
-        let ranges = counts.range_count.max(self.range_capacity).max(
-            if counts.node_count > self.node_capacity {
-                counts.node_count
-            } else {
-                0
-            },
-        );
+        // When fragments overflowed, the ranges counted came from incomplete lists. Ranges
+        // pair fragments, so about half the fragments plus a little for odd groups is a good
+        // guess that keeps the allocation near equation (2); should it fall short, the range
+        // count of the next run is exact and one more run fits.
+        let estimate = if counts.node_count > self.node_capacity {
+            counts.node_count / 2 + counts.node_count / 64
+        } else {
+            0
+        };
+        let ranges = counts.range_count.max(self.range_capacity).max(estimate);
         *self = Self::new(ctx, self.width, self.height, nodes, ranges)?;
         Ok(())
     }

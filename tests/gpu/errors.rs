@@ -42,7 +42,7 @@ fn buffers_beyond_the_device_limit_are_refused_with_figures() {
         } => {
             assert_eq!(*count, (u32::MAX - 1) as u64);
             assert_eq!(*element_bytes, 16);
-            assert_eq!(*limit_bytes, ctx.max_buffer_bytes());
+            assert_eq!(*limit_bytes, ctx.max_addressed_buffer_bytes());
         }
         other => panic!("expected DeviceLimit, got {other}"),
     }

@@ -93,6 +93,8 @@ fn shared_structs_match_glsl() {
         time: 0.625,
         flags: 26,
         reserved: [27, 28],
+        node_address: 0x1234_5678_9abc_def0,
+        range_address: 0x0fed_cba9_8765_4321,
     };
     OneShot::new(&ctx)
         .unwrap()

@@ -92,6 +92,7 @@ fn has_features(instance: &ash::Instance, pd: vk::PhysicalDevice) -> bool {
         f.shader_int64,
         f12.shader_buffer_int64_atomics,
         f12.host_query_reset,
+        f12.buffer_device_address,
         f13.dynamic_rendering,
         f13.synchronization2,
     ]
@@ -221,7 +222,8 @@ impl Host {
             .shader_int64(true);
         let mut f12 = vk::PhysicalDeviceVulkan12Features::default()
             .shader_buffer_int64_atomics(true)
-            .host_query_reset(true);
+            .host_query_reset(true)
+            .buffer_device_address(true);
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
             .synchronization2(true);
