@@ -66,6 +66,10 @@ pub enum Error {
         limit: u32,
     },
 
+    /// A benchmark could not write its results.
+    #[error("bench: {0}")]
+    Bench(String),
+
     /// A caller-supplied value is out of range.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),

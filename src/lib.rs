@@ -7,6 +7,8 @@
 //! 3. The app: [`scene`], [`render`] (a standalone renderer that drives the passes),
 //!    [`output`] (EXR/PNG), and the `motion-shadows` binary.
 
+pub mod bench;
+pub mod chart;
 pub mod cli;
 pub mod compare;
 pub mod error;

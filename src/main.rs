@@ -9,6 +9,7 @@ fn main() -> anyhow::Result<()> {
         None => motion_shadows::cli::render_cmd::run(&RenderArgs::default()),
         Some(Command::Render(args)) => motion_shadows::cli::render_cmd::run(&args),
         Some(Command::Compare(args)) => motion_shadows::cli::compare_cmd::run(&args),
+        Some(Command::Bench(args)) => motion_shadows::cli::bench_cmd::run(&args),
         Some(Command::Scene(SceneCommand::List)) => {
             for name in BUILTIN_NAMES {
                 println!("{name}");

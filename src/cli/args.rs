@@ -24,9 +24,28 @@ pub enum Command {
     /// Built-in scenes: list them, or export one as a scene file.
     #[command(subcommand)]
     Scene(SceneCommand),
+    /// Measure like the papers: per-pass GPU time and memory sweeps, written as CSV and PNG
+    /// charts, with the key ratios printed.
+    Bench(BenchArgs),
     /// Render reference, temporal and TSM images of one scene; write a side-by-side PNG,
     /// false-colour error images, and a table of errors, times and memory.
     Compare(CompareArgs),
+}
+
+#[derive(Debug, Args, Clone)]
+pub struct BenchArgs {
+    /// Every preset at reduced resolution and sweep sizes (CI, a first look).
+    #[arg(long)]
+    pub quick: bool,
+    /// Presets to run (default: all): spp, random-cubes, speed, equal-quality, shadow-pass,
+    /// scaling.
+    #[arg(long = "preset")]
+    pub presets: Vec<String>,
+    #[arg(long, default_value = "bench")]
+    pub out: PathBuf,
+    /// Print the results as one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// The papers' image experiments.

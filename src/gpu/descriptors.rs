@@ -35,7 +35,6 @@ pub struct DescriptorSet {
     pool: vk::DescriptorPool,
     set: vk::DescriptorSet,
     bindings: Vec<DescriptorBinding>,
-    bound: Vec<vk::Buffer>,
 }
 
 impl DescriptorSet {
@@ -60,7 +59,6 @@ impl DescriptorSet {
             pool: vk::DescriptorPool::null(),
             set: vk::DescriptorSet::null(),
             bindings: bindings.to_vec(),
-            bound: vec![vk::Buffer::null(); bindings.len()],
         };
         let sizes: Vec<_> = [DescriptorKind::Storage, DescriptorKind::Uniform]
             .into_iter()
@@ -93,8 +91,9 @@ impl DescriptorSet {
         self.set
     }
 
-    /// Points binding i at `buffers[i]`, rewriting only what changed. Must not be called while
-    /// a command buffer using this set is pending.
+    /// Points binding i at `buffers[i]`. Must not be called while a command buffer using this
+    /// set is pending. Every binding is rewritten: a buffer freed and a new one created may
+    /// share a handle value, so an unchanged handle does not prove an unchanged buffer.
     pub fn bind(&mut self, buffers: &[&Buffer]) {
         assert_eq!(buffers.len(), self.bindings.len(), "one buffer per binding");
         let infos: Vec<[vk::DescriptorBufferInfo; 1]> =
@@ -103,9 +102,7 @@ impl DescriptorSet {
             .bindings
             .iter()
             .zip(&infos)
-            .zip(&self.bound)
-            .filter(|((_, info), bound)| info[0].buffer != **bound)
-            .map(|((b, info), _)| {
+            .map(|(b, info)| {
                 vk::WriteDescriptorSet::default()
                     .dst_set(self.set)
                     .dst_binding(b.binding)
@@ -113,10 +110,7 @@ impl DescriptorSet {
                     .buffer_info(info)
             })
             .collect();
-        if !writes.is_empty() {
-            unsafe { self.shared.device.update_descriptor_sets(&writes, &[]) };
-        }
-        self.bound = buffers.iter().map(|b| b.raw()).collect();
+        unsafe { self.shared.device.update_descriptor_sets(&writes, &[]) };
     }
 }
 

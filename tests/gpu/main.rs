@@ -6,6 +6,7 @@ mod support;
 
 mod analytic;
 mod baselines;
+mod bench;
 mod cli;
 mod coverage;
 mod embedding;

@@ -1,0 +1,42 @@
+//! `motion-shadows bench`: the papers' measurements as presets. Each preset renders a sweep,
+//! writes a CSV and PNG charts, and reports the key ratios, all measured in the same run on
+//! the same device (timings across runs or machines are not comparable; ratios within a run
+//! are).
+
+mod measure;
+mod presets;
+
+pub use measure::{Measurement, measure};
+pub use presets::{PRESETS, Preset, Ratio, Report, run_preset};
+
+use std::path::PathBuf;
+
+/// Sizes of a bench run: `quick` for CI and a first look, `full` for figures.
+#[derive(Debug, Clone)]
+pub struct Scale {
+    pub quick: bool,
+    /// Image (and shadow map) size.
+    pub width: u32,
+    pub height: u32,
+    /// Repetitions per configuration; the fastest counts.
+    pub runs: u32,
+    pub out: PathBuf,
+}
+
+impl Scale {
+    pub fn new(quick: bool, out: PathBuf) -> Self {
+        let (width, height, runs) = if quick { (256, 192, 2) } else { (1024, 768, 3) };
+        Self {
+            quick,
+            width,
+            height,
+            runs,
+            out,
+        }
+    }
+
+    /// `full` for the paper-sized run, `quick` otherwise.
+    pub fn pick<T>(&self, quick: T, full: T) -> T {
+        if self.quick { quick } else { full }
+    }
+}

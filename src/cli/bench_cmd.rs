@@ -1,0 +1,96 @@
+//! `motion-shadows bench`: runs the presets and prints their ratios.
+
+use super::args::BenchArgs;
+use super::render_cmd::progress_reporter;
+use crate::bench::{PRESETS, Preset, Report, Scale, run_preset};
+use crate::gpu::{Context, ContextOptions};
+use crate::render::Renderer;
+use serde::Serialize;
+use std::time::Instant;
+
+#[derive(Serialize)]
+struct Summary<'a> {
+    device: String,
+    quick: bool,
+    width: u32,
+    height: u32,
+    wall_seconds: f64,
+    reports: &'a [Report],
+}
+
+pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    let presets: Vec<Preset> = if args.presets.is_empty() {
+        PRESETS.to_vec()
+    } else {
+        args.presets
+            .iter()
+            .map(|name| {
+                Preset::from_name(name).ok_or_else(|| {
+                    let known: Vec<&str> = PRESETS.iter().map(|p| p.name()).collect();
+                    anyhow::anyhow!("unknown preset {name:?}; known: {}", known.join(", "))
+                })
+            })
+            .collect::<anyhow::Result<_>>()?
+    };
+    let start = Instant::now();
+    let (bar, mut report) = progress_reporter();
+    let ctx = Context::headless(&ContextOptions::from_env())?;
+    let device = format!("{} ({})", ctx.info().name, ctx.info().driver);
+    let scale = Scale::new(args.quick, args.out.clone());
+    let mut renderer = Renderer::new(&ctx)?;
+    let mut reports = Vec::new();
+    for preset in presets {
+        reports.push(run_preset(&mut renderer, preset, &scale, &mut report)?);
+    }
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    let summary = Summary {
+        device,
+        quick: args.quick,
+        width: scale.width,
+        height: scale.height,
+        wall_seconds: start.elapsed().as_secs_f64(),
+        reports: &reports,
+    };
+    let json = serde_json::to_string_pretty(&summary)?;
+    std::fs::write(args.out.join("bench-summary.json"), &json)?;
+    if args.json {
+        println!("{}", serde_json::to_string(&summary)?);
+    } else {
+        println!(
+            "bench on {} ({}x{}{}), {:.0} s",
+            summary.device,
+            summary.width,
+            summary.height,
+            if args.quick { ", quick" } else { "" },
+            summary.wall_seconds
+        );
+        for r in &reports {
+            println!("[{}]", r.preset);
+            for ratio in &r.ratios {
+                let target = match (&ratio.target, ratio.met) {
+                    (Some(t), Some(met)) => {
+                        format!("  (target {t}: {})", if met { "met" } else { "MISSED" })
+                    }
+                    _ => String::new(),
+                };
+                println!("  {:<58} {:>10.3}{target}", ratio.name, ratio.value);
+            }
+            for note in &r.notes {
+                println!("  note: {note}");
+            }
+            for f in &r.files {
+                println!("  wrote {}", f.display());
+            }
+        }
+        println!("wrote {}", args.out.join("bench-summary.json").display());
+    }
+    let messages = ctx.validation_messages();
+    anyhow::ensure!(
+        messages.is_empty(),
+        "the Vulkan validation layer reported {} message(s)",
+        messages.len()
+    );
+    Ok(())
+}
