@@ -6,6 +6,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// What a buffer is for; decides usage flags and where its memory lives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -45,8 +46,12 @@ impl BufferUsage {
     }
 }
 
+/// Source of [`Buffer::uid`]s.
+static NEXT_UID: AtomicU64 = AtomicU64::new(1);
+
 /// A `VkBuffer` with its own allocation.
 pub struct Buffer {
+    uid: u64,
     shared: Arc<Shared>,
     raw: vk::Buffer,
     allocation: Option<Allocation>,
@@ -90,6 +95,7 @@ impl Buffer {
         let bound =
             unsafe { device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) };
         let buffer = Self {
+            uid: NEXT_UID.fetch_add(1, Ordering::Relaxed),
             shared: ctx.shared.clone(),
             raw,
             allocation: Some(allocation),
@@ -115,6 +121,12 @@ impl Buffer {
 
     pub fn raw(&self) -> vk::Buffer {
         self.raw
+    }
+
+    /// Unique for the process's lifetime, unlike the handle: a driver may give a new buffer
+    /// the handle value of a freed one.
+    pub fn uid(&self) -> u64 {
+        self.uid
     }
     pub fn size(&self) -> u64 {
         self.size

@@ -35,6 +35,8 @@ pub struct DescriptorSet {
     pool: vk::DescriptorPool,
     set: vk::DescriptorSet,
     bindings: Vec<DescriptorBinding>,
+    /// [`Buffer::uid`] of what each binding points at; 0 for nothing yet.
+    bound: Vec<u64>,
 }
 
 impl DescriptorSet {
@@ -59,6 +61,7 @@ impl DescriptorSet {
             pool: vk::DescriptorPool::null(),
             set: vk::DescriptorSet::null(),
             bindings: bindings.to_vec(),
+            bound: vec![0; bindings.len()],
         };
         let sizes: Vec<_> = [DescriptorKind::Storage, DescriptorKind::Uniform]
             .into_iter()
@@ -91,9 +94,11 @@ impl DescriptorSet {
         self.set
     }
 
-    /// Points binding i at `buffers[i]`. Must not be called while a command buffer using this
-    /// set is pending. Every binding is rewritten: a buffer freed and a new one created may
-    /// share a handle value, so an unchanged handle does not prove an unchanged buffer.
+    /// Points binding i at `buffers[i]`, rewriting only bindings whose buffer changed (a
+    /// rewrite would invalidate a command buffer being recorded with this set bound). Buffers
+    /// are told apart by [`Buffer::uid`], not by handle: a driver may give a new buffer the
+    /// handle value of a freed one. Must not change a binding while a command buffer using
+    /// this set is pending.
     pub fn bind(&mut self, buffers: &[&Buffer]) {
         assert_eq!(buffers.len(), self.bindings.len(), "one buffer per binding");
         let infos: Vec<[vk::DescriptorBufferInfo; 1]> =
@@ -102,7 +107,9 @@ impl DescriptorSet {
             .bindings
             .iter()
             .zip(&infos)
-            .map(|(b, info)| {
+            .zip(buffers.iter().zip(&self.bound))
+            .filter(|(_, (buffer, bound))| buffer.uid() != **bound)
+            .map(|((b, info), _)| {
                 vk::WriteDescriptorSet::default()
                     .dst_set(self.set)
                     .dst_binding(b.binding)
@@ -110,7 +117,10 @@ impl DescriptorSet {
                     .buffer_info(info)
             })
             .collect();
-        unsafe { self.shared.device.update_descriptor_sets(&writes, &[]) };
+        if !writes.is_empty() {
+            unsafe { self.shared.device.update_descriptor_sets(&writes, &[]) };
+        }
+        self.bound = buffers.iter().map(|b| b.uid()).collect();
     }
 }
 

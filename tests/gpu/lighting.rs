@@ -189,3 +189,30 @@ fn moving_occluder_blurs_its_shadow() {
     assert!(partial > 200, "only {partial} partly shadowed pixels");
     assert_no_validation_messages(&ctx);
 }
+
+/// One renderer serving many frames of different sizes (as `bench` uses it) renders each like
+/// a fresh one. Buffers are freed and made anew every frame, and a driver may hand a new buffer
+/// the handle of a freed one: descriptors must follow the buffers, not the handle values.
+#[test]
+fn a_reused_renderer_renders_like_a_fresh_one() {
+    let ctx = context();
+    let s = builtin("cubes-toward-light", &BuiltinOptions::default()).unwrap();
+    let mut renderer = motion_shadows::render::Renderer::new(&ctx).unwrap();
+    let sizes = [(64, 48), (96, 72), (64, 48), (80, 60), (96, 72), (64, 48)];
+    for (i, &(width, height)) in sizes.iter().enumerate() {
+        let settings = RenderSettings {
+            width,
+            height,
+            spp: 2,
+            seed: i as u32,
+            ..RenderSettings::default()
+        };
+        let reused = renderer.render(&s, &settings, &mut |_| {}).unwrap().image;
+        let fresh = render(&ctx, &s, &settings).image;
+        assert!(
+            reused.rgb == fresh.rgb,
+            "frame {i} ({width}x{height}) differs"
+        );
+    }
+    assert_no_validation_messages(&ctx);
+}
