@@ -4,13 +4,11 @@
 
 use crate::support::gpu::context;
 use ash::vk;
-use motion_shadows::gpu::{Buffer, BufferUsage};
 
 #[test]
 fn validation_layer_reports_a_deliberate_misuse() {
     let ctx = context();
     let device = ctx.device();
-    let buffer = Buffer::new(&ctx, "misused", 64, BufferUsage::Storage).unwrap();
     unsafe {
         let pool = device
             .create_command_pool(
@@ -28,14 +26,23 @@ fn validation_layer_reports_a_deliberate_misuse() {
         device
             .begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default())
             .unwrap();
-        // dstOffset must be a multiple of 4: recorded, never submitted.
-        device.cmd_fill_buffer(cmd, buffer.raw(), 2, 4, 0);
+        // An access the stage cannot make (shader writes in the transfer stage): invalid, but
+        // harmless to the driver, which never acts on it (recorded, never submitted).
+        let barrier = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::TRANSFER)
+            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .dst_access_mask(vk::AccessFlags2::SHADER_STORAGE_READ)];
+        device.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().memory_barriers(&barrier),
+        );
         device.end_command_buffer(cmd).unwrap();
         device.destroy_command_pool(pool, None);
     }
     let messages = ctx.validation_messages();
     assert!(
-        messages.iter().any(|m| m.contains("vkCmdFillBuffer")),
+        messages.iter().any(|m| m.contains("srcAccessMask")),
         "the validation layer did not report the misuse: {messages:?}"
     );
 }
