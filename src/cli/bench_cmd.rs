@@ -86,11 +86,5 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         }
         println!("wrote {}", args.out.join("bench-summary.json").display());
     }
-    let messages = ctx.validation_messages();
-    anyhow::ensure!(
-        messages.is_empty(),
-        "the Vulkan validation layer reported {} message(s)",
-        messages.len()
-    );
-    Ok(())
+    super::validation_clean(&ctx)
 }

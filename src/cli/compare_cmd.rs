@@ -188,13 +188,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     } else {
         print!("{}", table(&report_data));
     }
-    let messages = ctx.validation_messages();
-    anyhow::ensure!(
-        messages.is_empty(),
-        "the Vulkan validation layer reported {} message(s)",
-        messages.len()
-    );
-    Ok(())
+    super::validation_clean(&ctx)
 }
 
 fn table(r: &Report) -> String {

@@ -5,3 +5,14 @@ pub mod bench_cmd;
 pub mod compare_cmd;
 pub mod render_cmd;
 pub mod summary;
+
+/// With `MOTION_SHADOWS_VALIDATION=1`, a run the validation layer complained about fails.
+pub fn validation_clean(ctx: &crate::gpu::Context) -> anyhow::Result<()> {
+    let messages = ctx.validation_messages();
+    anyhow::ensure!(
+        messages.is_empty(),
+        "the Vulkan validation layer reported {} message(s)",
+        messages.len()
+    );
+    Ok(())
+}

@@ -100,13 +100,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         print!("{}", summary_text(&result.stats, &files));
         println!("PNG exposure: {exposure:+.2} stops");
     }
-    let messages = ctx.validation_messages();
-    anyhow::ensure!(
-        messages.is_empty(),
-        "the Vulkan validation layer reported {} message(s)",
-        messages.len()
-    );
-    Ok(())
+    super::validation_clean(&ctx)
 }
 
 /// Heat maps of the ranges stored per shadow-map pixel; for the coverage method also without
