@@ -1,106 +1,23 @@
 #version 450
-// Generation sub-pass (4.3): per shadow-map pixel, group the fragments by triangle id, order
-// each group by depth, and pair consecutive fragments (1st-2nd, 3rd-4th, ...) into depth-time
-// ranges. An odd group leaves its farthest fragment alone; it becomes a zero-length range
-// [t, t] (it happens where the prism is cut by the light's near or far plane, or at a
-// pixel centre exactly on a prism edge), kept so that nothing is dropped and counted by tests.
-// A list longer than MAX_LIST_NODES is not paired but counted (Counters.overlong_pixels), and
-// the renderer reports it as an error with the figures: nothing is dropped silently.
-#include "shared.glsl"
+// Generation, first tier: every pixel whose list holds at most SHORT_LIST fragments (nearly
+// all of them) is paired here with small private arrays; longer lists are handed to the
+// second tier (generation_long.comp) through the long-pixel list.
+#define SHORT_LIST 32u
+#define LIST_CAPACITY SHORT_LIST
+#include "generation_common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameParams frame; };
-layout(std430, set = 0, binding = 3) readonly buffer Heads { uint heads[]; };
-layout(std430, set = 0, binding = 5) buffer CounterBlock { Counters counters; };
-layout(std430, set = 0, binding = 6) writeonly buffer RangeHeads { uint range_heads[]; };
-// With USE_COVERAGE: at a pixel the coverage map marks, no range is stored (the 2017 paper's
-// extension: the coverage map itself says what shadows there); they are only counted.
-layout(std430, set = 0, binding = 8) readonly buffer Coverage { uint coverage[]; };
-layout(push_constant) uniform Push { PassConstants pc; };
-
-bool before(Node x, uint xi, Node y, uint yi) {
-    return x.depth < y.depth || (x.depth == y.depth && xi < yi);
-}
-
-uint out_head = END_OF_LIST;
-NodeArray node_array;
-RangeArray range_array;
-
-void emit(Node a, Node b) {
-    Range r;
-    bool a_first = a.time <= b.time;
-    r.t_s = a_first ? a.time : b.time;
-    r.t_e = a_first ? b.time : a.time;
-    r.d_s = a_first ? a.depth : b.depth;
-    r.d_e = a_first ? b.depth : a.depth;
-    r.id = a.id;
-    uint index = atomicAdd(counters.range_count, 1u);
-    if (index >= counters.range_capacity) return;
-    r.next = out_head;
-    range_array.ranges[index] = r;
-    out_head = index + 1u;
-}
-
-// The list is copied out, Shell-sorted by (id, depth, node index) and paired in one sweep.
-Node local_nodes[MAX_LIST_NODES];
-uint local_index[MAX_LIST_NODES];
-
-bool sorts_after(Node x, uint xi, Node y, uint yi) {
-    return x.id > y.id || (x.id == y.id && before(y, yi, x, xi));
-}
-
-void sort_and_pair(uint n, uint cover) {
-    const uint gaps[6] = uint[6](132u, 57u, 23u, 10u, 4u, 1u);
-    for (int g = 0; g < 6; ++g) {
-        uint gap = gaps[g];
-        for (uint i = gap; i < n; ++i) {
-            Node key = local_nodes[i];
-            uint key_index = local_index[i];
-            uint j = i;
-            while (j >= gap && sorts_after(local_nodes[j - gap], local_index[j - gap], key,
-                                           key_index)) {
-                local_nodes[j] = local_nodes[j - gap];
-                local_index[j] = local_index[j - gap];
-                j -= gap;
-            }
-            local_nodes[j] = key;
-            local_index[j] = key_index;
-        }
-    }
-    uint i = 0u, all_ranges = 0u;
-    while (i < n) {
-        bool pair = i + 1u < n && local_nodes[i + 1u].id == local_nodes[i].id;
-        if (cover == NO_TRIANGLE) emit(local_nodes[i], pair ? local_nodes[i + 1u] : local_nodes[i]);
-        ++all_ranges;
-        i += pair ? 2u : 1u;
-    }
-    if (all_ranges > 0u) atomicAdd(counters.ranges_without_coverage, all_ranges);
-}
 
 void main() {
     uvec2 pixel = gl_GlobalInvocationID.xy;
     if (pixel.x >= frame.sizes.x || pixel.y >= frame.sizes.y) return;
     uint p = pixel.y * frame.sizes.x + pixel.x;
-
-    node_array = NodeArray(pc.node_address);
-    range_array = RangeArray(pc.range_address);
-    uint n = 0u;
-    uint a = heads[p];
-    for (; a != END_OF_LIST && n < MAX_LIST_NODES; a = node_array.nodes[a - 1u].next) {
-        local_nodes[n] = node_array.nodes[a - 1u];
-        local_index[n] = a;
-        ++n;
-    }
-    if (a != END_OF_LIST) {
-        // Count the rest only to report it; cheap, and bounded by the node capacity.
-        for (; a != END_OF_LIST && n < 8u * MAX_LIST_NODES; a = node_array.nodes[a - 1u].next) ++n;
-        atomicAdd(counters.overlong_pixels, 1u);
-        atomicMax(counters.longest_list, n);
-        range_heads[p] = END_OF_LIST;
+    uint n = load_list(p);
+    if (n <= SHORT_LIST) {
+        pair_list(p, n);
         return;
     }
-    atomicMax(counters.longest_list, n);
-    sort_and_pair(n, (pc.flags & USE_COVERAGE) != 0u ? coverage[p] : NO_TRIANGLE);
-    range_heads[p] = out_head;
+    uint index = atomicAdd(long_count, 1u);
+    if (index % LONG_TIER_GROUP == 0u) atomicAdd(long_groups_x, 1u);
+    long_pixels[index] = p;
 }

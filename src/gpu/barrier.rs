@@ -46,6 +46,10 @@ impl Access {
                 | vk::AccessFlags2::UNIFORM_READ.as_raw(),
         ),
     };
+    pub const INDIRECT_READ: Self = Self {
+        stages: vk::PipelineStageFlags2::DRAW_INDIRECT,
+        access: vk::AccessFlags2::INDIRECT_COMMAND_READ,
+    };
     pub const HOST_READ: Self = Self {
         stages: vk::PipelineStageFlags2::HOST,
         access: vk::AccessFlags2::HOST_READ,

@@ -26,10 +26,11 @@ impl BufferUsage {
         let transfer = vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
         match self {
             // Device-local storage may be reached through its address (fragment and range
-            // buffers beyond one descriptor's range).
+            // buffers beyond one descriptor's range) or hold indirect dispatch arguments.
             Self::Storage => {
                 vk::BufferUsageFlags::STORAGE_BUFFER
                     | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS
+                    | vk::BufferUsageFlags::INDIRECT_BUFFER
                     | transfer
             }
             Self::HostToDevice => vk::BufferUsageFlags::STORAGE_BUFFER | transfer,

@@ -1,4 +1,6 @@
 //! Generation sub-pass (paper 4.3): fragments to depth-time ranges, once per shadow-map pixel.
+//! Two tiers: every pixel with a short list (nearly all) is paired with small private arrays;
+//! the few long lists go to a second, indirect dispatch with room for `MAX_LIST_NODES`.
 
 use super::collection::bindings;
 use super::coverage::CoverageMap;
@@ -15,6 +17,7 @@ use ash::vk;
 pub struct GenerationPass {
     set: DescriptorSet,
     pipeline: Pipeline,
+    long_pipeline: Pipeline,
     /// Bound as the coverage map when there is none.
     placeholder: Buffer,
 }
@@ -30,6 +33,7 @@ impl GenerationPass {
                 (5, Storage),
                 (6, Storage),
                 (8, Storage),
+                (9, Storage),
             ]),
         )?;
         let pipeline = compute_pipeline(
@@ -39,10 +43,18 @@ impl GenerationPass {
             "generation.comp",
             shaders::GENERATION_COMP,
         )?;
+        let long_pipeline = compute_pipeline(
+            ctx,
+            set.layout(),
+            std::mem::size_of::<PassConstants>() as u32,
+            "generation_long.comp",
+            shaders::GENERATION_LONG_COMP,
+        )?;
         let placeholder = Buffer::new(ctx, "no coverage map", 4, BufferUsage::Storage)?;
         Ok(Self {
             set,
             pipeline,
+            long_pipeline,
             placeholder,
         })
     }
@@ -65,7 +77,22 @@ impl GenerationPass {
             &map.counters,
             &map.range_heads,
             coverage.map_or(&self.placeholder, |c| &c.coverage),
+            &map.long_pixels,
         ]);
+        // Empty long-pixel list; its indirect dispatch starts at 0 x 1 x 1 groups.
+        let header: [u32; 4] = [0, 0, 1, 1];
+        memory_barrier(
+            device,
+            cmd,
+            Access::COMPUTE_RW.and(Access::INDIRECT_READ),
+            Access::TRANSFER_WRITE,
+        );
+        unsafe {
+            // SAFETY: plain u32s.
+            let bytes = std::slice::from_raw_parts(header.as_ptr() as *const u8, 16);
+            device.cmd_update_buffer(cmd, map.long_pixels.raw(), 0, bytes);
+        }
+        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_RW);
         self.pipeline.bind(device, cmd, self.set.raw());
         let constants = PassConstants {
             flags: if coverage.is_some() { USE_COVERAGE } else { 0 },
@@ -75,6 +102,15 @@ impl GenerationPass {
         };
         self.pipeline.push(device, cmd, &constants);
         unsafe { device.cmd_dispatch(cmd, map.width().div_ceil(8), map.height().div_ceil(8), 1) };
+        memory_barrier(
+            device,
+            cmd,
+            Access::COMPUTE_RW,
+            Access::COMPUTE_RW.and(Access::INDIRECT_READ),
+        );
+        self.long_pipeline.bind(device, cmd, self.set.raw());
+        self.long_pipeline.push(device, cmd, &constants);
+        unsafe { device.cmd_dispatch_indirect(cmd, map.long_pixels.raw(), 4) };
         memory_barrier(
             device,
             cmd,

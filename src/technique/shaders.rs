@@ -10,6 +10,7 @@ pub const SCENE_VERT: &[u8] = spirv!("scene.vert");
 pub const COLLECTION_GEOM: &[u8] = spirv!("collection.geom");
 pub const COLLECTION_FRAG: &[u8] = spirv!("collection.frag");
 pub const GENERATION_COMP: &[u8] = spirv!("generation.comp");
+pub const GENERATION_LONG_COMP: &[u8] = spirv!("generation_long.comp");
 pub const LIGHTING_GEOM: &[u8] = spirv!("lighting.geom");
 pub const LIGHTING_FRAG: &[u8] = spirv!("lighting.frag");
 pub const RESOLVE_COMP: &[u8] = spirv!("resolve.comp");

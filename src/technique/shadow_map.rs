@@ -22,6 +22,9 @@ pub struct TemporalShadowMap {
     /// Per pixel: index + 1 of the first range, 0 for none.
     pub range_heads: Buffer,
     pub ranges: Buffer,
+    /// The generation pass's list of pixels with long fragment lists (a count, indirect
+    /// dispatch arguments, then up to one index per pixel).
+    pub long_pixels: Buffer,
     counters_readback: Buffer,
 }
 
@@ -81,6 +84,12 @@ impl TemporalShadowMap {
             counters: Buffer::new(ctx, "counters", COUNTER_BYTES, BufferUsage::Storage)?,
             range_heads: Buffer::new(ctx, "range heads", head_bytes, BufferUsage::Storage)?,
             ranges: Buffer::new(ctx, "ranges", range_bytes, BufferUsage::Storage)?,
+            long_pixels: Buffer::new(
+                ctx,
+                "long-list pixels",
+                16 + head_bytes,
+                BufferUsage::Storage,
+            )?,
             counters_readback: Buffer::new(
                 ctx,
                 "counters readback",
@@ -111,6 +120,7 @@ impl TemporalShadowMap {
             &self.counters,
             &self.range_heads,
             &self.ranges,
+            &self.long_pixels,
         ]
         .iter()
         .map(|b| b.size())
