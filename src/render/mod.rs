@@ -160,7 +160,8 @@ pub struct Renderer<'a> {
     coverage: CoveragePass,
     lighting: LightingPass,
     plain: PlainShadowPass,
-    timestamps: TimestampQueries,
+    /// Taken out while a submission records into it (the closure borrows the renderer).
+    timestamps: Option<TimestampQueries>,
 }
 
 impl<'a> Renderer<'a> {
@@ -172,7 +173,7 @@ impl<'a> Renderer<'a> {
             coverage: CoveragePass::new(ctx)?,
             lighting: LightingPass::new(ctx)?,
             plain: PlainShadowPass::new(ctx)?,
-            timestamps: TimestampQueries::new(ctx, 16)?,
+            timestamps: Some(TimestampQueries::new(ctx, 16)?),
         })
     }
 
@@ -298,7 +299,10 @@ impl<'a> Renderer<'a> {
         passes: &mut Vec<PassTime>,
         record: impl FnOnce(&mut Self, ash::vk::CommandBuffer, &mut TimestampQueries),
     ) -> Result<()> {
-        let mut ts = std::mem::replace(&mut self.timestamps, TimestampQueries::new(self.ctx, 16)?);
+        let mut ts = match self.timestamps.take() {
+            Some(ts) => ts,
+            None => TimestampQueries::new(self.ctx, 16)?,
+        };
         ts.clear();
         let one_shot = OneShot::new(self.ctx)?;
         one_shot.run(|cmd| {
@@ -309,7 +313,7 @@ impl<'a> Renderer<'a> {
         for (pass, gpu_ms) in ts.spans_ms()? {
             passes.push(PassTime { pass, gpu_ms });
         }
-        self.timestamps = ts;
+        self.timestamps = Some(ts);
         Ok(())
     }
 }
