@@ -19,7 +19,7 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Render a scene, write DIR/<scene>-<method>.png and .exr, print a summary.
+    /// Render a scene, write `DIR/<scene>-<method>.png` and `.exr`, print a summary.
     Render(RenderArgs),
     /// Built-in scenes: list them, or export one as a scene file.
     #[command(subcommand)]

@@ -14,8 +14,8 @@ pub struct Scene {
     pub meshes: Vec<Mesh>,
 }
 
-/// Triangle list: t0.len() == t1.len(), multiple of 3. Vertex i moves linearly from t0[i]
-/// to t1[i] over the shutter t in [0,1]. Front faces are counter-clockwise, i.e.
+/// Triangle list: t0.len() == t1.len(), multiple of 3. Vertex i moves linearly from `t0[i]`
+/// to `t1[i]` over the shutter t in `[0, 1]`. Front faces are counter-clockwise, i.e.
 /// cross(b - a, c - a) is the outward normal.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {

@@ -89,7 +89,7 @@ impl LightingTarget {
         self.samples_per_chunk
     }
 
-    /// Records the copy that [`Self::read`] reads after the submission completes.
+    /// Records the copy that [`Self::read_rgb`] and [`Self::read_moving_coverage`] read after the submission completes.
     pub fn record_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
         memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ);
         let region = [vk::BufferCopy {
@@ -125,7 +125,7 @@ impl LightingTarget {
 #[derive(Clone, Copy)]
 pub enum ShadowSource<'a> {
     Temporal(&'a TemporalShadowMap),
-    /// Layer 0 of an ordinary shadow map with ids ([`DepthFormat::DepthAndId`]), for every
+    /// Layer 0 of an ordinary shadow map with ids ([`super::DepthFormat::DepthAndId`]), for every
     /// sample.
     Plain(&'a PlainShadowMap),
     /// A temporal shadow map generated with a coverage map, and that map.

@@ -5,6 +5,9 @@
 //! A frame: [`CollectionPass`] fills a [`TemporalShadowMap`] with prism fragments,
 //! [`GenerationPass`] turns them into depth-time ranges, [`LightingPass`] renders the camera
 //! view with stochastic rasterization and tests each sample against the ranges.
+//! [`CoveragePass`] (between collection and generation) adds the 2017 paper's coverage map;
+//! [`PlainShadowPass`] renders ordinary shadow maps at given times, for the time-dependent
+//! shadow maps and the brute-force reference that the papers compare against.
 
 mod collection;
 mod coverage;
