@@ -31,7 +31,8 @@ uint out_head = END_OF_LIST;
 NodeArray node_array;
 RangeArray range_array;
 
-void emit(Node a, Node b) {
+// Writes the range of fragments a and b at `index` (reserved by the caller) and links it.
+void emit(Node a, Node b, uint index) {
     Range r;
     bool a_first = a.time <= b.time;
     r.t_s = a_first ? a.time : b.time;
@@ -39,7 +40,6 @@ void emit(Node a, Node b) {
     r.d_s = a_first ? a.depth : b.depth;
     r.d_e = a_first ? b.depth : a.depth;
     r.id = a.id;
-    uint index = atomicAdd(counters.range_count, 1u);
     if (index >= counters.range_capacity) return;
     r.next = out_head;
     range_array.ranges[index] = r;
@@ -73,14 +73,20 @@ void sort_and_pair(uint n, uint cover) {
             local_index[j] = key_index;
         }
     }
-    uint i = 0u, all_ranges = 0u;
-    while (i < n) {
+    // Count the pixel's ranges first, so one atomic reserves room for all of them.
+    uint all_ranges = 0u;
+    for (uint i = 0u; i < n; ++all_ranges) {
+        i += i + 1u < n && local_nodes[i + 1u].id == local_nodes[i].id ? 2u : 1u;
+    }
+    if (all_ranges == 0u) return;
+    atomicAdd(counters.ranges_without_coverage, all_ranges);
+    if (cover != NO_TRIANGLE) return;
+    uint index = atomicAdd(counters.range_count, all_ranges);
+    for (uint i = 0u; i < n; ++index) {
         bool pair = i + 1u < n && local_nodes[i + 1u].id == local_nodes[i].id;
-        if (cover == NO_TRIANGLE) emit(local_nodes[i], pair ? local_nodes[i + 1u] : local_nodes[i]);
-        ++all_ranges;
+        emit(local_nodes[i], pair ? local_nodes[i + 1u] : local_nodes[i], index);
         i += pair ? 2u : 1u;
     }
-    if (all_ranges > 0u) atomicAdd(counters.ranges_without_coverage, all_ranges);
 }
 
 // Copies pixel p's list into the private arrays: its length, or LIST_CAPACITY + 1 if longer.
