@@ -1,0 +1,146 @@
+//! The time each method needs to get within a given RMSE of a high-slice reference.
+
+use super::{Bench, bench_error, builtin_scene, chart, ratio, series, target};
+use crate::chart::{LineChart, Table, fmt_num};
+use crate::compare::rmse;
+use crate::error::Result;
+use crate::render::{Method, RenderSettings};
+use crate::scene::BuiltinOptions;
+
+/// (GPU ms, RMSE, samples per pixel or slices) of each configuration of one method.
+type Curve = Vec<(f64, f64, u32)>;
+
+pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
+    let scene = builtin_scene("cubes-toward-light", &BuiltinOptions::default())?;
+    let (width, height) = b.scale.pick((128, 96), (320, 240));
+    let at = |method, spp, seed| RenderSettings {
+        width,
+        height,
+        spp,
+        seed,
+        method,
+        ..RenderSettings::default()
+    };
+    let reference_slices = b.scale.pick(512, 2048);
+    // Another seed than the measured renders, so the reference's noise is independent.
+    let reference = b
+        .measure(
+            &format!("reference, {reference_slices} slices"),
+            &scene,
+            &at(
+                Method::Reference {
+                    slices: reference_slices,
+                },
+                1,
+                1000,
+            ),
+        )
+        .ok_or_else(|| bench_error("the reference could not be rendered"))?;
+    let mut table = Table::new(
+        ["method", "samples", "rmse", "frame_ms"]
+            .map(String::from)
+            .to_vec(),
+    );
+    let mut curves: Vec<(&str, Curve)> = Vec::new();
+    let sweeps: [(&str, Vec<u32>); 3] = [
+        (
+            "temporal",
+            b.scale
+                .pick(vec![1, 2, 4, 8, 16, 32], vec![1, 2, 4, 8, 16, 32, 64]),
+        ),
+        (
+            "tsm",
+            b.scale
+                .pick(vec![1, 2, 4, 8, 16, 32], vec![1, 2, 4, 8, 16, 32, 64]),
+        ),
+        (
+            "reference",
+            b.scale.pick(
+                vec![4, 8, 16, 32, 64, 128],
+                vec![4, 8, 16, 32, 64, 128, 256, 512],
+            ),
+        ),
+    ];
+    for (name, samples) in sweeps {
+        let mut curve = Vec::new();
+        for n in samples {
+            let (method, spp) = match name {
+                "temporal" => (Method::Temporal, n),
+                "tsm" => (Method::Tsm, n),
+                _ => (Method::Reference { slices: n }, 1),
+            };
+            let Some(m) = b.measure(&format!("{name} {n}"), &scene, &at(method, spp, 1)) else {
+                continue;
+            };
+            let e = rmse(&m.image, &reference.image, None).map_err(bench_error)?;
+            table
+                .push(vec![
+                    name.into(),
+                    n.to_string(),
+                    fmt_num(e),
+                    fmt_num(m.frame_ms()),
+                ])
+                .map_err(bench_error)?;
+            curve.push((m.frame_ms(), e, n));
+        }
+        curves.push((name, curve));
+    }
+    b.write_table("results", &table)?;
+    let as_series = |(name, curve): &(&str, Curve)| {
+        let label = match *name {
+            "reference" => "brute force (slices)".to_string(),
+            n => format!("{n} (spp)"),
+        };
+        series(&label, curve.iter().map(|(t, e, _)| (*t, *e)).collect())
+    };
+    b.write_chart(
+        "rmse-vs-time",
+        &LineChart {
+            log_x: true,
+            log_y: true,
+            ..chart(
+                "RMSE against the reference vs GPU time",
+                "GPU ms per frame",
+                "RMSE",
+                curves.iter().map(as_series).collect(),
+            )
+        },
+    )?;
+    // Equal quality: the temporal method's error at 16 spp; each method's time is the fastest
+    // configuration that is at least as good.
+    let temporal = &curves[0].1;
+    let Some(&(_, goal, _)) = temporal.iter().find(|(_, _, n)| *n == 16) else {
+        b.report
+            .notes
+            .push("no temporal 16 spp measurement: no equal-quality ratio".into());
+        return Ok(());
+    };
+    let time_to = |curve: &[(f64, f64, u32)]| {
+        curve
+            .iter()
+            .filter(|(_, e, _)| *e <= goal)
+            .map(|(t, _, _)| *t)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let t_temporal = time_to(temporal);
+    b.report
+        .ratios
+        .push(ratio("equal-quality RMSE (temporal at 16 spp)", goal));
+    for (name, curve) in &curves[1..] {
+        let t = time_to(curve);
+        let what = format!("equal-quality time {name} / temporal");
+        if t.is_finite() {
+            b.report.ratios.push(if *name == "reference" {
+                target(what, t / t_temporal, 20.0, false)
+            } else {
+                ratio(what, t / t_temporal)
+            });
+        } else {
+            b.report.notes.push(format!(
+                "{name} never reached RMSE {} in the sweep",
+                fmt_num(goal)
+            ));
+        }
+    }
+    Ok(())
+}

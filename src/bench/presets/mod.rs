@@ -1,0 +1,219 @@
+//! The presets: what each sweeps, what it writes, which ratios it reports (one file each).
+
+mod cubes;
+mod equal_quality;
+mod scaling;
+mod shadow_pass;
+mod spp;
+
+use super::Scale;
+use super::measure::{Measurement, measure};
+use crate::chart::{LineChart, Series, Table, fmt_num, write_chart};
+use crate::error::{Error, Result};
+use crate::render::{Method, RenderSettings, Renderer};
+use crate::scene::{BuiltinOptions, Scene, builtin};
+use serde::Serialize;
+use std::path::PathBuf;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Preset {
+    /// 2018 paper Figs. 11-12: time per step and memory, temporal vs TSM, as spp grows.
+    Spp,
+    /// 2017 paper Figs. 9-10: memory and time vs number of random cubes, with/without the
+    /// coverage map.
+    RandomCubes,
+    /// 2017 paper Figs. 11-12: the same vs cube speed.
+    Speed,
+    /// Time each method needs to get within a given RMSE of a high-slice reference.
+    EqualQuality,
+    /// The temporal shadow pass against an ordinary depth-only shadow map of the same scene.
+    ShadowPass,
+    /// Frame time against triangle count.
+    Scaling,
+}
+
+pub const PRESETS: &[Preset] = &[
+    Preset::Spp,
+    Preset::RandomCubes,
+    Preset::Speed,
+    Preset::EqualQuality,
+    Preset::ShadowPass,
+    Preset::Scaling,
+];
+
+impl Preset {
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::Spp => "spp",
+            Preset::RandomCubes => "random-cubes",
+            Preset::Speed => "speed",
+            Preset::EqualQuality => "equal-quality",
+            Preset::ShadowPass => "shadow-pass",
+            Preset::Scaling => "scaling",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        PRESETS.iter().copied().find(|p| p.name() == name)
+    }
+}
+
+/// A key figure of a preset and, where the project set one, its target.
+#[derive(Debug, Clone, Serialize)]
+pub struct Ratio {
+    pub name: String,
+    pub value: f64,
+    pub target: Option<String>,
+    pub met: Option<bool>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    pub preset: &'static str,
+    pub files: Vec<PathBuf>,
+    pub ratios: Vec<Ratio>,
+    /// Configurations that could not be measured, and why.
+    pub notes: Vec<String>,
+}
+
+pub(super) const MIB: f64 = 1024.0 * 1024.0;
+const CHART_SIZE: (u32, u32) = (800, 500);
+
+pub(super) fn ratio(name: impl Into<String>, value: f64) -> Ratio {
+    Ratio {
+        name: name.into(),
+        value,
+        target: None,
+        met: None,
+    }
+}
+
+/// A ratio with a target: `at_most` (the value must not exceed it) or at least.
+pub(super) fn target(name: impl Into<String>, value: f64, bound: f64, at_most: bool) -> Ratio {
+    Ratio {
+        name: name.into(),
+        value,
+        target: Some(format!(
+            "{} {}",
+            if at_most { "<=" } else { ">=" },
+            fmt_num(bound)
+        )),
+        met: Some(if at_most {
+            value <= bound
+        } else {
+            value >= bound
+        }),
+    }
+}
+
+pub(super) fn bench_error(e: impl std::fmt::Display) -> Error {
+    Error::Bench(e.to_string())
+}
+
+pub(super) struct Bench<'a, 'r> {
+    renderer: &'a mut Renderer<'r>,
+    scale: &'a Scale,
+    progress: &'a mut dyn FnMut(&str),
+    report: Report,
+}
+
+impl Bench<'_, '_> {
+    pub(super) fn settings(&self, method: Method, spp: u32) -> RenderSettings {
+        RenderSettings {
+            width: self.scale.width,
+            height: self.scale.height,
+            spp,
+            seed: 1,
+            method,
+            ..RenderSettings::default()
+        }
+    }
+
+    fn measure(
+        &mut self,
+        what: &str,
+        scene: &Scene,
+        settings: &RenderSettings,
+    ) -> Option<Measurement> {
+        (self.progress)(&format!("bench {}: {what}", self.report.preset));
+        match measure(self.renderer, scene, settings, self.scale.runs) {
+            Ok(m) => Some(m),
+            Err(e) => {
+                self.report.notes.push(format!("{what}: {e}"));
+                None
+            }
+        }
+    }
+
+    pub(super) fn write_table(&mut self, name: &str, table: &Table) -> Result<()> {
+        let path = self
+            .scale
+            .out
+            .join(format!("{}-{name}.csv", self.report.preset));
+        table.write(&path).map_err(bench_error)?;
+        self.report.files.push(path);
+        Ok(())
+    }
+
+    pub(super) fn write_chart(&mut self, name: &str, chart: &LineChart) -> Result<()> {
+        let path = self
+            .scale
+            .out
+            .join(format!("{}-{name}.png", self.report.preset));
+        write_chart(&path, chart, CHART_SIZE.0, CHART_SIZE.1).map_err(bench_error)?;
+        self.report.files.push(path);
+        Ok(())
+    }
+}
+
+pub(super) fn chart(title: &str, x: &str, y: &str, series: Vec<Series>) -> LineChart {
+    LineChart {
+        title: title.into(),
+        x_label: x.into(),
+        y_label: y.into(),
+        series,
+        log_x: false,
+        log_y: false,
+    }
+}
+
+pub(super) fn series(label: &str, points: Vec<(f64, f64)>) -> Series {
+    Series {
+        label: label.into(),
+        points,
+    }
+}
+
+pub(super) fn builtin_scene(name: &str, options: &BuiltinOptions) -> Result<Scene> {
+    Ok(builtin(name, options)?)
+}
+
+/// Runs one preset; its files go to `scale.out`.
+pub fn run_preset(
+    renderer: &mut Renderer<'_>,
+    preset: Preset,
+    scale: &Scale,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Report> {
+    std::fs::create_dir_all(&scale.out).map_err(bench_error)?;
+    let mut bench = Bench {
+        renderer,
+        scale,
+        progress,
+        report: Report {
+            preset: preset.name(),
+            files: Vec::new(),
+            ratios: Vec::new(),
+            notes: Vec::new(),
+        },
+    };
+    match preset {
+        Preset::Spp => spp::spp(&mut bench)?,
+        Preset::RandomCubes => cubes::random_cubes(&mut bench, false)?,
+        Preset::Speed => cubes::random_cubes(&mut bench, true)?,
+        Preset::EqualQuality => equal_quality::equal_quality(&mut bench)?,
+        Preset::ShadowPass => shadow_pass::shadow_pass(&mut bench)?,
+        Preset::Scaling => scaling::scaling(&mut bench)?,
+    }
+    Ok(bench.report)
+}
