@@ -383,17 +383,7 @@ mod tests {
         let Light::Spot(light) = &s.light else {
             panic!("spot expected")
         };
-        let c = &s.camera;
-        let forward = (c.target - c.position).normalize();
-        let right = forward.cross(c.up).normalize();
-        let up = right.cross(forward);
-        let tan_half = (c.fov_y_deg.to_radians() * 0.5).tan();
-        let ndc = |p: Vec3| {
-            let rel = p - c.position;
-            let depth = rel.dot(forward);
-            assert!(depth > c.near && depth < c.far);
-            Vec2::new(rel.dot(right), rel.dot(up)) / (depth * tan_half)
-        };
+        let ndc = |p: Vec3| s.camera.ndc_unit_aspect(p);
         let cos_cone = light.cone_angle_deg.to_radians().cos();
         let (mut on_ground, mut on_wall) = (0, 0);
         for m in KICK.map(|name| mesh(&s, name)) {

@@ -87,6 +87,25 @@ impl DirectionalLight {
     }
 }
 
+#[cfg(test)]
+impl Camera {
+    /// Where `p` lands on screen, in NDC of a square image (the narrowest aspect a built-in
+    /// scene should frame for); asserts it lies between the near and far planes.
+    pub(crate) fn ndc_unit_aspect(&self, p: Vec3) -> glam::Vec2 {
+        let forward = (self.target - self.position).normalize();
+        let right = forward.cross(self.up).normalize();
+        let up = right.cross(forward);
+        let tan_half = (self.fov_y_deg.to_radians() * 0.5).tan();
+        let rel = p - self.position;
+        let depth = rel.dot(forward);
+        assert!(
+            depth > self.near && depth < self.far,
+            "{p} is outside the depth range"
+        );
+        glam::Vec2::new(rel.dot(right), rel.dot(up)) / (depth * tan_half)
+    }
+}
+
 impl Mesh {
     pub fn triangle_count(&self) -> usize {
         self.t0.len() / 3

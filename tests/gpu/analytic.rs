@@ -1,10 +1,10 @@
 //! Depth-time ranges against closed-form expectations.
 
 use crate::support::gpu::{
-    assert_no_validation_messages, context, mesh, overhead_directional, scene, square,
+    assert_no_validation_messages, context, light_setup, mesh, overhead_directional, scene, square,
     temporal_map, translated,
 };
-use crate::support::prism_model::{LightSetup, edge_margin_at_pixel, prism_triangles};
+use crate::support::prism_model::{edge_margin_at_pixel, prism_triangles};
 use glam::{Vec3, Vec4};
 use motion_shadows::render::upload::light_view;
 use motion_shadows::technique::Range;
@@ -109,14 +109,7 @@ fn static_triangle_gives_one_full_range_per_covered_pixel() {
         vec![mesh("triangle", tri.clone(), tri.clone(), false)],
     );
     let map = temporal_map(&ctx, &s, SIZE);
-    let light = light_view(&s, SIZE);
-    let setup = LightSetup {
-        view: light.view,
-        proj: light.proj,
-        orthographic: true,
-        width: SIZE.0,
-        height: SIZE.1,
-    };
+    let setup = light_setup(&s, SIZE);
     let p = [tri[0], tri[1], tri[2]];
     // The cap alone says which pixel centres are covered (the sides have no area).
     let caps = &prism_triangles(&setup, p, p, false)[..1];

@@ -3,13 +3,12 @@
 //! centre is clear of all prism edges, in the centre-vertex case and in the crossing case.
 
 use crate::support::gpu::{
-    assert_no_validation_messages, context, mesh, overhead_spot, scene, temporal_map,
+    assert_no_validation_messages, context, light_setup, mesh, overhead_spot, scene, temporal_map,
 };
 use crate::support::prism_model::{
-    EdgeCase, LightSetup, edge_cases, edge_margin_at_pixel, fragments_at_pixel, prism_triangles,
+    EdgeCase, edge_cases, edge_margin_at_pixel, fragments_at_pixel, prism_triangles,
 };
 use glam::{Quat, Vec3};
-use motion_shadows::render::upload::light_view;
 
 const SIZE: (u32, u32) = (96, 96);
 
@@ -20,14 +19,7 @@ fn compare_with_model(p0: [Vec3; 3], p1: [Vec3; 3], want: EdgeCase) {
         overhead_spot(10.0, 30.0),
         vec![mesh("moving", p0.to_vec(), p1.to_vec(), false)],
     );
-    let light = light_view(&s, SIZE);
-    let setup = LightSetup {
-        view: light.view,
-        proj: light.proj,
-        orthographic: false,
-        width: SIZE.0,
-        height: SIZE.1,
-    };
+    let setup = light_setup(&s, SIZE);
     assert!(
         edge_cases(&setup, p0, p1).contains(&want),
         "the test motion must exercise {want:?}"
