@@ -1,8 +1,16 @@
 // Generation sub-pass (4.3): per shadow-map pixel, group the fragments by triangle id, order
-// each group by depth, and pair consecutive fragments (1st-2nd, 3rd-4th, ...) into depth-time
-// ranges. An odd group leaves its farthest fragment alone; it becomes a zero-length range
+// each group by time, and pair consecutive fragments (1st-2nd, 3rd-4th, ...) into depth-time
+// ranges. An odd group leaves its latest fragment alone; it becomes a zero-length range
 // [t, t] (it happens where the prism is cut by the light's near or far plane, or at a
 // pixel centre exactly on a prism edge), kept so that nothing is dropped and counted by tests.
+//
+// Why time and not the paper's depth: a triangle's fragments at a pixel are the caps (t = 0,
+// t = 1, where it covers the pixel then) and the side surfaces (the instants an edge sweeps
+// over it), so in time order they alternate entering / leaving and consecutive pairs are
+// exactly the intervals during which the triangle covers the pixel. Depth order is the same
+// only while the triangle's depth along the pixel's ray is monotonic in time (translation);
+// for a triangle moving within its own plane every fragment has the same depth, and the
+// pairing fell to the order the fragments were appended in (found on an NVIDIA driver).
 // Shared by the two tiers (generation.comp, generation_long.comp), which define LIST_CAPACITY.
 #include "shared.glsl"
 
@@ -24,6 +32,7 @@ layout(std430, set = 0, binding = 9) buffer LongPixels {
 const uint LONG_TIER_GROUP = 64u;
 
 bool before(Node x, uint xi, Node y, uint yi) {
+    if (x.time != y.time) return x.time < y.time;
     return x.depth < y.depth || (x.depth == y.depth && xi < yi);
 }
 
@@ -46,7 +55,7 @@ void emit(Node a, Node b, uint index) {
     out_head = index + 1u;
 }
 
-// The list is copied out, Shell-sorted by (id, depth, node index) and paired in one sweep.
+// The list is copied out, Shell-sorted by (id, time, depth, node index) and paired in one sweep.
 // LIST_CAPACITY is the tier's: small private arrays are much faster on lavapipe.
 Node local_nodes[LIST_CAPACITY];
 uint local_index[LIST_CAPACITY];

@@ -35,6 +35,8 @@ pub struct DeviceInfo {
     pub max_allocation_size: u64,
     pub timestamp_period_ns: f32,
     pub timestamp_valid_bits: u32,
+    /// Bits of sub-pixel precision the rasterizer snaps vertex positions to.
+    pub sub_pixel_precision_bits: u32,
 }
 
 /// Objects that must outlive every buffer and pipeline: freed last, in the right order
@@ -114,6 +116,7 @@ fn device_info(instance: &ash::Instance, pd: vk::PhysicalDevice, family: u32) ->
         timestamp_valid_bits: families
             .get(family as usize)
             .map_or(0, |f| f.timestamp_valid_bits),
+        sub_pixel_precision_bits: props.limits.sub_pixel_precision_bits,
     }
 }
 

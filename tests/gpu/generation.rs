@@ -1,6 +1,6 @@
 //! The generation sub-pass against a CPU model of it: per pixel, group the stored fragments by
-//! triangle, order each group by depth, pair 1st-2nd, 3rd-4th, ...; an odd group's farthest
-//! fragment becomes a zero-length range.
+//! triangle, order each group by time (then depth), pair 1st-2nd, 3rd-4th, ...; an odd group's
+//! latest fragment becomes a zero-length range.
 
 use crate::support::gpu::{
     assert_no_validation_messages, context, mesh, overhead_spot, scene, temporal_map,
@@ -19,7 +19,7 @@ fn expected_ranges(nodes: &[Node]) -> Vec<Range> {
     }
     let mut out = Vec::new();
     for (id, mut group) in groups {
-        group.sort_by(|a, b| a.depth.total_cmp(&b.depth));
+        group.sort_by(|a, b| a.time.total_cmp(&b.time).then(a.depth.total_cmp(&b.depth)));
         for pair in group.chunks(2) {
             let (a, b) = (pair[0], *pair.get(1).unwrap_or(&pair[0]));
             let (s, e) = if a.time <= b.time { (a, b) } else { (b, a) };

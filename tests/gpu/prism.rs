@@ -27,7 +27,12 @@ fn compare_with_model(p0: [Vec3; 3], p1: [Vec3; 3], want: EdgeCase) {
     let model = prism_triangles(&setup, p0, p1, false);
     let map = temporal_map(&ctx, &s, SIZE);
 
-    let (mut probes, mut with_fragments) = (0, 0);
+    // A rasterizer snaps each vertex to its sub-pixel grid (up to half a step in x and in y),
+    // which moves an interpolated attribute by up to its screen gradient times that shift:
+    // steep side surfaces (edge-on to the light) need more than the 2e-3 rounding allowance.
+    let snap =
+        std::f32::consts::FRAC_1_SQRT_2 / (1u32 << ctx.info().sub_pixel_precision_bits) as f32;
+    let (mut probes, mut with_fragments, mut worst) = (0, 0, 0.0_f32);
     for y in 0..SIZE.1 {
         for x in 0..SIZE.0 {
             if edge_margin_at_pixel(&model, &setup, x, y) < 0.02 {
@@ -43,8 +48,14 @@ fn compare_with_model(p0: [Vec3; 3], p1: [Vec3; 3], want: EdgeCase) {
             got.sort_by(|a, b| a.time.total_cmp(&b.time).then(a.depth.total_cmp(&b.depth)));
             want_frags.sort_by(|a, b| a.time.total_cmp(&b.time).then(a.depth.total_cmp(&b.depth)));
             for (g, w) in got.iter().zip(&want_frags) {
+                let time_tolerance = 2e-3 + 2.0 * snap * w.time_per_pixel;
+                let depth_tolerance = 2e-3 * w.depth + 2.0 * snap * w.depth_per_pixel;
+                worst = worst
+                    .max((g.time - w.time).abs() / time_tolerance)
+                    .max((g.depth - w.depth).abs() / depth_tolerance);
                 assert!(
-                    (g.time - w.time).abs() < 2e-3 && (g.depth - w.depth).abs() < 2e-3 * w.depth,
+                    (g.time - w.time).abs() < time_tolerance
+                        && (g.depth - w.depth).abs() < depth_tolerance,
                     "pixel ({x},{y}): GPU {g:?}, model {w:?}"
                 );
             }
@@ -52,6 +63,7 @@ fn compare_with_model(p0: [Vec3; 3], p1: [Vec3; 3], want: EdgeCase) {
             with_fragments += usize::from(!got.is_empty());
         }
     }
+    eprintln!("largest error: {worst:.1e} of its tolerance ({probes} probes)");
     assert!(
         with_fragments > 200,
         "only {with_fragments} covered probes of {probes}"

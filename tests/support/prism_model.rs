@@ -52,6 +52,10 @@ pub enum EdgeCase {
 pub struct CpuFragment {
     pub depth: f32,
     pub time: f32,
+    /// How fast depth and time change across the screen here (per pixel): a rasterizer that
+    /// snaps vertices to its sub-pixel grid may shift them by that much per pixel of snap.
+    pub depth_per_pixel: f32,
+    pub time_per_pixel: f32,
 }
 
 /// Edge order fixed by the algorithm; the side surface of edge (a, b) is P Q Q' P'.
@@ -324,11 +328,24 @@ pub fn fragments_at_pixel(
             let l = st.covers(p)?;
             // Perspective-correct: attributes are affine in clip space, so interpolate
             // attr/w and 1/w linearly on screen.
-            let wts = [0, 1, 2].map(|i| l[i] * st.inv_w[i]);
-            let sum: f64 = wts.iter().sum();
+            let at = |l: [f64; 3]| {
+                let wts = [0, 1, 2].map(|i| l[i] * st.inv_w[i]);
+                let sum: f64 = wts.iter().sum();
+                (dot3(wts, st.depth) / sum, dot3(wts, st.time) / sum)
+            };
+            let (depth, time) = at(l);
+            // Barycentrics extend affinely past the edges, so a nearby point may lie outside.
+            const STEP: f64 = 1e-3;
+            let (dx, dy) = (
+                at(st.barycentrics(p + DVec2::X * STEP)),
+                at(st.barycentrics(p + DVec2::Y * STEP)),
+            );
+            let slope = |d: f64, ddx: f64, ddy: f64| (DVec2::new(ddx - d, ddy - d) / STEP).length();
             Some(CpuFragment {
-                depth: (dot3(wts, st.depth) / sum) as f32,
-                time: (dot3(wts, st.time) / sum) as f32,
+                depth: depth as f32,
+                time: time as f32,
+                depth_per_pixel: slope(depth, dx.0, dy.0) as f32,
+                time_per_pixel: slope(time, dx.1, dy.1) as f32,
             })
         })
         .collect()
