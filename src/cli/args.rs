@@ -37,8 +37,8 @@ pub struct BenchArgs {
     /// Every preset at reduced resolution and sweep sizes (CI, a first look).
     #[arg(long)]
     pub quick: bool,
-    /// Presets to run (default: all): spp, random-cubes, speed, equal-quality, shadow-pass,
-    /// scaling.
+    /// Presets to run (default: all): spp, random-cubes, speed, cube-size, equal-quality,
+    /// shadow-pass, scaling.
     #[arg(long = "preset")]
     pub presets: Vec<String>,
     #[arg(long, default_value = "bench")]
@@ -129,6 +129,9 @@ pub struct RandomCubesArgs {
     /// random-cubes: largest displacement of a cube over the shutter.
     #[arg(long, default_value_t = 8.0)]
     pub speed_max: f32,
+    /// random-cubes: edge length of each cube.
+    #[arg(long, default_value_t = 1.0)]
+    pub cube_size: f32,
     /// random-cubes: seed of the placement.
     #[arg(long, default_value_t = 1)]
     pub scene_seed: u64,

@@ -16,6 +16,7 @@ pub fn builtin_options(random: &RandomCubesArgs) -> BuiltinOptions {
         cube_count: random.cubes,
         speed_min: random.speed_min,
         speed_max: random.speed_max,
+        cube_size: random.cube_size,
         seed: random.scene_seed,
     }
 }

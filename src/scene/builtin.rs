@@ -23,6 +23,9 @@ pub struct BuiltinOptions {
     /// Displacement of each cube over the shutter is uniform in [speed_min, speed_max].
     pub speed_min: f32,
     pub speed_max: f32,
+    /// Edge length of each cube. The papers give the count and the speeds but not the size;
+    /// what the coverage map saves depends on it (a face must stay over a texel all frame).
+    pub cube_size: f32,
     pub seed: u64,
 }
 
@@ -32,6 +35,7 @@ impl Default for BuiltinOptions {
             cube_count: 4000,
             speed_min: 4.0,
             speed_max: 8.0,
+            cube_size: 1.0,
             seed: 1,
         }
     }
@@ -190,6 +194,7 @@ fn random_cubes(opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
         cube_count,
         speed_min,
         speed_max,
+        cube_size,
         seed,
     } = *opts;
     if cube_count == 0 {
@@ -206,15 +211,21 @@ fn random_cubes(opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
             "random-cubes: need finite 0 <= speed_min <= speed_max, got {speed_min}..{speed_max}"
         )));
     }
+    if !(cube_size.is_finite() && cube_size > 0.0) {
+        return Err(SceneError::Invalid(format!(
+            "random-cubes: need a finite cube_size > 0, got {cube_size}"
+        )));
+    }
     // ~10% of the volume filled by cubes: dense but with gaps for light.
-    let side = 2.2 * (cube_count as f32).cbrt();
-    // Half-size of the box swept over the shutter; the +1 keeps cubes above the ground.
+    let side = 2.2 * (cube_count as f32).cbrt() * cube_size;
+    // Half-size of the box swept over the shutter; one more cube size keeps the (rotated)
+    // cubes above the ground.
     let half = side * 0.5 + speed_max;
-    let center = Vec3::new(0.0, half + 1.0, 0.0);
+    let center = Vec3::new(0.0, half + cube_size, 0.0);
 
     let mut rng = SplitMix64::new(seed);
     let unit = MeshSpec::Box(BoxSpec {
-        size: Vec3::ONE,
+        size: Vec3::splat(cube_size),
         subdivisions: 1,
     });
     let mut objects = Vec::with_capacity(cube_count + 1);
@@ -376,30 +387,38 @@ mod tests {
     }
 
     #[test]
-    fn random_cubes_speeds_colours_and_coverage() {
-        let opts = BuiltinOptions {
-            cube_count: 200,
-            speed_min: 2.0,
-            speed_max: 3.0,
-            seed: 9,
-        };
-        let s = builtin("random-cubes", &opts).unwrap();
-        let Light::Spot(light) = &s.light else {
-            panic!("spot expected")
-        };
-        let cos_cone = light.cone_angle_deg.to_radians().cos();
-        for m in s.meshes.iter().filter(|m| m.name.starts_with("cube-")) {
-            assert!(m.closed && m.t0.len() == 36);
-            let speed = (centre(&m.t1) - centre(&m.t0)).length();
-            assert!(
-                (2.0 - 1e-3..=3.0 + 1e-3).contains(&speed),
-                "{}: speed {speed}",
-                m.name
-            );
-            assert!(m.albedo.min_element() >= 0.1 && m.albedo.max_element() <= 0.9);
-            for &p in m.t0.iter().chain(&m.t1) {
-                assert!(p.y > 0.0, "{} goes below the ground", m.name);
-                assert!((p - light.position).normalize().dot(light.direction) > cos_cone);
+    fn random_cubes_speeds_sizes_colours_and_coverage() {
+        for cube_size in [1.0, 5.0] {
+            let opts = BuiltinOptions {
+                cube_count: 200,
+                speed_min: 2.0,
+                speed_max: 3.0,
+                cube_size,
+                seed: 9,
+            };
+            let s = builtin("random-cubes", &opts).unwrap();
+            let Light::Spot(light) = &s.light else {
+                panic!("spot expected")
+            };
+            let cos_cone = light.cone_angle_deg.to_radians().cos();
+            for m in s.meshes.iter().filter(|m| m.name.starts_with("cube-")) {
+                assert!(m.closed && m.t0.len() == 36);
+                let speed = (centre(&m.t1) - centre(&m.t0)).length();
+                assert!(
+                    (2.0 - 1e-3..=3.0 + 1e-3).contains(&speed),
+                    "{}: speed {speed}",
+                    m.name
+                );
+                // The farthest corner from the centre: half the cube's diagonal.
+                let c = centre(&m.t0);
+                let reach = m.t0.iter().map(|p| (*p - c).length()).fold(0.0, f32::max);
+                let half_diagonal = cube_size * 3.0_f32.sqrt() / 2.0;
+                assert!((reach - half_diagonal).abs() < 1e-3 * cube_size, "{reach}");
+                assert!(m.albedo.min_element() >= 0.1 && m.albedo.max_element() <= 0.9);
+                for &p in m.t0.iter().chain(&m.t1) {
+                    assert!(p.y > 0.0, "{} goes below the ground", m.name);
+                    assert!((p - light.position).normalize().dot(light.direction) > cos_cone);
+                }
             }
         }
     }
@@ -426,6 +445,14 @@ mod tests {
             },
             BuiltinOptions {
                 speed_max: f32::INFINITY,
+                ..Default::default()
+            },
+            BuiltinOptions {
+                cube_size: 0.0,
+                ..Default::default()
+            },
+            BuiltinOptions {
+                cube_size: f32::NAN,
                 ..Default::default()
             },
         ] {

@@ -24,6 +24,8 @@ pub enum Preset {
     RandomCubes,
     /// 2017 paper Figs. 11-12: the same vs cube speed.
     Speed,
+    /// The coverage map's saving vs cube size (the paper gives count and speeds, not size).
+    CubeSize,
     /// Time each method needs to get within a given RMSE of a high-slice reference.
     EqualQuality,
     /// The temporal shadow pass against an ordinary depth-only shadow map of the same scene.
@@ -36,6 +38,7 @@ pub const PRESETS: &[Preset] = &[
     Preset::Spp,
     Preset::RandomCubes,
     Preset::Speed,
+    Preset::CubeSize,
     Preset::EqualQuality,
     Preset::ShadowPass,
     Preset::Scaling,
@@ -47,6 +50,7 @@ impl Preset {
             Preset::Spp => "spp",
             Preset::RandomCubes => "random-cubes",
             Preset::Speed => "speed",
+            Preset::CubeSize => "cube-size",
             Preset::EqualQuality => "equal-quality",
             Preset::ShadowPass => "shadow-pass",
             Preset::Scaling => "scaling",
@@ -209,8 +213,9 @@ pub fn run_preset(
     };
     match preset {
         Preset::Spp => spp::spp(&mut bench)?,
-        Preset::RandomCubes => cubes::random_cubes(&mut bench, false)?,
-        Preset::Speed => cubes::random_cubes(&mut bench, true)?,
+        Preset::RandomCubes => cubes::random_cubes(&mut bench, cubes::Sweep::Count)?,
+        Preset::Speed => cubes::random_cubes(&mut bench, cubes::Sweep::Speed)?,
+        Preset::CubeSize => cubes::random_cubes(&mut bench, cubes::Sweep::Size)?,
         Preset::EqualQuality => equal_quality::equal_quality(&mut bench)?,
         Preset::ShadowPass => shadow_pass::shadow_pass(&mut bench)?,
         Preset::Scaling => scaling::scaling(&mut bench)?,
