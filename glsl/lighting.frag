@@ -20,12 +20,13 @@ void main() {
                 c = vertices[3u * in_id + 2u];
     uint spp = frame.sampling.x;
     uint key = pixel_key(pixel, frame.sampling.y);
+    uint rotation = stratum_rotation(key, spp);
     vec3 origin = frame.camera_position.xyz;
     float near = frame.camera_position.w, far = frame.camera_forward.w;
     for (uint j = 0u; j < pc.sample_count; ++j) {
         float t;
         vec2 offset;
-        pixel_sample(key, pc.first_sample + j, spp, t, offset);
+        pixel_sample(key, rotation, pc.first_sample + j, spp, t, offset);
         if ((pc.flags & FIXED_TIME) != 0u) t = pc.time;
         vec3 dir = camera_ray(frame, vec2(pixel) + offset);
         float depth = intersect_triangle(origin, dir, mix(a.p0.xyz, a.p1.xyz, t),

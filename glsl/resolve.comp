@@ -66,13 +66,13 @@ bool shadowed_tsm(uint index, float depth, uint stratum) {
     return uintBitsToFloat(tsm_depths[stratum * layer_size + index]) < depth;
 }
 
-vec3 shade(uvec2 pixel, uint key, uint k, uint64_t hit) {
+vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit) {
     uint id = uint(hit & 0xffffffffUL);
     if (id == NO_TRIANGLE) return vec3(0.0);
     float view_depth = uintBitsToFloat(uint(hit >> 32));
     float t;
     vec2 offset;
-    pixel_sample(key, k, frame.sampling.x, t, offset);
+    pixel_sample(key, rotation, k, frame.sampling.x, t, offset);
     if ((pc.flags & FIXED_TIME) != 0u) t = pc.time;
     vec3 dir = camera_ray(frame, vec2(pixel) + offset);
     vec3 p = frame.camera_position.xyz + view_depth * dir;
@@ -123,7 +123,7 @@ vec3 shade(uvec2 pixel, uint key, uint k, uint64_t hit) {
                 }
             } else if (pc.mode == SHADOW_TSM) {
                 dark = shadowed_tsm(index, depth,
-                                    time_stratum(key, k, frame.sampling.x));
+                                    time_stratum(rotation, k, frame.sampling.x));
             } else {
                 dark = shadowed_plain(index, depth, id);
             }
@@ -138,11 +138,12 @@ void main() {
     if (pixel.x >= frame.sizes.z || pixel.y >= frame.sizes.w) return;
     uint p = pixel.y * frame.sizes.z + pixel.x;
     uint key = pixel_key(pixel, frame.sampling.y);
+    uint rotation = stratum_rotation(key, frame.sampling.x);
     vec3 sum = vec3(0.0);
     float moving = 0.0;  // samples that see a moving triangle: the moving-object mask
     for (uint j = 0u; j < pc.sample_count; ++j) {
         uint64_t hit = visibility[p * pc.sample_count + j];
-        sum += shade(pixel, key, pc.first_sample + j, hit);
+        sum += shade(pixel, key, rotation, pc.first_sample + j, hit);
         uint id = uint(hit & 0xffffffffUL);
         if (id != NO_TRIANGLE && has_flag(triangles[id], TRIANGLE_MOVING)) moving += 1.0;
     }

@@ -143,15 +143,23 @@ uint pixel_key(uvec2 pixel, uint seed) {
 }
 
 // Sample k of spp lies in time stratum (k + r) mod spp, r = key mod spp a per-pixel
-// rotation, so that strata are decorrelated from sample positions across pixels.
-uint time_stratum(uint key, uint k, uint spp) {
-    return (k + key % spp) % spp;
+// rotation, so that strata are decorrelated from sample positions across pixels. The rotation
+// is computed once per pixel: a CPU device divides integers lane by lane, and two divisions
+// per sample were a large share of the lighting pass on lavapipe.
+uint stratum_rotation(uint key, uint spp) {
+    return key % spp;
+}
+
+uint time_stratum(uint rotation, uint k, uint spp) {
+    uint s = k + rotation;  // k < spp and rotation < spp: one subtraction is the modulo
+    return s >= spp ? s - spp : s;
 }
 
 // The time in [0, 1) and the position in the pixel ([0, 1)^2) of sample k.
-void pixel_sample(uint key, uint k, uint spp, out float t, out vec2 offset) {
+void pixel_sample(uint key, uint rotation, uint k, uint spp, out float t, out vec2 offset) {
     uint h = pcg_hash(key ^ pcg_hash(k));
-    t = (float(time_stratum(key, k, spp)) + float(h >> 8) * (1.0 / 16777216.0)) / float(spp);
+    t = (float(time_stratum(rotation, k, spp)) + float(h >> 8) * (1.0 / 16777216.0))
+        / float(spp);
     uint g = pcg_hash(h);
     offset = (vec2(float(g & 0xffffu), float(g >> 16)) + 0.5) * (1.0 / 65536.0);
 }
