@@ -12,6 +12,7 @@ void main() {
     uvec2 pixel = gl_GlobalInvocationID.xy;
     if (pixel.x >= frame.sizes.x || pixel.y >= frame.sizes.y) return;
     uint p = pixel.y * frame.sizes.x + pixel.x;
+    if (pair_two(p)) return;
     uint n = load_list(p);
     if (n <= SHORT_LIST) {
         pair_list(p, n);

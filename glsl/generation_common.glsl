@@ -112,6 +112,29 @@ uint load_list(uint p) {
     return a == END_OF_LIST ? n : LIST_CAPACITY + 1u;
 }
 
+// Most texels hold no fragment or the two caps of one triangle (static ground, say): those
+// are paired here without the private arrays, which a CPU device keeps in memory per lane.
+// False if the list is anything else.
+bool pair_two(uint p) {
+    node_array = NodeArray(pc.node_address);
+    range_array = RangeArray(pc.range_address);
+    uint a = heads[p];
+    if (a == END_OF_LIST) {
+        range_heads[p] = END_OF_LIST;
+        return true;
+    }
+    Node first = node_array.nodes[a - 1u];
+    if (first.next == END_OF_LIST) return false;
+    Node second = node_array.nodes[first.next - 1u];
+    if (second.next != END_OF_LIST || second.id != first.id) return false;
+    atomicMax(counters.longest_list, 2u);
+    atomicAdd(counters.ranges_without_coverage, 1u);
+    bool covered = (pc.flags & USE_COVERAGE) != 0u && coverage[p] != NO_TRIANGLE;
+    if (!covered) emit(first, second, atomicAdd(counters.range_count, 1u));
+    range_heads[p] = out_head;
+    return true;
+}
+
 void pair_list(uint p, uint n) {
     atomicMax(counters.longest_list, n);
     sort_and_pair(n, (pc.flags & USE_COVERAGE) != 0u ? coverage[p] : NO_TRIANGLE);
