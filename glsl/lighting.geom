@@ -18,7 +18,8 @@ layout(location = 0) in vec3 in_p0[];
 layout(location = 1) in vec3 in_p1[];
 layout(location = 0) flat out uint out_id;
 
-const int MAX_POINTS = 48;  // (<= 12 clipped points) x 4 pixel corners
+const int MAX_CLIPPED = 12;  // corners in front of the near plane and crossings of it
+const int MAX_POINTS = 48;   // each hull vertex grown into at most 4 pixel-square corners
 
 vec2 to_pixels(vec4 clip) {
     return (clip.xy / clip.w * 0.5 + 0.5) * vec2(frame.sizes.zw);
@@ -26,6 +27,12 @@ vec2 to_pixels(vec4 clip) {
 
 float cross_z(vec2 o, vec2 a, vec2 b) {
     return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
+
+// Quadrant of a direction, counter-clockwise from +x+y; the pixel-square corner with those
+// signs supports every outward normal in it.
+int quadrant(vec2 n) {
+    return n.x >= 0.0 ? (n.y >= 0.0 ? 0 : 3) : (n.y >= 0.0 ? 1 : 2);
 }
 
 void main() {
@@ -53,7 +60,7 @@ void main() {
 
     // Points of the hull, in pixels. Clip w is the view depth for a perspective camera.
     float near = frame.camera_position.w;
-    vec2 pts[MAX_POINTS];
+    vec2 pts[MAX_CLIPPED];
     int n = 0;
     for (int i = 0; i < corners; ++i) {
         if (c[i].w < near) continue;
@@ -66,19 +73,7 @@ void main() {
     }
     if (n == 0) return;
 
-    // Minkowski sum with the pixel square (half a pixel, plus a margin for rounding).
-    const float r = 0.5 + 1.0 / 64.0;
-    int m = n;
-    for (int i = m - 1; i >= 0; --i) {
-        vec2 q = pts[i];
-        pts[4 * i + 0] = q + vec2(-r, -r);
-        pts[4 * i + 1] = q + vec2(r, -r);
-        pts[4 * i + 2] = q + vec2(r, r);
-        pts[4 * i + 3] = q + vec2(-r, r);
-    }
-    n = 4 * m;
-
-    // Andrew's monotone chain.
+    // Convex hull of the points (Andrew's monotone chain), counter-clockwise.
     for (int i = 1; i < n; ++i) {
         vec2 key = pts[i];
         int j = i - 1;
@@ -88,7 +83,7 @@ void main() {
         }
         pts[j + 1] = key;
     }
-    vec2 hull[MAX_POINTS + 1];
+    vec2 hull[2 * MAX_CLIPPED + 1];
     int k = 0;
     for (int i = 0; i < n; ++i) {
         while (k >= 2 && cross_z(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
@@ -99,8 +94,42 @@ void main() {
         while (k >= lower && cross_z(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
         hull[k++] = pts[i];
     }
-    int count = k - 1;  // the last point repeats the first
-    if (count < 3) return;
+    int h = max(k - 1, 1);  // the last point repeats the first; all points equal: just one
+
+    // Grown by the pixel square (half a pixel, plus a margin for rounding), so that a pixel is
+    // rasterized iff any point of it may be hit. Each edge moves out by the square's support
+    // along its normal and a vertex becomes the meeting point of its two moved edges (few
+    // vertices: the rasterizer's cost grows with the triangles of the strip); where the edges
+    // meet at a sharp angle, that point lies far out, and the exact sum is used instead: the
+    // square corners supporting the outward normals between the two edges.
+    const float r = 0.5 + 1.0 / 64.0;
+    const float MITER_LIMIT = 2.0;  // pixels from the hull vertex
+    const vec2 corner[4] = vec2[4](vec2(r, r), vec2(-r, r), vec2(-r, -r), vec2(r, -r));
+    vec2 poly[MAX_POINTS];
+    int count = 0;
+    for (int i = 0; i < h; ++i) {
+        vec2 v = hull[i];
+        if (h == 1) {
+            for (int q = 0; q < 4; ++q) poly[count++] = v + corner[q];
+            break;
+        }
+        vec2 e_in = v - hull[(i + h - 1) % h], e_out = hull[(i + 1) % h] - v;
+        vec2 n_in = normalize(vec2(e_in.y, -e_in.x)), n_out = normalize(vec2(e_out.y, -e_out.x));
+        // The moved edges: n . x = n . v + support(n), for both normals; solve for x - v.
+        float o_in = r * (abs(n_in.x) + abs(n_in.y)), o_out = r * (abs(n_out.x) + abs(n_out.y));
+        float det = n_in.x * n_out.y - n_in.y * n_out.x;
+        vec2 miter = vec2(o_in * n_out.y - o_out * n_in.y, n_in.x * o_out - n_out.x * o_in) / det;
+        if (det > 1e-4 && dot(miter, miter) <= MITER_LIMIT * MITER_LIMIT) {
+            poly[count++] = v + miter;
+            continue;
+        }
+        int q = quadrant(n_in), q_out = quadrant(n_out);
+        poly[count++] = v + corner[q];
+        for (int steps = 0; q != q_out && steps < 3; ++steps) {
+            q = (q + 1) & 3;
+            poly[count++] = v + corner[q];
+        }
+    }
 
     // A convex polygon as one strip: 0, 1, count-1, 2, count-2, ...
     int lo = 1, hi = count - 1;
@@ -110,7 +139,7 @@ void main() {
         if (i == 0) idx = 0;
         else if ((i & 1) == 1) idx = lo++;
         else idx = hi--;
-        gl_Position = vec4(hull[idx] / size * 2.0 - 1.0, 0.5, 1.0);
+        gl_Position = vec4(poly[idx] / size * 2.0 - 1.0, 0.5, 1.0);
         out_id = id;
         EmitVertex();
     }
