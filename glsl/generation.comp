@@ -2,7 +2,7 @@
 // Generation, first tier: every pixel whose list holds at most SHORT_LIST fragments (nearly
 // all of them) is paired here with small private arrays; longer lists are handed to the
 // second tier (generation_long.comp) through the long-pixel list.
-#define SHORT_LIST 32u
+#define SHORT_LIST 16u
 #define LIST_CAPACITY SHORT_LIST
 #include "generation_common.glsl"
 
