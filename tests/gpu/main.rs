@@ -16,3 +16,4 @@ mod layout;
 mod lighting;
 mod prism;
 mod validation;
+mod visibility;
