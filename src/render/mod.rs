@@ -234,14 +234,17 @@ impl<'a> Renderer<'a> {
                 settings.width, settings.height, settings.spp
             ));
             let shadow = outcome.source();
+            // The image is copied out in the same submission, after the timed passes.
             self.run_timed(&mut passes, |this, cmd, ts| {
                 this.lighting
                     .record(this.ctx.device(), cmd, inputs, shadow, &target, Some(ts));
+                target.record_readback(this.ctx.device(), cmd);
+            })?;
+        } else {
+            self.run_timed(&mut passes, |this, cmd, _| {
+                target.record_readback(this.ctx.device(), cmd)
             })?;
         }
-        self.run_timed(&mut passes, |this, cmd, _| {
-            target.record_readback(this.ctx.device(), cmd)
-        })?;
         let image = RadianceImage::new(settings.width, settings.height, target.read_rgb()?)?;
         let moving_coverage = target.read_moving_coverage()?;
 
