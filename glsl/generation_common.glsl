@@ -55,6 +55,11 @@ void emit(Node a, Node b, uint index) {
     out_head = index + 1u;
 }
 
+// The triangle the coverage map marks pixel p with, or NO_TRIANGLE (also without the map).
+uint covering(uint p) {
+    return (pc.flags & USE_COVERAGE) != 0u ? coverage[p] : NO_TRIANGLE;
+}
+
 // The list is copied out, Shell-sorted by (id, time, depth, node index) and paired in one sweep.
 // LIST_CAPACITY is the tier's: small private arrays are much faster on lavapipe.
 Node local_nodes[LIST_CAPACITY];
@@ -127,16 +132,17 @@ bool pair_two(uint p) {
     if (first.next == END_OF_LIST) return false;
     Node second = node_array.nodes[first.next - 1u];
     if (second.next != END_OF_LIST || second.id != first.id) return false;
+    // The counting of pair_list / sort_and_pair for one range, written out: a helper shared
+    // by both made generation about 10% slower on lavapipe.
     atomicMax(counters.longest_list, 2u);
     atomicAdd(counters.ranges_without_coverage, 1u);
-    bool covered = (pc.flags & USE_COVERAGE) != 0u && coverage[p] != NO_TRIANGLE;
-    if (!covered) emit(first, second, atomicAdd(counters.range_count, 1u));
+    if (covering(p) == NO_TRIANGLE) emit(first, second, atomicAdd(counters.range_count, 1u));
     range_heads[p] = out_head;
     return true;
 }
 
 void pair_list(uint p, uint n) {
     atomicMax(counters.longest_list, n);
-    sort_and_pair(n, (pc.flags & USE_COVERAGE) != 0u ? coverage[p] : NO_TRIANGLE);
+    sort_and_pair(n, covering(p));
     range_heads[p] = out_head;
 }
