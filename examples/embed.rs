@@ -28,9 +28,9 @@ mod host;
 
 use host::Host;
 use motion_shadows::gpu::{Buffer, BufferUsage, Context};
-use motion_shadows::output::{RadianceImage, auto_exposure, write_png};
-use motion_shadows::render::upload;
-use motion_shadows::scene::{BuiltinOptions, builtin};
+use motion_shadows_app::output::{RadianceImage, auto_exposure, write_png};
+use motion_shadows_app::render::upload;
+use motion_shadows_app::scene::{BuiltinOptions, builtin};
 use motion_shadows::technique::{
     CollectionPass, FrameInputs, FrameParams, FrameSettings, GenerationPass, LightingPass,
     LightingTarget, MAX_SAMPLES_PER_CHUNK, SceneGeometry, ShadowSource, TemporalShadowMap,

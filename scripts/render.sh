@@ -8,4 +8,4 @@ bash "$root/scripts/setup.sh"
 
 # No `cd`: relative paths in the arguments (scenes, output files) keep meaning the caller's
 # working directory.
-cargo run --release --manifest-path "$root/Cargo.toml" -- "$@"
+cargo run --release --manifest-path "$root/Cargo.toml" -p motion-shadows-app -- "$@"

@@ -17,5 +17,5 @@ export XDG_RUNTIME_DIR
 export MOTION_SHADOWS_VALIDATION=1
 
 cargo fmt --all -- --check
-cargo clippy --all-targets -- -D warnings
-cargo test
+cargo clippy --workspace --all-targets -- -D warnings
+cargo test --workspace

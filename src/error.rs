@@ -66,21 +66,9 @@ pub enum Error {
         limit: u32,
     },
 
-    /// A benchmark could not write its results.
-    #[error("bench: {0}")]
-    Bench(String),
-
     /// A caller-supplied value is out of range.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
-
-    /// The scene could not be loaded or is invalid.
-    #[error(transparent)]
-    Scene(#[from] crate::scene::SceneError),
-
-    /// Writing an output image failed.
-    #[error(transparent)]
-    Output(#[from] crate::output::OutputError),
 }
 
 /// The library's result type.

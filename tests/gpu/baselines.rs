@@ -6,9 +6,9 @@ use crate::support::gpu::{
     assert_no_validation_messages, context, mesh, overhead_spot, render, scene,
 };
 use glam::{Vec2, Vec3};
-use motion_shadows::output::RadianceImage;
-use motion_shadows::render::{Method, RenderSettings};
-use motion_shadows::scene::{BuiltinOptions, RigidTransform, Scene, box_mesh, builtin, plane_mesh};
+use motion_shadows_app::output::RadianceImage;
+use motion_shadows_app::render::{Method, RenderSettings};
+use motion_shadows_app::scene::{BuiltinOptions, RigidTransform, Scene, box_mesh, builtin, plane_mesh};
 
 fn rmse(a: &RadianceImage, b: &RadianceImage, mask: Option<&[bool]>) -> f64 {
     let (mut sum, mut n) = (0.0f64, 0usize);

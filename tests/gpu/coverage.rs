@@ -6,8 +6,8 @@ use crate::support::gpu::{
     scene, square, translated,
 };
 use glam::{Quat, Vec2, Vec3};
-use motion_shadows::render::{Method, RenderResult, RenderSettings};
-use motion_shadows::scene::{Scene, box_mesh, plane_mesh};
+use motion_shadows_app::render::{Method, RenderResult, RenderSettings};
+use motion_shadows_app::scene::{Scene, box_mesh, plane_mesh};
 
 fn settings(method: Method) -> RenderSettings {
     RenderSettings {
@@ -97,7 +97,7 @@ fn assert_same_results(
     assert_no_validation_messages(ctx);
 }
 
-fn ground() -> motion_shadows::scene::Mesh {
+fn ground() -> motion_shadows_app::scene::Mesh {
     let g = plane_mesh(Vec2::splat(14.0), 4);
     mesh("ground", g.clone(), g, false)
 }
@@ -209,11 +209,11 @@ fn a_covering_triangle_moving_in_depth_is_reset_by_what_it_passes() {
 #[test]
 fn random_cubes_store_fewer_ranges_and_render_the_same() {
     let ctx = context();
-    let options = motion_shadows::scene::BuiltinOptions {
+    let options = motion_shadows_app::scene::BuiltinOptions {
         cube_count: 1000,
         ..Default::default()
     };
-    let s = motion_shadows::scene::builtin("random-cubes", &options).unwrap();
+    let s = motion_shadows_app::scene::builtin("random-cubes", &options).unwrap();
     let at = |method| RenderSettings {
         width: 160,
         height: 120,

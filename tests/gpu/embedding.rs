@@ -6,8 +6,8 @@
 use crate::support::gpu::{assert_no_validation_messages, context, render};
 use crate::support::host::Host;
 use motion_shadows::gpu::{Buffer, BufferUsage, Context};
-use motion_shadows::render::{RenderSettings, upload};
-use motion_shadows::scene::{BuiltinOptions, Scene, builtin};
+use motion_shadows_app::render::{RenderSettings, upload};
+use motion_shadows_app::scene::{BuiltinOptions, Scene, builtin};
 use motion_shadows::technique::{
     CollectionPass, Counters, FrameInputs, FrameParams, FrameSettings, GenerationPass,
     LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, SceneGeometry, ShadowSource,

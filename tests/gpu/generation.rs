@@ -7,8 +7,9 @@ use crate::support::gpu::{
 };
 use glam::Vec3;
 use motion_shadows::Error;
-use motion_shadows::render::{RenderSettings, Renderer};
-use motion_shadows::scene::{BuiltinOptions, builtin};
+use motion_shadows_app::Error as AppError;
+use motion_shadows_app::render::{RenderSettings, Renderer};
+use motion_shadows_app::scene::{BuiltinOptions, builtin};
 use motion_shadows::technique::{MAX_LIST_NODES, Node, Range, ShadowMapContents};
 use std::collections::BTreeMap;
 
@@ -112,7 +113,7 @@ fn odd_fragment_counts_from_near_plane_clipping() {
     assert_no_validation_messages(&ctx);
 }
 
-fn stack_of_squares(count: usize) -> motion_shadows::scene::Scene {
+fn stack_of_squares(count: usize) -> motion_shadows_app::scene::Scene {
     let meshes = (0..count)
         .map(|i| {
             let sq = crate::support::gpu::square(-1.0, -1.0, 2.0, 1.0 + 0.02 * i as f32);
@@ -158,12 +159,12 @@ fn overlong_lists_are_an_error_with_figures() {
         .err()
         .expect("must fail");
     match err {
-        Error::FragmentListTooLong {
+        AppError::Library(Error::FragmentListTooLong {
             pixels,
             longest,
             limit,
             ..
-        } => {
+        }) => {
             assert!(pixels > 10, "{pixels}");
             assert_eq!(longest, 600);
             assert_eq!(limit, MAX_LIST_NODES);

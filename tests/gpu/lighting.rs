@@ -5,11 +5,11 @@ use crate::support::gpu::{
     assert_no_validation_messages, context, mesh, overhead_spot, render, scene,
 };
 use glam::{Vec2, Vec3};
-use motion_shadows::output::write_exr;
-use motion_shadows::render::{Method, RenderSettings};
-use motion_shadows::scene::{BuiltinOptions, RigidTransform, box_mesh, builtin, plane_mesh};
+use motion_shadows_app::output::write_exr;
+use motion_shadows_app::render::{Method, RenderSettings};
+use motion_shadows_app::scene::{BuiltinOptions, RigidTransform, box_mesh, builtin, plane_mesh};
 
-fn static_scene() -> motion_shadows::scene::Scene {
+fn static_scene() -> motion_shadows_app::scene::Scene {
     let ground = plane_mesh(Vec2::splat(12.0), 4);
     let block = RigidTransform {
         translation: Vec3::new(0.5, 1.5, 0.0),
@@ -197,7 +197,7 @@ fn moving_occluder_blurs_its_shadow() {
 fn a_reused_renderer_renders_like_a_fresh_one() {
     let ctx = context();
     let s = builtin("cubes-toward-light", &BuiltinOptions::default()).unwrap();
-    let mut renderer = motion_shadows::render::Renderer::new(&ctx).unwrap();
+    let mut renderer = motion_shadows_app::render::Renderer::new(&ctx).unwrap();
     let sizes = [(64, 48), (96, 72), (64, 48), (80, 60), (96, 72), (64, 48)];
     for (i, &(width, height)) in sizes.iter().enumerate() {
         let settings = RenderSettings {

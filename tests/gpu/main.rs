@@ -7,7 +7,6 @@ mod support;
 mod analytic;
 mod baselines;
 mod bench;
-mod cli;
 mod coverage;
 mod embedding;
 mod errors;

@@ -9,8 +9,8 @@ use crate::support::gpu::{
 };
 use crate::support::sampling::{CameraRays, hits, pixel_key, pixel_sample};
 use glam::{DVec3, Vec3};
-use motion_shadows::render::upload::{camera_view, light_view};
-use motion_shadows::render::{Method, RenderSettings};
+use motion_shadows_app::render::upload::{camera_view, light_view};
+use motion_shadows_app::render::{Method, RenderSettings};
 use motion_shadows::technique::{FrameParams, FrameSettings};
 
 const SIZE: (u32, u32) = (128, 96);

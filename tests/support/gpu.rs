@@ -3,8 +3,8 @@
 
 use glam::Vec3;
 use motion_shadows::gpu::{Context, ContextOptions};
-use motion_shadows::render::{Method, RenderResult, RenderSettings, Renderer};
-use motion_shadows::scene::{Camera, DirectionalLight, Light, Mesh, Scene, SpotLight};
+use motion_shadows_app::render::{Method, RenderResult, RenderSettings, Renderer};
+use motion_shadows_app::scene::{Camera, DirectionalLight, Light, Mesh, Scene, SpotLight};
 use motion_shadows::technique::ShadowMapContents;
 
 /// A context with the validation layer and synchronization validation on. No device, or no
@@ -121,7 +121,7 @@ pub fn translated(points: &[Vec3], by: Vec3) -> Vec<Vec3> {
 
 /// The CPU prism model's view of the scene's light, with the matrices the renderer uses.
 pub fn light_setup(s: &Scene, size: (u32, u32)) -> super::prism_model::LightSetup {
-    let light = motion_shadows::render::upload::light_view(s, size);
+    let light = motion_shadows_app::render::upload::light_view(s, size);
     super::prism_model::LightSetup {
         view: light.view,
         proj: light.proj,

@@ -7,7 +7,7 @@ pub mod render_cmd;
 pub mod summary;
 
 /// With `MOTION_SHADOWS_VALIDATION=1`, a run the validation layer complained about fails.
-pub fn validation_clean(ctx: &crate::gpu::Context) -> anyhow::Result<()> {
+pub fn validation_clean(ctx: &motion_shadows::gpu::Context) -> anyhow::Result<()> {
     let messages = ctx.validation_messages();
     anyhow::ensure!(
         messages.is_empty(),

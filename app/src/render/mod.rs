@@ -12,10 +12,10 @@ pub mod times;
 pub mod upload;
 
 use crate::error::{Error, Result};
-use crate::gpu::{Buffer, BufferUsage, Context, OneShot, TimestampQueries};
+use motion_shadows::gpu::{Buffer, BufferUsage, Context, OneShot, TimestampQueries};
 use crate::output::RadianceImage;
 use crate::scene::Scene;
-use crate::technique::{
+use motion_shadows::technique::{
     CollectionPass, CoveragePass, FrameInputs, FrameParams, FrameSettings, GenerationPass,
     LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, PlainShadowPass, SceneGeometry,
     TemporalShadowMap,
@@ -300,7 +300,7 @@ impl<'a> Renderer<'a> {
     fn run_timed(
         &mut self,
         passes: &mut Vec<PassTime>,
-        record: impl FnOnce(&mut Self, ash::vk::CommandBuffer, &mut TimestampQueries),
+        record: impl FnOnce(&mut Self, motion_shadows::ash::vk::CommandBuffer, &mut TimestampQueries),
     ) -> Result<()> {
         let mut ts = match self.timestamps.take() {
             Some(ts) => ts,

@@ -387,8 +387,8 @@ impl ObjectFile {
 mod tests {
     use super::*;
 
-    const EXAMPLE: &str = include_str!("../../docs/examples/two-triangles.json");
-    const DOC: &str = include_str!("../../docs/scene-format.md");
+    const EXAMPLE: &str = include_str!("../../../docs/examples/two-triangles.json");
+    const DOC: &str = include_str!("../../../docs/scene-format.md");
 
     fn parse_str(text: &str) -> Result<Scene, SceneError> {
         parse_scene_json(text, Path::new("."), "test.json")

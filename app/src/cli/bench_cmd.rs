@@ -3,7 +3,7 @@
 use super::args::BenchArgs;
 use super::render_cmd::progress_reporter;
 use crate::bench::{PRESETS, Preset, Report, Scale, run_preset};
-use crate::gpu::{Context, ContextOptions};
+use motion_shadows::gpu::{Context, ContextOptions};
 use crate::render::Renderer;
 use serde::Serialize;
 use std::time::Instant;

@@ -2,7 +2,7 @@
 //! camera and light as matrices.
 
 use crate::scene::{Light, Scene};
-use crate::technique::{
+use motion_shadows::technique::{
     CameraView, LightView, SceneVertex, TRIANGLE_CLOSED, TRIANGLE_MOVING, TriangleInfo,
 };
 

@@ -2,7 +2,7 @@
 
 use super::args::{MethodArg, RandomCubesArgs, RenderArgs};
 use super::summary::summary_text;
-use crate::gpu::{Context, ContextOptions};
+use motion_shadows::gpu::{Context, ContextOptions};
 use crate::output::{auto_exposure, write_exr, write_png};
 use crate::render::{Method, RenderSettings, Renderer};
 use crate::scene::{BuiltinOptions, Scene, builtin, load_scene_file};

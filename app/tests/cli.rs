@@ -1,4 +1,6 @@
-//! The command line as users script it: `--json` output, scene export and re-import.
+//! The `motion-shadows` binary as users script it: `--json` output, scene export and
+//! re-import, bench output files, and a clear error without a Vulkan device. Every run has the
+//! validation layer on (MOTION_SHADOWS_VALIDATION=1) and fails if it reports anything.
 
 use std::path::Path;
 use std::process::Command;
@@ -93,4 +95,55 @@ fn exported_scene_file_renders_like_the_builtin() {
     let exr = |d: &Path| std::fs::read(d.join("cubes-toward-light-temporal.exr")).unwrap();
     assert!(exr(&a) == exr(&b), "the exported scene renders differently");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn quick_bench_preset_writes_csv_and_png() {
+    let out = std::env::temp_dir().join(format!("motion-shadows-bench-{}", std::process::id()));
+    let status = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args(["bench", "--quick", "--preset", "shadow-pass", "--out"])
+        .arg(&out)
+        .env("MOTION_SHADOWS_VALIDATION", "1")
+        .status()
+        .expect("run the binary");
+    assert!(status.success());
+    let csv = std::fs::read_to_string(out.join("shadow-pass-results.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 3, "header and two scenes: {csv}");
+    let columns = lines[0].split(',').count();
+    assert!(
+        lines.iter().all(|l| l.split(',').count() == columns),
+        "{csv}"
+    );
+    for line in &lines[1..] {
+        let ratio: f64 = line.rsplit(',').next().unwrap().parse().unwrap();
+        assert!(ratio.is_finite() && ratio > 0.0, "{line}");
+    }
+    let png = image::open(out.join("shadow-pass-time.png")).expect("a decodable PNG");
+    assert_eq!((png.width(), png.height()), (800, 500));
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("bench-summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["reports"][0]["preset"], "shadow-pass");
+    std::fs::remove_dir_all(&out).ok();
+}
+
+/// With no Vulkan driver the binary fails with a message that says what is missing and how
+/// to install lavapipe.
+#[test]
+fn no_device_gives_a_clear_error() {
+    let output = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args(["render", "--width", "8", "--height", "8", "--spp", "1"])
+        .env("VK_DRIVER_FILES", "/nonexistent/no_icd.json")
+        .env("VK_ICD_FILENAMES", "/nonexistent/no_icd.json")
+        .env("MOTION_SHADOWS_VALIDATION", "0")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .output()
+        .expect("run the binary");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        !output.status.success(),
+        "must fail without a driver; stderr: {stderr}"
+    );
+    assert!(stderr.contains("no Vulkan device"), "stderr: {stderr}");
+    assert!(stderr.contains("mesa-vulkan-drivers"), "stderr: {stderr}");
 }

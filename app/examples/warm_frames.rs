@@ -4,8 +4,8 @@
 //! `cargo run --release --example warm_frames -- [frames] [width] [height] [spp] [samples per chunk]`
 
 use motion_shadows::gpu::{Context, ContextOptions};
-use motion_shadows::render::{RenderSettings, Renderer};
-use motion_shadows::scene::{BuiltinOptions, builtin};
+use motion_shadows_app::render::{RenderSettings, Renderer};
+use motion_shadows_app::scene::{BuiltinOptions, builtin};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<u32> = std::env::args()

@@ -4,7 +4,7 @@
 use super::times::{REFERENCE_SALT, TSM_SALT, stratified_times};
 use super::{PassTime, RenderSettings, Renderer};
 use crate::error::{Error, Result};
-use crate::technique::{
+use motion_shadows::technique::{
     Counters, CoverageMap, DepthFormat, FrameInputs, LightingTarget, MAX_COVERAGE_TRIANGLES,
     PlainShadowMap, Samples, ShadowSource, TemporalShadowMap,
 };
@@ -42,7 +42,7 @@ impl ShadowOutcome {
 
     pub(super) fn counters(&self) -> Result<Counters> {
         match self {
-            Self::Temporal { map, .. } => map.read_counters(),
+            Self::Temporal { map, .. } => Ok(map.read_counters()?),
             _ => Ok(Counters::default()),
         }
     }
