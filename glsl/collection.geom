@@ -8,12 +8,11 @@
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 42) out;
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameParams frame; };
-layout(std430, set = 0, binding = 2) readonly buffer Triangles { TriangleInfo triangles[]; };
 layout(push_constant) uniform Push { PassConstants pc; };
 
 layout(location = 0) in vec3 in_p0[];
 layout(location = 1) in vec3 in_p1[];
+layout(location = 2) in float in_valid[];
 
 layout(location = 0) out float out_depth;
 layout(location = 1) out float out_time;
@@ -83,22 +82,31 @@ void emit_side(PrismVertex p, PrismVertex q, PrismVertex p1, PrismVertex q1) {
 }
 
 void main() {
-    triangle_id = pc.first_triangle + uint(gl_PrimitiveIDIn);
-    bool orthographic = frame.light_position.w == 0.0;
+    DrawRecord d = DrawTable(pc.draws).draws[pc.draw_index];
+    MsShadowMap map = MsShadowMap(pc.map);
+    if (in_valid[0] == 0.0 || in_valid[1] == 0.0 || in_valid[2] == 0.0) {
+        // Coverage's reset pass draws the same prisms: count each bad triangle once.
+        if ((pc.flags & COUNT_INVALID) != 0u)
+            atomicAdd(CounterRef(map.counters).c.invalid_triangles, 1u);
+        return;
+    }
+    triangle_id = d.first_id + uint(gl_PrimitiveIDIn);
+    MsLight light = map.light;
+    bool orthographic = light.position.w == 0.0;
 
     vec3 v0[3], v1[3];
     PrismVertex s0[3], s1[3];
     vec4 clip[6];
     for (int i = 0; i < 3; ++i) {
-        v0[i] = (frame.light_view * vec4(in_p0[i], 1.0)).xyz;
-        v1[i] = (frame.light_view * vec4(in_p1[i], 1.0)).xyz;
-        s0[i] = PrismVertex(frame.light_proj * vec4(v0[i], 1.0), -v0[i].z, 0.0);
-        s1[i] = PrismVertex(frame.light_proj * vec4(v1[i], 1.0), -v1[i].z, 1.0);
+        v0[i] = (light.view * vec4(in_p0[i], 1.0)).xyz;
+        v1[i] = (light.view * vec4(in_p1[i], 1.0)).xyz;
+        s0[i] = PrismVertex(light.proj * vec4(v0[i], 1.0), -v0[i].z, 0.0);
+        s1[i] = PrismVertex(light.proj * vec4(v1[i], 1.0), -v1[i].z, 1.0);
         clip[i] = s0[i].clip;
         clip[i + 3] = s1[i].clip;
     }
     if (outside_one_plane(clip)) return;
-    bool closed = has_flag(triangles[triangle_id], TRIANGLE_CLOSED);
+    bool closed = has_flag(d, DRAW_CLOSED);
     if (closed && faces_away_whole_frame(v0[0], v0[1], v0[2], v1[0], v1[1], v1[2], orthographic))
         return;
 

@@ -6,19 +6,16 @@
 #extension GL_EXT_shader_atomic_int64 : require
 #include "shared.glsl"
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameParams frame; };
-layout(std430, set = 0, binding = 3) readonly buffer Nearest { uint64_t nearest[]; };
-layout(std430, set = 0, binding = 4) buffer Coverage { uint coverage[]; };
-layout(std430, set = 0, binding = 5) buffer CoverDepth { vec2 cover_depth[]; };
 layout(push_constant) uniform Push { PassConstants pc; };
 
 layout(location = 0) in float in_depth;
 layout(location = 1) flat in uint in_id;
 
 void main() {
+    MsShadowMap map = MsShadowMap(pc.map);
     uvec2 pixel = uvec2(gl_FragCoord.xy);
-    uint p = pixel.y * frame.sizes.x + pixel.x;
-    uint64_t n = nearest[p];
+    uint p = pixel.y * map.size.x + pixel.x;
+    uint64_t n = Uint64Array(map.nearest).v[p];
     if (n == NEAREST_EMPTY) return;
     uint packed_low = uint(n & 0xffffffffUL);
     uint id = packed_low & NEAREST_ID_MASK;
@@ -26,7 +23,7 @@ void main() {
     uint other_cap = pc.time == 0.0 ? SURFACE_CAP1 : SURFACE_CAP0;
     if (id != in_id || surface != other_cap) return;
     // Only one fragment per pixel gets here: the nearest map holds one specific cap.
-    coverage[p] = in_id;
+    UintArray(map.coverage).v[p] = in_id;
     float other_depth = uintBitsToFloat(uint(n >> 32));
-    cover_depth[p] = pc.time == 0.0 ? vec2(in_depth, other_depth) : vec2(other_depth, in_depth);
+    Vec2Array(map.cover_depth).v[p] = pc.time == 0.0 ? vec2(in_depth, other_depth) : vec2(other_depth, in_depth);
 }

@@ -16,9 +16,7 @@
 // motion), so that resets too.
 #include "shared.glsl"
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameParams frame; };
-layout(std430, set = 0, binding = 4) buffer Coverage { uint coverage[]; };
-layout(std430, set = 0, binding = 5) readonly buffer CoverDepth { vec2 cover_depth[]; };
+layout(push_constant) uniform Push { PassConstants pc; };
 
 layout(location = 0) in float in_depth;
 layout(location = 1) in float in_time;
@@ -26,13 +24,15 @@ layout(location = 2) flat in uint in_id;
 layout(location = 3) flat in uint in_surface;
 
 void main() {
+    MsShadowMap map = MsShadowMap(pc.map);
     uvec2 pixel = uvec2(gl_FragCoord.xy);
-    uint p = pixel.y * frame.sizes.x + pixel.x;
-    uint cover = coverage[p];
+    uint p = pixel.y * map.size.x + pixel.x;
+    UintArray coverage = UintArray(map.coverage);
+    uint cover = coverage.v[p];
     // (Reading the time also keeps the prism pipeline's interface whole for validation.)
     if (cover == NO_TRIANGLE || isnan(in_time)) return;
-    vec2 cover_depths = cover_depth[p];
+    vec2 cover_depths = Vec2Array(map.cover_depth).v[p];
     bool reset = in_id == cover ? in_surface == SURFACE_SIDE
                                 : in_depth < mix(cover_depths.x, cover_depths.y, in_time);
-    if (reset) coverage[p] = NO_TRIANGLE;
+    if (reset) coverage.v[p] = NO_TRIANGLE;
 }

@@ -9,16 +9,17 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 void main() {
+    open_map();
     uvec2 pixel = gl_GlobalInvocationID.xy;
-    if (pixel.x >= frame.sizes.x || pixel.y >= frame.sizes.y) return;
-    uint p = pixel.y * frame.sizes.x + pixel.x;
+    if (pixel.x >= map.size.x || pixel.y >= map.size.y) return;
+    uint p = pixel.y * map.size.x + pixel.x;
     if (pair_two(p)) return;
     uint n = load_list(p);
     if (n <= SHORT_LIST) {
         pair_list(p, n);
         return;
     }
-    uint index = atomicAdd(long_count, 1u);
-    if (index % LONG_TIER_GROUP == 0u) atomicAdd(long_groups_x, 1u);
-    long_pixels[index] = p;
+    uint index = atomicAdd(long_list.long_count, 1u);
+    if (index % LONG_TIER_GROUP == 0u) atomicAdd(long_list.long_groups_x, 1u);
+    long_list.long_pixels[index] = p;
 }

@@ -14,22 +14,34 @@
 // Shared by the two tiers (generation.comp, generation_long.comp), which define LIST_CAPACITY.
 #include "shared.glsl"
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameParams frame; };
-layout(std430, set = 0, binding = 3) readonly buffer Heads { uint heads[]; };
-layout(std430, set = 0, binding = 5) buffer CounterBlock { Counters counters; };
-layout(std430, set = 0, binding = 6) writeonly buffer RangeHeads { uint range_heads[]; };
-// With USE_COVERAGE: at a pixel the coverage map marks, no range is stored (the 2017 paper's
-// extension: the coverage map itself says what shadows there); they are only counted.
-layout(std430, set = 0, binding = 8) readonly buffer Coverage { uint coverage[]; };
 layout(push_constant) uniform Push { PassConstants pc; };
 // Pixels whose lists are too long for the first tier, for the second tier (an indirect
 // dispatch whose x group count the first tier raises as it appends).
-layout(std430, set = 0, binding = 9) buffer LongPixels {
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer LongPixels {
     uint long_count;
     uint long_groups_x, long_groups_y, long_groups_z;
     uint long_pixels[];
 };
 const uint LONG_TIER_GROUP = 64u;
+
+// Every buffer of the map, from its header (set once per invocation by `open_map`).
+MsShadowMap map;
+NodeArray node_array;
+RangeArray range_array;
+UintArray heads;
+UintArray range_heads;
+CounterRef counters_ref;
+LongPixels long_list;
+
+void open_map() {
+    map = MsShadowMap(pc.map);
+    node_array = NodeArray(map.nodes);
+    range_array = RangeArray(map.ranges);
+    heads = UintArray(map.heads);
+    range_heads = UintArray(map.range_heads);
+    counters_ref = CounterRef(map.counters);
+    long_list = LongPixels(map.long_pixels);
+}
 
 bool before(Node x, uint xi, Node y, uint yi) {
     if (x.time != y.time) return x.time < y.time;
@@ -37,27 +49,27 @@ bool before(Node x, uint xi, Node y, uint yi) {
 }
 
 uint out_head = END_OF_LIST;
-NodeArray node_array;
-RangeArray range_array;
 
 // Writes the range of fragments a and b at `index` (reserved by the caller) and links it.
 void emit(Node a, Node b, uint index) {
-    Range r;
+    MsRange r;
     bool a_first = a.time <= b.time;
     r.t_s = a_first ? a.time : b.time;
     r.t_e = a_first ? b.time : a.time;
     r.d_s = a_first ? a.depth : b.depth;
     r.d_e = a_first ? b.depth : a.depth;
     r.id = a.id;
-    if (index >= counters.range_capacity) return;
+    if (index >= counters_ref.c.range_capacity) return;
     r.next = out_head;
     range_array.ranges[index] = r;
     out_head = index + 1u;
 }
 
 // The triangle the coverage map marks pixel p with, or NO_TRIANGLE (also without the map).
+// At a marked pixel no range is stored (the 2017 paper's extension: the coverage map itself
+// says what shadows there); they are only counted.
 uint covering(uint p) {
-    return (pc.flags & USE_COVERAGE) != 0u ? coverage[p] : NO_TRIANGLE;
+    return map.coverage != 0UL ? MsUints(map.coverage).v[p] : NO_TRIANGLE;
 }
 
 // The list is copied out, Shell-sorted by (id, time, depth, node index) and paired in one sweep.
@@ -93,9 +105,9 @@ void sort_and_pair(uint n, uint cover) {
         i += i + 1u < n && local_nodes[i + 1u].id == local_nodes[i].id ? 2u : 1u;
     }
     if (all_ranges == 0u) return;
-    atomicAdd(counters.ranges_without_coverage, all_ranges);
+    atomicAdd(counters_ref.c.ranges_without_coverage, all_ranges);
     if (cover != NO_TRIANGLE) return;
-    uint index = atomicAdd(counters.range_count, all_ranges);
+    uint index = atomicAdd(counters_ref.c.range_count, all_ranges);
     for (uint i = 0u; i < n; ++index) {
         bool pair = i + 1u < n && local_nodes[i + 1u].id == local_nodes[i].id;
         emit(local_nodes[i], pair ? local_nodes[i + 1u] : local_nodes[i], index);
@@ -105,10 +117,8 @@ void sort_and_pair(uint n, uint cover) {
 
 // Copies pixel p's list into the private arrays: its length, or LIST_CAPACITY + 1 if longer.
 uint load_list(uint p) {
-    node_array = NodeArray(pc.node_address);
-    range_array = RangeArray(pc.range_address);
     uint n = 0u;
-    uint a = heads[p];
+    uint a = heads.v[p];
     for (; a != END_OF_LIST && n < LIST_CAPACITY; a = node_array.nodes[a - 1u].next) {
         local_nodes[n] = node_array.nodes[a - 1u];
         local_index[n] = a;
@@ -121,11 +131,9 @@ uint load_list(uint p) {
 // are paired here without the private arrays, which a CPU device keeps in memory per lane.
 // False if the list is anything else.
 bool pair_two(uint p) {
-    node_array = NodeArray(pc.node_address);
-    range_array = RangeArray(pc.range_address);
-    uint a = heads[p];
+    uint a = heads.v[p];
     if (a == END_OF_LIST) {
-        range_heads[p] = END_OF_LIST;
+        range_heads.v[p] = END_OF_LIST;
         return true;
     }
     Node first = node_array.nodes[a - 1u];
@@ -134,15 +142,15 @@ bool pair_two(uint p) {
     if (second.next != END_OF_LIST || second.id != first.id) return false;
     // The counting of pair_list / sort_and_pair for one range, written out: a helper shared
     // by both made generation about 10% slower on lavapipe.
-    atomicMax(counters.longest_list, 2u);
-    atomicAdd(counters.ranges_without_coverage, 1u);
-    if (covering(p) == NO_TRIANGLE) emit(first, second, atomicAdd(counters.range_count, 1u));
-    range_heads[p] = out_head;
+    atomicMax(counters_ref.c.longest_list, 2u);
+    atomicAdd(counters_ref.c.ranges_without_coverage, 1u);
+    if (covering(p) == NO_TRIANGLE) emit(first, second, atomicAdd(counters_ref.c.range_count, 1u));
+    range_heads.v[p] = out_head;
     return true;
 }
 
 void pair_list(uint p, uint n) {
-    atomicMax(counters.longest_list, n);
+    atomicMax(counters_ref.c.longest_list, n);
     sort_and_pair(n, covering(p));
-    range_heads[p] = out_head;
+    range_heads.v[p] = out_head;
 }

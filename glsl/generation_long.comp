@@ -9,9 +9,10 @@
 layout(local_size_x = 64) in;
 
 void main() {
+    open_map();
     uint index = gl_GlobalInvocationID.x;
-    if (index >= long_count) return;
-    uint p = long_pixels[index];
+    if (index >= long_list.long_count) return;
+    uint p = long_list.long_pixels[index];
     uint n = load_list(p);
     if (n <= MAX_LIST_NODES) {
         pair_list(p, n);
@@ -24,7 +25,7 @@ void main() {
          a = node_array.nodes[a - 1u].next) {
         ++n;
     }
-    atomicAdd(counters.overlong_pixels, 1u);
-    atomicMax(counters.longest_list, n);
-    range_heads[p] = END_OF_LIST;
+    atomicAdd(counters_ref.c.overlong_pixels, 1u);
+    atomicMax(counters_ref.c.longest_list, n);
+    range_heads.v[p] = END_OF_LIST;
 }

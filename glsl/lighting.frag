@@ -6,33 +6,34 @@
 #extension GL_EXT_shader_atomic_int64 : require
 #include "shared.glsl"
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameParams frame; };
-layout(std430, set = 0, binding = 1) readonly buffer Vertices { SceneVertex vertices[]; };
-layout(std430, set = 0, binding = 3) buffer Visibility { uint64_t visibility[]; };
 layout(push_constant) uniform Push { PassConstants pc; };
 
-layout(location = 0) flat in uint in_id;
+layout(location = 0) flat in uint in_prim;
 
 void main() {
+    CameraParams camera = TargetHeader(pc.target).camera;
+    DrawRecord d = DrawTable(pc.draws).draws[pc.draw_index];
+    Triangle tri = fetch_triangle(d, in_prim);
+    uint id = d.first_id + in_prim;
+    Uint64Array visibility = Uint64Array(camera.visibility);
     uvec2 pixel = uvec2(gl_FragCoord.xy);
-    uint p = pixel.y * frame.sizes.z + pixel.x;
-    SceneVertex a = vertices[3u * in_id], b = vertices[3u * in_id + 1u],
-                c = vertices[3u * in_id + 2u];
-    uint spp = frame.sampling.x;
-    uint key = pixel_key(pixel, frame.sampling.y);
+    uint p = pixel.y * camera.image.x + pixel.x;
+    uint spp = camera.image.z;
+    uint key = pixel_key(pixel, camera.image.w);
     uint rotation = stratum_rotation(key, spp);
-    vec3 origin = frame.camera_position.xyz;
-    float near = frame.camera_position.w, far = frame.camera_forward.w;
+    vec3 origin = camera.position.xyz;
+    float near = camera.position.w, far = camera.forward.w;
     for (uint j = 0u; j < pc.sample_count; ++j) {
         float t;
         vec2 offset;
         pixel_sample(key, rotation, pc.first_sample + j, spp, t, offset);
         if ((pc.flags & FIXED_TIME) != 0u) t = pc.time;
-        vec3 dir = camera_ray(frame, vec2(pixel) + offset);
-        float depth = intersect_triangle(origin, dir, mix(a.p0.xyz, a.p1.xyz, t),
-                                         mix(b.p0.xyz, b.p1.xyz, t), mix(c.p0.xyz, c.p1.xyz, t));
+        vec3 dir = camera_ray(camera, vec2(pixel) + offset);
+        float depth = intersect_triangle(origin, dir, mix(tri.p0[0], tri.p1[0], t),
+                                         mix(tri.p0[1], tri.p1[1], t),
+                                         mix(tri.p0[2], tri.p1[2], t));
         if (depth < near || depth > far) continue;
-        uint64_t packed = (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(in_id);
-        atomicMin(visibility[p * pc.sample_count + j], packed);
+        uint64_t packed = (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(id);
+        atomicMin(visibility.v[p * pc.sample_count + j], packed);
     }
 }

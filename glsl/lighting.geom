@@ -10,19 +10,20 @@
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 64) out;
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameParams frame; };
-layout(std430, set = 0, binding = 2) readonly buffer Triangles { TriangleInfo triangles[]; };
 layout(push_constant) uniform Push { PassConstants pc; };
 
 layout(location = 0) in vec3 in_p0[];
 layout(location = 1) in vec3 in_p1[];
-layout(location = 0) flat out uint out_id;
+layout(location = 2) in float in_valid[];
+layout(location = 0) flat out uint out_prim;   // the triangle's index in its draw
+
+CameraParams camera;
 
 const int MAX_CLIPPED = 12;  // corners in front of the near plane and crossings of it
 const int MAX_POINTS = 48;   // each hull vertex grown into at most 4 pixel-square corners
 
 vec2 to_pixels(vec4 clip) {
-    return (clip.xy / clip.w * 0.5 + 0.5) * vec2(frame.sizes.zw);
+    return (clip.xy / clip.w * 0.5 + 0.5) * vec2(camera.image.xy);
 }
 
 float cross_z(vec2 o, vec2 a, vec2 b) {
@@ -36,7 +37,14 @@ int quadrant(vec2 n) {
 }
 
 void main() {
-    uint id = pc.first_triangle + uint(gl_PrimitiveIDIn);
+    camera = TargetHeader(pc.target).camera;
+    if (in_valid[0] == 0.0 || in_valid[1] == 0.0 || in_valid[2] == 0.0) {
+        // Counted once per frame: by the first chunk's geometry pass (flag set by the host).
+        if ((pc.flags & COUNT_INVALID) != 0u) atomicAdd(UintArray(camera.counters).v[0], 1u);
+        return;
+    }
+    DrawRecord d = DrawTable(pc.draws).draws[pc.draw_index];
+    uint prim = uint(gl_PrimitiveIDIn);
     vec4 c[6];
     vec3 w[6];
     // With one time for every sample (reference slices) the triangle is where it is at that
@@ -47,19 +55,19 @@ void main() {
         w[i] = fixed_time ? mix(in_p0[i], in_p1[i], pc.time) : in_p0[i];
         w[i + 3] = fixed_time ? w[i] : in_p1[i];
     }
-    for (int i = 0; i < 6; ++i) c[i] = frame.camera_view_proj * vec4(w[i], 1.0);
+    for (int i = 0; i < 6; ++i) c[i] = camera.view_proj * vec4(w[i], 1.0);
     if (outside_one_plane(c)) return;
 
-    bool closed = has_flag(triangles[id], TRIANGLE_CLOSED);
+    bool closed = has_flag(d, DRAW_CLOSED);
     if (closed) {
-        vec3 e = frame.camera_position.xyz;
+        vec3 e = camera.position.xyz;
         if (faces_away_whole_frame(w[0] - e, w[1] - e, w[2] - e, w[3] - e, w[4] - e, w[5] - e,
                                    false))
             return;
     }
 
     // Points of the hull, in pixels. Clip w is the view depth for a perspective camera.
-    float near = frame.camera_position.w;
+    float near = camera.position.w;
     vec2 pts[MAX_CLIPPED];
     int n = 0;
     for (int i = 0; i < corners; ++i) {
@@ -133,14 +141,14 @@ void main() {
 
     // A convex polygon as one strip: 0, 1, count-1, 2, count-2, ...
     int lo = 1, hi = count - 1;
-    vec2 size = vec2(frame.sizes.zw);
+    vec2 size = vec2(camera.image.xy);
     for (int i = 0; i < count; ++i) {
         int idx;
         if (i == 0) idx = 0;
         else if ((i & 1) == 1) idx = lo++;
         else idx = hi--;
         gl_Position = vec4(poly[idx] / size * 2.0 - 1.0, 0.5, 1.0);
-        out_id = id;
+        out_prim = prim;
         EmitVertex();
     }
     EndPrimitive();

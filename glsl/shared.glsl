@@ -1,12 +1,17 @@
-// Shared by every shader: the structs that mirror src/technique/gpu_types.rs, the frame
-// parameters, sampling, and geometry helpers. Changing a struct here means changing it there;
-// tests/gpu_layout.rs checks that both agree.
+// Shared by the library's own shaders: the public structs (motion_shadows.glsl), the
+// internal ones (fragments, counters, draws, cameras, push constants), vertex fetching,
+// sampling and geometry helpers. The structs mirror src/technique/gpu_types.rs;
+// tests/gpu/layout.rs checks that both agree.
+//
+// Nothing is bound through descriptor sets: every buffer is reached by its device address,
+// found in the push constants or in a header buffer the push constants point at. That keeps
+// the passes immutable after creation (no descriptor to rewrite per frame), so one set of
+// pass objects serves any number of frames in flight and lights.
 
-#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
-#extension GL_EXT_buffer_reference : require
+#include "motion_shadows.glsl"
 
-const uint END_OF_LIST = 0u;        // list links are index + 1, so 0 ends a list
-const uint NO_TRIANGLE = 0xffffffffu;
+const uint END_OF_LIST = MS_END_OF_LIST;
+const uint NO_TRIANGLE = MS_NO_TRIANGLE;
 
 // One fragment of a prism, as stored by the collection sub-pass (16 bytes).
 struct Node {
@@ -16,36 +21,12 @@ struct Node {
     uint next;     // index + 1 of the next node of this pixel, END_OF_LIST at the end
 };
 
-// A depth-time range, as stored by the generation sub-pass (24 bytes). t_s <= t_e.
-struct Range {
-    float t_s;
-    float t_e;
-    float d_s;     // depth at t_s
-    float d_e;     // depth at t_e
-    uint id;
-    uint next;
-};
-
-struct SceneVertex {
-    vec4 p0;       // world position at t = 0 (w = 1)
-    vec4 p1;       // world position at t = 1 (w = 1)
-};
-
-struct TriangleInfo {
-    vec4 albedo_flags;   // rgb albedo, w = TRIANGLE_* flags (as a float)
-};
-
-const uint TRIANGLE_CLOSED = 1u;   // its mesh is closed: faces away all frame -> may be culled
-const uint TRIANGLE_MOVING = 2u;   // some vertex moves during the frame
-
-bool has_flag(TriangleInfo info, uint flag) {
-    return (uint(info.albedo_flags.w) & flag) != 0u;
-}
-
 // Capacities are written by the host when recording; counts by the shaders. A count past its
 // capacity means the pass overflowed and nothing past the capacity was linked in.
 // `overlong_pixels` counts shadow-map pixels whose list exceeded MAX_LIST_NODES (their ranges
 // are not generated: the frame is an error), `longest_list` is the longest list seen.
+// `invalid_triangles` counts triangles whose indices point past their draw's vertex count
+// (they are not drawn; the frame is an error).
 struct Counters {
     uint node_count;
     uint node_capacity;
@@ -54,7 +35,7 @@ struct Counters {
     uint overlong_pixels;
     uint longest_list;
     uint ranges_without_coverage;   // what range_count would be without the coverage map
-    uint reserved;
+    uint invalid_triangles;
 };
 
 // The most fragments one shadow-map pixel may hold. The generation pass sorts a pixel's list
@@ -62,55 +43,168 @@ struct Counters {
 // 65535 loop iterations per invocation, past which it silently leaves loops.
 const uint MAX_LIST_NODES = 512u;
 
-struct FrameParams {
-    mat4 light_view;            // world -> light view (right-handed, looking down -z)
-    mat4 light_proj;            // light view -> clip (Vulkan: z in [0, w], y down)
-    mat4 camera_view_proj;      // world -> camera clip
-    mat4 camera_inv_view_proj;
-    vec4 camera_position;       // xyz; w = near plane distance
-    vec4 camera_forward;        // xyz unit; w = far plane distance
-    vec4 light_position;        // xyz; w = 1 for a spot light, 0 for a directional light
-    vec4 light_direction;       // xyz unit; w = cos(cone half angle)
-    vec4 light_params;          // x = intensity (W/sr) or irradiance (W/m^2), y = ambient,
-                                // z = normal offset in shadow texels, w = relative depth bias
-    vec4 light_texel;           // x = world size of a shadow texel per unit depth (spot) or
-                                // absolute (directional)
-    vec4 camera_ray00;          // ray direction through the image's top-left corner
-    vec4 camera_ray_dx;         // change of the ray direction per pixel to the right
-    vec4 camera_ray_dy;         // change of the ray direction per pixel down
-    uvec4 sizes;                // xy = shadow map size, zw = image size
-    uvec4 sampling;             // x = samples per pixel, y = seed
-};
-
-// What every pass pushes (48 bytes).
-struct PassConstants {
-    uint first_triangle;        // global id of the draw's first triangle
-    uint first_sample;          // first sample index of this chunk (shadow maps: the layer)
-    uint sample_count;          // samples in this chunk
-    uint mode;                  // lighting: SHADOW_*; shadow maps: DEPTH_*
-    float time;                 // shadow maps: the scene's time; lighting: see FIXED_TIME
-    uint flags;
-    uint reserved0;
-    uint reserved1;
-    uint64_t node_address;      // the fragment (node) buffer, reached by address: it may be
-    uint64_t range_address;     // larger than one storage-buffer descriptor can cover
-};
-
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer NodeArray { Node nodes[]; };
-layout(buffer_reference, std430, buffer_reference_align = 8) buffer RangeArray { Range ranges[]; };
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer RangeArray { MsRange ranges[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer UintArray { uint v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer Uint64Array { uint64_t v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer Vec2Array { vec2 v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer Vec4Array { vec4 v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer CounterRef { Counters c; };
+
+// ---- host geometry ----
+
+const uint INDEX_NONE = 0u;
+const uint INDEX_U16 = 1u;
+const uint INDEX_U32 = 2u;
+
+const uint DRAW_CLOSED = 1u;   // the mesh is closed: faces away all frame -> may be culled
+
+// One draw of the host's geometry (std430, 160 bytes): positions at shutter open and close
+// (3 floats each, at any stride; the addresses include the offset), optional indices, object
+// transforms at t = 0 and t = 1 (rows of a 3x4 affine matrix), its triangles' global ids
+// first_id .. first_id + triangle_count - 1.
+struct DrawRecord {
+    uint64_t positions0;
+    uint64_t positions1;
+    uint64_t indices;
+    uint stride0;
+    uint stride1;
+    uint index_kind;        // INDEX_*
+    uint vertex_count;      // valid vertices in each position stream
+    uint first_id;
+    uint triangle_count;
+    vec4 albedo_flags;      // rgb albedo (the library's own lighting pass), w = DRAW_* flags
+    vec4 model0[3];
+    vec4 model1[3];
+};
+
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer DrawTable {
+    DrawRecord draws[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Float3Ref {
+    float v[3];
+};
+
+bool has_flag(DrawRecord d, uint flag) {
+    return (uint(d.albedo_flags.w) & flag) != 0u;
+}
+
+// Index `i` of the draw's index stream (or i itself without one); 16-bit indices are read as
+// the half of an aligned 32-bit word, so no 16-bit storage feature is needed.
+uint draw_index(DrawRecord d, uint i) {
+    if (d.index_kind == INDEX_NONE) return i;
+    if (d.index_kind == INDEX_U32) return MsUints(d.indices + 4UL * uint64_t(i)).v[0];
+    uint64_t address = d.indices + 2UL * uint64_t(i);
+    uint word = MsUints(address & ~3UL).v[0];
+    return (address & 2UL) != 0UL ? word >> 16 : word & 0xffffu;
+}
+
+vec3 transform(vec4 rows[3], vec3 p) {
+    vec4 h = vec4(p, 1.0);
+    return vec3(dot(rows[0], h), dot(rows[1], h), dot(rows[2], h));
+}
+
+// Whether every index of the draw's triangle `prim` is below the draw's vertex count. A
+// triangle that fails is not drawn by any pass (and the collection and lighting passes count
+// it), so a bad index buffer can never make a shader read outside the position streams.
+bool triangle_valid(DrawRecord d, uint prim) {
+    for (uint i = 0u; i < 3u; ++i) {
+        if (draw_index(d, 3u * prim + i) >= d.vertex_count) return false;
+    }
+    return true;
+}
+
+// World positions of corner `corner` of the draw's (valid) triangle `prim` at t = 0 and 1.
+void fetch_corner(DrawRecord d, uint prim, uint corner, out vec3 p0, out vec3 p1) {
+    uint v = min(draw_index(d, 3u * prim + corner), d.vertex_count - 1u);
+    Float3Ref a = Float3Ref(d.positions0 + uint64_t(d.stride0) * uint64_t(v));
+    Float3Ref b = Float3Ref(d.positions1 + uint64_t(d.stride1) * uint64_t(v));
+    p0 = transform(d.model0, vec3(a.v[0], a.v[1], a.v[2]));
+    p1 = transform(d.model1, vec3(b.v[0], b.v[1], b.v[2]));
+}
+
+// A triangle's three corners at t = 0 and t = 1.
+struct Triangle {
+    vec3 p0[3];
+    vec3 p1[3];
+};
+
+Triangle fetch_triangle(DrawRecord d, uint prim) {
+    Triangle tri;
+    for (uint i = 0u; i < 3u; ++i) fetch_corner(d, prim, i, tri.p0[i], tri.p1[i]);
+    return tri;
+}
+
+// The draw a global triangle id belongs to: draws are sorted by first id, ranges disjoint.
+uint find_draw(DrawTable table, uint draw_count, uint id) {
+    uint lo = 0u, hi = draw_count;
+    while (hi - lo > 1u) {
+        uint mid = (lo + hi) / 2u;
+        if (table.draws[mid].first_id <= id) lo = mid; else hi = mid;
+    }
+    return lo;
+}
+
+// ---- the camera of the lighting pass ----
+
+struct CameraParams {
+    mat4 view_proj;         // world -> camera clip
+    vec4 position;          // xyz; w = near plane distance
+    vec4 forward;           // xyz unit; w = far plane distance
+    vec4 ray00;             // ray direction through the image's top-left corner, unit along
+    vec4 ray_dx;            // the view axis; its change per pixel right
+    vec4 ray_dy;            // and down
+    uvec4 image;            // xy = image size, z = samples per pixel, w = seed
+    vec4 shading;           // x = ambient radiance factor
+    uint64_t visibility;    // Uint64Array: per pixel and sample of a chunk, depth bits | id
+    uint64_t radiance;      // Vec4Array: per pixel, accumulated radiance and moving share
+    uint64_t counters;      // UintArray: [0] = triangles dropped for an invalid index
+    uint64_t reserved;
+};
+
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TargetHeader {
+    CameraParams camera;
+};
+
+// ---- ordinary shadow maps ----
+
+const uint DEPTH_AND_ID = 0u;       // 64 bits: depth bits << 32 | triangle id
+const uint DEPTH_ONLY = 1u;         // 32 bits: depth bits (as the papers' TSM stores)
+
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer PlainHeader {
+    MsLight light;
+    uvec4 size;             // x, y = texels; z = layers; w = DEPTH_*
+    uint64_t depths;        // layer after layer
+    uint64_t reserved;
+};
+
+// ---- push constants ----
+
+// What every pass pushes (56 bytes).
+struct PassConstants {
+    uint64_t map;           // MsShadowMap or PlainHeader of the map built or read
+    uint64_t draws;         // DrawTable
+    uint64_t target;        // TargetHeader (lighting pass)
+    uint draw_index;        // the draw being drawn
+    uint draw_count;        // draws in the table
+    uint first_sample;      // first sample index of this chunk (shadow maps: the layer)
+    uint sample_count;      // samples in this chunk
+    uint mode;              // lighting: SHADOW_*; shadow maps: DEPTH_*
+    float time;             // shadow maps: the scene's time; lighting: see FIXED_TIME
+    uint flags;
+    uint reserved;
+};
 
 // Lighting pass shadow tests.
-const uint SHADOW_TEMPORAL = 0u;    // depth-time ranges
+const uint SHADOW_TEMPORAL = 0u;    // depth-time ranges (and the coverage map, if the map has one)
 const uint SHADOW_PLAIN = 1u;       // one ordinary map (depth and id) for every sample
 const uint SHADOW_NONE = 2u;
 const uint SHADOW_TSM = 3u;         // time-dependent shadow maps: sample in stratum s uses map s
 
 // Lighting pass flag: every sample at time pc.time (brute-force reference slices).
 const uint FIXED_TIME = 1u;
-// Collection and generation flag: build / use the coverage map (2017 paper's extension).
-const uint USE_COVERAGE = 2u;
-
-const uint SHADOW_COVERAGE = 4u;    // coverage map, then depth-time ranges
+// Prism pipelines: count triangles dropped for an invalid index (once per frame: collection).
+const uint COUNT_INVALID = 4u;
 
 // Which surface of a prism a fragment lies on (nearest map, coverage passes).
 const uint SURFACE_CAP0 = 0u;       // the triangle at t = 0
@@ -124,10 +218,6 @@ const uint64_t NEAREST_EMPTY = 0xffffffffffffffffUL;
 uint64_t pack_nearest(float depth, uint surface, uint id) {
     return (uint64_t(floatBitsToUint(max(depth, 0.0))) << 32) | uint64_t((surface << 30) | id);
 }
-
-// Ordinary shadow map contents.
-const uint DEPTH_AND_ID = 0u;       // 64 bits: depth bits << 32 | triangle id
-const uint DEPTH_ONLY = 1u;         // 32 bits: depth bits (as the papers' TSM stores)
 
 // ---- sampling: stratified times, deterministic for (pixel, sample, seed) ----
 
@@ -227,7 +317,6 @@ float intersect_triangle(vec3 origin, vec3 dir, vec3 a, vec3 b, vec3 c) {
 // The camera ray through a point of the image, in pixels from the top-left corner. `dir` is
 // scaled so that its component along the view axis is 1: the ray parameter of a hit is its
 // view depth, comparable across triangles and directly testable against near and far.
-vec3 camera_ray(FrameParams frame, vec2 pixel_pos) {
-    return frame.camera_ray00.xyz + pixel_pos.x * frame.camera_ray_dx.xyz
-           + pixel_pos.y * frame.camera_ray_dy.xyz;
+vec3 camera_ray(CameraParams camera, vec2 pixel_pos) {
+    return camera.ray00.xyz + pixel_pos.x * camera.ray_dx.xyz + pixel_pos.y * camera.ray_dy.xyz;
 }

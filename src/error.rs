@@ -15,7 +15,10 @@ pub enum Error {
     #[error(
         "no Vulkan device found{detail}. For a CPU device install lavapipe (Debian: `apt-get install mesa-vulkan-drivers`, or run scripts/setup.sh); check VK_DRIVER_FILES / VK_ICD_FILENAMES if set"
     )]
-    NoDevice { detail: String },
+    NoDevice {
+        /// What the loader said, if anything.
+        detail: String,
+    },
 
     /// Devices exist, but none has what the technique needs.
     #[error("no suitable Vulkan device: {0}")]
@@ -30,27 +33,36 @@ pub enum Error {
     /// A Vulkan call failed.
     #[error("Vulkan error in {call}: {result}")]
     Vulkan {
+        /// The Vulkan function.
         call: &'static str,
+        /// What it returned.
         result: vk::Result,
     },
 
     /// gpu-allocator could not allocate or free memory.
     #[error("GPU memory allocation for {what} failed: {source}")]
     Allocation {
+        /// The buffer (name and size).
         what: String,
+        /// gpu-allocator's error.
         #[source]
         source: gpu_allocator::AllocationError,
     },
 
     /// A buffer the technique needs is larger than the device can address.
     #[error(
-        "{what} needs {needed_bytes} bytes ({count} elements of {element_bytes} bytes), but this device can address at most {limit_bytes} bytes in one buffer (maxStorageBufferRange for descriptors, maxMemoryAllocationSize for buffers reached by address); reduce the resolution or the scene"
+        "{what} needs {needed_bytes} bytes ({count} elements of {element_bytes} bytes), but this device can address at most {limit_bytes} bytes in one buffer (maxMemoryAllocationSize: every buffer is reached by address); reduce the resolution or the scene"
     )]
     DeviceLimit {
+        /// The buffer.
         what: &'static str,
+        /// Elements it needs.
         count: u64,
+        /// Bytes per element.
         element_bytes: u64,
+        /// Bytes it needs.
         needed_bytes: u64,
+        /// Bytes the device allows.
         limit_bytes: u64,
     },
 
@@ -59,11 +71,23 @@ pub enum Error {
         "{pixels} shadow-map pixel(s) hold more than {limit} prism fragments (longest list: {longest}{more}); the generation pass pairs at most {limit} per pixel. The scene has too many moving surfaces behind one another as seen from the light"
     )]
     FragmentListTooLong {
+        /// Pixels whose lists were too long.
         pixels: u32,
+        /// The longest list (counted up to 8 times the limit).
         longest: u32,
         /// " or more" when the count was cut short.
         more: &'static str,
+        /// [`crate::technique::MAX_LIST_NODES`].
         limit: u32,
+    },
+
+    /// Some triangles were not drawn because an index pointed past their draw's vertex count.
+    #[error(
+        "{triangles} triangle(s) have an index at or past their draw's vertex count and were not drawn; check the index buffers and vertex counts of the draws"
+    )]
+    InvalidIndices {
+        /// Triangles dropped.
+        triangles: u32,
     },
 
     /// A caller-supplied value is out of range.

@@ -8,6 +8,8 @@
 //! The app (scenes, the standalone renderer, image output, the `motion-shadows` command
 //! line) is the `motion-shadows-app` crate in `app/`, a client of this public API.
 
+#![warn(missing_docs)]
+
 pub mod error;
 pub mod gpu;
 pub mod technique;

@@ -6,19 +6,24 @@ use ash::vk;
 /// One side of a barrier: pipeline stages and the memory accesses made there.
 #[derive(Debug, Clone, Copy)]
 pub struct Access {
+    /// Pipeline stages.
     pub stages: vk::PipelineStageFlags2,
+    /// Memory accesses in those stages.
     pub access: vk::AccessFlags2,
 }
 
 impl Access {
+    /// Copies, fills and updates writing.
     pub const TRANSFER_WRITE: Self = Self {
         stages: vk::PipelineStageFlags2::TRANSFER,
         access: vk::AccessFlags2::TRANSFER_WRITE,
     };
+    /// Copies reading.
     pub const TRANSFER_READ: Self = Self {
         stages: vk::PipelineStageFlags2::TRANSFER,
         access: vk::AccessFlags2::TRANSFER_READ,
     };
+    /// Fragment shaders reading and writing storage.
     pub const FRAGMENT_RW: Self = Self {
         stages: vk::PipelineStageFlags2::FRAGMENT_SHADER,
         access: vk::AccessFlags2::from_raw(
@@ -26,6 +31,15 @@ impl Access {
                 | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
         ),
     };
+    /// Geometry shaders reading and writing storage (counters).
+    pub const GEOMETRY_RW: Self = Self {
+        stages: vk::PipelineStageFlags2::GEOMETRY_SHADER,
+        access: vk::AccessFlags2::from_raw(
+            vk::AccessFlags2::SHADER_STORAGE_READ.as_raw()
+                | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
+        ),
+    };
+    /// Compute shaders reading and writing storage.
     pub const COMPUTE_RW: Self = Self {
         stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
         access: vk::AccessFlags2::from_raw(
@@ -46,10 +60,12 @@ impl Access {
                 | vk::AccessFlags2::UNIFORM_READ.as_raw(),
         ),
     };
+    /// Indirect dispatch arguments read.
     pub const INDIRECT_READ: Self = Self {
         stages: vk::PipelineStageFlags2::DRAW_INDIRECT,
         access: vk::AccessFlags2::INDIRECT_COMMAND_READ,
     };
+    /// The host reading mapped memory.
     pub const HOST_READ: Self = Self {
         stages: vk::PipelineStageFlags2::HOST,
         access: vk::AccessFlags2::HOST_READ,

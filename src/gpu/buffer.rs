@@ -33,7 +33,12 @@ impl BufferUsage {
                     | vk::BufferUsageFlags::INDIRECT_BUFFER
                     | transfer
             }
-            Self::HostToDevice => vk::BufferUsageFlags::STORAGE_BUFFER | transfer,
+            // Geometry the shaders read by address.
+            Self::HostToDevice => {
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS
+                    | transfer
+            }
             Self::Uniform => vk::BufferUsageFlags::UNIFORM_BUFFER,
             Self::Readback => vk::BufferUsageFlags::TRANSFER_DST,
         }
@@ -58,6 +63,8 @@ pub struct Buffer {
     allocation: Option<Allocation>,
     size: u64,
     name: String,
+    /// Made with SHADER_DEVICE_ADDRESS usage.
+    address_usage: bool,
 }
 
 impl Buffer {
@@ -102,6 +109,9 @@ impl Buffer {
             allocation: Some(allocation),
             size,
             name: name.to_owned(),
+            address_usage: usage
+                .flags()
+                .contains(vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS),
         };
         bound.vk("vkBindBufferMemory")?;
         Ok(buffer)
@@ -120,6 +130,7 @@ impl Buffer {
         Ok(buffer)
     }
 
+    /// The buffer handle.
     pub fn raw(&self) -> vk::Buffer {
         self.raw
     }
@@ -129,9 +140,11 @@ impl Buffer {
     pub fn uid(&self) -> u64 {
         self.uid
     }
+    /// Size in bytes.
     pub fn size(&self) -> u64 {
         self.size
     }
+    /// The name it was created with.
     pub fn name(&self) -> &str {
         &self.name
     }
@@ -183,10 +196,37 @@ impl Buffer {
     }
 
     /// The buffer's device address, for shaders that reach it through a buffer reference
-    /// (only [`BufferUsage::Storage`] buffers have one).
+    /// ([`BufferUsage::Storage`] and [`BufferUsage::HostToDevice`] buffers have one; 0 for
+    /// the others).
     pub fn device_address(&self) -> u64 {
-        let info = vk::BufferDeviceAddressInfo::default().buffer(self.raw);
-        unsafe { self.shared.device.get_buffer_device_address(&info) }
+        if self.address_usage {
+            let info = vk::BufferDeviceAddressInfo::default().buffer(self.raw);
+            unsafe { self.shared.device.get_buffer_device_address(&info) }
+        } else {
+            0
+        }
+    }
+
+    /// Records writes of `data` at the start of the buffer (`vkCmdUpdateBuffer`, in pieces
+    /// of at most 65,536 bytes). The caller puts the barriers around it.
+    ///
+    /// # Safety
+    /// `cmd` is recording, outside a render pass; `data` is plain data whose size is a
+    /// multiple of 4 and fits the buffer, which was made with transfer-destination usage.
+    pub unsafe fn record_write<T: Copy>(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        data: &[T],
+    ) {
+        // SAFETY: T is plain data (the caller's promise).
+        let bytes = unsafe {
+            std::slice::from_raw_parts(data.as_ptr() as *const u8, std::mem::size_of_val(data))
+        };
+        debug_assert!(bytes.len() % 4 == 0 && bytes.len() as u64 <= self.size);
+        for (i, piece) in bytes.chunks(65536).enumerate() {
+            unsafe { device.cmd_update_buffer(cmd, self.raw, i as u64 * 65536, piece) };
+        }
     }
 
     /// The whole buffer as a descriptor range.

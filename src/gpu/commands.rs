@@ -13,6 +13,7 @@ pub struct OneShot<'a> {
 }
 
 impl<'a> OneShot<'a> {
+    /// A command buffer from the context's pool and an unsignalled fence.
     pub fn new(ctx: &'a Context) -> Result<Self> {
         let device = ctx.device();
         let info = vk::CommandBufferAllocateInfo::default()

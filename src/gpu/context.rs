@@ -28,15 +28,25 @@ impl ContextOptions {
 /// What the library knows about the device it runs on.
 #[derive(Debug, Clone)]
 pub struct DeviceInfo {
+    /// The device's name.
     pub name: String,
+    /// Discrete, integrated, virtual or CPU.
     pub device_type: String,
+    /// The driver's name and version.
     pub driver: String,
+    /// maxStorageBufferRange.
     pub max_storage_buffer_range: u64,
+    /// maxMemoryAllocationSize: the largest buffer the library makes.
     pub max_allocation_size: u64,
+    /// Nanoseconds per timestamp tick.
     pub timestamp_period_ns: f32,
+    /// Valid bits of the queue's timestamps (0: no timestamps).
     pub timestamp_valid_bits: u32,
     /// Bits of sub-pixel precision the rasterizer snaps vertex positions to.
     pub sub_pixel_precision_bits: u32,
+    /// shaderStorageImageWriteWithoutFormat is supported (and, on a headless context,
+    /// enabled): the visibility-mask pass needs it.
+    pub storage_image_write_without_format: bool,
 }
 
 /// Objects that must outlive every buffer and pipeline: freed last, in the right order
@@ -117,6 +127,9 @@ fn device_info(instance: &ash::Instance, pd: vk::PhysicalDevice, family: u32) ->
             .get(family as usize)
             .map_or(0, |f| f.timestamp_valid_bits),
         sub_pixel_precision_bits: props.limits.sub_pixel_precision_bits,
+        storage_image_write_without_format: device_select::supports_storage_write_without_format(
+            instance, pd,
+        ),
     }
 }
 
@@ -215,7 +228,9 @@ impl Context {
     /// - `device` was created from `physical` of `instance`, with a queue of `queue_family`
     ///   supporting graphics and compute, Vulkan 1.3, and these features enabled:
     ///   geometryShader, fragmentStoresAndAtomics, shaderInt64, shaderBufferInt64Atomics,
-    ///   dynamicRendering, synchronization2, hostQueryReset, bufferDeviceAddress.
+    ///   dynamicRendering, synchronization2, hostQueryReset, bufferDeviceAddress; and, for
+    ///   the visibility-mask pass (`technique::VisibilityMaskPass`), also
+    ///   shaderStorageImageWriteWithoutFormat.
     /// - `instance` and `device` outlive the returned context and every object made from it.
     /// - The library submits to `queue` only through [`super::OneShot`] (which the standalone
     ///   renderer uses); passes only record into command buffers the host gives them.
@@ -292,18 +307,23 @@ impl Context {
         })
     }
 
+    /// The device.
     pub fn device(&self) -> &ash::Device {
         &self.shared.device
     }
+    /// The physical device.
     pub fn physical_device(&self) -> vk::PhysicalDevice {
         self.physical
     }
+    /// The queue [`super::OneShot`] submits to.
     pub fn queue(&self) -> vk::Queue {
         self.queue
     }
+    /// The queue's family.
     pub fn queue_family(&self) -> u32 {
         self.queue_family
     }
+    /// What the library knows about the device.
     pub fn info(&self) -> &DeviceInfo {
         &self.info
     }

@@ -141,7 +141,17 @@ pub(crate) fn choose(instance: &ash::Instance) -> Result<Chosen> {
         .ok_or_else(|| Error::MissingFeatures(rejected.join("; ")))
 }
 
-/// Enables exactly the features checked above.
+/// Whether the device supports an optional feature: `shaderStorageImageWriteWithoutFormat`
+/// (the visibility-mask pass writes any single-channel output format with one pipeline).
+pub(crate) fn supports_storage_write_without_format(
+    instance: &ash::Instance,
+    pd: vk::PhysicalDevice,
+) -> bool {
+    let f = unsafe { instance.get_physical_device_features(pd) };
+    f.shader_storage_image_write_without_format == vk::TRUE
+}
+
+/// Enables exactly the features checked above, and the optional ones the device has.
 pub(crate) fn create_device(
     instance: &ash::Instance,
     chosen: &Chosen,
@@ -153,7 +163,11 @@ pub(crate) fn create_device(
     let features = vk::PhysicalDeviceFeatures::default()
         .geometry_shader(true)
         .fragment_stores_and_atomics(true)
-        .shader_int64(true);
+        .shader_int64(true)
+        .shader_storage_image_write_without_format(supports_storage_write_without_format(
+            instance,
+            chosen.physical,
+        ));
     let mut f12 = vk::PhysicalDeviceVulkan12Features::default()
         .shader_buffer_int64_atomics(true)
         .host_query_reset(true)

@@ -9,7 +9,6 @@ mod buffer;
 mod commands;
 mod context;
 mod debug;
-mod descriptors;
 mod device_select;
 mod pipeline;
 mod timestamps;
@@ -18,9 +17,8 @@ pub use barrier::{Access, memory_barrier};
 pub use buffer::{Buffer, BufferUsage};
 pub use commands::OneShot;
 pub use context::{Context, ContextOptions, DeviceInfo};
-pub use descriptors::{DescriptorBinding, DescriptorKind, DescriptorSet};
 pub use pipeline::{
     Pipeline, ShaderModule, attachmentless_pipeline, begin_attachmentless, compute_pipeline,
-    pipeline_layout,
+    compute_pipeline_with_sets, pipeline_layout, pipeline_layout_with_sets,
 };
 pub use timestamps::TimestampQueries;

@@ -1,5 +1,7 @@
 //! Shader modules and pipelines. The technique's pipelines are all either compute or
 //! attachment-less graphics (fragment shaders write storage buffers), so that is all there is.
+//! They take no descriptor sets: shaders reach every buffer by device address through their
+//! push constants, so a pipeline never needs anything rewritten between frames.
 
 use super::context::{Context, Shared};
 use crate::error::{Error, Result, VkContext};
@@ -13,6 +15,7 @@ pub struct ShaderModule {
 }
 
 impl ShaderModule {
+    /// A module of `spirv` (`name` only for error messages).
     pub fn new(ctx: &Context, name: &str, spirv: &[u8]) -> Result<Self> {
         let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv))
             .map_err(|e| Error::InvalidArgument(format!("SPIR-V of {name}: {e}")))?;
@@ -24,6 +27,7 @@ impl ShaderModule {
             raw,
         })
     }
+    /// The module handle.
     pub fn raw(&self) -> vk::ShaderModule {
         self.raw
     }
@@ -38,8 +42,11 @@ impl Drop for ShaderModule {
 /// A pipeline and its layout, destroyed together.
 pub struct Pipeline {
     shared: Arc<Shared>,
+    /// The pipeline.
     pub raw: vk::Pipeline,
+    /// Its layout (push constants only).
     pub layout: vk::PipelineLayout,
+    /// Graphics or compute.
     pub bind_point: vk::PipelineBindPoint,
 }
 
@@ -55,12 +62,9 @@ impl Drop for Pipeline {
 }
 
 impl Pipeline {
-    /// Binds the pipeline and its one descriptor set.
-    pub fn bind(&self, device: &ash::Device, cmd: vk::CommandBuffer, set: vk::DescriptorSet) {
-        unsafe {
-            device.cmd_bind_pipeline(cmd, self.bind_point, self.raw);
-            device.cmd_bind_descriptor_sets(cmd, self.bind_point, self.layout, 0, &[set], &[]);
-        }
+    /// Binds the pipeline.
+    pub fn bind(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        unsafe { device.cmd_bind_pipeline(cmd, self.bind_point, self.raw) };
     }
 
     /// Pushes `constants` (plain data) to every stage of the layout.
@@ -73,34 +77,50 @@ impl Pipeline {
     }
 }
 
-/// A layout with one descriptor set and `push_bytes` of push constants visible to all stages.
-pub fn pipeline_layout(
+/// A layout with no descriptor sets and `push_bytes` of push constants visible to all stages.
+pub fn pipeline_layout(ctx: &Context, push_bytes: u32) -> Result<vk::PipelineLayout> {
+    pipeline_layout_with_sets(ctx, &[], push_bytes)
+}
+
+/// A layout with the given descriptor set layouts (for passes that read a host's images,
+/// which cannot be reached by address) and `push_bytes` of push constants for all stages.
+pub fn pipeline_layout_with_sets(
     ctx: &Context,
-    set_layout: vk::DescriptorSetLayout,
+    set_layouts: &[vk::DescriptorSetLayout],
     push_bytes: u32,
 ) -> Result<vk::PipelineLayout> {
-    let set_layouts = [set_layout];
     let ranges = [vk::PushConstantRange {
         stage_flags: vk::ShaderStageFlags::ALL,
         offset: 0,
         size: push_bytes,
     }];
-    let mut info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+    let mut info = vk::PipelineLayoutCreateInfo::default().set_layouts(set_layouts);
     if push_bytes > 0 {
         info = info.push_constant_ranges(&ranges);
     }
     unsafe { ctx.device().create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")
 }
 
+/// A compute pipeline of one SPIR-V module (entry point `main`).
 pub fn compute_pipeline(
     ctx: &Context,
-    set_layout: vk::DescriptorSetLayout,
+    push_bytes: u32,
+    name: &str,
+    spirv: &[u8],
+) -> Result<Pipeline> {
+    compute_pipeline_with_sets(ctx, &[], push_bytes, name, spirv)
+}
+
+/// A compute pipeline whose layout also has `set_layouts`.
+pub fn compute_pipeline_with_sets(
+    ctx: &Context,
+    set_layouts: &[vk::DescriptorSetLayout],
     push_bytes: u32,
     name: &str,
     spirv: &[u8],
 ) -> Result<Pipeline> {
     let module = ShaderModule::new(ctx, name, spirv)?;
-    let layout = pipeline_layout(ctx, set_layout, push_bytes)?;
+    let layout = pipeline_layout_with_sets(ctx, set_layouts, push_bytes)?;
     let stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module.raw())
@@ -133,7 +153,6 @@ pub fn compute_pipeline(
 /// Viewport and scissor are dynamic; no culling, no depth test (the shaders do their own).
 pub fn attachmentless_pipeline(
     ctx: &Context,
-    set_layout: vk::DescriptorSetLayout,
     push_bytes: u32,
     stages: &[(vk::ShaderStageFlags, &str, &[u8])],
 ) -> Result<Pipeline> {
@@ -151,7 +170,7 @@ pub fn attachmentless_pipeline(
                 .name(c"main")
         })
         .collect();
-    let layout = pipeline_layout(ctx, set_layout, push_bytes)?;
+    let layout = pipeline_layout(ctx, push_bytes)?;
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
     let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
         .topology(vk::PrimitiveTopology::TRIANGLE_LIST);

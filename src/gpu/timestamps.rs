@@ -6,6 +6,7 @@ use crate::error::{Result, VkContext};
 use ash::vk;
 use std::sync::Arc;
 
+/// A timestamp query pool with a label per mark.
 pub struct TimestampQueries {
     shared: Arc<Shared>,
     pool: vk::QueryPool,
@@ -16,6 +17,7 @@ pub struct TimestampQueries {
 }
 
 impl TimestampQueries {
+    /// Room for `capacity` marks.
     pub fn new(ctx: &Context, capacity: u32) -> Result<Self> {
         let info = vk::QueryPoolCreateInfo::default()
             .query_type(vk::QueryType::TIMESTAMP)

@@ -1,37 +1,37 @@
 //! Collection sub-pass (paper 4.1-4.2): the prisms of all moving triangles, rasterized from
 //! the light, every fragment appended to its pixel's list.
 
-use super::coverage::CoverageMap;
-use super::geometry::FrameInputs;
-use super::gpu_types::{Counters, PassConstants, USE_COVERAGE};
+use super::coverage::{CoverageMap, MAX_COVERAGE_TRIANGLES};
+use super::draws::DrawList;
+use super::gpu_types::{COUNT_INVALID, Counters, PassConstants};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
-use crate::error::Result;
+use super::view::LightView;
+use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Buffer, BufferUsage, Context, DescriptorBinding, DescriptorKind, DescriptorSet,
-    Pipeline, attachmentless_pipeline, begin_attachmentless, memory_barrier,
+    Access, Context, Pipeline, attachmentless_pipeline, begin_attachmentless, memory_barrier,
 };
 use ash::vk;
 
+/// The collection sub-pass. Immutable after creation: one serves every frame in flight and
+/// every light.
 pub struct CollectionPass {
-    set: DescriptorSet,
     pipeline: Pipeline,
-    /// Bound as the nearest map when no coverage map is built.
-    placeholder: Buffer,
 }
+
+/// Bytes of push constants every pipeline of the technique takes.
+pub(crate) const PUSH_BYTES: u32 = std::mem::size_of::<PassConstants>() as u32;
 
 /// Every triangle's prism from the light (scene.vert, collection.geom), into `fragment`: the
 /// collection pass and the coverage map's reset pass draw the same prisms.
 pub(crate) fn prism_pipeline(
     ctx: &Context,
-    set_layout: vk::DescriptorSetLayout,
     fragment_name: &str,
     fragment: &[u8],
 ) -> Result<Pipeline> {
     attachmentless_pipeline(
         ctx,
-        set_layout,
-        std::mem::size_of::<PassConstants>() as u32,
+        PUSH_BYTES,
         &[
             (
                 vk::ShaderStageFlags::VERTEX,
@@ -48,64 +48,88 @@ pub(crate) fn prism_pipeline(
     )
 }
 
-pub(crate) fn bindings(list: &[(u32, DescriptorKind)]) -> Vec<DescriptorBinding> {
-    list.iter()
-        .map(|&(binding, kind)| DescriptorBinding {
-            binding,
-            kind,
-            stages: vk::ShaderStageFlags::ALL,
-        })
-        .collect()
+/// Records one non-indexed draw of 3 vertices per triangle for every draw of the list (the
+/// vertex shader fetches through the draw's own indices), pushing `constants` with each
+/// draw's index. Inside dynamic rendering, with `pipeline` bound.
+pub(crate) fn draw_each(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    pipeline: &Pipeline,
+    draws: &DrawList,
+    constants: PassConstants,
+) {
+    for (i, record) in draws.records().iter().enumerate() {
+        if record.triangle_count == 0 {
+            continue;
+        }
+        let constants = PassConstants {
+            draws: draws.address(),
+            draw_index: i as u32,
+            draw_count: draws.draw_count(),
+            ..constants
+        };
+        pipeline.push(device, cmd, &constants);
+        unsafe { device.cmd_draw(cmd, 3 * record.triangle_count, 1, 0, 0) };
+    }
 }
 
 impl CollectionPass {
+    /// Creates the pipeline (vertex, geometry and fragment shader; no attachments).
     pub fn new(ctx: &Context) -> Result<Self> {
-        use DescriptorKind::{Storage, Uniform};
-        let set = DescriptorSet::new(
-            ctx,
-            &bindings(&[
-                (0, Uniform),
-                (1, Storage),
-                (2, Storage),
-                (3, Storage),
-                (5, Storage),
-                (6, Storage),
-            ]),
-        )?;
-        let pipeline = prism_pipeline(
-            ctx,
-            set.layout(),
-            "collection.frag",
-            shaders::COLLECTION_FRAG,
-        )?;
-        let placeholder = Buffer::new(ctx, "no nearest map", 8, BufferUsage::Storage)?;
-        Ok(Self {
-            set,
-            pipeline,
-            placeholder,
-        })
+        let pipeline = prism_pipeline(ctx, "collection.frag", shaders::COLLECTION_FRAG)?;
+        Ok(Self { pipeline })
     }
 
-    /// Records: clear the lists, draw every triangle's prism. The map's counters say
-    /// afterwards whether it had room (see `TemporalShadowMap`). With `coverage`, also fills
-    /// its nearest map (the extension's first pass; [`super::CoveragePass`] follows).
-    pub fn record(
-        &mut self,
+    /// Records the collection sub-pass of `map` for the frame lit by `light`: writes the map's
+    /// header (light and buffer addresses), clears its lists and counters, and draws every
+    /// triangle's prism. The map's counters say afterwards whether it had room (see
+    /// [`TemporalShadowMap::needs_more_room`]). With `coverage`, also fills its nearest map
+    /// (the 2017 extension's first pass; [`super::CoveragePass`] follows).
+    ///
+    /// Errors (nothing recorded) when the coverage map's size differs from the map's or the
+    /// draws' ids reach [`MAX_COVERAGE_TRIANGLES`] with a coverage map.
+    ///
+    /// # Safety
+    /// - `cmd` was allocated from `device` (the device the pass and the map were made on),
+    ///   is in the recording state, outside any render pass or dynamic rendering, and will
+    ///   run on a queue with graphics and compute.
+    /// - `draws` was updated ([`DrawList::record_update`]) earlier in `cmd` or in a command
+    ///   buffer submitted before it, and its position and index streams stay valid until
+    ///   `cmd` completes (their own contracts).
+    /// - `map` (and `coverage`) are not used by another command buffer that runs at the same
+    ///   time; the barriers recorded here order this use after earlier uses in the same
+    ///   queue.
+    ///
+    /// Synchronization: waits, with a global barrier, for earlier shader reads and writes and
+    /// transfers of any buffer of the map; leaves the lists written by the fragment stage and
+    /// made visible to later fragment and compute shader reads and writes. State changed: the
+    /// bound graphics pipeline, its push constants, viewport and scissor.
+    pub unsafe fn record(
+        &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
-        inputs: FrameInputs<'_>,
+        draws: &DrawList,
+        light: &LightView,
         map: &TemporalShadowMap,
         coverage: Option<&CoverageMap>,
-    ) {
-        let FrameInputs { frame, geometry } = inputs;
-        self.set.bind(&[
-            frame,
-            &geometry.vertices,
-            &geometry.triangles,
-            &map.heads,
-            &map.counters,
-            coverage.map_or(&self.placeholder, |c| &c.nearest),
-        ]);
+    ) -> Result<()> {
+        if let Some(c) = coverage {
+            if (c.width(), c.height()) != (map.width(), map.height()) {
+                return Err(Error::InvalidArgument(format!(
+                    "coverage map {}x{} for a shadow map of {}x{}",
+                    c.width(),
+                    c.height(),
+                    map.width(),
+                    map.height()
+                )));
+            }
+            if draws.id_end() > MAX_COVERAGE_TRIANGLES as u64 {
+                return Err(Error::InvalidArgument(format!(
+                    "the coverage map handles triangle ids below {MAX_COVERAGE_TRIANGLES}, the draws reach {}",
+                    draws.id_end()
+                )));
+            }
+        }
         // Earlier frames may still read these lists.
         memory_barrier(
             device,
@@ -116,6 +140,7 @@ impl CollectionPass {
                 .and(Access::TRANSFER_READ),
             Access::TRANSFER_WRITE,
         );
+        map.record_header(device, cmd, light, coverage);
         let counters = Counters {
             node_capacity: map.node_capacity(),
             range_capacity: map.range_capacity(),
@@ -123,12 +148,7 @@ impl CollectionPass {
         };
         unsafe {
             device.cmd_fill_buffer(cmd, map.heads.raw(), 0, vk::WHOLE_SIZE, 0);
-            // SAFETY: Counters is plain data.
-            let bytes: &[u8] = std::slice::from_raw_parts(
-                &counters as *const Counters as *const u8,
-                std::mem::size_of::<Counters>(),
-            );
-            device.cmd_update_buffer(cmd, map.counters.raw(), 0, bytes);
+            map.counters.record_write(device, cmd, &[counters]);
             if let Some(c) = coverage {
                 device.cmd_fill_buffer(cmd, c.nearest.raw(), 0, vk::WHOLE_SIZE, u32::MAX);
             }
@@ -137,25 +157,25 @@ impl CollectionPass {
             device,
             cmd,
             Access::TRANSFER_WRITE,
-            Access::FRAGMENT_RW.and(Access::COMPUTE_RW),
+            Access::ANY_SHADER_READ
+                .and(Access::FRAGMENT_RW)
+                .and(Access::COMPUTE_RW),
         );
         begin_attachmentless(device, cmd, map.width(), map.height());
-        self.pipeline.bind(device, cmd, self.set.raw());
+        self.pipeline.bind(device, cmd);
         let constants = PassConstants {
-            flags: if coverage.is_some() { USE_COVERAGE } else { 0 },
-            node_address: map.nodes.device_address(),
+            map: map.header_address(),
+            flags: COUNT_INVALID,
             ..PassConstants::default()
         };
-        self.pipeline.push(device, cmd, &constants);
-        unsafe {
-            device.cmd_draw(cmd, 3 * geometry.triangle_count(), 1, 0, 0);
-            device.cmd_end_rendering(cmd);
-        }
+        draw_each(device, cmd, &self.pipeline, draws, constants);
+        unsafe { device.cmd_end_rendering(cmd) };
         memory_barrier(
             device,
             cmd,
-            Access::FRAGMENT_RW,
+            Access::FRAGMENT_RW.and(Access::GEOMETRY_RW),
             Access::COMPUTE_RW.and(Access::FRAGMENT_RW),
         );
+        Ok(())
     }
 }

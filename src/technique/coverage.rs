@@ -10,14 +10,15 @@
 //!    nearer at some time, or the triangle's own edge sweeps over the pixel (see
 //!    coverage_reset.frag).
 
-use super::collection::{bindings, prism_pipeline};
-use super::geometry::FrameInputs;
+use super::collection::{PUSH_BYTES, draw_each, prism_pipeline};
+use super::draws::DrawList;
 use super::gpu_types::{DepthFormat, PassConstants};
 use super::shaders;
+use super::shadow_map::TemporalShadowMap;
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Buffer, BufferUsage, Context, DescriptorKind, DescriptorSet, Pipeline,
-    attachmentless_pipeline, begin_attachmentless, memory_barrier,
+    Access, Buffer, BufferUsage, Context, Pipeline, attachmentless_pipeline, begin_attachmentless,
+    memory_barrier,
 };
 use ash::vk;
 
@@ -37,15 +38,18 @@ pub struct CoverageMap {
 }
 
 impl CoverageMap {
+    /// The maps for a `width` x `height` temporal shadow map (one per map, per frame in
+    /// flight).
     pub fn new(ctx: &Context, width: u32, height: u32) -> Result<Self> {
         let pixels = width as u64 * height as u64;
-        if pixels * 8 > ctx.max_buffer_bytes() {
+        let limit = ctx.max_addressed_buffer_bytes();
+        if pixels * 8 > limit {
             return Err(Error::DeviceLimit {
                 what: "the nearest map",
                 count: pixels,
                 element_bytes: 8,
                 needed_bytes: pixels * 8,
-                limit_bytes: ctx.max_buffer_bytes(),
+                limit_bytes: limit,
             });
         }
         Ok(Self {
@@ -63,40 +67,30 @@ impl CoverageMap {
         self.nearest.size() + self.coverage.size() + self.cover_depth.size()
     }
 
+    /// Texels across.
     pub fn width(&self) -> u32 {
         self.width
     }
+    /// Texels down.
     pub fn height(&self) -> u32 {
         self.height
     }
 }
 
-/// Passes 2 and 3 of the extension. Record after [`super::CollectionPass::record`] with the
-/// same map (which fills the nearest map) and before [`super::GenerationPass::record`].
+/// Passes 2 and 3 of the extension. Immutable after creation: one serves every frame in
+/// flight and every light.
 pub struct CoveragePass {
-    caps_set: DescriptorSet,
     caps: Pipeline,
-    reset_set: DescriptorSet,
     reset: Pipeline,
 }
 
 impl CoveragePass {
+    /// Creates the caps pipeline (vertex and fragment shader) and the reset pipeline (the
+    /// collection pass's prisms with another fragment shader).
     pub fn new(ctx: &Context) -> Result<Self> {
-        use DescriptorKind::{Storage, Uniform};
-        let caps_set = DescriptorSet::new(
-            ctx,
-            &bindings(&[
-                (0, Uniform),
-                (1, Storage),
-                (3, Storage),
-                (4, Storage),
-                (5, Storage),
-            ]),
-        )?;
         let caps = attachmentless_pipeline(
             ctx,
-            caps_set.layout(),
-            std::mem::size_of::<PassConstants>() as u32,
+            PUSH_BYTES,
             &[
                 (
                     vk::ShaderStageFlags::VERTEX,
@@ -110,52 +104,30 @@ impl CoveragePass {
                 ),
             ],
         )?;
-        let reset_set = DescriptorSet::new(
-            ctx,
-            &bindings(&[
-                (0, Uniform),
-                (1, Storage),
-                (2, Storage),
-                (4, Storage),
-                (5, Storage),
-            ]),
-        )?;
-        let reset = prism_pipeline(
-            ctx,
-            reset_set.layout(),
-            "coverage_reset.frag",
-            shaders::COVERAGE_RESET_FRAG,
-        )?;
-        Ok(Self {
-            caps_set,
-            caps,
-            reset_set,
-            reset,
-        })
+        let reset = prism_pipeline(ctx, "coverage_reset.frag", shaders::COVERAGE_RESET_FRAG)?;
+        Ok(Self { caps, reset })
     }
 
-    pub fn record(
-        &mut self,
+    /// Records passes 2 and 3 for `coverage`, after [`super::CollectionPass::record`] of
+    /// `map` with the same coverage map (which wrote the header and filled the nearest map),
+    /// and before [`super::GenerationPass::record`].
+    ///
+    /// # Safety
+    /// As [`super::CollectionPass::record`], with `draws` the same list the collection pass
+    /// drew.
+    ///
+    /// Synchronization: waits for the collection's fragment writes (its closing barrier) and
+    /// earlier reads of the coverage map; leaves the coverage map written by the fragment
+    /// stage and visible to compute and every shader read. State changed: the bound graphics
+    /// pipeline, push constants, viewport, scissor.
+    pub unsafe fn record(
+        &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
-        inputs: FrameInputs<'_>,
-        map: &CoverageMap,
+        draws: &DrawList,
+        map: &TemporalShadowMap,
+        coverage: &CoverageMap,
     ) {
-        let FrameInputs { frame, geometry } = inputs;
-        self.caps_set.bind(&[
-            frame,
-            &geometry.vertices,
-            &map.nearest,
-            &map.coverage,
-            &map.cover_depth,
-        ]);
-        self.reset_set.bind(&[
-            frame,
-            &geometry.vertices,
-            &geometry.triangles,
-            &map.coverage,
-            &map.cover_depth,
-        ]);
         memory_barrier(
             device,
             cmd,
@@ -163,31 +135,32 @@ impl CoveragePass {
             Access::TRANSFER_WRITE,
         );
         unsafe {
-            device.cmd_fill_buffer(cmd, map.coverage.raw(), 0, vk::WHOLE_SIZE, u32::MAX);
-            device.cmd_fill_buffer(cmd, map.cover_depth.raw(), 0, vk::WHOLE_SIZE, 0);
+            device.cmd_fill_buffer(cmd, coverage.coverage.raw(), 0, vk::WHOLE_SIZE, u32::MAX);
+            device.cmd_fill_buffer(cmd, coverage.cover_depth.raw(), 0, vk::WHOLE_SIZE, 0);
         }
         memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::FRAGMENT_RW);
-        begin_attachmentless(device, cmd, map.width, map.height);
-        self.caps.bind(device, cmd, self.caps_set.raw());
+        begin_attachmentless(device, cmd, coverage.width, coverage.height);
+        self.caps.bind(device, cmd);
         for time in [0.0, 1.0] {
             let constants = PassConstants {
+                map: map.header_address(),
                 mode: DepthFormat::DepthAndId as u32,
                 time,
                 ..PassConstants::default()
             };
-            self.caps.push(device, cmd, &constants);
-            unsafe { device.cmd_draw(cmd, 3 * geometry.triangle_count(), 1, 0, 0) };
+            draw_each(device, cmd, &self.caps, draws, constants);
         }
         unsafe { device.cmd_end_rendering(cmd) };
         // The reset pass reads what the caps wrote, in other fragment invocations.
         memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::FRAGMENT_RW);
-        begin_attachmentless(device, cmd, map.width, map.height);
-        self.reset.bind(device, cmd, self.reset_set.raw());
-        self.reset.push(device, cmd, &PassConstants::default());
-        unsafe {
-            device.cmd_draw(cmd, 3 * geometry.triangle_count(), 1, 0, 0);
-            device.cmd_end_rendering(cmd);
-        }
+        begin_attachmentless(device, cmd, coverage.width, coverage.height);
+        self.reset.bind(device, cmd);
+        let constants = PassConstants {
+            map: map.header_address(),
+            ..PassConstants::default()
+        };
+        draw_each(device, cmd, &self.reset, draws, constants);
+        unsafe { device.cmd_end_rendering(cmd) };
         memory_barrier(
             device,
             cmd,

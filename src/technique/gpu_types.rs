@@ -1,5 +1,7 @@
-//! Rust mirrors of the structs in `glsl/shared.glsl`. Sizes and field offsets are checked
-//! against the shaders by `tests/gpu_layout.rs`.
+//! Rust mirrors of the structs in `glsl/motion_shadows.glsl` (public) and `glsl/shared.glsl`
+//! (internal). Sizes and field offsets are checked against the shaders by
+//! `tests/gpu/layout.rs`. All are `repr(C)` with std430 layout: glam's `Vec4` and `Mat4` are
+//! 16-byte aligned like GLSL's `vec4` and `mat4`.
 
 use glam::{Mat4, UVec4, Vec4};
 
@@ -7,62 +9,46 @@ use glam::{Mat4, UVec4, Vec4};
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Node {
+    /// Linear distance along the light's view axis.
     pub depth: f32,
+    /// Shutter time in [0, 1].
     pub time: f32,
+    /// Global triangle id.
     pub id: u32,
     /// Index + 1 of the next node of the same pixel; 0 ends the list.
     pub next: u32,
 }
 
-/// A depth-time range (24 bytes): the triangle `id` covers the pixel from `t_s` to `t_e`,
-/// at a depth going linearly from `d_s` to `d_e`.
+/// A depth-time range (24 bytes, `MsRange` in GLSL): the triangle `id` covers the texel
+/// from `t_s` to `t_e`, at a depth going linearly from `d_s` to `d_e`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Range {
+    /// Start of the interval (t_s <= t_e).
     pub t_s: f32,
+    /// End of the interval.
     pub t_e: f32,
+    /// Depth at `t_s`.
     pub d_s: f32,
+    /// Depth at `t_e`.
     pub d_e: f32,
+    /// Global triangle id.
     pub id: u32,
+    /// Index + 1 of the next range of the same texel; 0 ends the list.
     pub next: u32,
-}
-
-/// A vertex's world positions at t = 0 and t = 1 (w = 1).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct SceneVertex {
-    pub p0: Vec4,
-    pub p1: Vec4,
-}
-
-/// Per-triangle shading data: rgb albedo, w = [`TRIANGLE_CLOSED`] | [`TRIANGLE_MOVING`] flags
-/// (as a float).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct TriangleInfo {
-    pub albedo_flags: Vec4,
-}
-
-/// The triangle's mesh is closed: a triangle facing away all frame may be culled.
-pub const TRIANGLE_CLOSED: u32 = 1;
-/// Some vertex of the triangle moves during the frame.
-pub const TRIANGLE_MOVING: u32 = 2;
-
-impl TriangleInfo {
-    pub fn new(albedo: glam::Vec3, flags: u32) -> Self {
-        Self {
-            albedo_flags: albedo.extend(flags as f32),
-        }
-    }
 }
 
 /// Fragment and range counts (written by shaders) and capacities (written when recording).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Counters {
+    /// Fragments the collection pass produced (stored up to `node_capacity`).
     pub node_count: u32,
+    /// Room in the fragment buffer.
     pub node_capacity: u32,
+    /// Ranges the generation pass produced (stored up to `range_capacity`).
     pub range_count: u32,
+    /// Room in the range buffer.
     pub range_capacity: u32,
     /// Shadow-map pixels holding more than [`MAX_LIST_NODES`] fragments: not turned into
     /// ranges, so such a frame is an error.
@@ -71,68 +57,181 @@ pub struct Counters {
     pub longest_list: u32,
     /// What `range_count` would be without the coverage map (equal to it without one).
     pub ranges_without_coverage: u32,
-    pub reserved: u32,
+    /// Triangles not drawn because an index pointed past their draw's vertex count.
+    pub invalid_triangles: u32,
 }
 
 /// The most fragments one shadow-map pixel may hold (`MAX_LIST_NODES` in shared.glsl).
 pub const MAX_LIST_NODES: u32 = 512;
 
-/// Everything a frame's shaders need to know about the camera, light and sampling (std140).
+/// The light a shadow map is rendered for, as shaders read it (`MsLight`, 192 bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct FrameParams {
-    pub light_view: Mat4,
-    pub light_proj: Mat4,
-    pub camera_view_proj: Mat4,
-    pub camera_inv_view_proj: Mat4,
-    /// xyz; w = near plane distance.
-    pub camera_position: Vec4,
-    /// xyz unit; w = far plane distance.
-    pub camera_forward: Vec4,
-    /// xyz; w = 1 spot, 0 directional.
-    pub light_position: Vec4,
-    /// xyz unit; w = cos(cone half angle).
-    pub light_direction: Vec4,
-    /// x = intensity or irradiance, y = ambient, z = normal offset (texels), w = depth bias.
-    pub light_params: Vec4,
-    /// x = world size of a shadow texel per unit depth (spot) or absolute (directional).
-    pub light_texel: Vec4,
-    /// Ray direction through the image's top-left corner, with unit component along the view
-    /// axis; `camera_ray_dx`/`dy` are its change per pixel right and down.
-    pub camera_ray00: Vec4,
-    pub camera_ray_dx: Vec4,
-    pub camera_ray_dy: Vec4,
-    /// xy = shadow map size, zw = image size.
-    pub sizes: UVec4,
-    /// x = samples per pixel, y = seed.
-    pub sampling: UVec4,
+pub struct GpuLight {
+    /// World -> light view (right-handed, looking down -z).
+    pub view: Mat4,
+    /// Light view -> clip (Vulkan: z in [0, w], y down).
+    pub proj: Mat4,
+    /// xyz; w = 1 for a spot light, 0 for a directional light.
+    pub position: Vec4,
+    /// xyz unit; w = cos(cone half angle), -1 for a directional light.
+    pub direction: Vec4,
+    /// x = radiant intensity (W/sr, spot) or irradiance (W/m^2, directional).
+    pub emission: Vec4,
+    /// x = receiver offset along its normal in shadow texels, y = relative depth bias,
+    /// z = world size of a texel per unit depth (spot) or absolute (directional).
+    pub bias: Vec4,
 }
 
-/// What every pass pushes (48 bytes).
+/// The header of a temporal shadow map (`MsShadowMap` in GLSL, 288 bytes): what a host
+/// shader reads through the address [`super::TemporalShadowMap::header_address`].
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ShadowMapHeader {
+    /// The light of the frame.
+    pub light: GpuLight,
+    /// x, y = texels.
+    pub size: UVec4,
+    /// Per texel: index + 1 of its first range (u32).
+    pub range_heads: u64,
+    /// The ranges ([`Range`]).
+    pub ranges: u64,
+    /// 0, or the coverage map (u32 per texel: the covering triangle or u32::MAX).
+    pub coverage: u64,
+    /// The covering triangle's depth at t = 0 and t = 1 (two f32 per texel).
+    pub cover_depth: u64,
+    /// Per texel: index + 1 of its newest fragment.
+    pub heads: u64,
+    /// The fragments ([`Node`]).
+    pub nodes: u64,
+    /// The [`Counters`].
+    pub counters: u64,
+    /// The generation pass's list of pixels with long fragment lists.
+    pub long_pixels: u64,
+    /// The coverage map's nearest map (u64 per texel), 0 without one.
+    pub nearest: u64,
+    /// Unused (0).
+    pub reserved: u64,
+}
+
+/// The header of ordinary shadow maps (224 bytes); starts like [`ShadowMapHeader`].
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PlainMapHeader {
+    /// The light of the frame.
+    pub light: GpuLight,
+    /// x, y = texels, z = layers, w = a [`DepthFormat`].
+    pub size: UVec4,
+    /// The layers' texels, layer after layer.
+    pub depths: u64,
+    /// Unused (0).
+    pub reserved: u64,
+}
+
+/// `DrawRecord::index_kind`: no index stream.
+pub const INDEX_NONE: u32 = 0;
+/// `DrawRecord::index_kind`: 16-bit indices.
+pub const INDEX_U16: u32 = 1;
+/// `DrawRecord::index_kind`: 32-bit indices.
+pub const INDEX_U32: u32 = 2;
+/// Draw flag: the mesh is closed (a triangle facing away all frame may be culled).
+pub const DRAW_CLOSED: u32 = 1;
+
+/// One draw of host geometry as shaders read it (160 bytes). Built from a
+/// [`super::Draw`] by [`super::DrawList`].
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct DrawRecord {
+    /// Address of vertex 0's position at shutter open (3 floats).
+    pub positions0: u64,
+    /// Address of vertex 0's position at shutter close.
+    pub positions1: u64,
+    /// Address of index 0, or 0.
+    pub indices: u64,
+    /// Bytes between consecutive positions at shutter open.
+    pub stride0: u32,
+    /// Bytes between consecutive positions at shutter close.
+    pub stride1: u32,
+    /// [`INDEX_NONE`], [`INDEX_U16`] or [`INDEX_U32`].
+    pub index_kind: u32,
+    /// Vertices in each position stream (larger indices drop their triangle).
+    pub vertex_count: u32,
+    /// Global id of the draw's first triangle.
+    pub first_id: u32,
+    /// Triangles in the draw.
+    pub triangle_count: u32,
+    /// rgb albedo for the library's own lighting pass; w = `DRAW_*` flags (as a float).
+    pub albedo_flags: Vec4,
+    /// Rows of the object's 3x4 affine transform at t = 0.
+    pub model0: [Vec4; 3],
+    /// Rows of the object's 3x4 affine transform at t = 1.
+    pub model1: [Vec4; 3],
+}
+
+/// The camera and targets of the lighting pass (`CameraParams`, 208 bytes).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct CameraParams {
+    /// World -> camera clip.
+    pub view_proj: Mat4,
+    /// xyz; w = near plane distance.
+    pub position: Vec4,
+    /// xyz unit; w = far plane distance.
+    pub forward: Vec4,
+    /// Ray direction through the image's top-left corner, with unit component along the view
+    /// axis; `ray_dx`/`ray_dy` are its change per pixel right and down.
+    pub ray00: Vec4,
+    /// Change of the ray direction per pixel to the right.
+    pub ray_dx: Vec4,
+    /// Change of the ray direction per pixel down.
+    pub ray_dy: Vec4,
+    /// xy = image size, z = samples per pixel, w = seed.
+    pub image: UVec4,
+    /// x = ambient radiance factor.
+    pub shading: Vec4,
+    /// The per-sample visibility buffer.
+    pub visibility: u64,
+    /// The accumulated radiance (RGBA32F per pixel).
+    pub radiance: u64,
+    /// The target's counters (u32: triangles dropped for an invalid index).
+    pub counters: u64,
+    /// Unused (0).
+    pub reserved: u64,
+}
+
+/// What every pass pushes (56 bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PassConstants {
-    pub first_triangle: u32,
+    /// The header of the map built or read.
+    pub map: u64,
+    /// The [`DrawRecord`] table.
+    pub draws: u64,
+    /// The lighting target's [`CameraParams`].
+    pub target: u64,
+    /// The draw being drawn.
+    pub draw_index: u32,
+    /// Draws in the table.
+    pub draw_count: u32,
     /// First sample of a lighting chunk; the layer of an ordinary shadow map.
     pub first_sample: u32,
+    /// Samples in a lighting chunk.
     pub sample_count: u32,
     /// Lighting: a [`ShadowMode`]; ordinary shadow maps: a [`DepthFormat`].
     pub mode: u32,
     /// Ordinary shadow maps: the scene's time; lighting: the time of every sample when
     /// `flags` has [`FIXED_TIME`].
     pub time: f32,
+    /// [`FIXED_TIME`], [`COUNT_INVALID`].
     pub flags: u32,
-    pub reserved: [u32; 2],
-    /// Device address of the fragment (node) buffer, for passes that read or write it.
-    pub node_address: u64,
-    /// Device address of the range buffer.
-    pub range_address: u64,
+    /// Unused (0).
+    pub reserved: u32,
 }
 
 /// `PassConstants::flags` of the lighting pass: every sample at `PassConstants::time`.
 pub const FIXED_TIME: u32 = 1;
-/// `PassConstants::flags` of collection and generation: build / use the coverage map.
-pub const USE_COVERAGE: u32 = 2;
+/// `PassConstants::flags`: this draw counts its invalid triangles (once per frame).
+pub const COUNT_INVALID: u32 = 4;
 
 /// What an ordinary shadow map stores per texel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -146,6 +245,7 @@ pub enum DepthFormat {
 }
 
 impl DepthFormat {
+    /// Bytes per texel.
     pub fn bytes(self) -> u64 {
         match self {
             Self::DepthAndId => 8,
@@ -154,11 +254,12 @@ impl DepthFormat {
     }
 }
 
-/// `PassConstants::mode` of the resolve pass: which shadow test it applies.
+/// `PassConstants::mode` of the lighting pass: which shadow test it applies.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u32)]
 pub enum ShadowMode {
-    /// The depth-time ranges of a [`super::TemporalShadowMap`].
+    /// The depth-time ranges of a [`super::TemporalShadowMap`] (and its coverage map, if the
+    /// collection pass built one).
     Temporal = 0,
     /// One ordinary shadow map ([`super::PlainShadowMap`]) for every sample.
     Plain = 1,
@@ -166,8 +267,6 @@ pub enum ShadowMode {
     None = 2,
     /// Time-dependent shadow maps: a sample in time stratum s tests map s (depth only).
     Tsm = 3,
-    /// The coverage map, then the depth-time ranges (2017 paper's extension).
-    Coverage = 4,
 }
 
 /// The visibility buffer's "no triangle" id (and the plain shadow map's).
@@ -176,8 +275,11 @@ pub const NO_TRIANGLE: u32 = u32::MAX;
 const _: () = {
     assert!(std::mem::size_of::<Node>() == 16);
     assert!(std::mem::size_of::<Range>() == 24);
-    assert!(std::mem::size_of::<SceneVertex>() == 32);
-    assert!(std::mem::size_of::<FrameParams>() == 4 * 64 + 11 * 16);
-    assert!(std::mem::size_of::<PassConstants>() == 48);
     assert!(std::mem::size_of::<Counters>() == 32);
+    assert!(std::mem::size_of::<GpuLight>() == 192);
+    assert!(std::mem::size_of::<ShadowMapHeader>() == 288);
+    assert!(std::mem::size_of::<PlainMapHeader>() == 224);
+    assert!(std::mem::size_of::<DrawRecord>() == 160);
+    assert!(std::mem::size_of::<CameraParams>() == 208);
+    assert!(std::mem::size_of::<PassConstants>() == 56);
 };

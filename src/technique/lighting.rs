@@ -6,18 +6,17 @@
 //! atomicMin lets one geometry pass serve as many samples as fit in a storage buffer, and
 //! shading runs once per visible sample instead of once per covering fragment.
 
-use super::collection::bindings;
-use super::coverage::CoverageMap;
-use super::geometry::FrameInputs;
-use super::gpu_types::{FIXED_TIME, PassConstants, ShadowMode};
+use super::collection::{PUSH_BYTES, draw_each};
+use super::draws::DrawList;
+use super::gpu_types::{COUNT_INVALID, CameraParams, FIXED_TIME, PassConstants, ShadowMode};
 use super::plain_shadow::PlainShadowMap;
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
+use super::view::LightingView;
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Buffer, BufferUsage, Context, DescriptorKind, DescriptorSet, Pipeline,
-    TimestampQueries, attachmentless_pipeline, begin_attachmentless, compute_pipeline,
-    memory_barrier,
+    Access, Buffer, BufferUsage, Context, Pipeline, TimestampQueries, attachmentless_pipeline,
+    begin_attachmentless, compute_pipeline, memory_barrier,
 };
 use ash::vk;
 
@@ -25,15 +24,23 @@ use ash::vk;
 pub const MAX_SAMPLES_PER_CHUNK: u32 = 16;
 
 /// Where the lighting pass renders: the per-sample visibility buffer of one chunk and the
-/// accumulated linear radiance (RGBA32F per pixel; alpha unused).
+/// accumulated linear radiance (RGBA32F per pixel; alpha: the share of samples that see a
+/// moving triangle). One per frame in flight.
 pub struct LightingTarget {
     width: u32,
     height: u32,
     spp: u32,
     samples_per_chunk: u32,
+    /// The header (`CameraParams`): camera, sampling and this target's buffer addresses.
+    pub header: Buffer,
+    /// Per pixel and sample of a chunk: the nearest hit (depth bits << 32 | triangle id).
     pub visibility: Buffer,
+    /// Per pixel: accumulated radiance (rgb) and moving share (a).
     pub radiance: Buffer,
+    /// u32: triangles the lighting pass dropped for an invalid index.
+    pub counters: Buffer,
     readback: Buffer,
+    counters_readback: Buffer,
 }
 
 impl LightingTarget {
@@ -52,7 +59,7 @@ impl LightingTarget {
             )));
         }
         let pixels = width as u64 * height as u64;
-        let limit = ctx.max_buffer_bytes();
+        let limit = ctx.max_addressed_buffer_bytes();
         let fit = (limit / (pixels * 8)).min(MAX_SAMPLES_PER_CHUNK as u64) as u32;
         if fit == 0 || pixels * 16 > limit {
             return Err(Error::DeviceLimit {
@@ -69,6 +76,19 @@ impl LightingTarget {
             height,
             spp,
             samples_per_chunk,
+            header: Buffer::new(
+                ctx,
+                "lighting target header",
+                std::mem::size_of::<CameraParams>() as u64,
+                BufferUsage::Storage,
+            )?,
+            counters: Buffer::new(ctx, "lighting counters", 4, BufferUsage::Storage)?,
+            counters_readback: Buffer::new(
+                ctx,
+                "lighting counters readback",
+                4,
+                BufferUsage::Readback,
+            )?,
             visibility: Buffer::new(
                 ctx,
                 "visibility",
@@ -85,8 +105,19 @@ impl LightingTarget {
         self.spp
     }
 
+    /// Samples per pixel one geometry pass handles.
     pub fn samples_per_chunk(&self) -> u32 {
         self.samples_per_chunk
+    }
+
+    /// Pixels across.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Pixels down.
+    pub fn height(&self) -> u32 {
+        self.height
     }
 
     /// Records the copy that [`Self::read_rgb`] and [`Self::read_moving_coverage`] read after the submission completes.
@@ -97,8 +128,27 @@ impl LightingTarget {
             dst_offset: 0,
             size: self.radiance.size(),
         }];
-        unsafe { device.cmd_copy_buffer(cmd, self.radiance.raw(), self.readback.raw(), &region) };
+        let counter = [vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size: 4,
+        }];
+        unsafe {
+            device.cmd_copy_buffer(cmd, self.radiance.raw(), self.readback.raw(), &region);
+            device.cmd_copy_buffer(
+                cmd,
+                self.counters.raw(),
+                self.counters_readback.raw(),
+                &counter,
+            );
+        }
         memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+    }
+
+    /// Triangles the frame's lighting pass dropped because an index pointed past their draw's
+    /// vertex count (read after the submission of [`Self::record_readback`] completed).
+    pub fn read_invalid_triangles(&self) -> Result<u32> {
+        Ok(self.counters_readback.read::<u32>(1)?[0])
     }
 
     /// Linear radiance, 3 floats per pixel, top row first.
@@ -124,39 +174,43 @@ impl LightingTarget {
 /// What the lighting pass tests shadows against.
 #[derive(Clone, Copy)]
 pub enum ShadowSource<'a> {
+    /// The depth-time ranges of a temporal shadow map (and its coverage map, if its
+    /// collection pass was recorded with one).
     Temporal(&'a TemporalShadowMap),
-    /// Layer 0 of an ordinary shadow map with ids ([`super::DepthFormat::DepthAndId`]), for every
-    /// sample.
+    /// Layer 0 of an ordinary shadow map with ids ([`super::DepthFormat::DepthAndId`]), for
+    /// every sample.
     Plain(&'a PlainShadowMap),
-    /// A temporal shadow map generated with a coverage map, and that map.
-    Coverage(&'a TemporalShadowMap, &'a CoverageMap),
     /// Time-dependent shadow maps: one depth-only layer per time stratum (as many layers as
     /// samples per pixel); a sample tests the layer of its stratum.
     TimeDependent(&'a PlainShadowMap),
-    None,
+    /// No shadows; the map only gives the light (its shadow data is not read).
+    Unshadowed(&'a PlainShadowMap),
 }
 
+impl ShadowSource<'_> {
+    fn mode_and_header(&self) -> (ShadowMode, u64) {
+        match self {
+            Self::Temporal(map) => (ShadowMode::Temporal, map.header_address()),
+            Self::Plain(map) => (ShadowMode::Plain, map.header_address()),
+            Self::TimeDependent(map) => (ShadowMode::Tsm, map.header_address()),
+            Self::Unshadowed(map) => (ShadowMode::None, map.header_address()),
+        }
+    }
+}
+
+/// The papers' lighting pass. Immutable after creation: one serves every frame in flight.
 pub struct LightingPass {
-    raster_set: DescriptorSet,
     raster: Pipeline,
-    resolve_set: DescriptorSet,
     resolve: Pipeline,
-    /// Bound where a shadow source is not used, so every binding is always valid.
-    placeholder: Buffer,
 }
 
 impl LightingPass {
+    /// Creates the raster pipeline (vertex, geometry, fragment shader) and the resolve
+    /// compute pipeline.
     pub fn new(ctx: &Context) -> Result<Self> {
-        use DescriptorKind::{Storage, Uniform};
-        let push = std::mem::size_of::<PassConstants>() as u32;
-        let raster_set = DescriptorSet::new(
-            ctx,
-            &bindings(&[(0, Uniform), (1, Storage), (2, Storage), (3, Storage)]),
-        )?;
         let raster = attachmentless_pipeline(
             ctx,
-            raster_set.layout(),
-            push,
+            PUSH_BYTES,
             &[
                 (
                     vk::ShaderStageFlags::VERTEX,
@@ -175,52 +229,36 @@ impl LightingPass {
                 ),
             ],
         )?;
-        let resolve_set = DescriptorSet::new(
-            ctx,
-            &bindings(&[
-                (0, Uniform),
-                (1, Storage),
-                (2, Storage),
-                (3, Storage),
-                (4, Storage),
-                (5, Storage),
-                (7, Storage),
-                (8, Storage),
-                (9, Storage),
-                (10, Storage),
-            ]),
-        )?;
-        let resolve = compute_pipeline(
-            ctx,
-            resolve_set.layout(),
-            push,
-            "resolve.comp",
-            shaders::RESOLVE_COMP,
-        )?;
-        let placeholder = Buffer::new(ctx, "placeholder", 64, BufferUsage::Storage)?;
-        Ok(Self {
-            raster_set,
-            raster,
-            resolve_set,
-            resolve,
-            placeholder,
-        })
+        let resolve = compute_pipeline(ctx, PUSH_BYTES, "resolve.comp", shaders::RESOLVE_COMP)?;
+        Ok(Self { raster, resolve })
     }
 
-    /// Records the whole lighting pass for the target's samples per pixel (as many chunks as the
-    /// target needs), leaving the averaged radiance in `target.radiance`. The shadow source
-    /// must have been recorded earlier in the same or an earlier submission. With `timestamps`,
-    /// marks "lighting raster" and "lighting shade" after each chunk's two halves.
-    pub fn record(
-        &mut self,
+    /// Records the whole lighting pass for the target's samples per pixel (as many chunks as
+    /// the target needs), leaving the averaged radiance in `target.radiance`. With
+    /// `timestamps`, marks "lighting raster" and "lighting shade" after each chunk's halves.
+    ///
+    /// # Safety
+    /// - As [`super::CollectionPass::record`] for `cmd` and `draws`.
+    /// - The shadow source was recorded earlier in `cmd` (or a command buffer submitted
+    ///   before it on the same queue); its passes' closing barriers make it visible here.
+    /// - `target` is not in use by a command buffer running at the same time.
+    ///
+    /// Synchronization: waits for earlier compute and transfer uses of the target; leaves
+    /// the radiance written by the compute stage and visible to compute and transfer reads.
+    /// State changed: the bound graphics and compute pipelines, push constants, viewport,
+    /// scissor.
+    #[allow(clippy::too_many_arguments)]
+    pub unsafe fn record(
+        &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
-        inputs: FrameInputs<'_>,
+        draws: &DrawList,
+        view: &LightingView,
         shadow: ShadowSource<'_>,
         target: &LightingTarget,
         mut timestamps: Option<&mut TimestampQueries>,
     ) {
-        self.record_clear(device, cmd, target);
+        unsafe { self.record_clear(device, cmd, view, target) };
         let mut first = 0;
         while first < target.spp {
             let count = target.samples_per_chunk.min(target.spp - first);
@@ -229,104 +267,100 @@ impl LightingPass {
                 count,
                 fixed_time: None,
             };
-            self.record_samples(
-                device,
-                cmd,
-                inputs,
-                shadow,
-                target,
-                samples,
-                timestamps.as_deref_mut(),
-            );
+            unsafe {
+                self.record_samples(
+                    device,
+                    cmd,
+                    draws,
+                    shadow,
+                    target,
+                    samples,
+                    timestamps.as_deref_mut(),
+                )
+            };
             first += count;
         }
     }
 
-    /// Zeroes the target's radiance, before a frame's first [`Self::record_samples`].
-    pub fn record_clear(
+    /// Writes the target's header for `view` and zeroes its radiance and counters, before a
+    /// frame's first [`Self::record_samples`].
+    ///
+    /// # Safety
+    /// As [`Self::record`].
+    pub unsafe fn record_clear(
         &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
+        view: &LightingView,
         target: &LightingTarget,
     ) {
+        let header = CameraParams {
+            visibility: target.visibility.device_address(),
+            radiance: target.radiance.device_address(),
+            counters: target.counters.device_address(),
+            ..CameraParams::new(view, (target.width, target.height), target.spp)
+        };
         memory_barrier(
             device,
             cmd,
-            Access::COMPUTE_RW.and(Access::TRANSFER_READ),
+            Access::ANY_SHADER_READ
+                .and(Access::COMPUTE_RW)
+                .and(Access::GEOMETRY_RW)
+                .and(Access::TRANSFER_READ),
             Access::TRANSFER_WRITE,
         );
-        unsafe { device.cmd_fill_buffer(cmd, target.radiance.raw(), 0, vk::WHOLE_SIZE, 0) };
-        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_RW);
+        unsafe {
+            target.header.record_write(device, cmd, &[header]);
+            device.cmd_fill_buffer(cmd, target.radiance.raw(), 0, vk::WHOLE_SIZE, 0);
+            device.cmd_fill_buffer(cmd, target.counters.raw(), 0, vk::WHOLE_SIZE, 0);
+        }
+        memory_barrier(
+            device,
+            cmd,
+            Access::TRANSFER_WRITE,
+            Access::ANY_SHADER_READ
+                .and(Access::COMPUTE_RW)
+                .and(Access::GEOMETRY_RW),
+        );
     }
 
     /// Renders one chunk of samples (at most the target's samples per chunk) and adds their
-    /// share (1/spp each) to the target's radiance.
+    /// share (1/spp each) to the target's radiance. The chunk starting at sample 0 counts
+    /// the triangles dropped for an invalid index.
+    ///
+    /// # Safety
+    /// As [`Self::record`], after [`Self::record_clear`] of the same frame.
     #[allow(clippy::too_many_arguments)]
-    pub fn record_samples(
-        &mut self,
+    pub unsafe fn record_samples(
+        &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
-        inputs: FrameInputs<'_>,
+        draws: &DrawList,
         shadow: ShadowSource<'_>,
         target: &LightingTarget,
         samples: Samples,
         mut timestamps: Option<&mut TimestampQueries>,
     ) {
-        let FrameInputs { frame, geometry } = inputs;
-        let p = &self.placeholder;
-        let (mode, range_heads, ranges, plain, tsm, coverage, cover_depth) = match shadow {
-            ShadowSource::Temporal(map) => (
-                ShadowMode::Temporal,
-                &map.range_heads,
-                &map.ranges,
-                p,
-                p,
-                p,
-                p,
-            ),
-            ShadowSource::Coverage(map, cover) => (
-                ShadowMode::Coverage,
-                &map.range_heads,
-                &map.ranges,
-                p,
-                p,
-                &cover.coverage,
-                &cover.cover_depth,
-            ),
-            ShadowSource::Plain(map) => (ShadowMode::Plain, p, p, &map.depths, p, p, p),
-            ShadowSource::TimeDependent(maps) => (ShadowMode::Tsm, p, p, p, &maps.depths, p, p),
-            ShadowSource::None => (ShadowMode::None, p, p, p, p, p, p),
-        };
-        self.raster_set.bind(&[
-            frame,
-            &geometry.vertices,
-            &geometry.triangles,
-            &target.visibility,
-        ]);
-        self.resolve_set.bind(&[
-            frame,
-            &geometry.vertices,
-            &geometry.triangles,
-            &target.visibility,
-            &target.radiance,
-            range_heads,
-            plain,
-            tsm,
-            coverage,
-            cover_depth,
-        ]);
+        let (mode, map) = shadow.mode_and_header();
         let count = samples.count.clamp(1, target.samples_per_chunk);
+        let mut flags = if samples.fixed_time.is_some() {
+            FIXED_TIME
+        } else {
+            0
+        };
+        if samples.first == 0 {
+            flags |= COUNT_INVALID;
+        }
         let constants = PassConstants {
+            map,
+            draws: draws.address(),
+            target: target.header.device_address(),
+            draw_count: draws.draw_count(),
             first_sample: samples.first,
             sample_count: count,
             mode: mode as u32,
             time: samples.fixed_time.unwrap_or(0.0),
-            flags: if samples.fixed_time.is_some() {
-                FIXED_TIME
-            } else {
-                0
-            },
-            range_address: ranges.device_address(),
+            flags,
             ..PassConstants::default()
         };
         // The previous chunk's resolve read the visibility buffer.
@@ -341,17 +375,19 @@ impl LightingPass {
             Access::FRAGMENT_RW.and(Access::COMPUTE_RW),
         );
         begin_attachmentless(device, cmd, target.width, target.height);
-        self.raster.bind(device, cmd, self.raster_set.raw());
-        self.raster.push(device, cmd, &constants);
-        unsafe {
-            device.cmd_draw(cmd, 3 * geometry.triangle_count(), 1, 0, 0);
-            device.cmd_end_rendering(cmd);
-        }
+        self.raster.bind(device, cmd);
+        draw_each(device, cmd, &self.raster, draws, constants);
+        unsafe { device.cmd_end_rendering(cmd) };
         if let Some(ts) = timestamps.as_deref_mut() {
             ts.mark(cmd, "lighting raster");
         }
-        memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::COMPUTE_RW);
-        self.resolve.bind(device, cmd, self.resolve_set.raw());
+        memory_barrier(
+            device,
+            cmd,
+            Access::FRAGMENT_RW.and(Access::GEOMETRY_RW),
+            Access::COMPUTE_RW,
+        );
+        self.resolve.bind(device, cmd);
         self.resolve.push(device, cmd, &constants);
         unsafe { device.cmd_dispatch(cmd, target.width.div_ceil(8), target.height.div_ceil(8), 1) };
         if let Some(ts) = timestamps {
@@ -369,7 +405,9 @@ impl LightingPass {
 /// Which samples [`LightingPass::record_samples`] renders.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Samples {
+    /// Index of the first sample.
     pub first: u32,
+    /// Samples in the chunk.
     pub count: u32,
     /// Every sample at this time instead of its own stratified time (reference slices).
     pub fixed_time: Option<f32>,

@@ -1,20 +1,29 @@
-//! Layer 2: the technique. One module per pass; each pass owns its pipelines and descriptor
-//! sets and records into a command buffer that the caller gives it. Nothing here creates a
-//! device, submits or waits: the caller drives the frame (see `crate::render`).
+//! Layer 2: the technique. One module per pass; each pass owns its pipelines and records
+//! into a command buffer that the caller gives it. Nothing here creates a device, submits or
+//! waits: the caller drives the frame.
 //!
-//! A frame: [`CollectionPass`] fills a [`TemporalShadowMap`] with prism fragments,
-//! [`GenerationPass`] turns them into depth-time ranges, [`LightingPass`] renders the camera
-//! view with stochastic rasterization and tests each sample against the ranges.
-//! [`CoveragePass`] (between collection and generation) adds the 2017 paper's coverage map;
-//! [`PlainShadowPass`] renders ordinary shadow maps at given times, for the time-dependent
-//! shadow maps and the brute-force reference that the papers compare against.
+//! Passes are immutable after creation. Per-frame and per-light state lives in its own
+//! objects ([`DrawList`], [`TemporalShadowMap`], [`CoverageMap`], [`PlainShadowMap`],
+//! [`LightingTarget`]), which shaders reach by device address through push constants, so
+//! one set of passes serves N frames in flight and any number of lights.
+//!
+//! A frame: [`DrawList::record_update`] uploads the draws' descriptions (the host's own
+//! vertex and index buffers, read in place), [`CollectionPass`] fills a [`TemporalShadowMap`]
+//! with prism fragments, [`GenerationPass`] turns them into depth-time ranges. Then a host
+//! shader tests visibility with the GLSL include [`GLSL_INCLUDE`] (`ms_visibility`), or the
+//! papers' [`LightingPass`] renders the camera view with stochastic rasterization and tests
+//! each sample against the ranges. [`CoveragePass`] (between collection and generation) adds
+//! the 2017 paper's coverage map; [`PlainShadowPass`] renders ordinary shadow maps at given
+//! times, for the time-dependent shadow maps and the brute-force reference that the papers
+//! compare against.
 
 mod collection;
 mod coverage;
+mod draws;
 mod generation;
-mod geometry;
 pub mod gpu_types;
 mod lighting;
+mod mask;
 mod plain_shadow;
 pub mod shaders;
 mod shadow_map;
@@ -22,13 +31,23 @@ mod view;
 
 pub use collection::CollectionPass;
 pub use coverage::{CoverageMap, CoveragePass, MAX_COVERAGE_TRIANGLES};
+pub use draws::{Draw, DrawList, IndexStream, Indices, PositionStream};
 pub use generation::GenerationPass;
-pub use geometry::{FrameInputs, SceneGeometry};
 pub use gpu_types::{
-    Counters, DepthFormat, FIXED_TIME, FrameParams, MAX_LIST_NODES, Node, PassConstants, Range,
-    SceneVertex, ShadowMode, TRIANGLE_CLOSED, TRIANGLE_MOVING, TriangleInfo, USE_COVERAGE,
+    CameraParams, Counters, DepthFormat, DrawRecord, FIXED_TIME, GpuLight, MAX_LIST_NODES, Node,
+    PassConstants, PlainMapHeader, Range, ShadowMapHeader, ShadowMode,
 };
 pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, Samples, ShadowSource};
+pub use mask::{MaskBindings, MaskInputs, NormalEncoding, NormalImage, VisibilityMaskPass};
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
 pub use shadow_map::{ShadowMapContents, TemporalShadowMap};
-pub use view::{CameraView, FrameSettings, LightKind, LightView};
+pub use view::{
+    CameraView, DEFAULT_DEPTH_BIAS, DEFAULT_NORMAL_OFFSET_TEXELS, LightKind, LightView,
+    LightingView,
+};
+
+/// `glsl/motion_shadows.glsl`: the GLSL include a host's own shaders use to test visibility
+/// against a [`TemporalShadowMap`] (`ms_visibility(MsShadowMap(header_address), position,
+/// normal, t, MS_NO_TRIANGLE)`). Write it next to your shaders or hand it to your compiler's
+/// include callback.
+pub const GLSL_INCLUDE: &str = include_str!("../../glsl/motion_shadows.glsl");

@@ -2,16 +2,18 @@
 //! layer per time. The baseline for static scenes, the brute-force reference's per-slice map,
 //! and time-dependent shadow maps (one depth-only layer per time stratum).
 
-use super::collection::bindings;
-use super::geometry::FrameInputs;
-use super::gpu_types::{DepthFormat, PassConstants};
+use super::collection::{PUSH_BYTES, draw_each};
+use super::draws::DrawList;
+use super::gpu_types::{DepthFormat, PassConstants, PlainMapHeader};
 use super::shaders;
+use super::view::LightView;
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Buffer, BufferUsage, Context, DescriptorKind, DescriptorSet, Pipeline,
-    attachmentless_pipeline, begin_attachmentless, memory_barrier,
+    Access, Buffer, BufferUsage, Context, Pipeline, attachmentless_pipeline, begin_attachmentless,
+    memory_barrier,
 };
 use ash::vk;
+use glam::UVec4;
 
 /// `layers` shadow maps of `width` x `height` in one buffer, layer after layer.
 pub struct PlainShadowMap {
@@ -19,10 +21,14 @@ pub struct PlainShadowMap {
     height: u32,
     layers: u32,
     format: DepthFormat,
+    /// The header (`PlainHeader` in shared.glsl): light, size and the depths' address.
+    pub header: Buffer,
+    /// The layers' texels.
     pub depths: Buffer,
 }
 
 impl PlainShadowMap {
+    /// `layers` maps of `width` x `height` texels of `format` (one per frame in flight).
     pub fn new(
         ctx: &Context,
         width: u32,
@@ -32,13 +38,19 @@ impl PlainShadowMap {
     ) -> Result<Self> {
         let count = width as u64 * height as u64 * layers.max(1) as u64;
         let bytes = count * format.bytes();
-        if bytes > ctx.max_buffer_bytes() {
+        let limit = ctx.max_addressed_buffer_bytes();
+        if width == 0 || height == 0 {
+            return Err(Error::InvalidArgument(format!(
+                "shadow map size {width}x{height}"
+            )));
+        }
+        if bytes > limit {
             return Err(Error::DeviceLimit {
                 what: "the ordinary shadow maps",
                 count,
                 element_bytes: format.bytes(),
                 needed_bytes: bytes,
-                limit_bytes: ctx.max_buffer_bytes(),
+                limit_bytes: limit,
             });
         }
         Ok(Self {
@@ -46,14 +58,26 @@ impl PlainShadowMap {
             height,
             layers: layers.max(1),
             format,
+            header: Buffer::new(
+                ctx,
+                "ordinary shadow map header",
+                std::mem::size_of::<PlainMapHeader>() as u64,
+                BufferUsage::Storage,
+            )?,
             depths: Buffer::new(ctx, "ordinary shadow maps", bytes, BufferUsage::Storage)?,
         })
     }
+    /// Maps in the buffer.
     pub fn layers(&self) -> u32 {
         self.layers
     }
+    /// What each texel holds.
     pub fn format(&self) -> DepthFormat {
         self.format
+    }
+    /// The device address of the header.
+    pub fn header_address(&self) -> u64 {
+        self.header.device_address()
     }
     /// Bytes of the maps' texels (the papers' figure for TSM: layers x 4 x pixels).
     pub fn bytes(&self) -> u64 {
@@ -61,22 +85,17 @@ impl PlainShadowMap {
     }
 }
 
+/// Renders ordinary shadow maps. Immutable after creation.
 pub struct PlainShadowPass {
-    set: DescriptorSet,
     pipeline: Pipeline,
 }
 
 impl PlainShadowPass {
+    /// Creates the pipeline (vertex and fragment shader, no attachments).
     pub fn new(ctx: &Context) -> Result<Self> {
-        use DescriptorKind::{Storage, Uniform};
-        let set = DescriptorSet::new(
-            ctx,
-            &bindings(&[(0, Uniform), (1, Storage), (3, Storage), (4, Storage)]),
-        )?;
         let pipeline = attachmentless_pipeline(
             ctx,
-            set.layout(),
-            std::mem::size_of::<PassConstants>() as u32,
+            PUSH_BYTES,
             &[
                 (
                     vk::ShaderStageFlags::VERTEX,
@@ -90,40 +109,59 @@ impl PlainShadowPass {
                 ),
             ],
         )?;
-        Ok(Self { set, pipeline })
+        Ok(Self { pipeline })
     }
 
-    /// Renders layer i of `map` at `times[i]`.
-    pub fn record(
-        &mut self,
+    /// Renders layer i of `map` with the scene at `times[i]`, seen from `light`.
+    ///
+    /// # Safety
+    /// As [`super::CollectionPass::record`] (for `map` instead of a temporal map).
+    ///
+    /// Synchronization: waits for earlier shader reads and fragment writes of the map;
+    /// leaves its texels written by the fragment stage and visible to shader reads in every
+    /// stage. State changed: the bound graphics pipeline, push constants, viewport, scissor.
+    pub unsafe fn record(
+        &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
-        inputs: FrameInputs<'_>,
+        draws: &DrawList,
+        light: &LightView,
         map: &PlainShadowMap,
         times: &[f32],
     ) {
-        let FrameInputs { frame, geometry } = inputs;
-        self.set
-            .bind(&[frame, &geometry.vertices, &map.depths, &map.depths]);
+        let header = PlainMapHeader {
+            light: light.gpu(),
+            size: UVec4::new(map.width, map.height, map.layers, map.format as u32),
+            depths: map.depths.device_address(),
+            reserved: 0,
+        };
         memory_barrier(
             device,
             cmd,
             Access::ANY_SHADER_READ.and(Access::FRAGMENT_RW),
             Access::TRANSFER_WRITE,
         );
-        unsafe { device.cmd_fill_buffer(cmd, map.depths.raw(), 0, vk::WHOLE_SIZE, u32::MAX) };
-        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::FRAGMENT_RW);
+        unsafe {
+            map.header.record_write(device, cmd, &[header]);
+            device.cmd_fill_buffer(cmd, map.depths.raw(), 0, vk::WHOLE_SIZE, u32::MAX);
+        }
+        memory_barrier(
+            device,
+            cmd,
+            Access::TRANSFER_WRITE,
+            Access::ANY_SHADER_READ.and(Access::FRAGMENT_RW),
+        );
         begin_attachmentless(device, cmd, map.width, map.height);
-        self.pipeline.bind(device, cmd, self.set.raw());
+        self.pipeline.bind(device, cmd);
         for (layer, &t) in times.iter().enumerate().take(map.layers as usize) {
             let constants = PassConstants {
+                map: map.header_address(),
                 first_sample: layer as u32,
                 mode: map.format as u32,
                 time: t,
                 ..PassConstants::default()
             };
-            self.pipeline.push(device, cmd, &constants);
-            unsafe { device.cmd_draw(cmd, 3 * geometry.triangle_count(), 1, 0, 0) };
+            draw_each(device, cmd, &self.pipeline, draws, constants);
         }
         unsafe { device.cmd_end_rendering(cmd) };
         memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::ANY_SHADER_READ);

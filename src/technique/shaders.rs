@@ -6,16 +6,31 @@ macro_rules! spirv {
     };
 }
 
+/// SPIR-V of `glsl/scene.vert`.
 pub const SCENE_VERT: &[u8] = spirv!("scene.vert");
+/// SPIR-V of `glsl/collection.geom`.
 pub const COLLECTION_GEOM: &[u8] = spirv!("collection.geom");
+/// SPIR-V of `glsl/collection.frag`.
 pub const COLLECTION_FRAG: &[u8] = spirv!("collection.frag");
+/// SPIR-V of `glsl/generation.comp`.
 pub const GENERATION_COMP: &[u8] = spirv!("generation.comp");
+/// SPIR-V of `glsl/generation_long.comp`.
 pub const GENERATION_LONG_COMP: &[u8] = spirv!("generation_long.comp");
+/// SPIR-V of `glsl/lighting.geom`.
 pub const LIGHTING_GEOM: &[u8] = spirv!("lighting.geom");
+/// SPIR-V of `glsl/lighting.frag`.
 pub const LIGHTING_FRAG: &[u8] = spirv!("lighting.frag");
+/// SPIR-V of `glsl/resolve.comp`.
 pub const RESOLVE_COMP: &[u8] = spirv!("resolve.comp");
+/// SPIR-V of `glsl/shadow_depth.vert`.
 pub const SHADOW_DEPTH_VERT: &[u8] = spirv!("shadow_depth.vert");
+/// SPIR-V of `glsl/shadow_depth.frag`.
 pub const SHADOW_DEPTH_FRAG: &[u8] = spirv!("shadow_depth.frag");
+/// SPIR-V of `glsl/layout_probe.comp`.
 pub const LAYOUT_PROBE_COMP: &[u8] = spirv!("layout_probe.comp");
+/// SPIR-V of `glsl/coverage.frag`.
 pub const COVERAGE_FRAG: &[u8] = spirv!("coverage.frag");
+/// SPIR-V of `glsl/coverage_reset.frag`.
 pub const COVERAGE_RESET_FRAG: &[u8] = spirv!("coverage_reset.frag");
+/// SPIR-V of `glsl/visibility_mask.comp`.
+pub const VISIBILITY_MASK_COMP: &[u8] = spirv!("visibility_mask.comp");

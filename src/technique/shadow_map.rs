@@ -1,26 +1,41 @@
 //! The temporal shadow map: per-pixel linked lists of prism fragments (collection sub-pass)
-//! and of depth-time ranges (generation sub-pass), in plain storage buffers that a host's own
-//! shader can bind (layouts in `glsl/shared.glsl`).
+//! and of depth-time ranges (generation sub-pass), in plain storage buffers reached by device
+//! address. A small header buffer (`MsShadowMap` in `glsl/motion_shadows.glsl`) holds the
+//! light of the frame and every buffer's address: a host shader needs only the header's
+//! address to test shadows.
 
-use super::gpu_types::{Counters, MAX_LIST_NODES, Node, Range};
-
-const COUNTER_BYTES: u64 = std::mem::size_of::<Counters>() as u64;
+use super::coverage::CoverageMap;
+use super::gpu_types::{Counters, MAX_LIST_NODES, Node, Range, ShadowMapHeader};
+use super::view::LightView;
 use crate::error::{Error, Result};
 use crate::gpu::{Access, Buffer, BufferUsage, Context, OneShot, memory_barrier};
 use ash::vk;
+use glam::UVec4;
 
+const COUNTER_BYTES: u64 = std::mem::size_of::<Counters>() as u64;
+
+/// One temporal shadow map: one light's view for one frame in flight. Create one per light
+/// and per frame in flight; the passes that fill and read it are shared by all.
+///
+/// Resizing: a map has a fixed texel size; make a new one for another size (after the frames
+/// using the old one have completed). Its fragment and range capacities grow with
+/// [`Self::grow_to_fit`] when [`Self::needs_more_room`] says a frame overflowed.
 pub struct TemporalShadowMap {
     width: u32,
     height: u32,
     node_capacity: u32,
     range_capacity: u32,
+    /// The header (`MsShadowMap`): light and buffer addresses, written by the collection pass.
+    pub header: Buffer,
     /// Per pixel: index + 1 of the newest node, 0 for none.
     pub heads: Buffer,
+    /// The fragments ([`Node`]).
     pub nodes: Buffer,
     /// [`Counters`]: counts written by the passes, capacities by the collection pass.
     pub counters: Buffer,
     /// Per pixel: index + 1 of the first range, 0 for none.
     pub range_heads: Buffer,
+    /// The ranges ([`Range`]).
     pub ranges: Buffer,
     /// The generation pass's list of pixels with long fragment lists (a count, indirect
     /// dispatch arguments, then up to one index per pixel).
@@ -60,8 +75,8 @@ impl TemporalShadowMap {
             )));
         }
         let pixels = width as u64 * height as u64;
-        let (bound, addressed) = (ctx.max_buffer_bytes(), ctx.max_addressed_buffer_bytes());
-        let head_bytes = checked_bytes("the shadow map's list heads", pixels, 4, bound)?;
+        let addressed = ctx.max_addressed_buffer_bytes();
+        let head_bytes = checked_bytes("the shadow map's list heads", pixels, 4, addressed)?;
         let node_bytes = checked_bytes(
             "the fragment (node) buffer",
             node_capacity.max(1) as u64,
@@ -79,6 +94,12 @@ impl TemporalShadowMap {
             height,
             node_capacity: node_capacity.max(1),
             range_capacity: range_capacity.max(1),
+            header: Buffer::new(
+                ctx,
+                "shadow map header",
+                std::mem::size_of::<ShadowMapHeader>() as u64,
+                BufferUsage::Storage,
+            )?,
             heads: Buffer::new(ctx, "node heads", head_bytes, BufferUsage::Storage)?,
             nodes: Buffer::new(ctx, "nodes", node_bytes, BufferUsage::Storage)?,
             counters: Buffer::new(ctx, "counters", COUNTER_BYTES, BufferUsage::Storage)?,
@@ -99,22 +120,63 @@ impl TemporalShadowMap {
         })
     }
 
+    /// Texels across.
     pub fn width(&self) -> u32 {
         self.width
     }
+    /// Texels down.
     pub fn height(&self) -> u32 {
         self.height
     }
+    /// Fragments the map has room for.
     pub fn node_capacity(&self) -> u32 {
         self.node_capacity
     }
+    /// Ranges the map has room for.
     pub fn range_capacity(&self) -> u32 {
         self.range_capacity
+    }
+
+    /// The device address of the map's header (`MsShadowMap` in `glsl/motion_shadows.glsl`):
+    /// what a host shader needs to test shadows with `ms_shadowed` / `ms_visibility`. It
+    /// changes when the map grows ([`Self::grow_to_fit`] makes new buffers).
+    pub fn header_address(&self) -> u64 {
+        self.header.device_address()
+    }
+
+    /// Records the header's update for a frame lit by `light` (with or without a coverage
+    /// map), between the barriers that order it after earlier readers and before later ones.
+    pub(crate) fn record_header(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        light: &LightView,
+        coverage: Option<&CoverageMap>,
+    ) {
+        let header = ShadowMapHeader {
+            light: light.gpu(),
+            size: UVec4::new(self.width, self.height, 0, 0),
+            range_heads: self.range_heads.device_address(),
+            ranges: self.ranges.device_address(),
+            coverage: coverage.map_or(0, |c| c.coverage.device_address()),
+            cover_depth: coverage.map_or(0, |c| c.cover_depth.device_address()),
+            heads: self.heads.device_address(),
+            nodes: self.nodes.device_address(),
+            counters: self.counters.device_address(),
+            long_pixels: self.long_pixels.device_address(),
+            nearest: coverage.map_or(0, |c| c.nearest.device_address()),
+            reserved: 0,
+        };
+        memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE);
+        // SAFETY: plain data of the header's size; recording outside a render pass (the
+        // collection pass's contract).
+        unsafe { self.header.record_write(device, cmd, &[header]) };
     }
 
     /// Bytes of GPU memory the map's buffers occupy.
     pub fn allocated_bytes(&self) -> u64 {
         [
+            &self.header,
             &self.heads,
             &self.nodes,
             &self.counters,
@@ -134,8 +196,14 @@ impl TemporalShadowMap {
     }
 
     /// An error if the frame that produced `counts` had pixels whose fragment lists were too
-    /// long to pair (their ranges are missing): the frame must not be used.
+    /// long to pair (their ranges are missing), or triangles dropped for an invalid index:
+    /// the frame must not be used.
     pub fn check_complete(&self, counts: &Counters) -> Result<()> {
+        if counts.invalid_triangles > 0 {
+            return Err(Error::InvalidIndices {
+                triangles: counts.invalid_triangles,
+            });
+        }
         if counts.overlong_pixels == 0 {
             return Ok(());
         }
@@ -190,6 +258,8 @@ impl TemporalShadowMap {
         memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
     }
 
+    /// The counters copied by [`Self::record_counter_readback`], once that submission has
+    /// completed.
     pub fn read_counters(&self) -> Result<Counters> {
         Ok(self.counters_readback.read::<Counters>(1)?[0])
     }
@@ -247,11 +317,17 @@ pub(crate) fn download<T: Copy + Default>(
 /// A host copy of a temporal shadow map.
 #[derive(Debug, Clone)]
 pub struct ShadowMapContents {
+    /// Texels across.
     pub width: u32,
+    /// Texels down.
     pub height: u32,
+    /// Per texel: index + 1 of its newest fragment.
     pub heads: Vec<u32>,
+    /// The fragments.
     pub nodes: Vec<Node>,
+    /// Per texel: index + 1 of its first range.
     pub range_heads: Vec<u32>,
+    /// The ranges.
     pub ranges: Vec<Range>,
 }
 

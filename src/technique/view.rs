@@ -1,22 +1,30 @@
 //! The camera and the light as the passes see them: matrices and the few scalars the shaders
-//! need, packed into [`FrameParams`].
+//! need, packed into [`GpuLight`] (in a shadow map's header) and [`CameraParams`] (in a
+//! lighting target's header).
 
-use super::gpu_types::FrameParams;
+use super::gpu_types::{CameraParams, GpuLight};
 use glam::camera::rh::{proj::vulkan, view::look_at_mat4};
 use glam::{Mat4, UVec4, Vec3, Vec4};
 
-/// A perspective camera.
+/// A perspective camera (right-handed view, Vulkan projection: z in [0, w], y down).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CameraView {
+    /// Eye position in the world.
     pub position: Vec3,
+    /// Unit view direction.
     pub forward: Vec3,
+    /// World -> view.
     pub view: Mat4,
+    /// View -> clip.
     pub proj: Mat4,
+    /// Near plane distance.
     pub near: f32,
+    /// Far plane distance.
     pub far: f32,
 }
 
 impl CameraView {
+    /// A camera at `position` looking at `target`.
     pub fn perspective(
         position: Vec3,
         target: Vec3,
@@ -40,23 +48,49 @@ impl CameraView {
 /// What the light is: a point light with a hard cone (spot) or a parallel light.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum LightKind {
-    /// `cos_cone`: cosine of the cone's half angle; `intensity` in W/sr.
-    Spot { cos_cone: f32, intensity: f32 },
-    /// `irradiance` in W/m^2 on a surface facing the light.
-    Directional { irradiance: f32 },
+    /// A point light with a hard cone.
+    Spot {
+        /// Cosine of the cone's half angle.
+        cos_cone: f32,
+        /// Radiant intensity in W/sr.
+        intensity: f32,
+    },
+    /// A parallel light.
+    Directional {
+        /// Irradiance in W/m^2 on a surface facing the light.
+        irradiance: f32,
+    },
 }
 
-/// The light's view: the shadow map is rendered with `view` and `proj`.
+/// The light's view: the shadow map is rendered with `view` and `proj`, and looked up with
+/// the receiver offset and depth bias below.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LightView {
+    /// Spot or directional, with its emission.
     pub kind: LightKind,
+    /// Position (spot) or the point the orthographic view is seen from (directional).
     pub position: Vec3,
+    /// Unit direction the light points in.
     pub direction: Vec3,
+    /// World -> light view.
     pub view: Mat4,
+    /// Light view -> clip.
     pub proj: Mat4,
     /// World size of one shadow texel: per unit depth (spot), or absolute (directional).
     pub texel: f32,
+    /// A receiver is tested this many shadow texels along its normal (default 1), so that
+    /// neighbouring triangles of one surface do not shadow it where the map is coarser than
+    /// the image.
+    pub normal_offset_texels: f32,
+    /// Relative depth bias: a receiver at light depth d is tested at d * (1 - bias)
+    /// (default 1e-4).
+    pub depth_bias: f32,
 }
+
+/// Default [`LightView::normal_offset_texels`].
+pub const DEFAULT_NORMAL_OFFSET_TEXELS: f32 = 1.0;
+/// Default [`LightView::depth_bias`].
+pub const DEFAULT_DEPTH_BIAS: f32 = 1e-4;
 
 fn up_for(direction: Vec3) -> Vec3 {
     if direction.normalize().dot(Vec3::Y).abs() > 0.99 {
@@ -90,6 +124,8 @@ impl LightView {
             view: look_at_mat4(position, position + direction, up_for(direction)),
             proj: vulkan::perspective(2.0 * half, aspect, near, far),
             texel: 2.0 * half.tan() / shadow_size.1 as f32,
+            normal_offset_texels: DEFAULT_NORMAL_OFFSET_TEXELS,
+            depth_bias: DEFAULT_DEPTH_BIAS,
         }
     }
 
@@ -117,41 +153,45 @@ impl LightView {
             view: look_at_mat4(position, center, up_for(direction)),
             proj: vulkan::orthographic(-hx, hx, -hy, hy, near, far),
             texel: 2.0 * hy / shadow_size.1 as f32,
+            normal_offset_texels: DEFAULT_NORMAL_OFFSET_TEXELS,
+            depth_bias: DEFAULT_DEPTH_BIAS,
         }
     }
 
+    /// Whether it is a spot light (perspective map) rather than directional (orthographic).
     pub fn is_spot(&self) -> bool {
         matches!(self.kind, LightKind::Spot { .. })
     }
+
+    /// The light as shaders read it.
+    pub fn gpu(&self) -> GpuLight {
+        let (w, emission, cos_cone) = match self.kind {
+            LightKind::Spot {
+                cos_cone,
+                intensity,
+            } => (1.0, intensity, cos_cone),
+            LightKind::Directional { irradiance } => (0.0, irradiance, -1.0),
+        };
+        GpuLight {
+            view: self.view,
+            proj: self.proj,
+            position: self.position.extend(w),
+            direction: self.direction.extend(cos_cone),
+            emission: Vec4::new(emission, 0.0, 0.0, 0.0),
+            bias: Vec4::new(self.normal_offset_texels, self.depth_bias, self.texel, 0.0),
+        }
+    }
 }
 
-/// How the lighting pass samples and biases; see the README's shading model.
+/// How the library's own lighting pass samples the camera view and shades.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FrameSettings {
-    pub image_size: (u32, u32),
-    pub shadow_size: (u32, u32),
-    pub spp: u32,
+pub struct LightingView {
+    /// The camera.
+    pub camera: CameraView,
+    /// Seed of the samples' positions and times (same seed, same bytes).
     pub seed: u32,
     /// Constant ambient radiance factor (radiance += ambient * albedo).
     pub ambient: f32,
-    /// Receiver offset along its normal, in shadow texels.
-    pub normal_offset_texels: f32,
-    /// Relative depth bias: a receiver at depth d is tested at d * (1 - bias).
-    pub depth_bias: f32,
-}
-
-impl FrameSettings {
-    pub fn new(image_size: (u32, u32), shadow_size: (u32, u32), spp: u32, seed: u32) -> Self {
-        Self {
-            image_size,
-            shadow_size,
-            spp,
-            seed,
-            ambient: 0.0,
-            normal_offset_texels: 1.0,
-            depth_bias: 1e-4,
-        }
-    }
 }
 
 /// Camera ray directions as an affine function of the pixel position (see `camera_ray` in
@@ -170,44 +210,22 @@ fn camera_ray_basis(camera: &CameraView, image_size: (u32, u32)) -> [Vec4; 3] {
     [ray00.extend(0.0), dx.extend(0.0), dy.extend(0.0)]
 }
 
-impl FrameParams {
-    pub fn new(camera: &CameraView, light: &LightView, settings: &FrameSettings) -> Self {
-        let view_proj = camera.proj * camera.view;
-        let [camera_ray00, camera_ray_dx, camera_ray_dy] =
-            camera_ray_basis(camera, settings.image_size);
-        let (light_w, light_value, cos_cone) = match light.kind {
-            LightKind::Spot {
-                cos_cone,
-                intensity,
-            } => (1.0, intensity, cos_cone),
-            LightKind::Directional { irradiance } => (0.0, irradiance, -1.0),
-        };
+impl CameraParams {
+    /// The camera part of a lighting target's header (the buffer addresses are the
+    /// target's own, filled in by it).
+    pub fn new(view: &LightingView, image_size: (u32, u32), spp: u32) -> Self {
+        let camera = &view.camera;
+        let [ray00, ray_dx, ray_dy] = camera_ray_basis(camera, image_size);
         Self {
-            light_view: light.view,
-            light_proj: light.proj,
-            camera_view_proj: view_proj,
-            camera_inv_view_proj: view_proj.inverse(),
-            camera_position: camera.position.extend(camera.near),
-            camera_forward: camera.forward.extend(camera.far),
-            light_position: light.position.extend(light_w),
-            light_direction: light.direction.extend(cos_cone),
-            light_params: Vec4::new(
-                light_value,
-                settings.ambient,
-                settings.normal_offset_texels,
-                settings.depth_bias,
-            ),
-            light_texel: Vec4::new(light.texel, 0.0, 0.0, 0.0),
-            camera_ray00,
-            camera_ray_dx,
-            camera_ray_dy,
-            sizes: UVec4::new(
-                settings.shadow_size.0,
-                settings.shadow_size.1,
-                settings.image_size.0,
-                settings.image_size.1,
-            ),
-            sampling: UVec4::new(settings.spp, settings.seed, 0, 0),
+            view_proj: camera.proj * camera.view,
+            position: camera.position.extend(camera.near),
+            forward: camera.forward.extend(camera.far),
+            ray00,
+            ray_dx,
+            ray_dy,
+            image: UVec4::new(image_size.0, image_size.1, spp, view.seed),
+            shading: Vec4::new(view.ambient, 0.0, 0.0, 0.0),
+            ..Self::default()
         }
     }
 }

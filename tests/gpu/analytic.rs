@@ -6,8 +6,8 @@ use crate::support::gpu::{
 };
 use crate::support::prism_model::{edge_margin_at_pixel, prism_triangles};
 use glam::{Vec3, Vec4};
-use motion_shadows_app::render::upload::light_view;
 use motion_shadows::technique::Range;
+use motion_shadows_app::render::upload::light_view;
 
 const SIZE: (u32, u32) = (64, 64);
 

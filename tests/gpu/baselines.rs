@@ -8,7 +8,9 @@ use crate::support::gpu::{
 use glam::{Vec2, Vec3};
 use motion_shadows_app::output::RadianceImage;
 use motion_shadows_app::render::{Method, RenderSettings};
-use motion_shadows_app::scene::{BuiltinOptions, RigidTransform, Scene, box_mesh, builtin, plane_mesh};
+use motion_shadows_app::scene::{
+    BuiltinOptions, RigidTransform, Scene, box_mesh, builtin, plane_mesh,
+};
 
 fn rmse(a: &RadianceImage, b: &RadianceImage, mask: Option<&[bool]>) -> f64 {
     let (mut sum, mut n) = (0.0f64, 0usize);

@@ -5,14 +5,14 @@
 
 use crate::support::gpu::{assert_no_validation_messages, context, render};
 use crate::support::host::Host;
-use motion_shadows::gpu::{Buffer, BufferUsage, Context};
-use motion_shadows_app::render::{RenderSettings, upload};
-use motion_shadows_app::scene::{BuiltinOptions, Scene, builtin};
+use motion_shadows::gpu::Context;
 use motion_shadows::technique::{
-    CollectionPass, Counters, FrameInputs, FrameParams, FrameSettings, GenerationPass,
-    LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, SceneGeometry, ShadowSource,
-    TemporalShadowMap,
+    CollectionPass, Counters, DrawList, GenerationPass, LightingPass, LightingTarget, LightingView,
+    MAX_SAMPLES_PER_CHUNK, ShadowSource, TemporalShadowMap,
 };
+use motion_shadows_app::render::RenderSettings;
+use motion_shadows_app::render::upload::{self, SceneGeometry};
+use motion_shadows_app::scene::{BuiltinOptions, Scene, builtin};
 
 const WIDTH: u32 = 128;
 const HEIGHT: u32 = 96;
@@ -44,24 +44,17 @@ fn render_embedded(host: &Host, scene: &Scene) -> Embedded {
     assert_eq!(ctx.info().name, host.device_name);
 
     let size = (WIDTH, HEIGHT);
-    let (vertices, triangles) = upload::flatten(scene);
-    let geometry = SceneGeometry::new(&ctx, &vertices, &triangles).expect("geometry");
-    let mut settings = FrameSettings::new(size, size, SPP, SEED);
-    settings.ambient = scene.ambient;
-    let params = FrameParams::new(
-        &upload::camera_view(scene, size),
-        &upload::light_view(scene, size),
-        &settings,
-    );
-    let frame =
-        Buffer::with_data(&ctx, "frame params", BufferUsage::Uniform, &[params]).expect("frame");
-    let inputs = FrameInputs {
-        frame: &frame,
-        geometry: &geometry,
+    let geometry = SceneGeometry::upload(&ctx, scene).expect("geometry");
+    let mut draws = DrawList::new(&ctx, geometry.draws.len() as u32).expect("draw list");
+    let light = upload::light_view(scene, size);
+    let view = LightingView {
+        camera: upload::camera_view(scene, size),
+        seed: SEED,
+        ambient: scene.ambient,
     };
-    let mut collection = CollectionPass::new(&ctx).expect("collection pass");
-    let mut generation = GenerationPass::new(&ctx).expect("generation pass");
-    let mut lighting = LightingPass::new(&ctx).expect("lighting pass");
+    let collection = CollectionPass::new(&ctx).expect("collection pass");
+    let generation = GenerationPass::new(&ctx).expect("generation pass");
+    let lighting = LightingPass::new(&ctx).expect("lighting pass");
     let target =
         LightingTarget::new(&ctx, WIDTH, HEIGHT, SPP, MAX_SAMPLES_PER_CHUNK).expect("target");
     let mut map = TemporalShadowMap::new(&ctx, WIDTH, HEIGHT, 16, 16).expect("map");
@@ -75,17 +68,27 @@ fn render_embedded(host: &Host, scene: &Scene) -> Embedded {
             "the shadow map still overflows after growing"
         );
         host.record_and_wait(|cmd| {
-            collection.record(device, cmd, inputs, &map, None);
-            generation.record(device, cmd, &frame, &map, None);
-            map.record_counter_readback(device, cmd);
-            lighting.record(
-                device,
-                cmd,
-                inputs,
-                ShadowSource::Temporal(&map),
-                &target,
-                None,
-            );
+            // SAFETY: the host's command buffer is recording, outside rendering, on its
+            // graphics+compute queue; every object outlives the wait below.
+            unsafe {
+                draws
+                    .record_update(device, cmd, &geometry.draws)
+                    .expect("draws");
+                collection
+                    .record(device, cmd, &draws, &light, &map, None)
+                    .expect("collection");
+                generation.record(device, cmd, &map);
+                map.record_counter_readback(device, cmd);
+                lighting.record(
+                    device,
+                    cmd,
+                    &draws,
+                    &view,
+                    ShadowSource::Temporal(&map),
+                    &target,
+                    None,
+                );
+            }
             target.record_readback(device, cmd);
         })
         .expect("host submission");
@@ -102,7 +105,7 @@ fn render_embedded(host: &Host, scene: &Scene) -> Embedded {
         "a from_raw context has no messenger of its own"
     );
     drop((
-        map, target, lighting, generation, collection, frame, geometry,
+        map, target, lighting, generation, collection, draws, geometry,
     ));
     drop(ctx);
     Embedded {

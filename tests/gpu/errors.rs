@@ -2,10 +2,10 @@
 
 use crate::support::gpu::{assert_no_validation_messages, context};
 use motion_shadows::Error;
+use motion_shadows::technique::TemporalShadowMap;
 use motion_shadows_app::Error as AppError;
 use motion_shadows_app::render::{RenderSettings, Renderer};
 use motion_shadows_app::scene::{BuiltinOptions, builtin};
-use motion_shadows::technique::TemporalShadowMap;
 
 #[test]
 fn buffers_beyond_the_device_limit_are_refused_with_figures() {

@@ -7,10 +7,10 @@ use crate::support::gpu::{
 };
 use glam::Vec3;
 use motion_shadows::Error;
+use motion_shadows::technique::{MAX_LIST_NODES, Node, Range, ShadowMapContents};
 use motion_shadows_app::Error as AppError;
 use motion_shadows_app::render::{RenderSettings, Renderer};
 use motion_shadows_app::scene::{BuiltinOptions, builtin};
-use motion_shadows::technique::{MAX_LIST_NODES, Node, Range, ShadowMapContents};
 use std::collections::BTreeMap;
 
 fn expected_ranges(nodes: &[Node]) -> Vec<Range> {

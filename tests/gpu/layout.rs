@@ -1,111 +1,275 @@
-//! The Rust mirrors in `technique::gpu_types` have the layout of `glsl/shared.glsl`: a probe
-//! shader writes known values through each GLSL struct and copies the frame parameters back.
+//! The Rust mirrors in `technique::gpu_types` have the layouts of the GLSL structs in
+//! `glsl/motion_shadows.glsl` and `glsl/shared.glsl`: a probe shader reads every struct the
+//! host writes (headers, draw record, camera, push constants) field by field and dumps the
+//! scalars, which must equal the host's fields in declaration order; and it writes known
+//! values through the structs shaders write (Node, MsRange, Counters).
 
 use crate::support::gpu::{assert_no_validation_messages, context};
-use glam::{Mat4, UVec4, Vec3, Vec4};
-use motion_shadows::gpu::{
-    Access, Buffer, BufferUsage, DescriptorBinding, DescriptorKind, DescriptorSet, OneShot,
-    compute_pipeline, memory_barrier,
-};
+use glam::{Mat4, UVec4, Vec4};
+use motion_shadows::gpu::{Access, Buffer, BufferUsage, OneShot, compute_pipeline, memory_barrier};
 use motion_shadows::technique::{
-    Counters, FrameParams, Node, PassConstants, Range, SceneVertex, shaders,
+    CameraParams, Counters, DrawRecord, GpuLight, Node, PassConstants, PlainMapHeader, Range,
+    ShadowMapHeader, shaders,
 };
+
+/// Distinct values for every field, so that a shifted field cannot pass.
+struct Values(u32);
+
+impl Values {
+    fn f(&mut self) -> f32 {
+        self.0 += 1;
+        self.0 as f32 + 0.5
+    }
+    fn u(&mut self) -> u32 {
+        self.0 += 1;
+        1000 + self.0
+    }
+    fn a(&mut self) -> u64 {
+        self.0 += 1;
+        0x1234_5678_0000_0000 | self.0 as u64
+    }
+    fn v(&mut self) -> Vec4 {
+        Vec4::new(self.f(), self.f(), self.f(), self.f())
+    }
+    fn uv(&mut self) -> UVec4 {
+        UVec4::new(self.u(), self.u(), self.u(), self.u())
+    }
+    fn m(&mut self) -> Mat4 {
+        Mat4::from_cols(self.v(), self.v(), self.v(), self.v())
+    }
+    fn light(&mut self) -> GpuLight {
+        GpuLight {
+            view: self.m(),
+            proj: self.m(),
+            position: self.v(),
+            direction: self.v(),
+            emission: self.v(),
+            bias: self.v(),
+        }
+    }
+}
+
+/// The host's side of the dump: the same scalars, field by field, in declaration order.
+#[derive(Default)]
+struct Dump(Vec<u32>);
+
+impl Dump {
+    fn f(&mut self, x: f32) {
+        self.0.push(x.to_bits());
+    }
+    fn u(&mut self, x: u32) {
+        self.0.push(x);
+    }
+    fn a(&mut self, x: u64) {
+        self.0.push(x as u32);
+        self.0.push((x >> 32) as u32);
+    }
+    fn v(&mut self, x: Vec4) {
+        x.to_array().into_iter().for_each(|c| self.f(c));
+    }
+    fn uv(&mut self, x: UVec4) {
+        x.to_array().into_iter().for_each(|c| self.u(c));
+    }
+    fn m(&mut self, x: Mat4) {
+        x.to_cols_array().into_iter().for_each(|c| self.f(c));
+    }
+    fn light(&mut self, l: &GpuLight) {
+        self.m(l.view);
+        self.m(l.proj);
+        self.v(l.position);
+        self.v(l.direction);
+        self.v(l.emission);
+        self.v(l.bias);
+    }
+}
 
 #[test]
 fn shared_structs_match_glsl() {
     let ctx = context();
     let device = ctx.device();
-    let binding = |binding, kind| DescriptorBinding {
-        binding,
-        kind,
-        stages: ash::vk::ShaderStageFlags::COMPUTE,
-    };
-    use DescriptorKind::{Storage, Uniform};
-    let mut set = DescriptorSet::new(
-        &ctx,
-        &[
-            binding(0, Uniform),
-            binding(1, Storage),
-            binding(2, Storage),
-            binding(3, Storage),
-            binding(4, Storage),
-            binding(5, Storage),
-            binding(6, Storage),
-        ],
-    )
-    .unwrap();
     let pipeline = compute_pipeline(
         &ctx,
-        set.layout(),
         std::mem::size_of::<PassConstants>() as u32,
         "layout_probe.comp",
         shaders::LAYOUT_PROBE_COMP,
     )
     .unwrap();
 
-    // Every field distinct, so a shifted field cannot pass.
-    let mut params = FrameParams::default();
-    let mut next = 1.0f32;
-    let mut value = || {
-        next += 1.0;
-        next
+    let mut val = Values(0);
+    let shadow = ShadowMapHeader {
+        light: val.light(),
+        size: val.uv(),
+        range_heads: val.a(),
+        ranges: val.a(),
+        coverage: val.a(),
+        cover_depth: val.a(),
+        heads: val.a(),
+        nodes: val.a(),
+        counters: val.a(),
+        long_pixels: val.a(),
+        nearest: val.a(),
+        reserved: val.a(),
     };
-    let mut mat = || Mat4::from_cols_array(&std::array::from_fn(|_| value()));
-    params.light_view = mat();
-    params.light_proj = mat();
-    params.camera_view_proj = mat();
-    params.camera_inv_view_proj = mat();
-    let mut vec = || Vec4::new(value(), value(), value(), value());
-    params.camera_position = vec();
-    params.camera_forward = vec();
-    params.light_position = vec();
-    params.light_direction = vec();
-    params.light_params = vec();
-    params.light_texel = vec();
-    params.camera_ray00 = vec();
-    params.camera_ray_dx = vec();
-    params.camera_ray_dy = vec();
-    params.sizes = UVec4::new(101, 102, 103, 104);
-    params.sampling = UVec4::new(105, 106, 107, 108);
+    let plain = PlainMapHeader {
+        light: val.light(),
+        size: val.uv(),
+        depths: val.a(),
+        reserved: val.a(),
+    };
+    let draw = DrawRecord {
+        positions0: val.a(),
+        positions1: val.a(),
+        indices: val.a(),
+        stride0: val.u(),
+        stride1: val.u(),
+        index_kind: val.u(),
+        vertex_count: val.u(),
+        first_id: val.u(),
+        triangle_count: val.u(),
+        albedo_flags: val.v(),
+        model0: [val.v(), val.v(), val.v()],
+        model1: [val.v(), val.v(), val.v()],
+    };
+    let camera = CameraParams {
+        view_proj: val.m(),
+        position: val.v(),
+        forward: val.v(),
+        ray00: val.v(),
+        ray_dx: val.v(),
+        ray_dy: val.v(),
+        image: val.uv(),
+        shading: val.v(),
+        visibility: val.a(),
+        radiance: val.a(),
+        counters: val.a(),
+        reserved: val.a(),
+    };
 
-    let frame = Buffer::with_data(&ctx, "frame", BufferUsage::Uniform, &[params]).unwrap();
-    let out = |name, bytes| Buffer::new(&ctx, name, bytes, BufferUsage::Storage).unwrap();
+    let input = |name, data: &[u8]| {
+        Buffer::with_data(&ctx, name, BufferUsage::HostToDevice, data).expect("input buffer")
+    };
+    fn bytes<T: Copy>(value: &T) -> Vec<u8> {
+        // SAFETY: plain data.
+        unsafe {
+            std::slice::from_raw_parts(value as *const T as *const u8, std::mem::size_of::<T>())
+        }
+        .to_vec()
+    }
+    let shadow_in = input("shadow header", &bytes(&shadow));
+    let plain_in = input("plain header", &bytes(&plain));
+    let draw_in = input("draw record", &bytes(&draw));
+    let camera_in = input("camera", &bytes(&camera));
+    let out = |name, size| Buffer::new(&ctx, name, size, BufferUsage::Storage).unwrap();
+    let dump = out("dump", 4096);
     let nodes = out("nodes", 32);
     let ranges = out("ranges", 48);
-    let vertices = out("vertices", 64);
     let counters = out("counters", 32);
-    let frame_copy = out("frame copy", std::mem::size_of::<FrameParams>() as u64);
-    let push_copy = out("push copy", std::mem::size_of::<PassConstants>() as u64);
-    set.bind(&[
-        &frame,
-        &nodes,
-        &ranges,
-        &vertices,
-        &counters,
-        &frame_copy,
-        &push_copy,
-    ]);
-    let constants = PassConstants {
-        first_triangle: 21,
-        first_sample: 22,
-        sample_count: 23,
-        mode: 24,
-        time: 0.625,
-        flags: 26,
-        reserved: [27, 28],
-        node_address: 0x1234_5678_9abc_def0,
-        range_address: 0x0fed_cba9_8765_4321,
+    let table: Vec<u64> = [
+        &shadow_in, &plain_in, &draw_in, &camera_in, &dump, &nodes, &ranges, &counters,
+    ]
+    .iter()
+    .map(|b| b.device_address())
+    .collect();
+    let table_in = input("probe table", &bytes(&<[u64; 8]>::try_from(table).unwrap()));
+
+    let push = PassConstants {
+        map: table_in.device_address(),
+        draws: val.a(),
+        target: val.a(),
+        draw_index: val.u(),
+        draw_count: val.u(),
+        first_sample: val.u(),
+        sample_count: val.u(),
+        mode: val.u(),
+        time: val.f(),
+        flags: val.u(),
+        reserved: val.u(),
     };
     OneShot::new(&ctx)
         .unwrap()
         .run(|cmd| {
-            pipeline.bind(device, cmd, set.raw());
-            pipeline.push(device, cmd, &constants);
+            pipeline.bind(device, cmd);
+            pipeline.push(device, cmd, &push);
             unsafe { device.cmd_dispatch(cmd, 1, 1, 1) };
             memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ);
             Ok(())
         })
         .unwrap();
+
+    let mut expected = Dump::default();
+    expected.light(&shadow.light);
+    expected.uv(shadow.size);
+    for a in [
+        shadow.range_heads,
+        shadow.ranges,
+        shadow.coverage,
+        shadow.cover_depth,
+        shadow.heads,
+        shadow.nodes,
+        shadow.counters,
+        shadow.long_pixels,
+        shadow.nearest,
+        shadow.reserved,
+    ] {
+        expected.a(a);
+    }
+    expected.light(&plain.light);
+    expected.uv(plain.size);
+    expected.a(plain.depths);
+    expected.a(plain.reserved);
+    expected.a(draw.positions0);
+    expected.a(draw.positions1);
+    expected.a(draw.indices);
+    for u in [
+        draw.stride0,
+        draw.stride1,
+        draw.index_kind,
+        draw.vertex_count,
+        draw.first_id,
+        draw.triangle_count,
+    ] {
+        expected.u(u);
+    }
+    expected.v(draw.albedo_flags);
+    draw.model0
+        .iter()
+        .chain(&draw.model1)
+        .for_each(|&r| expected.v(r));
+    expected.m(camera.view_proj);
+    for v in [
+        camera.position,
+        camera.forward,
+        camera.ray00,
+        camera.ray_dx,
+        camera.ray_dy,
+    ] {
+        expected.v(v);
+    }
+    expected.uv(camera.image);
+    expected.v(camera.shading);
+    for a in [
+        camera.visibility,
+        camera.radiance,
+        camera.counters,
+        camera.reserved,
+    ] {
+        expected.a(a);
+    }
+    expected.a(push.map);
+    expected.a(push.draws);
+    expected.a(push.target);
+    for u in [
+        push.draw_index,
+        push.draw_count,
+        push.first_sample,
+        push.sample_count,
+        push.mode,
+    ] {
+        expected.u(u);
+    }
+    expected.f(push.time);
+    expected.u(push.flags);
+    expected.u(push.reserved);
 
     let download = |b: &Buffer, bytes: usize| -> Vec<u8> {
         let staging = Buffer::new(&ctx, "staging", bytes as u64, BufferUsage::Readback).unwrap();
@@ -124,6 +288,19 @@ fn shared_structs_match_glsl() {
             .unwrap();
         staging.read::<u8>(bytes).unwrap()
     };
+    let dumped: Vec<u32> = download(&dump, expected.0.len() * 4)
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes(c.try_into().unwrap()))
+        .collect();
+    let first_difference = dumped.iter().zip(&expected.0).position(|(a, b)| a != b);
+    assert_eq!(
+        first_difference,
+        None,
+        "GLSL read a field at another offset than Rust wrote it (scalar {first_difference:?} of the dump: shader {:?}, host {:?})",
+        first_difference.map(|i| dumped[i]),
+        first_difference.map(|i| expected.0[i]),
+    );
+
     fn cast<T: Copy + Default>(bytes: &[u8], index: usize) -> T {
         let size = std::mem::size_of::<T>();
         let mut value = T::default();
@@ -136,7 +313,6 @@ fn shared_structs_match_glsl() {
         };
         value
     }
-
     let node: Node = cast(&download(&nodes, 32), 1);
     assert_eq!(
         node,
@@ -159,9 +335,6 @@ fn shared_structs_match_glsl() {
             next: 13
         }
     );
-    let vertex: SceneVertex = cast(&download(&vertices, 64), 1);
-    assert_eq!(vertex.p0, Vec4::new(1.0, 2.0, 3.0, 4.0));
-    assert_eq!(vertex.p1, Vec3::new(5.0, 6.0, 7.0).extend(8.0));
     let c: Counters = cast(&download(&counters, 32), 0);
     assert_eq!(
         c,
@@ -173,17 +346,9 @@ fn shared_structs_match_glsl() {
             overlong_pixels: 31,
             longest_list: 32,
             ranges_without_coverage: 33,
-            reserved: 34,
+            invalid_triangles: 34,
         }
     );
-    let copy: FrameParams = cast(
-        &download(&frame_copy, std::mem::size_of::<FrameParams>()),
-        0,
-    );
-    assert_eq!(
-        copy, params,
-        "FrameParams: std140 in GLSL vs repr(C) in Rust"
-    );
-    drop((set, pipeline));
+    drop(pipeline);
     assert_no_validation_messages(&ctx);
 }

@@ -9,9 +9,9 @@ use crate::support::gpu::{
 };
 use crate::support::sampling::{CameraRays, hits, pixel_key, pixel_sample};
 use glam::{DVec3, Vec3};
-use motion_shadows_app::render::upload::{camera_view, light_view};
+use motion_shadows::technique::{CameraParams, LightingView};
+use motion_shadows_app::render::upload::camera_view;
 use motion_shadows_app::render::{Method, RenderSettings};
-use motion_shadows::technique::{FrameParams, FrameSettings};
 
 const SIZE: (u32, u32) = (128, 96);
 const SPP: u32 = 32;
@@ -84,18 +84,19 @@ fn every_sample_sees_what_its_ray_meets_at_its_time() {
     };
     let result = render(&ctx, &s, &settings);
 
-    let frame = FrameParams::new(
-        &camera_view(&s, SIZE),
-        &light_view(&s, (32, 32)),
-        &FrameSettings::new(SIZE, (32, 32), SPP, SEED),
-    );
+    let view = LightingView {
+        camera: camera_view(&s, SIZE),
+        seed: SEED,
+        ambient: 0.0,
+    };
+    let camera = CameraParams::new(&view, SIZE, SPP);
     let rays = CameraRays {
-        origin: frame.camera_position.truncate(),
-        ray00: frame.camera_ray00,
-        dx: frame.camera_ray_dx,
-        dy: frame.camera_ray_dy,
-        near: frame.camera_position.w,
-        far: frame.camera_forward.w,
+        origin: camera.position.truncate(),
+        ray00: camera.ray00,
+        dx: camera.ray_dx,
+        dy: camera.ray_dy,
+        near: camera.position.w,
+        far: camera.forward.w,
     };
     let at = |(t0, t1): &(Vec<Vec3>, Vec<Vec3>), t: f32| -> [DVec3; 3] {
         [0, 1, 2].map(|i| t0[i].lerp(t1[i], t).as_dvec3())

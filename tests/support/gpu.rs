@@ -3,9 +3,9 @@
 
 use glam::Vec3;
 use motion_shadows::gpu::{Context, ContextOptions};
+use motion_shadows::technique::ShadowMapContents;
 use motion_shadows_app::render::{Method, RenderResult, RenderSettings, Renderer};
 use motion_shadows_app::scene::{Camera, DirectionalLight, Light, Mesh, Scene, SpotLight};
-use motion_shadows::technique::ShadowMapContents;
 
 /// A context with the validation layer and synchronization validation on. No device, or no
 /// layer, is a test failure: the suite never skips.

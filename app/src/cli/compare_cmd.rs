@@ -4,11 +4,11 @@
 use super::args::{CompareArgs, Preset};
 use super::render_cmd::{builtin_options, progress_reporter};
 use crate::compare::{ErrorStats, Rgb8Image, error_image, error_stats, side_by_side};
-use motion_shadows::gpu::{Context, ContextOptions};
 use crate::output::{RadianceImage, auto_exposure, write_exr, write_png, write_rgb8_png};
 use crate::render::{FrameStats, Method, RenderSettings, Renderer};
 use crate::scene::{builtin, load_scene_file};
 use anyhow::Context as _;
+use motion_shadows::gpu::{Context, ContextOptions};
 use serde::Serialize;
 use std::path::Path;
 

@@ -2,12 +2,12 @@
 
 use super::args::{MethodArg, RandomCubesArgs, RenderArgs};
 use super::summary::summary_text;
-use motion_shadows::gpu::{Context, ContextOptions};
 use crate::output::{auto_exposure, write_exr, write_png};
 use crate::render::{Method, RenderSettings, Renderer};
 use crate::scene::{BuiltinOptions, Scene, builtin, load_scene_file};
 use anyhow::Context as _;
 use indicatif::{ProgressBar, ProgressStyle};
+use motion_shadows::gpu::{Context, ContextOptions};
 use std::io::IsTerminal;
 use std::time::Duration;
 

@@ -2,10 +2,10 @@
 //! instead of) the lighting pass.
 
 use super::times::{REFERENCE_SALT, TSM_SALT, stratified_times};
-use super::{PassTime, RenderSettings, Renderer};
+use super::{FrameInputs, PassTime, RenderSettings, Renderer};
 use crate::error::{Error, Result};
 use motion_shadows::technique::{
-    Counters, CoverageMap, DepthFormat, FrameInputs, LightingTarget, MAX_COVERAGE_TRIANGLES,
+    Counters, CoverageMap, DepthFormat, LightingTarget, LightingView, MAX_COVERAGE_TRIANGLES,
     PlainShadowMap, Samples, ShadowSource, TemporalShadowMap,
 };
 
@@ -26,17 +26,13 @@ pub(super) enum ShadowOutcome {
 }
 
 impl ShadowOutcome {
-    pub(super) fn source(&self) -> ShadowSource<'_> {
+    /// What the lighting pass tests against (`None` when the image is already lit).
+    pub(super) fn source(&self) -> Option<ShadowSource<'_>> {
         match self {
-            Self::Temporal {
-                map,
-                coverage: Some(cover),
-                ..
-            } => ShadowSource::Coverage(map, cover),
-            Self::Temporal { map, .. } => ShadowSource::Temporal(map),
-            Self::Plain(map) => ShadowSource::Plain(map),
-            Self::TimeDependent(maps) => ShadowSource::TimeDependent(maps),
-            Self::Lit => ShadowSource::None,
+            Self::Temporal { map, .. } => Some(ShadowSource::Temporal(map)),
+            Self::Plain(map) => Some(ShadowSource::Plain(map)),
+            Self::TimeDependent(maps) => Some(ShadowSource::TimeDependent(maps)),
+            Self::Lit => None,
         }
     }
 
@@ -104,10 +100,10 @@ impl Renderer<'_> {
             settings.initial_range_capacity.unwrap_or(pixels),
         )?;
         let coverage = if with_coverage {
-            if inputs.geometry.triangle_count() >= MAX_COVERAGE_TRIANGLES {
+            if inputs.draws.id_end() >= MAX_COVERAGE_TRIANGLES as u64 {
                 return Err(Error::InvalidArgument(format!(
                     "the coverage map handles fewer than {MAX_COVERAGE_TRIANGLES} triangles, the scene has {}",
-                    inputs.geometry.triangle_count()
+                    inputs.draws.triangle_count()
                 )));
             }
             Some(Box::new(CoverageMap::new(self.ctx, width, height)?))
@@ -119,23 +115,28 @@ impl Renderer<'_> {
             attempts += 1;
             progress(&format!(
                 "shadow pass (attempt {attempts}): {} triangles, room for {} fragments and {} ranges",
-                inputs.geometry.triangle_count(),
+                inputs.draws.triangle_count(),
                 map.node_capacity(),
                 map.range_capacity()
             ));
             self.run_timed(passes, |this, cmd, ts| {
                 let device = this.ctx.device();
-                this.collection
-                    .record(device, cmd, inputs, &map, coverage.as_deref());
-                ts.mark(cmd, "collection");
-                if let Some(cover) = &coverage {
-                    this.coverage.record(device, cmd, inputs, cover);
-                    ts.mark(cmd, "coverage");
+                let FrameInputs { draws, light } = inputs;
+                // SAFETY: a OneShot command buffer of this context, recording, outside
+                // rendering; the draw list was uploaded in an earlier submission.
+                unsafe {
+                    this.collection
+                        .record(device, cmd, draws, light, &map, coverage.as_deref())?;
+                    ts.mark(cmd, "collection");
+                    if let Some(cover) = &coverage {
+                        this.coverage.record(device, cmd, draws, &map, cover);
+                        ts.mark(cmd, "coverage");
+                    }
+                    this.generation.record(device, cmd, &map);
                 }
-                this.generation
-                    .record(device, cmd, inputs.frame, &map, coverage.as_deref());
                 ts.mark(cmd, "generation");
                 map.record_counter_readback(device, cmd);
+                Ok(())
             })?;
             let counts = map.read_counters()?;
             if !map.needs_more_room(&counts) {
@@ -171,9 +172,19 @@ impl Renderer<'_> {
         let maps = PlainShadowMap::new(self.ctx, width, height, layers, DepthFormat::DepthOnly)?;
         let times = stratified_times(layers, settings.seed, TSM_SALT);
         self.run_timed(passes, |this, cmd, ts| {
-            this.plain
-                .record(this.ctx.device(), cmd, inputs, &maps, &times);
+            // SAFETY: as in `temporal_shadow`.
+            unsafe {
+                this.plain.record(
+                    this.ctx.device(),
+                    cmd,
+                    inputs.draws,
+                    inputs.light,
+                    &maps,
+                    &times,
+                )
+            };
             ts.mark(cmd, "tsm shadow maps");
+            Ok(())
         })?;
         Ok(ShadowOutcome::TimeDependent(maps))
     }
@@ -188,18 +199,30 @@ impl Renderer<'_> {
         let (width, height) = settings.shadow_size();
         let map = PlainShadowMap::new(self.ctx, width, height, 1, DepthFormat::DepthAndId)?;
         self.run_timed(passes, |this, cmd, ts| {
-            this.plain
-                .record(this.ctx.device(), cmd, inputs, &map, &[time]);
+            // SAFETY: as in `temporal_shadow`.
+            unsafe {
+                this.plain.record(
+                    this.ctx.device(),
+                    cmd,
+                    inputs.draws,
+                    inputs.light,
+                    &map,
+                    &[time],
+                )
+            };
             ts.mark(cmd, "plain shadow map");
+            Ok(())
         })?;
         Ok(ShadowOutcome::Plain(map))
     }
 
     /// Brute force: per slice, an ordinary shadow map at the slice's time and one sample per
     /// pixel at that time (jittered in the pixel), added with weight 1/slices.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn reference(
         &mut self,
         inputs: FrameInputs<'_>,
+        view: &LightingView,
         settings: &RenderSettings,
         slices: u32,
         target: &LightingTarget,
@@ -215,28 +238,34 @@ impl Renderer<'_> {
             progress(&format!("reference: slices {first}..{last} of {slices}"));
             self.run_timed(passes, |this, cmd, ts| {
                 let device = this.ctx.device();
-                if first == 0 {
-                    this.lighting.record_clear(device, cmd, target);
-                }
-                for slice in first..last {
-                    let t = times[slice as usize];
-                    this.plain.record(device, cmd, inputs, &map, &[t]);
-                    let samples = Samples {
-                        first: slice,
-                        count: 1,
-                        fixed_time: Some(t),
-                    };
-                    this.lighting.record_samples(
-                        device,
-                        cmd,
-                        inputs,
-                        ShadowSource::Plain(&map),
-                        target,
-                        samples,
-                        None,
-                    );
+                let FrameInputs { draws, light } = inputs;
+                // SAFETY: as in `temporal_shadow`; every slice's map is recorded before the
+                // slice's samples in the same command buffer.
+                unsafe {
+                    if first == 0 {
+                        this.lighting.record_clear(device, cmd, view, target);
+                    }
+                    for slice in first..last {
+                        let t = times[slice as usize];
+                        this.plain.record(device, cmd, draws, light, &map, &[t]);
+                        let samples = Samples {
+                            first: slice,
+                            count: 1,
+                            fixed_time: Some(t),
+                        };
+                        this.lighting.record_samples(
+                            device,
+                            cmd,
+                            draws,
+                            ShadowSource::Plain(&map),
+                            target,
+                            samples,
+                            None,
+                        );
+                    }
                 }
                 ts.mark(cmd, "reference slices");
+                Ok(())
             })?;
             first = last;
         }

@@ -12,17 +12,17 @@ pub mod times;
 pub mod upload;
 
 use crate::error::{Error, Result};
-use motion_shadows::gpu::{Buffer, BufferUsage, Context, OneShot, TimestampQueries};
 use crate::output::RadianceImage;
 use crate::scene::Scene;
-use motion_shadows::technique::{
-    CollectionPass, CoveragePass, FrameInputs, FrameParams, FrameSettings, GenerationPass,
-    LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, PlainShadowPass, SceneGeometry,
-    TemporalShadowMap,
-};
 use methods::ShadowOutcome;
+use motion_shadows::gpu::{Context, OneShot, TimestampQueries};
+use motion_shadows::technique::{
+    CollectionPass, CoveragePass, DrawList, GenerationPass, LightView, LightingPass,
+    LightingTarget, LightingView, MAX_SAMPLES_PER_CHUNK, PlainShadowPass, TemporalShadowMap,
+};
 pub use stats::{FrameStats, PassTime, equation_2_bytes};
 use std::time::Instant;
+use upload::SceneGeometry;
 
 /// Which shadow method renders the frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -141,6 +141,13 @@ impl RenderSettings {
     }
 }
 
+/// What every method's shadow step reads: the scene's draws and the light.
+#[derive(Clone, Copy)]
+struct FrameInputs<'a> {
+    draws: &'a DrawList,
+    light: &'a LightView,
+}
+
 /// A rendered frame.
 pub struct RenderResult {
     pub image: RadianceImage,
@@ -193,19 +200,21 @@ impl<'a> Renderer<'a> {
         let spp = settings.method.samples_per_pixel(settings.spp);
 
         progress("uploading the scene");
-        let (vertices, triangles) = upload::flatten(scene);
-        let geometry = SceneGeometry::new(ctx, &vertices, &triangles)?;
-        let mut frame_settings = FrameSettings::new(image_size, shadow_size, spp, settings.seed);
-        frame_settings.ambient = scene.ambient;
-        let params = FrameParams::new(
-            &upload::camera_view(scene, image_size),
-            &upload::light_view(scene, shadow_size),
-            &frame_settings,
-        );
-        let frame = Buffer::with_data(ctx, "frame params", BufferUsage::Uniform, &[params])?;
+        let geometry = SceneGeometry::upload(ctx, scene)?;
+        let mut draws = DrawList::new(ctx, geometry.draws.len() as u32)?;
+        self.run_timed(&mut Vec::new(), |this, cmd, _| {
+            // SAFETY: a OneShot command buffer of this context, recording, outside rendering.
+            unsafe { draws.record_update(this.ctx.device(), cmd, &geometry.draws) }
+        })?;
+        let light = upload::light_view(scene, shadow_size);
+        let view = LightingView {
+            camera: upload::camera_view(scene, image_size),
+            seed: settings.seed,
+            ambient: scene.ambient,
+        };
         let inputs = FrameInputs {
-            frame: &frame,
-            geometry: &geometry,
+            draws: &draws,
+            light: &light,
         };
         let max_chunk = match settings.method {
             // One slice per chunk: each slice has a shadow map of its own.
@@ -224,26 +233,42 @@ impl<'a> Renderer<'a> {
             }
             Method::Tsm => self.time_dependent_shadow(inputs, settings, &mut passes, progress)?,
             Method::Plain { time } => self.plain_shadow(inputs, settings, time, &mut passes)?,
-            Method::Reference { slices } => {
-                self.reference(inputs, settings, slices, &target, &mut passes, progress)?
-            }
+            Method::Reference { slices } => self.reference(
+                inputs,
+                &view,
+                settings,
+                slices,
+                &target,
+                &mut passes,
+                progress,
+            )?,
         };
-        if !matches!(outcome, ShadowOutcome::Lit) {
+        if let Some(shadow) = outcome.source() {
             progress(&format!(
                 "lighting pass: {}x{} pixels, {} spp",
                 settings.width, settings.height, settings.spp
             ));
-            let shadow = outcome.source();
             // The image is copied out in the same submission, after the timed passes.
             self.run_timed(&mut passes, |this, cmd, ts| {
-                this.lighting
-                    .record(this.ctx.device(), cmd, inputs, shadow, &target, Some(ts));
-                target.record_readback(this.ctx.device(), cmd);
+                let device = this.ctx.device();
+                // SAFETY: a OneShot command buffer of this context, recording, outside
+                // rendering; the shadow source was recorded in an earlier submission.
+                unsafe {
+                    this.lighting
+                        .record(device, cmd, &draws, &view, shadow, &target, Some(ts))
+                };
+                target.record_readback(device, cmd);
+                Ok(())
             })?;
         } else {
             self.run_timed(&mut passes, |this, cmd, _| {
-                target.record_readback(this.ctx.device(), cmd)
+                target.record_readback(this.ctx.device(), cmd);
+                Ok(())
             })?;
+        }
+        let invalid = target.read_invalid_triangles()?;
+        if invalid > 0 {
+            return Err(motion_shadows::Error::InvalidIndices { triangles: invalid }.into());
         }
         let image = RadianceImage::new(settings.width, settings.height, target.read_rgb()?)?;
         let moving_coverage = target.read_moving_coverage()?;
@@ -261,7 +286,7 @@ impl<'a> Renderer<'a> {
             shadow_height: shadow_size.1,
             spp,
             seed: settings.seed,
-            triangles: geometry.triangle_count(),
+            triangles: geometry.triangle_count,
             fragments,
             ranges,
             ranges_without_coverage: counts.ranges_without_coverage as u64,
@@ -300,7 +325,11 @@ impl<'a> Renderer<'a> {
     fn run_timed(
         &mut self,
         passes: &mut Vec<PassTime>,
-        record: impl FnOnce(&mut Self, motion_shadows::ash::vk::CommandBuffer, &mut TimestampQueries),
+        record: impl FnOnce(
+            &mut Self,
+            motion_shadows::ash::vk::CommandBuffer,
+            &mut TimestampQueries,
+        ) -> motion_shadows::Result<()>,
     ) -> Result<()> {
         let mut ts = match self.timestamps.take() {
             Some(ts) => ts,
@@ -310,8 +339,7 @@ impl<'a> Renderer<'a> {
         let one_shot = OneShot::new(self.ctx)?;
         one_shot.run(|cmd| {
             ts.mark(cmd, "start");
-            record(self, cmd, &mut ts);
-            Ok(())
+            record(self, cmd, &mut ts)
         })?;
         for (pass, gpu_ms) in ts.spans_ms()? {
             passes.push(PassTime { pass, gpu_ms });

@@ -1,29 +1,94 @@
-//! Scene (app data) to what the passes consume: flat GPU vertex/triangle arrays, and the
-//! camera and light as matrices.
+//! Scene (app data) to what the passes consume: the meshes' positions in one GPU buffer,
+//! one [`Draw`] per mesh reading it in place (as a host engine's draws read its own vertex
+//! buffers), and the camera and light as matrices. The app is one client of the library's
+//! host-geometry interface, not a private door.
 
+use crate::error::Result;
 use crate::scene::{Light, Scene};
-use motion_shadows::technique::{
-    CameraView, LightView, SceneVertex, TRIANGLE_CLOSED, TRIANGLE_MOVING, TriangleInfo,
-};
+use motion_shadows::gpu::{Buffer, BufferUsage, Context};
+use motion_shadows::technique::{CameraView, Draw, Indices, LightView, PositionStream};
 
-/// Every mesh's triangles in scene order; triangle ids follow that order.
-pub fn flatten(scene: &Scene) -> (Vec<SceneVertex>, Vec<TriangleInfo>) {
-    let mut vertices = Vec::with_capacity(scene.triangle_count() * 3);
-    let mut triangles = Vec::with_capacity(scene.triangle_count());
-    for mesh in &scene.meshes {
-        for (p0, p1) in mesh.t0.iter().zip(&mesh.t1) {
-            vertices.push(SceneVertex {
-                p0: p0.extend(1.0),
-                p1: p1.extend(1.0),
-            });
+/// Both positions of a vertex, interleaved: the t = 0 stream reads `p0` (offset 0, stride
+/// 32), the t = 1 stream `p1` (offset 16, stride 32).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SceneVertex {
+    /// Position at t = 0 (w = 1, unused).
+    pub p0: glam::Vec4,
+    /// Position at t = 1 (w = 1, unused).
+    pub p1: glam::Vec4,
+}
+
+/// Every mesh's vertices in scene order, two positions each.
+pub fn flatten(scene: &Scene) -> Vec<SceneVertex> {
+    scene
+        .meshes
+        .iter()
+        .flat_map(|mesh| mesh.t0.iter().zip(&mesh.t1))
+        .map(|(p0, p1)| SceneVertex {
+            p0: p0.extend(1.0),
+            p1: p1.extend(1.0),
+        })
+        .collect()
+}
+
+/// The scene's geometry on the GPU: the vertex buffer and one draw per mesh. Triangle ids
+/// follow scene order (mesh by mesh), as the papers' renderer and the tests expect.
+pub struct SceneGeometry {
+    /// All meshes' vertices ([`SceneVertex`]).
+    pub vertices: Buffer,
+    /// One per non-empty mesh.
+    pub draws: Vec<Draw>,
+    /// Triangles in all meshes.
+    pub triangle_count: u32,
+}
+
+impl SceneGeometry {
+    /// Uploads `scene` (checking first that the device can hold it).
+    pub fn upload(ctx: &Context, scene: &Scene) -> Result<Self> {
+        let vertices = flatten(scene);
+        let limit = ctx.max_addressed_buffer_bytes();
+        let bytes = std::mem::size_of_val(vertices.as_slice()) as u64;
+        if bytes > limit {
+            return Err(motion_shadows::Error::DeviceLimit {
+                what: "the vertex buffer",
+                count: vertices.len() as u64,
+                element_bytes: std::mem::size_of::<SceneVertex>() as u64,
+                needed_bytes: bytes,
+                limit_bytes: limit,
+            }
+            .into());
         }
-        let closed = if mesh.closed { TRIANGLE_CLOSED } else { 0 };
-        for (t0, t1) in mesh.t0.chunks_exact(3).zip(mesh.t1.chunks_exact(3)) {
-            let moving = if t0 == t1 { 0 } else { TRIANGLE_MOVING };
-            triangles.push(TriangleInfo::new(mesh.albedo, closed | moving));
+        let buffer =
+            Buffer::with_data(ctx, "scene vertices", BufferUsage::HostToDevice, &vertices)?;
+        let stride = std::mem::size_of::<SceneVertex>() as u32;
+        let (mut first_vertex, mut first_id) = (0u64, 0u32);
+        let mut draws = Vec::new();
+        for mesh in &scene.meshes {
+            let count = mesh.t0.len() as u32;
+            let offset = first_vertex * stride as u64;
+            if count >= 3 {
+                let mut draw = Draw::new(
+                    PositionStream::from_buffer(&buffer, offset, stride)?,
+                    PositionStream::from_buffer(&buffer, offset + 16, stride)?,
+                    count,
+                    Indices::None,
+                    count / 3,
+                    first_id,
+                );
+                draw.closed = mesh.closed;
+                draw.albedo = mesh.albedo;
+                draws.push(draw);
+            }
+            first_vertex += count as u64;
+            first_id += count / 3;
         }
+        Ok(Self {
+            vertices: buffer,
+            draws,
+            triangle_count: first_id,
+        })
     }
-    (vertices, triangles)
 }
 
 pub fn camera_view(scene: &Scene, image_size: (u32, u32)) -> CameraView {

@@ -1,0 +1,228 @@
+// motion_shadows.glsl: the temporal shadow map as a host's own shaders see it.
+//
+// Include this file in any GLSL shader (it is also `motion_shadows::technique::GLSL_INCLUDE`
+// in Rust) and pass the map's header address (`TemporalShadowMap::header_address()`, 8 bytes)
+// in your push constants or uniform buffer. Then
+//
+//     MsShadowMap map = MsShadowMap(header_address);
+//     float lit = ms_visibility(map, world_position, world_normal, t, MS_NO_TRIANGLE);
+//
+// gives 1 where the point sees the light at shutter time t in [0, 1] and 0 where a triangle
+// of the map's casters blocks it then. Pass the receiver's own triangle id instead of
+// MS_NO_TRIANGLE when you know it (the library's own lighting pass does): its ranges are
+// then skipped, which is the papers' fix for self-shadowing. Needs the device features
+// bufferDeviceAddress and shaderInt64 (both required by the library anyway).
+//
+// Everything here is read-only, and every name starts with ms_ / Ms / MS_ so that it cannot
+// clash with the host's own. The layouts mirror `motion_shadows::technique::gpu_types`
+// (a test checks that they agree).
+
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_buffer_reference : require
+
+const uint MS_END_OF_LIST = 0u;         // list links are index + 1, so 0 ends a list
+const uint MS_NO_TRIANGLE = 0xffffffffu;
+
+// A depth-time range (24 bytes): triangle `id` covers the texel from t_s to t_e (t_s <= t_e),
+// at a linear light depth going linearly from d_s to d_e.
+struct MsRange {
+    float t_s;
+    float t_e;
+    float d_s;
+    float d_e;
+    uint id;
+    uint next;      // index + 1 of the texel's next range, MS_END_OF_LIST at the end
+};
+
+// The light a shadow map was rendered for (std430, 192 bytes).
+struct MsLight {
+    mat4 view;          // world -> light view (right-handed, looking down -z)
+    mat4 proj;          // light view -> clip (Vulkan: z in [0, w], y down)
+    vec4 position;      // xyz; w = 1 for a spot light, 0 for a directional light
+    vec4 direction;     // xyz unit; w = cos(cone half angle) (-1 for directional)
+    vec4 emission;      // x = intensity (W/sr, spot) or irradiance (W/m^2, directional)
+    vec4 bias;          // x = receiver offset along its normal, in shadow texels;
+                        // y = relative depth bias (depth d is tested as d * (1 - y));
+                        // z = world size of a texel per unit depth (spot) or absolute
+};
+
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer MsUints {
+    uint v[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer MsRanges {
+    MsRange v[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer MsVec2s {
+    vec2 v[];
+};
+
+// The header of a temporal shadow map (written by the collection pass each frame).
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer MsShadowMap {
+    MsLight light;
+    uvec4 size;             // x, y = texels; z, w = 0
+    uint64_t range_heads;   // MsUints: per texel, index + 1 of its first range
+    uint64_t ranges;        // MsRanges
+    uint64_t coverage;      // 0, or with the 2017 paper's coverage map: MsUints, per texel
+                            // the triangle covering it nearest to the light all frame
+    uint64_t cover_depth;   // MsVec2s: that triangle's depth at t = 0 and t = 1
+    // The rest is the library's own (the lists the ranges are made from).
+    uint64_t heads;
+    uint64_t nodes;
+    uint64_t counters;
+    uint64_t long_pixels;
+    uint64_t nearest;
+    uint64_t reserved;
+};
+
+// The texel of the map and the linear light depth of a world point; false outside the
+// light's view (then nothing in the map can shadow the point).
+bool ms_project(MsLight light, uvec2 size, vec3 p, out uint texel_index, out float depth) {
+    vec4 view = light.view * vec4(p, 1.0);
+    vec4 clip = light.proj * view;
+    depth = -view.z;
+    texel_index = 0u;
+    if (clip.w <= 0.0) return false;
+    vec2 ndc = clip.xy / clip.w;
+    if (any(lessThan(ndc, vec2(-1.0))) || any(greaterThanEqual(ndc, vec2(1.0)))) return false;
+    uvec2 texel = min(uvec2((ndc * 0.5 + 0.5) * vec2(size)), size - 1u);
+    texel_index = texel.y * size.x + texel.x;
+    return true;
+}
+
+// The receiver point actually tested: moved by the light's normal offset (a fraction of a
+// shadow texel) along the normal n (unit, on the side the light is tested from), so that
+// neighbouring triangles of the same surface do not shadow it where the map is coarser
+// than the image.
+vec3 ms_offset_receiver(MsLight light, vec3 p, vec3 n) {
+    bool spot = light.position.w > 0.5;
+    float light_depth = -(light.view * vec4(p, 1.0)).z;
+    float texel = light.bias.z * (spot ? light_depth : 1.0);
+    return p + n * (light.bias.x * texel);
+}
+
+// Is a receiver at light depth `depth`, on triangle `own`, in shadow at time t, given the
+// ranges of its texel? Ranges of the receiver's own triangle are skipped.
+bool ms_ranges_shadow(MsShadowMap map, uint texel, float depth, float t, uint own) {
+    MsRanges ranges = MsRanges(map.ranges);
+    for (uint r = MsUints(map.range_heads).v[texel]; r != MS_END_OF_LIST;
+         r = ranges.v[r - 1u].next) {
+        MsRange range = ranges.v[r - 1u];
+        if (range.id == own || t < range.t_s || t > range.t_e) continue;
+        float span = range.t_e - range.t_s;
+        float occluder = span > 0.0 ? mix(range.d_s, range.d_e, (t - range.t_s) / span)
+                                    : range.d_s;
+        if (occluder < depth) return true;
+    }
+    return false;
+}
+
+// The same test where a coverage map marks the texel as covered by triangle `cover` all
+// frame (the 2017 paper's final test; the texel holds no ranges): the covering triangle does
+// not shadow itself and shadows what is behind it. The paper says "shadows everything else";
+// "what is behind it" (its depth at time t, linear in t, from the coverage map) is what its
+// range would say, so that neighbouring triangles of one surface do not shadow each other
+// where a texel straddles their shared edge.
+bool ms_covered_shadow(MsShadowMap map, uint texel, uint cover, float depth, float t,
+                       uint own) {
+    vec2 d = MsVec2s(map.cover_depth).v[texel];
+    return cover != own && mix(d.x, d.y, t) < depth;
+}
+
+// Shadowed at time t? `p` is the receiver's world position, `n` its unit normal on the side
+// facing the light (used for the receiver offset), `own` its triangle id or MS_NO_TRIANGLE.
+bool ms_shadowed(MsShadowMap map, vec3 p, vec3 n, float t, uint own) {
+    MsLight light = map.light;
+    uint texel;
+    float depth;
+    if (!ms_project(light, map.size.xy, ms_offset_receiver(light, p, n), texel, depth))
+        return false;
+    depth *= 1.0 - light.bias.y;
+    if (map.coverage != 0UL) {
+        uint cover = MsUints(map.coverage).v[texel];
+        if (cover != MS_NO_TRIANGLE) return ms_covered_shadow(map, texel, cover, depth, t, own);
+    }
+    return ms_ranges_shadow(map, texel, depth, t, own);
+}
+
+// 1 where the point sees the light at time t, 0 where it is in shadow (the light's cone and
+// the surface's orientation are the host's shading: this is visibility alone).
+float ms_visibility(MsShadowMap map, vec3 p, vec3 n, float t, uint own) {
+    return ms_shadowed(map, p, n, t, own) ? 0.0 : 1.0;
+}
+
+// ---- visibility integrated over the shutter, for a receiver that does not move ----
+
+// The part of a range's interval during which its triangle is nearer to the light than
+// `depth`: its depth is linear in time over the range, so that part is one interval (empty
+// when x > y). A zero-length range shadows a single instant: measure zero.
+vec2 ms_nearer_interval(float t_s, float t_e, float d_s, float d_e, float depth) {
+    const vec2 EMPTY = vec2(1.0, 0.0);
+    if (!(t_e > t_s)) return EMPTY;
+    bool start_nearer = d_s < depth, end_nearer = d_e < depth;
+    if (start_nearer && end_nearer) return vec2(t_s, t_e);
+    if (!start_nearer && !end_nearer) return EMPTY;
+    float crossing = t_s + (depth - d_s) / (d_e - d_s) * (t_e - t_s);
+    crossing = clamp(crossing, t_s, t_e);
+    return start_nearer ? vec2(t_s, crossing) : vec2(crossing, t_e);
+}
+
+// The interval of range r (of the texel's list, r counted from 0 in list order) that
+// shadows a receiver at `depth` on triangle `own`.
+vec2 ms_range_nearer(MsRange range, float depth, uint own) {
+    if (range.id == own) return vec2(1.0, 0.0);
+    return ms_nearer_interval(range.t_s, range.t_e, range.d_s, range.d_e, depth);
+}
+
+// The fraction of the shutter [0, 1] during which a receiver that stays at `p` all frame
+// sees the light: 1 minus the length of the union of the intervals during which some range
+// of its texel is nearer to the light than it. Exact (no time samples, no noise), with the
+// same receiver offset, bias and own-triangle rule as ms_shadowed. The union is measured by
+// taking the intervals in order of their start, found by a scan per interval: no arrays,
+// O(n^2) in the texel's ranges (a handful in practice; at most 512).
+float ms_lit_fraction(MsShadowMap map, vec3 p, vec3 n, uint own) {
+    MsLight light = map.light;
+    uint texel;
+    float depth;
+    if (!ms_project(light, map.size.xy, ms_offset_receiver(light, p, n), texel, depth))
+        return 1.0;
+    depth *= 1.0 - light.bias.y;
+    if (map.coverage != 0UL) {
+        uint cover = MsUints(map.coverage).v[texel];
+        if (cover != MS_NO_TRIANGLE) {
+            if (cover == own) return 1.0;
+            vec2 d = MsVec2s(map.cover_depth).v[texel];
+            vec2 iv = ms_nearer_interval(0.0, 1.0, d.x, d.y, depth);
+            return 1.0 - max(iv.y - iv.x, 0.0);
+        }
+    }
+    MsRanges ranges = MsRanges(map.ranges);
+    uint head = MsUints(map.range_heads).v[texel];
+    float shadowed = 0.0;
+    float covered_to = 0.0;     // the union so far ends here
+    // The last interval taken, as (start, position in the list): the next is the smallest
+    // (start, position) after it.
+    float last_start = -1.0;
+    uint last_index = 0u;
+    for (;;) {
+        float next_start = 2.0, next_end = 0.0;
+        uint next_index = 0xffffffffu;
+        uint index = 0u;
+        for (uint r = head; r != MS_END_OF_LIST; r = ranges.v[r - 1u].next, ++index) {
+            vec2 iv = ms_range_nearer(ranges.v[r - 1u], depth, own);
+            if (iv.x > iv.y) continue;
+            bool after_last = iv.x > last_start || (iv.x == last_start && index > last_index);
+            bool before_next = iv.x < next_start || (iv.x == next_start && index < next_index);
+            if (after_last && before_next) {
+                next_start = iv.x;
+                next_end = iv.y;
+                next_index = index;
+            }
+        }
+        if (next_index == 0xffffffffu) break;
+        shadowed += max(next_end - max(next_start, covered_to), 0.0);
+        covered_to = max(covered_to, next_end);
+        last_start = next_start;
+        last_index = next_index;
+    }
+    return 1.0 - min(shadowed, 1.0);
+}

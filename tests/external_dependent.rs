@@ -1,0 +1,234 @@
+//! The library as an engine outside this repository sees it: a crate that depends on
+//! motion-shadows by path, with no `.cargo/config.toml` of ours around it.
+//!
+//! - `dependency_tree_is_lean`: `cargo tree` of such a crate holds none of the app's crates,
+//!   and motion-shadows' own normal dependencies are a subset of the library's few.
+//! - `dependent_builds_and_links`: such a crate builds (motion-shadows' build script links
+//!   shaderc and compiles the GLSL) and its program, which uses library items, links and runs.
+//!   This is what the `motion-shadows-shaderc-link` build-dependency is for: on Debian 12 the
+//!   default shaderc link fails, and a `.cargo/config.toml` in this repository would not apply
+//!   to a dependent.
+//!
+//! The temporary crates live under `CARGO_TARGET_TMPDIR` with their own target directories
+//! (cargo holds the lock on the workspace's target directory during `cargo test`). Cargo is run
+//! from the system temporary directory, because cargo reads `.cargo/config.toml` from its
+//! working directory upwards: run from here it would apply this repository's configuration,
+//! which an engine elsewhere does not get. The first run compiles ash, gpu-allocator, glam and
+//! shaderc's crates once for that target directory; later runs rebuild only what changed.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Crates of the app (CLI, scenes, image output, progress bars, ...) that must never reach an
+/// engine that depends on the library.
+const APP_CRATES: &[&str] = &[
+    "motion-shadows-app",
+    "clap",
+    "clap_builder",
+    "clap_derive",
+    "indicatif",
+    "image",
+    "png",
+    "exr",
+    "tobj",
+    "anyhow",
+    "serde_json",
+    "serde",
+    "serde_derive",
+];
+
+/// The only crates motion-shadows itself may depend on (normal dependencies).
+const LIBRARY_DEPENDENCIES: &[&str] = &["ash", "gpu-allocator", "glam", "thiserror", "log"];
+
+const MAIN_RS: &str = r#"use motion_shadows::gpu::{Context, ContextOptions};
+use motion_shadows::technique::shaders;
+
+fn main() {
+    // Take the address of a library function so its code (ash, gpu-allocator) is compiled and
+    // linked into this program; it is not called, so no Vulkan device is needed.
+    let headless: fn(&ContextOptions) -> motion_shadows::Result<Context> = Context::headless;
+    std::hint::black_box(headless);
+
+    let spirv = shaders::SCENE_VERT;
+    assert!(spirv.len() >= 20 && spirv.len() % 4 == 0, "SPIR-V of {} bytes", spirv.len());
+    assert_eq!(spirv[..4], 0x0723_0203u32.to_le_bytes(), "SPIR-V magic number");
+    println!("scene.vert: {} bytes of SPIR-V", spirv.len());
+}
+"#;
+
+fn cargo() -> Command {
+    let program = std::env::var_os("CARGO").unwrap_or_else(|| env!("CARGO").into());
+    let mut command = Command::new(program);
+    command
+        .current_dir(std::env::temp_dir())
+        .env_remove("CARGO_TARGET_DIR")
+        .env_remove("CARGO_BUILD_TARGET_DIR")
+        .env("CARGO_TERM_COLOR", "never");
+    command
+}
+
+/// Writes a crate that depends on this one by path (as an engine would) and returns its
+/// manifest path.
+fn dependent_crate(name: &str) -> PathBuf {
+    let library = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::create_dir_all(dir.join("src")).unwrap();
+    let manifest = format!(
+        r#"[package]
+name = "{name}"
+version = "0.0.0"
+edition = "2024"
+publish = false
+
+[dependencies]
+motion-shadows = {{ path = {library:?}, default-features = false }}
+
+[profile.dev]
+debug = false
+
+# Its own workspace, not a member of the one this directory lies in.
+[workspace]
+"#,
+        library = library.display().to_string(),
+    );
+    std::fs::write(dir.join("Cargo.toml"), manifest).unwrap();
+    std::fs::write(dir.join("src/main.rs"), MAIN_RS).unwrap();
+    // The versions this repository is tested with, and no need for the registry index.
+    if let Ok(lock) = std::fs::read(library.join("Cargo.lock")) {
+        std::fs::write(dir.join("Cargo.lock"), lock).unwrap();
+    }
+    dir.join("Cargo.toml")
+}
+
+/// Panics if a cargo configuration the dependent would read overrides shaderc's link: the
+/// build would then prove nothing about an engine elsewhere.
+fn assert_no_shaderc_override(cwd: &Path) {
+    let mut configs: Vec<PathBuf> = cwd
+        .ancestors()
+        .flat_map(|dir| [dir.join(".cargo/config.toml"), dir.join(".cargo/config")])
+        .collect();
+    let cargo_home = std::env::var_os("CARGO_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|home| PathBuf::from(home).join(".cargo")));
+    if let Some(home) = cargo_home {
+        configs.extend([home.join("config.toml"), home.join("config")]);
+    }
+    for config in configs {
+        if let Ok(text) = std::fs::read_to_string(&config) {
+            assert!(
+                !text.contains("shaderc"),
+                "{} mentions shaderc; a dependent built with it proves nothing about an engine \
+                 elsewhere. Remove that override (the motion-shadows-shaderc-link \
+                 build-dependency replaces it).",
+                config.display()
+            );
+        }
+    }
+}
+
+fn run(command: &mut Command, what: &str) -> Output {
+    let output = command
+        .output()
+        .unwrap_or_else(|e| panic!("{what}: cannot run {command:?}: {e}"));
+    assert!(
+        output.status.success(),
+        "{what} failed ({}): {command:?}\n--- stdout\n{}\n--- stderr\n{}",
+        output.status,
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr),
+    );
+    output
+}
+
+/// Crate names of a `cargo tree --prefix none` listing.
+fn crate_names(tree: &[u8]) -> Vec<String> {
+    String::from_utf8_lossy(tree)
+        .lines()
+        .filter_map(|line| line.split_whitespace().next())
+        .map(str::to_owned)
+        .collect()
+}
+
+#[test]
+fn dependency_tree_is_lean() {
+    let manifest = dependent_crate("external-dependent-tree");
+    let tree = run(
+        cargo()
+            .args([
+                "tree",
+                "-e",
+                "normal",
+                "--prefix",
+                "none",
+                "--manifest-path",
+            ])
+            .arg(&manifest),
+        "cargo tree of a crate depending on motion-shadows",
+    );
+    let names = crate_names(&tree.stdout);
+    assert!(
+        names.iter().any(|n| n == "motion-shadows"),
+        "motion-shadows missing from the dependent's tree:\n{}",
+        String::from_utf8_lossy(&tree.stdout)
+    );
+    let app: Vec<&str> = APP_CRATES
+        .iter()
+        .copied()
+        .filter(|app| names.iter().any(|n| n == app))
+        .collect();
+    assert!(
+        app.is_empty(),
+        "an engine depending on motion-shadows would compile the app's crates {app:?}; they \
+         belong in app/ (cargo tree -e normal -i <crate> shows the path). Tree:\n{}",
+        String::from_utf8_lossy(&tree.stdout)
+    );
+
+    let direct = run(
+        cargo()
+            .args(["tree", "-e", "normal", "--prefix", "none", "--depth", "1"])
+            .args(["-p", "motion-shadows", "--manifest-path"])
+            .arg(&manifest),
+        "cargo tree of motion-shadows' direct dependencies",
+    );
+    let names = crate_names(&direct.stdout);
+    assert_eq!(names.first().map(String::as_str), Some("motion-shadows"));
+    let extra: Vec<&String> = names[1..]
+        .iter()
+        .filter(|n| !LIBRARY_DEPENDENCIES.contains(&n.as_str()))
+        .collect();
+    assert!(
+        extra.is_empty(),
+        "motion-shadows has normal dependencies {extra:?} beyond {LIBRARY_DEPENDENCIES:?}; \
+         every one reaches every engine that uses the library. Direct dependencies:\n{}",
+        String::from_utf8_lossy(&direct.stdout)
+    );
+}
+
+#[test]
+fn dependent_builds_and_links() {
+    let name = "external-dependent-build";
+    let manifest = dependent_crate(name);
+    assert_no_shaderc_override(&std::env::temp_dir());
+    let target_dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("external-dependent-target");
+    run(
+        cargo()
+            .args(["build", "--manifest-path"])
+            .arg(&manifest)
+            .arg("--target-dir")
+            .arg(&target_dir),
+        "building a crate that depends on motion-shadows (outside this repository's cargo \
+         configuration)",
+    );
+    let program = target_dir
+        .join("debug")
+        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
+    let output = run(
+        &mut Command::new(&program),
+        "running the dependent's program",
+    );
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        stdout.contains("bytes of SPIR-V"),
+        "unexpected output: {stdout}"
+    );
+}
