@@ -16,7 +16,11 @@ void main() {
     uint p = pc.first_sample * layer_size + pixel.y * map.size.x + pixel.x;
     uint depth_bits = floatBitsToUint(max(in_depth, 0.0));
     if (pc.mode == DEPTH_ONLY) {
-        atomicMin(UintArray(map.depths).v[p], depth_bits);
+        // A signed minimum: lavapipe (Mesa 22.3) loses most 32-bit unsigned atomicMin writes
+        // made through a buffer reference (found when TSM's maps came out nearly empty). Bits
+        // of non-negative floats order the same as signed ints, and the map is cleared to
+        // 0x7fffffff (a NaN: no occluder), so the result is the same on every driver.
+        atomicMin(IntArray(map.depths).v[p], int(depth_bits));
     } else {
         atomicMin(Uint64Array(map.depths).v[p], (uint64_t(depth_bits) << 32) | uint64_t(in_id));
     }

@@ -46,6 +46,7 @@ const uint MAX_LIST_NODES = 512u;
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer NodeArray { Node nodes[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer RangeArray { MsRange ranges[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer UintArray { uint v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer IntArray { int v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer Uint64Array { uint64_t v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer Vec2Array { vec2 v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer Vec4Array { vec4 v[]; };

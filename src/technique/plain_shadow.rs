@@ -143,7 +143,13 @@ impl PlainShadowPass {
         );
         unsafe {
             map.header.record_write(device, cmd, &[header]);
-            device.cmd_fill_buffer(cmd, map.depths.raw(), 0, vk::WHOLE_SIZE, u32::MAX);
+            // Empty texels: a NaN depth (and, with ids, no triangle). Depth-only maps keep the
+            // signed minimum (see shadow_depth.frag), so their empty value is the largest int.
+            let empty = match map.format {
+                DepthFormat::DepthOnly => 0x7fff_ffff,
+                DepthFormat::DepthAndId => u32::MAX,
+            };
+            device.cmd_fill_buffer(cmd, map.depths.raw(), 0, vk::WHOLE_SIZE, empty);
         }
         memory_barrier(
             device,

@@ -11,6 +11,7 @@ mod coverage;
 mod embedding;
 mod errors;
 mod generation;
+mod host_geometry;
 mod layout;
 mod lighting;
 mod prism;

@@ -1,4 +1,5 @@
 #![allow(dead_code)]
+pub mod frame;
 pub mod gpu;
 pub mod host;
 pub mod prism_model;
