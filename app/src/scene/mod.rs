@@ -8,6 +8,7 @@
 
 mod builtin;
 mod clip;
+mod culling;
 mod error;
 mod file;
 mod leg;
@@ -24,6 +25,10 @@ mod validate;
 
 pub use builtin::{BUILTIN_NAMES, BuiltinOptions, builtin, builtin_file};
 pub use clip::{clip, quoted};
+pub use culling::{
+    CullingException, contains_during_shutter, culling_exceptions, effective_closed,
+    open_meshes_around_viewpoints,
+};
 pub use error::SceneError;
 pub use file::{
     BoxSpec, CameraFile, LightFile, MeshSpec, ObjectFile, PlaneSpec, SCENE_FORMAT, SceneFile,
