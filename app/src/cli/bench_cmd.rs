@@ -3,8 +3,8 @@
 use super::args::BenchArgs;
 use super::render_cmd::progress_reporter;
 use crate::bench::{PRESETS, Preset, Report, Scale, run_preset};
-use motion_shadows::gpu::{Context, ContextOptions};
 use crate::render::Renderer;
+use motion_shadows::gpu::{Context, ContextOptions};
 use serde::Serialize;
 use std::time::Instant;
 
