@@ -431,6 +431,59 @@ mod tests {
         }
     }
 
+    /// The framing (camera, light, ground) stays finite and valid at every corner of the
+    /// documented ranges, and just past them the options are refused by name.
+    #[test]
+    fn random_cubes_ranges_frame_valid_scenes_at_their_corners() {
+        let (min_size, max_size) = CUBE_SIZE_RANGE;
+        for cube_count in [1, 50] {
+            for cube_size in [min_size, max_size] {
+                for (speed_min, speed_max) in [(0.0, 0.0), (0.0, MAX_CUBE_SPEED)] {
+                    let opts = BuiltinOptions {
+                        cube_count,
+                        speed_min,
+                        speed_max,
+                        cube_size,
+                        seed: 3,
+                    };
+                    let s =
+                        builtin("random-cubes", &opts).unwrap_or_else(|e| panic!("{opts:?}: {e}"));
+                    assert_eq!(s.triangle_count(), 12 * cube_count + 128);
+                }
+            }
+        }
+        for (opts, needle) in [
+            (
+                BuiltinOptions {
+                    cube_size: max_size * 1.01,
+                    ..small(1, 1)
+                },
+                "cube size",
+            ),
+            (
+                BuiltinOptions {
+                    cube_size: min_size * 0.99,
+                    ..small(1, 1)
+                },
+                "cube size",
+            ),
+            (
+                BuiltinOptions {
+                    speed_min: 0.0,
+                    speed_max: 1e30,
+                    ..small(1, 1)
+                },
+                "speed_max <= 1000",
+            ),
+            (small(2_796_193, 1), "cube count"),
+        ] {
+            match builtin("random-cubes", &opts) {
+                Err(SceneError::Invalid(m)) => assert!(m.contains(needle), "{m}"),
+                other => panic!("{opts:?}: {other:?}"),
+            }
+        }
+    }
+
     #[test]
     fn bad_names_and_options_are_errors() {
         match builtin("nope", &BuiltinOptions::default()) {
