@@ -1,12 +1,56 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages needed to build (shaderc, Vulkan headers) and to run the
-# tests headless (lavapipe software Vulkan, Khronos validation layer). Idempotent: when all is
-# present it only prints one line. May be run or sourced; it exports nothing.
+# Installs the system packages needed to build (shaderc, Vulkan headers) and to run the tests
+# headless (lavapipe software Vulkan, Khronos validation layer) on Debian 12 or newer and on
+# Ubuntu 24.04 or newer (read from /etc/os-release; the package names are the same on both).
+# Idempotent: when all is present it only prints one line. May be run or sourced; it exports
+# nothing.
+#
+# What is verified where (README, "CI for your own project"): Debian 12 is what this project
+# is developed and tested on. The Ubuntu branch follows Ubuntu's package lists (24.04 ships
+# every package below, in universe; 22.04 has no libshaderc-dev at all) and has not been run
+# by the project.
 
 # The body runs in a subshell so that, when sourced, neither `set -euo pipefail` nor `exit`
 # leaks into the caller's shell.
 motion_shadows_setup() (
     set -euo pipefail
+
+    local root
+    root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+
+    local id="" version="" like=""
+    if [[ -r /etc/os-release ]]; then
+        id="$(. /etc/os-release && echo "${ID:-}")"
+        version="$(. /etc/os-release && echo "${VERSION_ID:-}")"
+        like="$(. /etc/os-release && echo "${ID_LIKE:-}")"
+    fi
+    local major="${version%%.*}"
+    case "$id" in
+        debian)
+            # Testing and unstable have no VERSION_ID: newer than 12.
+            if [[ -n "$major" ]] && ((major < 12)); then
+                echo "setup.sh: Debian $version is too old (need 12 or newer: shaderc, Vulkan 1.3)" >&2
+                exit 1
+            fi
+            ;;
+        ubuntu)
+            if [[ -n "$major" ]] && ((major < 24)); then
+                echo "setup.sh: Ubuntu $version has no libshaderc-dev package (Ubuntu ships it" \
+                    "from 24.04 on); use Ubuntu 24.04 or newer, Debian 12, or build shaderc" \
+                    "from source (README, Building notes)" >&2
+                exit 1
+            fi
+            ;;
+        *)
+            if [[ " $like " != *" debian "* && " $like " != *" ubuntu "* ]]; then
+                echo "setup.sh: unsupported system (${id:-no /etc/os-release}); install by hand:" \
+                    "a Vulkan loader and headers, Mesa's lavapipe driver, the Khronos validation" \
+                    "layer, shaderc and glslang static libraries, SPIRV-Tools, pkg-config, g++" >&2
+                exit 1
+            fi
+            echo "setup.sh: $id is derived from Debian/Ubuntu ($like); using their package names" >&2
+            ;;
+    esac
 
     local packages=(
         mesa-vulkan-drivers
@@ -28,23 +72,61 @@ motion_shadows_setup() (
         fi
     done
 
-    if ((${#missing[@]} > 0)); then
-        local sudo=()
-        if ((EUID != 0)); then
-            if command -v sudo >/dev/null 2>&1; then
-                sudo=(sudo)
-            else
-                echo "setup.sh: need root or sudo to install: ${missing[*]}" >&2
-                exit 1
-            fi
+    local sudo=()
+    if ((EUID != 0)); then
+        if command -v sudo >/dev/null 2>&1; then
+            sudo=(sudo)
+        elif ((${#missing[@]} > 0)); then
+            echo "setup.sh: need root or sudo to install: ${missing[*]}" >&2
+            exit 1
         fi
+    fi
+
+    if ((${#missing[@]} > 0)); then
         # apt prints progress on stdout; keep only errors (stderr) so the log stays short.
         "${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -qq >/dev/null
+        for pkg in "${missing[@]}"; do
+            if ! apt-cache show "$pkg" >/dev/null 2>&1; then
+                local hint=""
+                if [[ "$id" == ubuntu ]]; then
+                    hint=" (on Ubuntu it is in the universe component: add-apt-repository universe)"
+                fi
+                echo "setup.sh: no package $pkg in this system's apt sources$hint" >&2
+                exit 1
+            fi
+        done
         "${sudo[@]}" env DEBIAN_FRONTEND=noninteractive \
             apt-get install -y -qq --no-install-recommends "${packages[@]}" >/dev/null
         echo "setup.sh: installed ${missing[*]}" >&2
     else
         echo "setup.sh: all system packages present" >&2
+    fi
+
+    # .cargo/config.toml links shaderc's static libraries by name (see README, Building
+    # notes). glslang 14 and newer (Ubuntu 24.04's glslang-dev) no longer ship libHLSL.a and
+    # libOGLCompiler.a: their code was folded into the other libraries, which no longer need
+    # them. An empty archive of each, in the config's second search directory, lets the same
+    # link line serve both; Debian 12's glslang 12 has the real ones and never gets stubs.
+    local multiarch
+    multiarch="$(dpkg-architecture -qDEB_HOST_MULTIARCH 2>/dev/null || gcc -print-multiarch 2>/dev/null || true)"
+    if [[ "$multiarch" == x86_64-linux-gnu && -f "$root/.cargo/config.toml" ]]; then
+        local compat=/usr/local/lib/motion-shadows/link-compat
+        local lib
+        for lib in $(grep -o 'static=[A-Za-z0-9_-]*' "$root/.cargo/config.toml" | cut -d= -f2); do
+            [[ -f "/usr/lib/$multiarch/lib$lib.a" || -f "$compat/lib$lib.a" ]] && continue
+            case "$lib" in
+                HLSL | OGLCompiler)
+                    "${sudo[@]}" mkdir -p "$compat"
+                    printf '!<arch>\n' | "${sudo[@]}" tee "$compat/lib$lib.a" >/dev/null
+                    echo "setup.sh: glslang has no lib$lib.a (glslang >= 14); empty stub in $compat" >&2
+                    ;;
+                *)
+                    echo "setup.sh: static library lib$lib.a not found in /usr/lib/$multiarch;" \
+                        "reinstall libshaderc-dev, glslang-dev and spirv-tools" >&2
+                    exit 1
+                    ;;
+            esac
+        done
     fi
 
     # The tests need these exact files, not just the packages: a package may have been

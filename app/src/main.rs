@@ -1,10 +1,12 @@
 use clap::Parser;
 use motion_shadows_app::cli::args::{Cli, Command, RenderArgs, SceneCommand};
 use motion_shadows_app::cli::render_cmd::builtin_options;
-use motion_shadows_app::scene::{BUILTIN_NAMES, builtin_file, scene_to_json};
+use motion_shadows_app::output::write_file_atomically;
+use motion_shadows_app::scene::limits::MAX_ERROR_CHARS;
+use motion_shadows_app::scene::{BUILTIN_NAMES, builtin_file, clip, scene_to_json};
+use std::process::ExitCode;
 
-fn main() -> anyhow::Result<()> {
-    let cli = Cli::parse();
+fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         None => motion_shadows_app::cli::render_cmd::run(&RenderArgs::default()),
         Some(Command::Render(args)) => motion_shadows_app::cli::render_cmd::run(&args),
@@ -19,13 +21,32 @@ fn main() -> anyhow::Result<()> {
         Some(Command::Scene(SceneCommand::Export { name, out, random })) => {
             let json = scene_to_json(&builtin_file(&name, &builtin_options(&random))?);
             match out {
-                Some(path) => std::fs::write(&path, json)
-                    .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display())),
+                // Through a temporary file: a failed export leaves an older file intact.
+                Some(path) => Ok(write_file_atomically(&path, json.as_bytes())?),
                 None => {
                     println!("{json}");
                     Ok(())
                 }
             }
+        }
+    }
+}
+
+/// Prints the error and its causes, each clipped: a cause may quote user input (a field
+/// name, a path) of any length, and an error message must stay readable.
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("Error: {}", clip(&error.to_string(), MAX_ERROR_CHARS));
+            let causes: Vec<_> = error.chain().skip(1).collect();
+            if !causes.is_empty() {
+                eprintln!("\nCaused by:");
+                for (i, cause) in causes.iter().take(8).enumerate() {
+                    eprintln!("    {i}: {}", clip(&cause.to_string(), MAX_ERROR_CHARS));
+                }
+            }
+            ExitCode::FAILURE
         }
     }
 }

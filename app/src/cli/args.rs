@@ -170,8 +170,9 @@ pub struct RenderArgs {
     /// Output directory.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
-    /// PNG exposure in stops; automatic (99th percentile to 90% white) when absent.
-    #[arg(long, allow_hyphen_values = true)]
+    /// PNG exposure in stops, -64 to 64; automatic (99th percentile to 90% white) when
+    /// absent.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_exposure)]
     pub exposure: Option<f32>,
     /// Print the summary as one JSON object on stdout.
     #[arg(long)]
@@ -204,4 +205,24 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
             .map_err(|e| format!("{s:?} in {text:?}: {e}"))
     };
     Ok((parse(w)?, parse(h)?))
+}
+
+/// Largest |exposure| in stops. 2^64 ~ 1.8e19: beyond it every radiance a scene can produce
+/// (f32, albedo <= 1, finite intensities) maps to all black or all white, so such a value is
+/// a mistake, as are NaN and infinities (which would also print `null` in `--json`).
+pub const MAX_EXPOSURE_STOPS: f32 = 64.0;
+
+/// Parses `--exposure`: a finite number of stops in [-64, 64].
+pub fn parse_exposure(text: &str) -> Result<f32, String> {
+    let stops: f32 = text
+        .trim()
+        .parse()
+        .map_err(|e| format!("{e} (expected a number of stops)"))?;
+    if stops.is_finite() && stops.abs() <= MAX_EXPOSURE_STOPS {
+        Ok(stops)
+    } else {
+        Err(format!(
+            "must be a finite number of stops in [-{MAX_EXPOSURE_STOPS}, {MAX_EXPOSURE_STOPS}]"
+        ))
+    }
 }

@@ -2,15 +2,16 @@
 //! reference over the whole image and over the moving-object mask.
 
 use super::args::{CompareArgs, Preset};
-use super::render_cmd::{builtin_options, progress_reporter};
+use super::render_cmd::{builtin_options, make_culling_safe, progress_reporter};
 use crate::compare::{ErrorStats, Rgb8Image, error_image, error_stats, side_by_side};
-use crate::output::{RadianceImage, auto_exposure, write_exr, write_png, write_rgb8_png};
+use crate::output::{
+    RadianceImage, StagedFiles, auto_exposure, write_exr, write_png, write_rgb8_png,
+};
 use crate::render::{FrameStats, Method, RenderSettings, Renderer};
 use crate::scene::{builtin, load_scene_file};
 use anyhow::Context as _;
 use motion_shadows::gpu::{Context, ContextOptions};
 use serde::Serialize;
-use std::path::Path;
 
 /// A pixel belongs to the moving-object mask when most of its reference samples see a moving
 /// triangle.
@@ -59,31 +60,35 @@ fn split_times(stats: &FrameStats) -> (f64, f64) {
 }
 
 fn write_pair(
-    dir: &Path,
+    staged: &StagedFiles,
     stem: &str,
     image: &RadianceImage,
     exposure: f32,
-) -> anyhow::Result<Vec<String>> {
-    let exr = dir.join(format!("{stem}.exr"));
-    let png = dir.join(format!("{stem}.png"));
-    write_exr(&exr, image)?;
-    write_png(&png, image, exposure)?;
-    Ok(vec![exr.display().to_string(), png.display().to_string()])
+) -> anyhow::Result<()> {
+    write_exr(staged.temp_path(&format!("{stem}.exr"))?, image)?;
+    write_png(staged.temp_path(&format!("{stem}.png"))?, image, exposure)?;
+    Ok(())
+}
+
+/// Every file a comparison of `scene` writes, in the order the report lists them.
+fn output_names(scene: &str) -> Vec<String> {
+    let mut names = vec![
+        format!("{scene}-compare.png"),
+        format!("{scene}-compare-error.png"),
+    ];
+    for method in ["reference", "temporal", "tsm"] {
+        names.push(format!("{scene}-{method}.exr"));
+        names.push(format!("{scene}-{method}.png"));
+        if method != "reference" {
+            names.push(format!("{scene}-{method}-error.png"));
+        }
+    }
+    names
 }
 
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
-    let (bar, mut report) = progress_reporter();
     let (preset_scene, preset_spp) = preset_defaults(args.preset);
     let spp = args.spp.unwrap_or(preset_spp);
-    let scene = match (&args.scene_file, &args.scene) {
-        (Some(path), _) => load_scene_file(path)?,
-        (None, name) => builtin(
-            name.as_deref().unwrap_or(preset_scene),
-            &builtin_options(&args.random),
-        )?,
-    };
-    let ctx = Context::headless(&ContextOptions::from_env())?;
-    let mut renderer = Renderer::new(&ctx)?;
     let settings = |method| RenderSettings {
         width: args.width,
         height: args.height,
@@ -93,6 +98,28 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         method,
         ..RenderSettings::default()
     };
+    // Checked before anything is loaded or rendered.
+    for method in [
+        Method::Reference {
+            slices: args.slices,
+        },
+        Method::Temporal,
+    ] {
+        settings(method).validate()?;
+    }
+    let (bar, mut report) = progress_reporter();
+    let mut scene = match (&args.scene_file, &args.scene) {
+        (Some(path), _) => load_scene_file(path)?,
+        (None, name) => builtin(
+            name.as_deref().unwrap_or(preset_scene),
+            &builtin_options(&args.random),
+        )?,
+    };
+    make_culling_safe(&mut scene, &bar);
+    let staged = StagedFiles::prepare(&args.out, &output_names(&scene.name))
+        .with_context(|| format!("preparing the output directory {}", args.out.display()))?;
+    let ctx = Context::headless(&ContextOptions::from_env())?;
+    let mut renderer = Renderer::new(&ctx)?;
 
     report(&format!("reference ({} slices)", args.slices));
     let reference = renderer.render(
@@ -112,10 +139,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let tsm = renderer.render(&scene, &settings(Method::Tsm), &mut report)?;
 
     report("writing images");
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating output directory {}", args.out.display()))?;
     let exposure = auto_exposure(&reference.image);
-    let mut files = Vec::new();
     let mut rows = Vec::new();
     let mut panels = Vec::new();
     let mut error_panels = Vec::new();
@@ -125,7 +149,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     for result in [&reference, &temporal, &tsm] {
         let method = result.stats.method.clone();
         let stem = format!("{}-{method}", scene.name);
-        files.extend(write_pair(&args.out, &stem, &result.image, exposure)?);
+        write_pair(&staged, &stem, &result.image, exposure)?;
         let label = match method.as_str() {
             "reference" => format!("reference M={}", args.slices),
             _ => format!("{method} {spp} spp"),
@@ -138,9 +162,8 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             None
         } else {
             let heat = error_image(&result.image, &reference.image, max_error.max(1e-6))?;
-            let path = args.out.join(format!("{stem}-error.png"));
-            write_rgb8_png(&path, heat.width, heat.height, &heat.data)?;
-            files.push(path.display().to_string());
+            let path = staged.temp_path(&format!("{stem}-error.png"))?;
+            write_rgb8_png(path, heat.width, heat.height, &heat.data)?;
             error_panels.push((format!("{method} error"), heat));
             let mask = (mask_pixels > 0).then_some(mask.as_slice());
             Some(error_stats(&result.image, &reference.image, mask)?)
@@ -161,14 +184,17 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     }
     let refs: Vec<(&str, &Rgb8Image)> = panels.iter().map(|(l, i)| (l.as_str(), i)).collect();
     let side = side_by_side(&refs, [24, 24, 24]);
-    let side_path = args.out.join(format!("{}-compare.png", scene.name));
-    write_rgb8_png(&side_path, side.width, side.height, &side.data)?;
+    let side_path = staged.temp_path(&format!("{}-compare.png", scene.name))?;
+    write_rgb8_png(side_path, side.width, side.height, &side.data)?;
     let refs: Vec<(&str, &Rgb8Image)> = error_panels.iter().map(|(l, i)| (l.as_str(), i)).collect();
     let errors = side_by_side(&refs, [24, 24, 24]);
-    let errors_path = args.out.join(format!("{}-compare-error.png", scene.name));
-    write_rgb8_png(&errors_path, errors.width, errors.height, &errors.data)?;
-    files.insert(0, errors_path.display().to_string());
-    files.insert(0, side_path.display().to_string());
+    let errors_path = staged.temp_path(&format!("{}-compare-error.png", scene.name))?;
+    write_rgb8_png(errors_path, errors.width, errors.height, &errors.data)?;
+    let files: Vec<String> = staged
+        .commit()?
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect();
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }

@@ -2,9 +2,11 @@
 
 use super::args::{MethodArg, RandomCubesArgs, RenderArgs};
 use super::summary::summary_text;
-use crate::output::{auto_exposure, write_exr, write_png};
+use crate::output::{StagedFiles, auto_exposure, write_exr, write_png};
 use crate::render::{Method, RenderSettings, Renderer};
-use crate::scene::{BuiltinOptions, Scene, builtin, load_scene_file};
+use crate::scene::{
+    BuiltinOptions, Scene, builtin, load_scene_file, open_meshes_around_viewpoints,
+};
 use anyhow::Context as _;
 use indicatif::{ProgressBar, ProgressStyle};
 use motion_shadows::gpu::{Context, ContextOptions};
@@ -47,13 +49,9 @@ pub fn progress_reporter() -> (Option<ProgressBar>, impl FnMut(&str)) {
     (bar, report)
 }
 
-pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    let (bar, mut report) = progress_reporter();
-    report("loading the scene");
-    let scene = load_scene(args)?;
-    report("creating the Vulkan device");
-    let ctx = Context::headless(&ContextOptions::from_env())?;
-    let settings = RenderSettings {
+/// The renderer's settings for `args` (checked by the caller before anything is loaded).
+pub fn render_settings(args: &RenderArgs) -> RenderSettings {
+    RenderSettings {
         width: args.width,
         height: args.height,
         spp: args.spp,
@@ -69,26 +67,77 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             MethodArg::Plain => Method::Plain { time: 0.5 },
         },
         ..RenderSettings::default()
-    };
+    }
+}
+
+/// A line on stderr that must stay visible (a spinner's message would be overwritten).
+pub fn print_note(bar: &Option<ProgressBar>, note: &str) {
+    match bar {
+        Some(bar) => bar.println(format!("note: {note}")),
+        None => eprintln!("note: {note}"),
+    }
+}
+
+/// Treats the closed meshes around the light or camera as open, saying so for each.
+pub fn make_culling_safe(scene: &mut Scene, bar: &Option<ProgressBar>) {
+    for exception in open_meshes_around_viewpoints(scene) {
+        print_note(bar, &exception.note(scene));
+    }
+}
+
+/// The heat maps `--heatmaps` writes for a frame of `method` named `stem`.
+fn heat_map_names(method: MethodArg, stem: &str) -> Vec<String> {
+    let mut names = vec![format!("{stem}-ranges.png")];
+    if method == MethodArg::Coverage {
+        names.push(format!("{stem}-ranges-without-coverage.png"));
+    }
+    names
+}
+
+pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    // Everything that can be checked without the scene or a device is checked first, so a
+    // run never fails after minutes of rendering for a reason it could have told at once.
+    let settings = render_settings(args);
+    settings.validate()?;
+    if args.heatmaps && !matches!(args.method, MethodArg::Temporal | MethodArg::Coverage) {
+        anyhow::bail!(
+            "--heatmaps needs a method with depth-time ranges (temporal or coverage), not {}",
+            settings.method.name()
+        );
+    }
+    let (bar, mut report) = progress_reporter();
+    report("loading the scene");
+    let mut scene = load_scene(args)?;
+    make_culling_safe(&mut scene, &bar);
+    let stem = format!("{}-{}", scene.name, settings.method.name());
+    let (exr, png) = (format!("{stem}.exr"), format!("{stem}.png"));
+    let mut names = vec![exr.clone(), png.clone()];
+    if args.heatmaps {
+        names.extend(heat_map_names(args.method, &stem));
+    }
+    let staged = StagedFiles::prepare(&args.out, &names)
+        .with_context(|| format!("preparing the output directory {}", args.out.display()))?;
+
+    report("creating the Vulkan device");
+    let ctx = Context::headless(&ContextOptions::from_env())?;
     let mut renderer = Renderer::new(&ctx)?;
     let result = renderer.render(&scene, &settings, &mut report)?;
 
     report("writing images");
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating output directory {}", args.out.display()))?;
-    let stem = format!("{}-{}", scene.name, result.stats.method);
-    let exr = args.out.join(format!("{stem}.exr"));
-    let png = args.out.join(format!("{stem}.png"));
     let exposure = args
         .exposure
         .unwrap_or_else(|| auto_exposure(&result.image));
-    write_exr(&exr, &result.image)?;
-    write_png(&png, &result.image, exposure)?;
-    let mut files = vec![exr.display().to_string(), png.display().to_string()];
+    write_exr(staged.temp_path(&exr)?, &result.image)?;
+    write_png(staged.temp_path(&png)?, &result.image, exposure)?;
     if args.heatmaps {
         report("writing heat maps");
-        files.extend(write_heat_maps(&ctx, &result, &args.out, &stem)?);
+        write_heat_maps(&ctx, &result, &staged, &names[2..])?;
     }
+    let files: Vec<String> = staged
+        .commit()?
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect();
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
@@ -105,13 +154,14 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
 }
 
 /// Heat maps of the ranges stored per shadow-map pixel; for the coverage method also without
-/// the coverage map, on the same scale so the two compare at a glance.
+/// the coverage map, on the same scale so the two compare at a glance. `names`: from
+/// [`heat_map_names`], staged in `staged`.
 fn write_heat_maps(
     ctx: &Context,
     result: &crate::render::RenderResult,
-    dir: &std::path::Path,
-    stem: &str,
-) -> anyhow::Result<Vec<String>> {
+    staged: &StagedFiles,
+    names: &[String],
+) -> anyhow::Result<()> {
     let Some(map) = &result.shadow_map else {
         anyhow::bail!(
             "--heatmaps needs a method with depth-time ranges (temporal or coverage), not {}",
@@ -119,25 +169,31 @@ fn write_heat_maps(
         );
     };
     let contents = map.download(ctx)?;
-    let stored = contents.ranges_per_pixel();
-    let mut maps = vec![(format!("{stem}-ranges.png"), stored)];
+    let mut maps = vec![contents.ranges_per_pixel()];
     if result.stats.method == "coverage" {
-        let without = contents.ranges_without_coverage_per_pixel();
-        maps.push((format!("{stem}-ranges-without-coverage.png"), without));
+        maps.push(contents.ranges_without_coverage_per_pixel());
     }
+    anyhow::ensure!(
+        maps.len() == names.len(),
+        "{} heat maps for {} file names",
+        maps.len(),
+        names.len()
+    );
     let max = maps
         .iter()
-        .flat_map(|(_, v)| v.iter().copied())
+        .flat_map(|v| v.iter().copied())
         .max()
         .unwrap_or(0)
         .max(1) as f32;
-    let mut files = Vec::new();
-    for (name, counts) in maps {
+    for (name, counts) in names.iter().zip(maps) {
         let values: Vec<f32> = counts.iter().map(|&c| c as f32).collect();
         let heat = crate::compare::heat_map(&values, contents.width, contents.height, max)?;
-        let path = dir.join(name);
-        crate::output::write_rgb8_png(&path, heat.width, heat.height, &heat.data)?;
-        files.push(path.display().to_string());
+        crate::output::write_rgb8_png(
+            staged.temp_path(name)?,
+            heat.width,
+            heat.height,
+            &heat.data,
+        )?;
     }
-    Ok(files)
+    Ok(())
 }

@@ -3,11 +3,13 @@
 
 mod exr;
 mod png;
+mod staged;
 
 use std::path::{Path, PathBuf};
 
 pub use self::exr::{read_exr, write_exr};
 pub use self::png::{encode_srgb8, write_png, write_rgb8_png};
+pub use self::staged::{StagedFiles, write_file_atomically};
 
 /// Why a picture could not be written or read.
 #[derive(Debug, thiserror::Error)]

@@ -199,6 +199,9 @@ impl<'a> Renderer<'a> {
         let shadow_size = settings.shadow_size();
         let spp = settings.method.samples_per_pixel(settings.spp);
 
+        for exception in crate::scene::culling_exceptions(scene) {
+            progress(&exception.note(scene));
+        }
         progress("uploading the scene");
         let geometry = SceneGeometry::upload(ctx, scene)?;
         let mut draws = DrawList::new(ctx, geometry.draws.len() as u32)?;

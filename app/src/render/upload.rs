@@ -64,7 +64,10 @@ impl SceneGeometry {
         let stride = std::mem::size_of::<SceneVertex>() as u32;
         let (mut first_vertex, mut first_id) = (0u64, 0u32);
         let mut draws = Vec::new();
-        for mesh in &scene.meshes {
+        // Back-face culling only where it is exact: not for a closed mesh that holds the
+        // light or the camera during the shutter.
+        let closed = crate::scene::effective_closed(scene);
+        for (mesh, &closed) in scene.meshes.iter().zip(&closed) {
             let count = mesh.t0.len() as u32;
             let offset = first_vertex * stride as u64;
             if count >= 3 {
@@ -76,7 +79,7 @@ impl SceneGeometry {
                     count / 3,
                     first_id,
                 );
-                draw.closed = mesh.closed;
+                draw.closed = closed;
                 draw.albedo = mesh.albedo;
                 draws.push(draw);
             }

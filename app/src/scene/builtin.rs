@@ -10,6 +10,7 @@ use super::file::{
     TransformFile,
 };
 use super::leg::leg_toward_light;
+use super::limits::{CUBE_SIZE_RANGE, MAX_CUBE_SPEED, MAX_SCENE_TRIANGLES};
 use super::rng::SplitMix64;
 use super::{Scene, SceneError};
 
@@ -173,6 +174,10 @@ fn cubes_toward_light() -> SceneFile {
     }
 }
 
+/// The random-cubes ground: a plane of 8 x 8 quads, 128 triangles.
+const GROUND_SUBDIVISIONS: u32 = 8;
+const RANDOM_CUBES_GROUND_TRIANGLES: u64 = 2 * (GROUND_SUBDIVISIONS as u64).pow(2);
+
 /// Pleasant, not garish: moderate saturation and value, any hue.
 fn random_albedo(rng: &mut SplitMix64) -> Vec3 {
     let (h, s, v) = (
@@ -197,23 +202,26 @@ fn random_cubes(opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
         cube_size,
         seed,
     } = *opts;
-    if cube_count == 0 {
-        return Err(SceneError::Invalid(
-            "random-cubes: cube_count must be >= 1".into(),
-        ));
-    }
-    if !(speed_min.is_finite()
-        && speed_max.is_finite()
-        && 0.0 <= speed_min
-        && speed_min <= speed_max)
-    {
+    // Every size is checked before a cube is placed: the count against the scene's triangle
+    // limit (12 per cube, 128 for the ground), the lengths against ranges the framing below
+    // stays finite and in single-precision range for.
+    let max_cubes = (MAX_SCENE_TRIANGLES - RANDOM_CUBES_GROUND_TRIANGLES) / 12;
+    if cube_count == 0 || cube_count as u64 > max_cubes {
         return Err(SceneError::Invalid(format!(
-            "random-cubes: need finite 0 <= speed_min <= speed_max, got {speed_min}..{speed_max}"
+            "random-cubes: the cube count must be in 1..={max_cubes} (12 triangles each, \
+             at most {MAX_SCENE_TRIANGLES} in a scene), got {cube_count}"
         )));
     }
-    if !(cube_size.is_finite() && cube_size > 0.0) {
+    if !(0.0 <= speed_min && speed_min <= speed_max && speed_max <= MAX_CUBE_SPEED) {
         return Err(SceneError::Invalid(format!(
-            "random-cubes: need a finite cube_size > 0, got {cube_size}"
+            "random-cubes: need 0 <= speed_min <= speed_max <= {MAX_CUBE_SPEED}, \
+             got {speed_min:e}..{speed_max:e}"
+        )));
+    }
+    let (min_size, max_size) = CUBE_SIZE_RANGE;
+    if !(min_size..=max_size).contains(&cube_size) {
+        return Err(SceneError::Invalid(format!(
+            "random-cubes: the cube size must be in [{min_size}, {max_size}], got {cube_size:e}"
         )));
     }
     // ~10% of the volume filled by cubes: dense but with gaps for light.
@@ -259,7 +267,7 @@ fn random_cubes(opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
     let cone = 40.0_f32;
     let light_height = center.y + 3.0 * half;
     let ground_half = light_height * cone.to_radians().tan();
-    objects.insert(0, ground(2.0 * ground_half, 8));
+    objects.insert(0, ground(2.0 * ground_half, GROUND_SUBDIVISIONS));
 
     // Orbit distance at which a fov-45 camera sees the swept box's bounding sphere.
     let radius = half * 3.0_f32.sqrt();
@@ -419,6 +427,59 @@ mod tests {
                     assert!(p.y > 0.0, "{} goes below the ground", m.name);
                     assert!((p - light.position).normalize().dot(light.direction) > cos_cone);
                 }
+            }
+        }
+    }
+
+    /// The framing (camera, light, ground) stays finite and valid at every corner of the
+    /// documented ranges, and just past them the options are refused by name.
+    #[test]
+    fn random_cubes_ranges_frame_valid_scenes_at_their_corners() {
+        let (min_size, max_size) = CUBE_SIZE_RANGE;
+        for cube_count in [1, 50] {
+            for cube_size in [min_size, max_size] {
+                for (speed_min, speed_max) in [(0.0, 0.0), (0.0, MAX_CUBE_SPEED)] {
+                    let opts = BuiltinOptions {
+                        cube_count,
+                        speed_min,
+                        speed_max,
+                        cube_size,
+                        seed: 3,
+                    };
+                    let s =
+                        builtin("random-cubes", &opts).unwrap_or_else(|e| panic!("{opts:?}: {e}"));
+                    assert_eq!(s.triangle_count(), 12 * cube_count + 128);
+                }
+            }
+        }
+        for (opts, needle) in [
+            (
+                BuiltinOptions {
+                    cube_size: max_size * 1.01,
+                    ..small(1, 1)
+                },
+                "cube size",
+            ),
+            (
+                BuiltinOptions {
+                    cube_size: min_size * 0.99,
+                    ..small(1, 1)
+                },
+                "cube size",
+            ),
+            (
+                BuiltinOptions {
+                    speed_min: 0.0,
+                    speed_max: 1e30,
+                    ..small(1, 1)
+                },
+                "speed_max <= 1000",
+            ),
+            (small(2_796_193, 1), "cube count"),
+        ] {
+            match builtin("random-cubes", &opts) {
+                Err(SceneError::Invalid(m)) => assert!(m.contains(needle), "{m}"),
+                other => panic!("{opts:?}: {other:?}"),
             }
         }
     }

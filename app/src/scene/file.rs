@@ -8,16 +8,17 @@ use std::path::{Path, PathBuf};
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
+use super::clip::quoted;
+use super::limits::{MAX_SCENE_FILE_BYTES, MAX_SCENE_TRIANGLES, MAX_SUBDIVISIONS};
+use super::name::{name_from_file_stem, scene_name_problem};
 use super::obj::load_obj_triangles;
 use super::pretty::pretty_json;
 use super::primitives::{RigidTransform, box_mesh, plane_mesh};
+use super::read::read_bounded;
 use super::{Camera, DirectionalLight, Light, Mesh, Scene, SceneError, SpotLight};
 
 /// The value the required `"format"` field must have.
 pub const SCENE_FORMAT: &str = "motion-shadows-scene/1";
-
-/// Finer tessellation than this is almost certainly a typo and would exhaust memory.
-const MAX_SUBDIVISIONS: u32 = 1024;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -171,11 +172,25 @@ struct FormatProbe {
     format: Option<serde_json::Value>,
 }
 
-/// Reads and converts a scene file; OBJ paths are resolved against its directory.
+/// Reads and converts a scene file; OBJ paths are resolved against its directory. The file
+/// may be a pipe; either way at most `MAX_SCENE_FILE_BYTES` are read.
 pub fn load_scene_file(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+    let io_error = |source| SceneError::Io {
         path: path.to_owned(),
         source,
+    };
+    let bytes = read_bounded(path, MAX_SCENE_FILE_BYTES, true).map_err(|e| {
+        io_error(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            e.to_string(),
+        ))
+    })?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        let message = format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to());
+        io_error(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            message,
+        ))
     })?;
     let base_dir = match path.parent() {
         Some(dir) if !dir.as_os_str().is_empty() => dir,
@@ -213,10 +228,10 @@ fn parse(text: &str, base_dir: &Path, source: &Path) -> Result<Scene, SceneError
         }
     }
     let file: SceneFile = serde_json::from_str(text).map_err(json_error)?;
-    let fallback = source
+    let stem = source
         .file_stem()
         .map_or_else(|| source.to_string_lossy(), |s| s.to_string_lossy());
-    file.to_scene(base_dir, &fallback)
+    file.to_scene(base_dir, &name_from_file_stem(&stem))
 }
 
 /// Pretty JSON that `parse_scene_json` reads back to an equal scene (f32 values are
@@ -239,6 +254,14 @@ impl SceneFile {
                 self.format
             )));
         }
+        let name = self
+            .name
+            .clone()
+            .unwrap_or_else(|| fallback_name.to_owned());
+        if let Some(problem) = scene_name_problem(&name) {
+            return Err(SceneError::Invalid(problem));
+        }
+        self.check_triangle_budget()?;
         let c = &self.camera;
         let camera = Camera {
             position: c.position,
@@ -248,17 +271,16 @@ impl SceneFile {
             near: c.near,
             far: c.far,
         };
+        // OBJ models are counted as they load: each may use what the others left.
+        let mut budget = MAX_SCENE_TRIANGLES - self.known_triangles().unwrap_or(0);
         let meshes = self
             .objects
             .iter()
             .enumerate()
-            .map(|(i, o)| o.to_mesh(i, base_dir))
+            .map(|(i, o)| o.to_mesh(i, base_dir, &mut budget))
             .collect::<Result<Vec<_>, _>>()?;
         let scene = Scene {
-            name: self
-                .name
-                .clone()
-                .unwrap_or_else(|| fallback_name.to_owned()),
+            name,
             camera,
             light: self.light.to_light(),
             ambient: self.ambient,
@@ -266,6 +288,58 @@ impl SceneFile {
         };
         scene.validate()?;
         Ok(scene)
+    }
+}
+
+impl SceneFile {
+    /// Triangles of every object whose count is known without building it (all but OBJ
+    /// models); `None` when the sum overflows. Subdivisions are checked first, so each term
+    /// is small.
+    fn known_triangles(&self) -> Option<u64> {
+        self.objects.iter().try_fold(0u64, |sum, o| {
+            let n = match &o.mesh {
+                MeshSpec::Box(b) => 12 * u64::from(b.subdivisions.max(1)).pow(2),
+                MeshSpec::Plane(p) => 2 * u64::from(p.subdivisions.max(1)).pow(2),
+                MeshSpec::Triangles(t) => t.t0.len() as u64 / 3,
+                MeshSpec::Obj(_) => 0,
+            };
+            sum.checked_add(n)
+        })
+    }
+
+    /// Refuses a scene whose boxes, planes and triangle lists add up to more than
+    /// `MAX_SCENE_TRIANGLES`, before any of them is built.
+    fn check_triangle_budget(&self) -> Result<(), SceneError> {
+        for (i, o) in self.objects.iter().enumerate() {
+            let n = match &o.mesh {
+                MeshSpec::Box(b) => b.subdivisions,
+                MeshSpec::Plane(p) => p.subdivisions,
+                _ => continue,
+            };
+            if !(1..=MAX_SUBDIVISIONS).contains(&n) {
+                return Err(SceneError::Invalid(format!(
+                    "{}: subdivisions must be in 1..={MAX_SUBDIVISIONS}, got {n}",
+                    object_context(i, &o.name)
+                )));
+            }
+        }
+        match self.known_triangles() {
+            Some(n) if n <= MAX_SCENE_TRIANGLES => Ok(()),
+            n => Err(SceneError::Invalid(format!(
+                "the objects would have {} triangles, more than the limit of {MAX_SCENE_TRIANGLES} \
+                 (docs/scene-format.md, \"Limits\")",
+                n.map_or_else(|| "too many".to_owned(), |n| n.to_string())
+            ))),
+        }
+    }
+}
+
+/// How errors name object `index`: `object #2 ("bunny")`, the name clipped.
+fn object_context(index: usize, name: &str) -> String {
+    if name.is_empty() {
+        format!("object #{index} (\"object-{index}\")")
+    } else {
+        format!("object #{index} ({:?})", quoted(name))
     }
 }
 
@@ -311,36 +385,42 @@ impl LightFile {
 }
 
 impl ObjectFile {
-    fn to_mesh(&self, index: usize, base_dir: &Path) -> Result<Mesh, SceneError> {
+    /// `budget`: triangles OBJ models may still add to the scene; an OBJ takes its share.
+    fn to_mesh(&self, index: usize, base_dir: &Path, budget: &mut u64) -> Result<Mesh, SceneError> {
         let name = if self.name.is_empty() {
             format!("object-{index}")
         } else {
             self.name.clone()
         };
-        let context = format!("object #{index} ({name:?})");
+        let context = object_context(index, &self.name);
         let invalid = |msg: String| SceneError::Invalid(format!("{context}: {msg}"));
-        let subdivisions = |n: u32| {
-            if (1..=MAX_SUBDIVISIONS).contains(&n) {
-                Ok(n)
+        // A negative or zero size would turn the faces inside out or collapse them, as a
+        // negative scale would (which is refused below for the same reason).
+        let positive = |what: &str, v: &[f32]| {
+            if v.iter().all(|&x| x.is_finite() && x > 0.0) {
+                Ok(())
             } else {
                 Err(invalid(format!(
-                    "subdivisions must be in 1..={MAX_SUBDIVISIONS}, got {n}"
+                    "{what} size components must be finite and > 0, got {v:?}"
                 )))
             }
         };
 
         let (local0, local1) = match &self.mesh {
             MeshSpec::Box(b) => {
-                let tris = box_mesh(b.size, subdivisions(b.subdivisions)?);
+                positive("box", &b.size.to_array())?;
+                let tris = box_mesh(b.size, b.subdivisions);
                 (tris.clone(), tris)
             }
             MeshSpec::Plane(p) => {
-                let tris = plane_mesh(p.size, subdivisions(p.subdivisions)?);
+                positive("plane", &p.size.to_array())?;
+                let tris = plane_mesh(p.size, p.subdivisions);
                 (tris.clone(), tris)
             }
             MeshSpec::Obj(rel) => {
                 let path: PathBuf = base_dir.join(rel);
-                let tris = load_obj_triangles(&path, &context)?;
+                let tris = load_obj_triangles(&path, &context, *budget)?;
+                *budget -= tris.len() as u64 / 3;
                 (tris.clone(), tris)
             }
             MeshSpec::Triangles(t) => {

@@ -7,21 +7,33 @@
 //! converts it exactly like a loaded file, so there is a single path to a `Scene`.
 
 mod builtin;
+mod clip;
+mod culling;
 mod error;
 mod file;
 mod leg;
+pub mod limits;
+mod name;
 mod obj;
+mod precision;
 mod pretty;
 mod primitives;
+mod read;
 mod rng;
 mod types;
 mod validate;
 
 pub use builtin::{BUILTIN_NAMES, BuiltinOptions, builtin, builtin_file};
+pub use clip::{clip, quoted};
+pub use culling::{
+    CullingException, contains_during_shutter, culling_exceptions, effective_closed,
+    open_meshes_around_viewpoints,
+};
 pub use error::SceneError;
 pub use file::{
     BoxSpec, CameraFile, LightFile, MeshSpec, ObjectFile, PlaneSpec, SCENE_FORMAT, SceneFile,
     TransformFile, TrianglesSpec, load_scene_file, parse_scene_json, scene_to_json,
 };
+pub use name::{name_from_file_stem, scene_name_problem};
 pub use primitives::{RigidTransform, box_mesh, plane_mesh};
 pub use types::{Camera, DirectionalLight, Light, Mesh, Scene, SpotLight};

@@ -2,34 +2,51 @@
 //! triangle list (positions only; materials and normals are ignored because the scene
 //! gives each object a single albedo).
 
-use std::io::BufReader;
 use std::path::Path;
 
 use glam::Vec3;
 
 use super::SceneError;
+use super::limits::{MAX_OBJ_BYTES, MAX_SCENE_TRIANGLES};
+use super::read::read_bounded;
 
 /// Reads `path` and returns its triangles (polygons are triangulated by tobj).
-/// `context` (e.g. `object #2 ("bunny")`) prefixes error messages.
-pub(crate) fn load_obj_triangles(path: &Path, context: &str) -> Result<Vec<Vec3>, SceneError> {
+/// `context` (e.g. `object #2 ("bunny")`) prefixes error messages. The file must be a
+/// regular file of at most `MAX_OBJ_BYTES` (a scene file names it, so it must not be able to
+/// point at a device or a pipe), and may add at most `budget` triangles to the scene.
+pub(crate) fn load_obj_triangles(
+    path: &Path,
+    context: &str,
+    budget: u64,
+) -> Result<Vec<Vec3>, SceneError> {
     let obj_error = |message: String| SceneError::Obj {
         path: path.to_owned(),
         message: format!("{context}: {message}"),
     };
-    // Open it ourselves: tobj's own open error drops the OS reason.
-    let file = std::fs::File::open(path).map_err(|e| obj_error(e.to_string()))?;
+    // Read it ourselves: tobj's own open error drops the OS reason, and tobj reads without
+    // a bound.
+    let bytes = read_bounded(path, MAX_OBJ_BYTES, false).map_err(|e| obj_error(e.to_string()))?;
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
         ..Default::default()
     };
     // Material libraries are not needed; refusing them keeps a missing .mtl harmless.
-    let (models, _materials) = tobj::load_obj_buf(&mut BufReader::new(file), &options, |_| {
+    let (models, _materials) = tobj::load_obj_buf(&mut bytes.as_slice(), &options, |_| {
         Err(tobj::LoadError::OpenFileFailed)
     })
     .map_err(|e| obj_error(e.to_string()))?;
+    drop(bytes);
 
-    let mut out = Vec::new();
+    // Counted before the positions are copied out, so the copy is bounded too.
+    let triangles: u64 = models.iter().map(|m| m.mesh.indices.len() as u64 / 3).sum();
+    if triangles > budget {
+        return Err(obj_error(format!(
+            "{triangles} triangles would take the scene over its limit of \
+             {MAX_SCENE_TRIANGLES} (docs/scene-format.md, \"Limits\")"
+        )));
+    }
+    let mut out = Vec::with_capacity(triangles as usize * 3);
     for model in &models {
         let mesh = &model.mesh;
         for &index in &mesh.indices {

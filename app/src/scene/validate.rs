@@ -3,6 +3,9 @@
 
 use glam::Vec3;
 
+use super::clip::quoted;
+use super::name::scene_name_problem;
+use super::precision::check_precision;
 use super::{Camera, Light, Mesh, Scene, SceneError};
 
 fn invalid(what: &str, msg: String) -> SceneError {
@@ -129,7 +132,7 @@ fn check_light(light: &Light) -> Result<(), SceneError> {
 }
 
 fn check_mesh(index: usize, m: &Mesh) -> Result<(), SceneError> {
-    let what = format!("mesh #{index} ({:?})", m.name);
+    let what = format!("mesh #{index} ({:?})", quoted(&m.name));
     let what = what.as_str();
     finite3(what, "albedo", m.albedo)?;
     if m.albedo.min_element() < 0.0 || m.albedo.max_element() > 1.0 {
@@ -169,8 +172,12 @@ impl Scene {
     /// Checks everything the renderer relies on: finite numbers, camera and light ranges
     /// (fov in (0, 180), 0 < near < far, non-zero directions, up not along the view, cone
     /// half angle in (0, 89], intensity >= 0), and per mesh: albedo in [0, 1], t0/t1 of
-    /// equal, non-zero length that is a multiple of 3.
+    /// equal, non-zero length that is a multiple of 3; the name is a safe file name and
+    /// every coordinate is small enough for single-precision ray tests (`limits`).
     pub fn validate(&self) -> Result<(), SceneError> {
+        if let Some(problem) = scene_name_problem(&self.name) {
+            return Err(SceneError::Invalid(problem));
+        }
         check_camera(&self.camera)?;
         check_light(&self.light)?;
         finite("scene", "ambient", self.ambient)?;
@@ -186,7 +193,8 @@ impl Scene {
         self.meshes
             .iter()
             .enumerate()
-            .try_for_each(|(i, m)| check_mesh(i, m))
+            .try_for_each(|(i, m)| check_mesh(i, m))?;
+        check_precision(self)
     }
 }
 

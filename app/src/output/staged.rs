@@ -1,0 +1,240 @@
+//! All-or-nothing output: every file of a run is written to a temporary file beside its
+//! target and renamed into place only when all of them are complete, so a run that fails
+//! (or is killed) never leaves a truncated image or a mixed EXR/PNG pair over good files.
+//!
+//! The output directory and the targets are checked when the run starts, before anything is
+//! rendered: the directory is created, each temporary file is created in it (proving it is
+//! writable), and a target that is a directory is an error. Temporary files are named
+//! `.<target name>.partial-<pid>`; they are removed when the run fails, and a later run into
+//! the same directory removes those a killed run left (on Linux, where it can tell that
+//! their process is gone).
+
+use std::fs::File;
+use std::path::{Path, PathBuf};
+
+use super::OutputError;
+
+/// The files of one run, staged in one directory.
+pub struct StagedFiles {
+    entries: Vec<(PathBuf, PathBuf)>,
+    dir: PathBuf,
+    committed: bool,
+}
+
+const PARTIAL: &str = ".partial-";
+
+fn temp_name(name: &str, pid: u32) -> String {
+    format!(".{name}{PARTIAL}{pid}")
+}
+
+impl StagedFiles {
+    /// Creates `dir` if needed and a temporary file for each of `names` (plain file names,
+    /// no separators). Fails before anything is written over when a target is a directory
+    /// or the directory is not writable.
+    pub fn prepare(dir: &Path, names: &[String]) -> Result<Self, OutputError> {
+        std::fs::create_dir_all(dir).map_err(|e| OutputError::io(dir, e))?;
+        if !dir.is_dir() {
+            return Err(OutputError::io(
+                dir,
+                std::io::Error::other("the output path exists and is not a directory"),
+            ));
+        }
+        let mut staged = Self {
+            entries: Vec::with_capacity(names.len()),
+            dir: dir.to_path_buf(),
+            committed: false,
+        };
+        for name in names {
+            let plain = Path::new(name)
+                .file_name()
+                .is_some_and(|n| n == name.as_str());
+            if !plain || name.starts_with('.') {
+                return Err(OutputError::io(
+                    &dir.join(name),
+                    std::io::Error::other("output names must be plain file names"),
+                ));
+            }
+            let target = dir.join(name);
+            if target.is_dir() {
+                return Err(OutputError::io(
+                    &target,
+                    std::io::Error::other("is a directory; it would not be replaced by the image"),
+                ));
+            }
+            remove_stale_partials(dir, name);
+            let temp = dir.join(temp_name(name, std::process::id()));
+            // Registered first, so Drop removes it even if creating it half-fails.
+            staged.entries.push((temp.clone(), target));
+            File::create(&temp).map_err(|e| OutputError::io(&temp, e))?;
+        }
+        Ok(staged)
+    }
+
+    /// Where to write the file that will become `dir/name` (one of the prepared names).
+    pub fn temp_path(&self, name: &str) -> Result<&Path, OutputError> {
+        let target = self.dir.join(name);
+        self.entries
+            .iter()
+            .find(|(_, t)| *t == target)
+            .map(|(temp, _)| temp.as_path())
+            .ok_or_else(|| {
+                OutputError::io(
+                    &target,
+                    std::io::Error::other("not one of the run's prepared output files"),
+                )
+            })
+    }
+
+    /// The final paths, in the order they were prepared.
+    pub fn targets(&self) -> impl Iterator<Item = &Path> {
+        self.entries.iter().map(|(_, target)| target.as_path())
+    }
+
+    /// Flushes every temporary file to disk, then renames each over its target. Returns the
+    /// targets. Until this is called nothing in the directory but the temporary files changed.
+    pub fn commit(mut self) -> Result<Vec<PathBuf>, OutputError> {
+        for (temp, _) in &self.entries {
+            File::open(temp)
+                .and_then(|f| f.sync_all())
+                .map_err(|e| OutputError::io(temp, e))?;
+        }
+        for (temp, target) in &self.entries {
+            std::fs::rename(temp, target).map_err(|e| OutputError::io(target, e))?;
+        }
+        // The renames themselves reach the disk with the directory (best effort: not every
+        // platform can open a directory).
+        if let Ok(d) = File::open(&self.dir) {
+            let _ = d.sync_all();
+        }
+        self.committed = true;
+        Ok(self.entries.iter().map(|(_, t)| t.clone()).collect())
+    }
+}
+
+impl Drop for StagedFiles {
+    fn drop(&mut self) {
+        if !self.committed {
+            for (temp, _) in &self.entries {
+                let _ = std::fs::remove_file(temp);
+            }
+        }
+    }
+}
+
+/// Removes `.<name>.partial-<pid>` files whose process no longer runs (Linux only: elsewhere
+/// there is no cheap way to tell, and they are left alone).
+fn remove_stale_partials(dir: &Path, name: &str) {
+    if !Path::new("/proc/self").exists() {
+        return;
+    }
+    let prefix = format!(".{name}{PARTIAL}");
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let file_name = entry.file_name();
+        let Some(pid) = file_name.to_str().and_then(|n| n.strip_prefix(&prefix)) else {
+            continue;
+        };
+        let alive = pid
+            .parse::<u32>()
+            .is_ok_and(|p| Path::new("/proc").join(p.to_string()).exists());
+        if !alive {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// Writes `bytes` to `path` through a temporary file and a rename: a failure leaves any
+/// previous file at `path` as it was.
+pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let name = path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .filter(|n| !n.starts_with('.'))
+        .ok_or_else(|| {
+            OutputError::io(
+                path,
+                std::io::Error::other("not a plain, visible file name"),
+            )
+        })?
+        .to_owned();
+    let staged = StagedFiles::prepare(dir, std::slice::from_ref(&name))?;
+    let temp = staged.temp_path(&name)?;
+    std::fs::write(temp, bytes).map_err(|e| OutputError::io(temp, e))?;
+    staged.commit().map(|_| ())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::tests::temp_path;
+
+    #[test]
+    fn nothing_changes_until_commit_and_a_failed_run_leaves_nothing() {
+        let dir = temp_path("staged");
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("a.png"), b"old a").unwrap();
+        let names = ["a.png".to_string(), "b.exr".to_string()];
+        let staged = StagedFiles::prepare(&dir, &names).unwrap();
+        std::fs::write(staged.temp_path("a.png").unwrap(), b"new a").unwrap();
+        assert_eq!(std::fs::read(dir.join("a.png")).unwrap(), b"old a");
+        drop(staged); // the run failed before b.exr was written
+        let left: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name())
+            .collect();
+        assert_eq!(left, ["a.png"]);
+        assert_eq!(std::fs::read(dir.join("a.png")).unwrap(), b"old a");
+
+        let staged = StagedFiles::prepare(&dir, &names).unwrap();
+        for name in &names {
+            std::fs::write(staged.temp_path(name).unwrap(), name.as_bytes()).unwrap();
+        }
+        let written = staged.commit().unwrap();
+        assert_eq!(written, [dir.join("a.png"), dir.join("b.exr")]);
+        assert_eq!(std::fs::read(dir.join("a.png")).unwrap(), b"a.png");
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_directory_in_the_way_and_path_names_are_refused_up_front() {
+        let dir = temp_path("staged-dir");
+        std::fs::create_dir_all(dir.join("x.png")).unwrap();
+        let e = StagedFiles::prepare(&dir, &["y.exr".into(), "x.png".into()])
+            .err()
+            .unwrap();
+        assert!(
+            e.to_string().contains("x.png") && e.to_string().contains("directory"),
+            "{e}"
+        );
+        // The temporary file of y.exr, made before x.png was refused, is gone again.
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
+        for bad in ["../up.png", "/abs.png", ".hidden.png", "a/b.png"] {
+            assert!(
+                StagedFiles::prepare(&dir, &[bad.to_string()]).is_err(),
+                "{bad}"
+            );
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn partial_files_of_dead_runs_are_removed() {
+        let dir = temp_path("staged-stale");
+        std::fs::create_dir_all(&dir).unwrap();
+        // No process has pid 4294967295 (Linux pids stay below 2^22).
+        let stale = dir.join(temp_name("a.png", u32::MAX));
+        std::fs::write(&stale, b"half").unwrap();
+        let staged = StagedFiles::prepare(&dir, &["a.png".into()]).unwrap();
+        assert_eq!(stale.exists(), !Path::new("/proc/self").exists());
+        drop(staged);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
