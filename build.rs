@@ -2,6 +2,9 @@
 //! build with the file and line. Files ending in `.glsl` are includes, not stages.
 
 use std::path::{Path, PathBuf};
+// Links shaderc where the distribution's libshaderc.so cannot be linked as it is (Debian 12);
+// see build-support/shaderc-link. Naming the crate is what puts its link arguments on ours.
+use motion_shadows_shaderc_link as _;
 
 fn stage_of(path: &Path) -> Option<shaderc::ShaderKind> {
     match path.extension()?.to_str()? {
