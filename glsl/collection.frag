@@ -22,7 +22,9 @@ void main() {
     }
     CounterRef counters = CounterRef(map.counters);
     uint index = atomicAdd(counters.c.node_count, 1u);
-    if (index >= counters.c.node_capacity) return;
+    // Every count is handed out once, so the last one marks the wrap of the 32-bit counter.
+    if (index == 0xffffffffu) atomicOr(counters.c.wrapped, 1u);
+    if (index >= counters.c.node_capacity || counters.c.wrapped != 0u) return;
     uint next = atomicExchange(UintArray(map.heads).v[p], index + 1u);
     NodeArray(map.nodes).nodes[index] = Node(in_depth, clamp(in_time, 0.0, 1.0), in_id, next);
 }

@@ -70,5 +70,6 @@ void main() {
 
     NodeArray(table.node).nodes[1] = Node(1.5, 0.25, 7u, 9u);
     RangeArray(table.range).ranges[1] = MsRange(0.125, 0.75, 2.5, 3.5, 11u, 13u);
-    CounterRef(table.counters).c = Counters(21u, 22u, 23u, 24u, 31u, 32u, 33u, 34u);
+    CounterRef(table.counters).c = Counters(21u, 22u, 23u, 24u, 31u, 32u, 33u, 34u, 35u, 36u,
+                                                  37u, 38u);
 }

@@ -36,6 +36,8 @@ struct Counters {
     uint longest_list;
     uint ranges_without_coverage;   // what range_count would be without the coverage map
     uint invalid_triangles;
+    uint wrapped;                   // 1 if node_count passed 2^32 - 1 (the frame is an error)
+    uint reserved0, reserved1, reserved2;
 };
 
 // The most fragments one shadow-map pixel may hold. The generation pass sorts a pixel's list

@@ -15,9 +15,6 @@
 motion_shadows_setup() (
     set -euo pipefail
 
-    local root
-    root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-
     local id="" version="" like=""
     if [[ -r /etc/os-release ]]; then
         id="$(. /etc/os-release && echo "${ID:-}")"
@@ -100,33 +97,6 @@ motion_shadows_setup() (
         echo "setup.sh: installed ${missing[*]}" >&2
     else
         echo "setup.sh: all system packages present" >&2
-    fi
-
-    # .cargo/config.toml links shaderc's static libraries by name (see README, Building
-    # notes). glslang 14 and newer (Ubuntu 24.04's glslang-dev) no longer ship libHLSL.a and
-    # libOGLCompiler.a: their code was folded into the other libraries, which no longer need
-    # them. An empty archive of each, in the config's second search directory, lets the same
-    # link line serve both; Debian 12's glslang 12 has the real ones and never gets stubs.
-    local multiarch
-    multiarch="$(dpkg-architecture -qDEB_HOST_MULTIARCH 2>/dev/null || gcc -print-multiarch 2>/dev/null || true)"
-    if [[ "$multiarch" == x86_64-linux-gnu && -f "$root/.cargo/config.toml" ]]; then
-        local compat=/usr/local/lib/motion-shadows/link-compat
-        local lib
-        for lib in $(grep -o 'static=[A-Za-z0-9_-]*' "$root/.cargo/config.toml" | cut -d= -f2); do
-            [[ -f "/usr/lib/$multiarch/lib$lib.a" || -f "$compat/lib$lib.a" ]] && continue
-            case "$lib" in
-                HLSL | OGLCompiler)
-                    "${sudo[@]}" mkdir -p "$compat"
-                    printf '!<arch>\n' | "${sudo[@]}" tee "$compat/lib$lib.a" >/dev/null
-                    echo "setup.sh: glslang has no lib$lib.a (glslang >= 14); empty stub in $compat" >&2
-                    ;;
-                *)
-                    echo "setup.sh: static library lib$lib.a not found in /usr/lib/$multiarch;" \
-                        "reinstall libshaderc-dev, glslang-dev and spirv-tools" >&2
-                    exit 1
-                    ;;
-            esac
-        done
     fi
 
     # The tests need these exact files, not just the packages: a package may have been

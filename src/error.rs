@@ -68,7 +68,7 @@ pub enum Error {
 
     /// Some shadow-map pixels hold more prism fragments than the generation pass can pair.
     #[error(
-        "{pixels} shadow-map pixel(s) hold more than {limit} prism fragments (longest list: {longest}{more}); the generation pass pairs at most {limit} per pixel. The scene has too many moving surfaces behind one another as seen from the light"
+        "{pixels} shadow-map pixel(s) hold more than {limit} prism fragments (longest list: {longest}{more}); the generation pass pairs at most {limit} per pixel. Too many surfaces lie behind one another (or overlap) along one ray from the light: reduce the depth complexity the light sees there, or the shadow-map resolution"
     )]
     FragmentListTooLong {
         /// Pixels whose lists were too long.
@@ -89,6 +89,13 @@ pub enum Error {
         /// Triangles dropped.
         triangles: u32,
     },
+
+    /// A frame produced 2^32 fragments or more: the 32-bit fragment counter wrapped, so its
+    /// figures cannot size the buffers.
+    #[error(
+        "the frame produced 2^32 prism fragments or more (the fragment counter wrapped); reduce the shadow-map resolution or the scene"
+    )]
+    FragmentCountOverflow,
 
     /// A caller-supplied value is out of range.
     #[error("invalid argument: {0}")]

@@ -459,3 +459,44 @@ fn coordinates_just_inside_the_bound_render_lit_and_beyond_are_refused() {
     assert!(!dir.join("beyond-temporal.exr").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+// ---------------------------------------------------------------------------------------
+// Silent emptiness: a shadow map that receives no fragment at all is reported.
+
+#[test]
+fn a_shadow_map_that_receives_nothing_is_warned_about() {
+    let dir = temp_dir("empty-map");
+    // The spot light looks down from y = 10, but its depth range ends at 5: every triangle
+    // lies beyond its far plane.
+    let json = scene_json("beyond-far", 0.1, "[0, 10, 0]", &[floor(4.0)])
+        .replace(r#""near": 0.05, "far": 50"#, r#""near": 0.05, "far": 5"#);
+    let scene = write_scene(&dir, "beyond.json", &json);
+    let out = dir.join("out");
+    let run = render_file(&scene, &out, &["--json"]);
+    assert!(run.succeeded(), "stderr: {}", run.stderr());
+    let json: serde_json::Value = serde_json::from_slice(&run.output.stdout).unwrap();
+    assert_eq!(json["fragments"], 0);
+    let warnings = json["warnings"].as_array().expect("a warnings array");
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(
+        warnings[0]
+            .as_str()
+            .unwrap()
+            .contains("no triangle reaches the shadow map")
+    );
+    assert!(
+        run.stderr().contains("warning: no triangle reaches"),
+        "{}",
+        run.stderr()
+    );
+
+    // Within the depth range: fragments, no warning.
+    let json = scene_json("within-far", 0.1, "[0, 10, 0]", &[floor(4.0)]);
+    let scene = write_scene(&dir, "within.json", &json);
+    let run = render_file(&scene, &out, &["--json"]);
+    assert!(run.succeeded(), "stderr: {}", run.stderr());
+    let json: serde_json::Value = serde_json::from_slice(&run.output.stdout).unwrap();
+    assert!(json["fragments"].as_u64().unwrap() > 0);
+    assert_eq!(json["warnings"].as_array().map(Vec::len), Some(0));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -33,10 +33,13 @@ impl BufferUsage {
                     | vk::BufferUsageFlags::INDIRECT_BUFFER
                     | transfer
             }
-            // Geometry the shaders read by address.
+            // Geometry the shaders read by address, which a host may also bind as vertex and
+            // index buffers for its own passes.
             Self::HostToDevice => {
                 vk::BufferUsageFlags::STORAGE_BUFFER
                     | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS
+                    | vk::BufferUsageFlags::VERTEX_BUFFER
+                    | vk::BufferUsageFlags::INDEX_BUFFER
                     | transfer
             }
             Self::Uniform => vk::BufferUsageFlags::UNIFORM_BUFFER,

@@ -25,6 +25,15 @@ impl ContextOptions {
     }
 }
 
+/// Optional device features the host enabled on its device (what was enabled cannot be
+/// queried from a `VkDevice`, so a host says it). Each unlocks one pass.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct OptionalFeatures {
+    /// shaderStorageImageWriteWithoutFormat: the visibility-mask pass
+    /// (`technique::VisibilityMaskPass`) writes any single-channel output format with it.
+    pub storage_image_write_without_format: bool,
+}
+
 /// What the library knows about the device it runs on.
 #[derive(Debug, Clone)]
 pub struct DeviceInfo {
@@ -44,8 +53,8 @@ pub struct DeviceInfo {
     pub timestamp_valid_bits: u32,
     /// Bits of sub-pixel precision the rasterizer snaps vertex positions to.
     pub sub_pixel_precision_bits: u32,
-    /// shaderStorageImageWriteWithoutFormat is supported (and, on a headless context,
-    /// enabled): the visibility-mask pass needs it.
+    /// shaderStorageImageWriteWithoutFormat is enabled (a headless context enables it where
+    /// supported; a host says so in [`Context::from_raw`]): the visibility-mask pass needs it.
     pub storage_image_write_without_format: bool,
 }
 
@@ -230,7 +239,7 @@ impl Context {
     ///   geometryShader, fragmentStoresAndAtomics, shaderInt64, shaderBufferInt64Atomics,
     ///   dynamicRendering, synchronization2, hostQueryReset, bufferDeviceAddress; and, for
     ///   the visibility-mask pass (`technique::VisibilityMaskPass`), also
-    ///   shaderStorageImageWriteWithoutFormat.
+    ///   shaderStorageImageWriteWithoutFormat, enabled exactly when `optional` says so.
     /// - `instance` and `device` outlive the returned context and every object made from it.
     /// - The library submits to `queue` only through [`super::OneShot`] (which the standalone
     ///   renderer uses); passes only record into command buffers the host gives them.
@@ -242,6 +251,7 @@ impl Context {
         device: ash::Device,
         queue_family: u32,
         queue: vk::Queue,
+        optional: OptionalFeatures,
     ) -> Result<Self> {
         // What was enabled cannot be queried, but what the device lacks can be refused.
         let missing = device_select::missing_features(instance, physical);
@@ -251,7 +261,7 @@ impl Context {
                 missing.join(", ")
             )));
         }
-        unsafe {
+        let mut ctx = unsafe {
             Self::assemble(
                 instance,
                 physical,
@@ -261,7 +271,10 @@ impl Context {
                 None,
                 Arc::new(Mutex::new(Vec::new())),
             )
-        }
+        }?;
+        // The host's word, not the device's support: enabling is the host's choice.
+        ctx.info.storage_image_write_without_format = optional.storage_image_write_without_format;
+        Ok(ctx)
     }
 
     unsafe fn assemble(

@@ -16,7 +16,7 @@ mod timestamps;
 pub use barrier::{Access, memory_barrier};
 pub use buffer::{Buffer, BufferUsage};
 pub use commands::OneShot;
-pub use context::{Context, ContextOptions, DeviceInfo};
+pub use context::{Context, ContextOptions, DeviceInfo, OptionalFeatures};
 pub use pipeline::{
     Pipeline, ShaderModule, attachmentless_pipeline, begin_attachmentless, compute_pipeline,
     compute_pipeline_with_sets, pipeline_layout, pipeline_layout_with_sets,

@@ -59,6 +59,11 @@ pub struct Counters {
     pub ranges_without_coverage: u32,
     /// Triangles not drawn because an index pointed past their draw's vertex count.
     pub invalid_triangles: u32,
+    /// 1 if the fragment count passed 2^32 - 1 (the 32-bit counter wrapped): the frame's
+    /// figures are meaningless and it is an error.
+    pub wrapped: u32,
+    /// Unused (0).
+    pub reserved: [u32; 3],
 }
 
 /// The most fragments one shadow-map pixel may hold (`MAX_LIST_NODES` in shared.glsl).
@@ -275,7 +280,7 @@ pub const NO_TRIANGLE: u32 = u32::MAX;
 const _: () = {
     assert!(std::mem::size_of::<Node>() == 16);
     assert!(std::mem::size_of::<Range>() == 24);
-    assert!(std::mem::size_of::<Counters>() == 32);
+    assert!(std::mem::size_of::<Counters>() == 48);
     assert!(std::mem::size_of::<GpuLight>() == 192);
     assert!(std::mem::size_of::<ShadowMapHeader>() == 288);
     assert!(std::mem::size_of::<PlainMapHeader>() == 224);

@@ -60,16 +60,22 @@ impl LightingTarget {
         }
         let pixels = width as u64 * height as u64;
         let limit = ctx.max_addressed_buffer_bytes();
-        let fit = (limit / (pixels * 8)).min(MAX_SAMPLES_PER_CHUNK as u64) as u32;
-        if fit == 0 || pixels * 16 > limit {
-            return Err(Error::DeviceLimit {
-                what: "the visibility buffer (one 8-byte sample per pixel)",
-                count: pixels,
-                element_bytes: 8,
-                needed_bytes: pixels * 8,
-                limit_bytes: limit,
-            });
+        // Each buffer is checked with its own figures, so the error names what does not fit.
+        for (what, element_bytes) in [
+            ("the radiance buffer (RGBA32F per pixel)", 16),
+            ("the visibility buffer (one 8-byte sample per pixel)", 8),
+        ] {
+            if pixels * element_bytes > limit {
+                return Err(Error::DeviceLimit {
+                    what,
+                    count: pixels,
+                    element_bytes,
+                    needed_bytes: pixels * element_bytes,
+                    limit_bytes: limit,
+                });
+            }
         }
+        let fit = (limit / (pixels * 8)).min(MAX_SAMPLES_PER_CHUNK as u64) as u32;
         let samples_per_chunk = spp.min(max_samples_per_chunk).clamp(1, fit);
         Ok(Self {
             width,
@@ -121,7 +127,14 @@ impl LightingTarget {
     }
 
     /// Records the copy that [`Self::read_rgb`] and [`Self::read_moving_coverage`] read after the submission completes.
-    pub fn record_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+    ///
+    /// # Safety
+    /// `cmd` was allocated from the target's device, is recording, outside any render pass,
+    /// after the lighting pass of the frame.
+    ///
+    /// Synchronization: waits for the compute stage's radiance writes; leaves the copies
+    /// visible to host reads once the submission's fence has signalled.
+    pub unsafe fn record_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
         memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ);
         let region = [vk::BufferCopy {
             src_offset: 0,

@@ -49,5 +49,6 @@ pub use view::{
 /// `glsl/motion_shadows.glsl`: the GLSL include a host's own shaders use to test visibility
 /// against a [`TemporalShadowMap`] (`ms_visibility(MsShadowMap(header_address), position,
 /// normal, t, MS_NO_TRIANGLE)`). Write it next to your shaders or hand it to your compiler's
-/// include callback.
+/// include callback. With shaderc, target Vulkan 1.2 (`EnvVersion::Vulkan1_2`) unless the
+/// device has maintenance4: for 1.3 glslang declares workgroup sizes with LocalSizeId.
 pub const GLSL_INCLUDE: &str = include_str!("../../glsl/motion_shadows.glsl");

@@ -192,13 +192,18 @@ impl TemporalShadowMap {
     /// Whether a frame with these counts overflowed this map (its output is then incomplete
     /// and the frame must be recorded again after [`Self::grow_to_fit`]).
     pub fn needs_more_room(&self, counts: &Counters) -> bool {
-        counts.node_count > self.node_capacity || counts.range_count > self.range_capacity
+        counts.wrapped != 0
+            || counts.node_count > self.node_capacity
+            || counts.range_count > self.range_capacity
     }
 
     /// An error if the frame that produced `counts` had pixels whose fragment lists were too
     /// long to pair (their ranges are missing), or triangles dropped for an invalid index:
     /// the frame must not be used.
     pub fn check_complete(&self, counts: &Counters) -> Result<()> {
+        if counts.wrapped != 0 {
+            return Err(Error::FragmentCountOverflow);
+        }
         if counts.invalid_triangles > 0 {
             return Err(Error::InvalidIndices {
                 triangles: counts.invalid_triangles,
@@ -219,10 +224,26 @@ impl TemporalShadowMap {
         })
     }
 
+    /// Reallocates to the given capacities (at least the current ones): an engine that
+    /// grows between frames may keep headroom above the last frame's counts, e.g.
+    /// `map.reserve(ctx, counts.node_count / 4 * 5, counts.range_count / 4 * 5)`. Like
+    /// [`Self::grow_to_fit`], it frees the old buffers at once.
+    pub fn reserve(&mut self, ctx: &Context, nodes: u32, ranges: u32) -> Result<()> {
+        let nodes = nodes.max(self.node_capacity);
+        let ranges = ranges.max(self.range_capacity);
+        if (nodes, ranges) != (self.node_capacity, self.range_capacity) {
+            *self = Self::new(ctx, self.width, self.height, nodes, ranges)?;
+        }
+        Ok(())
+    }
+
     /// Reallocates to hold exactly what `counts` says a frame needs (and at least the
     /// current capacities). Errors with the figures if the device cannot address that much.
     /// The old buffers are freed at once: call only when no submission using them is pending.
     pub fn grow_to_fit(&mut self, ctx: &Context, counts: &Counters) -> Result<()> {
+        if counts.wrapped != 0 {
+            return Err(Error::FragmentCountOverflow);
+        }
         let nodes = counts.node_count.max(self.node_capacity);
         // When fragments overflowed, the ranges counted came from incomplete lists. Ranges
         // pair fragments, so about half the fragments plus a little for odd groups is a good
@@ -240,7 +261,14 @@ impl TemporalShadowMap {
 
     /// Records a copy of the counters for [`Self::read_counters`] (after the submission
     /// completes). Call after the generation pass.
-    pub fn record_counter_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+    ///
+    /// # Safety
+    /// `cmd` was allocated from the map's device, is recording, outside any render pass; no
+    /// other command buffer reads back this map's counters at the same time.
+    ///
+    /// Synchronization: waits for the compute stage's counter writes (the generation pass);
+    /// leaves the copy visible to host reads once the submission's fence has signalled.
+    pub unsafe fn record_counter_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
         memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ);
         let region = [vk::BufferCopy {
             src_offset: 0,

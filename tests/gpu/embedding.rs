@@ -5,7 +5,7 @@
 
 use crate::support::gpu::{assert_no_validation_messages, context, render};
 use crate::support::host::Host;
-use motion_shadows::gpu::Context;
+use motion_shadows::gpu::{Context, OptionalFeatures};
 use motion_shadows::technique::{
     CollectionPass, Counters, DrawList, GenerationPass, LightingPass, LightingTarget, LightingView,
     MAX_SAMPLES_PER_CHUNK, ShadowSource, TemporalShadowMap,
@@ -38,6 +38,7 @@ fn render_embedded(host: &Host, scene: &Scene) -> Embedded {
             host.device.clone(),
             host.queue_family,
             host.queue,
+            OptionalFeatures::default(),
         )
     }
     .expect("Context::from_raw");
@@ -89,7 +90,8 @@ fn render_embedded(host: &Host, scene: &Scene) -> Embedded {
                     None,
                 );
             }
-            target.record_readback(device, cmd);
+            // SAFETY: the same command buffer, after the frame's passes.
+            unsafe { target.record_readback(device, cmd) };
         })
         .expect("host submission");
         let counts = map.read_counters().expect("counters");

@@ -61,3 +61,28 @@ fn out_of_range_settings_are_rejected() {
     }
     assert_no_validation_messages(&ctx);
 }
+
+/// A frame whose 32-bit fragment counter wrapped (2^32 fragments or more) is refused, never
+/// sized or used from its meaningless figures. (The collection shader sets `wrapped` when it
+/// hands out the count 2^32 - 1; producing 2^32 fragments is beyond a test's time.)
+#[test]
+fn a_wrapped_fragment_counter_is_an_error() {
+    let ctx = context();
+    let mut map = TemporalShadowMap::new(&ctx, 8, 8, 16, 16).unwrap();
+    let counts = motion_shadows::technique::Counters {
+        node_count: 5,
+        node_capacity: 16,
+        wrapped: 1,
+        ..Default::default()
+    };
+    assert!(map.needs_more_room(&counts), "a wrapped count never fits");
+    assert!(matches!(
+        map.check_complete(&counts),
+        Err(Error::FragmentCountOverflow)
+    ));
+    assert!(matches!(
+        map.grow_to_fit(&ctx, &counts),
+        Err(Error::FragmentCountOverflow)
+    ));
+    assert_no_validation_messages(&ctx);
+}

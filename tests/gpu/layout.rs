@@ -163,7 +163,7 @@ fn shared_structs_match_glsl() {
     let dump = out("dump", 4096);
     let nodes = out("nodes", 32);
     let ranges = out("ranges", 48);
-    let counters = out("counters", 32);
+    let counters = out("counters", 48);
     let table: Vec<u64> = [
         &shadow_in, &plain_in, &draw_in, &camera_in, &dump, &nodes, &ranges, &counters,
     ]
@@ -335,7 +335,7 @@ fn shared_structs_match_glsl() {
             next: 13
         }
     );
-    let c: Counters = cast(&download(&counters, 32), 0);
+    let c: Counters = cast(&download(&counters, 48), 0);
     assert_eq!(
         c,
         Counters {
@@ -347,6 +347,8 @@ fn shared_structs_match_glsl() {
             longest_list: 32,
             ranges_without_coverage: 33,
             invalid_triangles: 34,
+            wrapped: 35,
+            reserved: [36, 37, 38],
         }
     );
     drop(pipeline);

@@ -8,6 +8,7 @@ mod analytic;
 mod baselines;
 mod bench;
 mod coverage;
+mod deferred_host;
 mod embedding;
 mod errors;
 mod generation;

@@ -56,7 +56,8 @@ pub fn render_draws(
                     None,
                 );
             }
-            target.record_readback(device, cmd);
+            // SAFETY: the same command buffer, after the frame's passes.
+            unsafe { target.record_readback(device, cmd) };
             Ok(())
         })?;
         let counters = map.read_counters()?;

@@ -32,6 +32,8 @@ pub struct Host {
     /// Validation messages (stays empty without validation).
     pub messages: Messages,
     pub device_name: String,
+    /// shaderStorageImageWriteWithoutFormat was enabled (the visibility-mask pass needs it).
+    pub storage_image_write_without_format: bool,
     pool: vk::CommandPool,
     cmd: vk::CommandBuffer,
     fence: vk::Fence,
@@ -142,7 +144,8 @@ fn pick_device(instance: &ash::Instance) -> Result<(vk::PhysicalDevice, u32, Str
 impl Host {
     /// Creates the host's instance (with the Khronos validation layer, synchronization
     /// validation and a debug messenger when `validation`), picks a device and creates it
-    /// with exactly the features listed in `Context::from_raw`'s safety contract.
+    /// with exactly the features listed in `Context::from_raw`'s safety contract (the optional
+    /// shaderStorageImageWriteWithoutFormat included when the device has it).
     pub fn new(validation: bool) -> Result<Host, String> {
         let entry = unsafe { ash::Entry::load() }.map_err(|e| format!("Vulkan loader: {e}"))?;
         if validation {
@@ -216,10 +219,17 @@ impl Host {
         let queues = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family)
             .queue_priorities(&priorities)];
+        // Optional: the visibility-mask pass (deferred hosts) writes its single-channel output
+        // without a format qualifier. Enabled when the device has it, as the library's own
+        // headless context does.
+        let without_format = unsafe { instance.get_physical_device_features(physical) }
+            .shader_storage_image_write_without_format
+            == vk::TRUE;
         let core = vk::PhysicalDeviceFeatures::default()
             .geometry_shader(true)
             .fragment_stores_and_atomics(true)
-            .shader_int64(true);
+            .shader_int64(true)
+            .shader_storage_image_write_without_format(without_format);
         let mut f12 = vk::PhysicalDeviceVulkan12Features::default()
             .shader_buffer_int64_atomics(true)
             .host_query_reset(true)
@@ -250,6 +260,7 @@ impl Host {
             queue,
             messages,
             device_name,
+            storage_image_write_without_format: without_format,
             pool: vk::CommandPool::null(),
             cmd: vk::CommandBuffer::null(),
             fence: vk::Fence::null(),

@@ -42,7 +42,9 @@ pub fn progress_reporter() -> (Option<ProgressBar>, impl FnMut(&str)) {
         bar
     });
     let handle = bar.clone();
+    // Warnings must stay on screen: printed above the spinner, not as its message.
     let report = move |msg: &str| match &handle {
+        Some(bar) if msg.starts_with("warning:") => bar.println(msg),
         Some(bar) => bar.set_message(msg.to_owned()),
         None => eprintln!("{msg}"),
     };

@@ -23,6 +23,9 @@ pub fn summary_text(stats: &FrameStats, files: &[String]) -> String {
         stats.triangles
     );
     let _ = writeln!(s, "device: {}", stats.device);
+    for w in &stats.warnings {
+        let _ = writeln!(s, "warning: {w}");
+    }
     if stats.method == "temporal" || stats.method == "coverage" {
         let _ = writeln!(s, "fragments N_f: {}", stats.fragments);
         let _ = writeln!(s, "ranges    N_r: {}", stats.ranges);

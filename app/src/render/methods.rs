@@ -135,7 +135,8 @@ impl Renderer<'_> {
                     this.generation.record(device, cmd, &map);
                 }
                 ts.mark(cmd, "generation");
-                map.record_counter_readback(device, cmd);
+                // SAFETY: the same command buffer, after the frame's passes.
+                unsafe { map.record_counter_readback(device, cmd) };
                 Ok(())
             })?;
             let counts = map.read_counters()?;

@@ -260,12 +260,14 @@ impl<'a> Renderer<'a> {
                     this.lighting
                         .record(device, cmd, &draws, &view, shadow, &target, Some(ts))
                 };
-                target.record_readback(device, cmd);
+                // SAFETY: the same command buffer, after the frame's passes.
+                unsafe { target.record_readback(device, cmd) };
                 Ok(())
             })?;
         } else {
             self.run_timed(&mut passes, |this, cmd, _| {
-                target.record_readback(this.ctx.device(), cmd);
+                // SAFETY: the same command buffer, after the frame's passes.
+                unsafe { target.record_readback(this.ctx.device(), cmd) };
                 Ok(())
             })?;
         }
@@ -277,6 +279,19 @@ impl<'a> Renderer<'a> {
         let moving_coverage = target.read_moving_coverage()?;
 
         let counts = outcome.counters()?;
+        let mut warnings = Vec::new();
+        if matches!(outcome, ShadowOutcome::Temporal { .. })
+            && counts.node_count == 0
+            && geometry.triangle_count > 0
+        {
+            warnings.push(
+                "no triangle reaches the shadow map (all outside the light's cone or its near..far depth range): the image has no shadows"
+                    .to_owned(),
+            );
+        }
+        for w in &warnings {
+            progress(&format!("warning: {w}"));
+        }
         let shadow_pixels = shadow_size.0 as u64 * shadow_size.1 as u64;
         let (fragments, ranges) = (counts.node_count as u64, counts.range_count as u64);
         let temporal = matches!(outcome, ShadowOutcome::Temporal { .. });
@@ -313,6 +328,7 @@ impl<'a> Renderer<'a> {
             longest_fragment_list: counts.longest_list,
             samples_per_chunk: target.samples_per_chunk(),
             passes,
+            warnings,
             wall_ms: start.elapsed().as_secs_f64() * 1e3,
             device: format!("{} ({})", ctx.info().name, ctx.info().driver),
         };

@@ -45,6 +45,9 @@ pub struct FrameStats {
     pub shadow_pass_attempts: u32,
     pub samples_per_chunk: u32,
     pub passes: Vec<PassTime>,
+    /// Things the frame did that are legal but probably not what was meant (e.g. no
+    /// triangle reaching the shadow map); also printed on stderr.
+    pub warnings: Vec<String>,
     /// Wall-clock time of the whole render, including uploads and pipeline creation.
     pub wall_ms: f64,
     pub device: String,

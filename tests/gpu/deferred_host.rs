@@ -1,0 +1,900 @@
+//! The deferred host engine (`tests/support/deferred.rs`, the engine of
+//! `examples/deferred_host.rs`): its own device, buffers, G-buffer, two frames in flight and
+//! two lights, with the library's shadow and mask passes recorded into its command buffers.
+//! Checked against the library's standalone renderer (the app, used here as a reference
+//! only), against the lighting pass's own per-sample decisions, and against a closed form.
+
+use crate::support::gpu::{assert_no_validation_messages, context, render};
+use crate::support::host::{self, Host};
+use crate::support::sampling::{CameraRays, hits, pixel_key, pixel_sample};
+use ash::vk;
+use deferred::{
+    Camera, Engine, FrameOutput, HostBuffer, Light, Mesh, MeshIndices, Motion, Settings,
+    ShadowLookup, Vertex, World,
+};
+use glam::{DMat4, DVec3, Vec3};
+use motion_shadows::technique::{CameraParams, LightingView, TemporalShadowMap};
+use motion_shadows_app::render::upload::camera_view;
+use motion_shadows_app::render::{Method, RenderSettings};
+use motion_shadows_app::scene as app;
+
+// `deferred` finds the host's device type as `super::host`.
+#[allow(dead_code)]
+#[path = "../support/deferred.rs"]
+mod deferred;
+
+const SIZE: (u32, u32) = (160, 120);
+const SHADOW: (u32, u32) = (256, 256);
+const SEED: u32 = 11;
+/// The ground's albedo in the demo world (every channel): 204/255, exact in the RGBA8
+/// G-buffer.
+const GROUND_ALBEDO: f64 = 0.8;
+
+fn new_host() -> Host {
+    Host::new(true)
+        .unwrap_or_else(|e| panic!("GPU tests need a Vulkan device and the validation layer: {e}"))
+}
+
+fn settings(initial_capacity: (u32, u32)) -> Settings {
+    Settings {
+        width: SIZE.0,
+        height: SIZE.1,
+        shadow_size: SHADOW,
+        initial_capacity,
+        lookup: ShadowLookup::MaskImages,
+    }
+}
+
+/// The host's validation messenger heard nothing, also while its device and instance were
+/// destroyed (which reports objects left alive).
+fn assert_host_clean(host: Host) {
+    let messages = host.messages.clone();
+    drop(host);
+    let messages = messages.lock().map(|m| m.clone()).unwrap_or_default();
+    assert!(
+        messages.is_empty(),
+        "the validation layer reported {} message(s) on the host's instance:\n{}",
+        messages.len(),
+        messages.join("\n")
+    );
+}
+
+/// Frame `frame` of the host's world as the app's scene lit by light `light` alone: every
+/// mesh de-indexed, its positions at the shutter's ends (frames f - 1 and f) in world space.
+fn app_scene(world: &World, frame: u32, light: usize) -> app::Scene {
+    let f = frame as f64;
+    let c = &world.camera;
+    app::Scene {
+        name: format!("deferred-host-frame-{frame}-light-{light}"),
+        camera: app::Camera {
+            position: c.eye,
+            target: c.target,
+            up: c.up,
+            fov_y_deg: c.fov_y_deg,
+            near: c.near,
+            far: c.far,
+        },
+        light: match world.lights[light] {
+            Light::Spot {
+                position,
+                direction,
+                cone_half_angle_deg,
+                intensity,
+                near,
+                far,
+            } => app::Light::Spot(app::SpotLight {
+                position,
+                direction,
+                cone_angle_deg: cone_half_angle_deg,
+                intensity,
+                near,
+                far,
+            }),
+            Light::Directional {
+                direction,
+                irradiance,
+                center,
+                half_extent,
+                distance,
+                near,
+                far,
+            } => app::Light::Directional(app::DirectionalLight {
+                direction,
+                irradiance,
+                center,
+                half_extent,
+                distance,
+                near,
+                far,
+            }),
+        },
+        ambient: world.ambient,
+        meshes: world
+            .meshes
+            .iter()
+            .map(|m| app::Mesh {
+                name: m.name.clone(),
+                albedo: m.albedo,
+                closed: m.closed,
+                t0: m.world_triangles(f - 1.0),
+                t1: m.world_triangles(f),
+            })
+            .collect(),
+    }
+}
+
+/// The renderer's camera rays for `scene` (`shared.glsl`'s `camera_ray`).
+fn camera_rays(scene: &app::Scene, spp: u32) -> CameraRays {
+    let view = LightingView {
+        camera: camera_view(scene, SIZE),
+        seed: SEED,
+        ambient: scene.ambient,
+    };
+    let camera = CameraParams::new(&view, SIZE, spp);
+    CameraRays {
+        origin: camera.position.truncate(),
+        ray00: camera.ray00,
+        dx: camera.ray_dx,
+        dy: camera.ray_dy,
+        near: camera.position.w,
+        far: camera.forward.w,
+    }
+}
+
+/// Where the ray through image position (x, y) meets the ground plane y = 0, inside the
+/// ground's square of half-width `half` (less a margin).
+fn ground_point(rays: &CameraRays, x: f32, y: f32, half: f64) -> Option<DVec3> {
+    let dir = rays.direction(x, y);
+    let origin = rays.origin.as_dvec3();
+    if dir.y >= 0.0 {
+        return None;
+    }
+    let p = origin - origin.y / dir.y * dir;
+    (p.x.abs() < half - 0.1 && p.z.abs() < half - 0.1).then_some(p)
+}
+
+/// Unshadowed direct radiance of a ground point (normal +y, albedo `albedo`) from `light`,
+/// with the shading of the renderer and of the host's shade.comp. `None` near a decision
+/// edge (grazing light, the spot's cone within `cone_margin` in cosine), where a pixel's
+/// area or a float ulp decides.
+fn ground_direct(light: &Light, p: DVec3, albedo: f64, cone_margin: f64) -> Option<f64> {
+    let view = light.view(SHADOW);
+    let (to_light, dist2, emission) = match *light {
+        Light::Spot { intensity, .. } => {
+            let d = view.position.as_dvec3() - p;
+            (d, d.length_squared(), f64::from(intensity))
+        }
+        Light::Directional { irradiance, .. } => {
+            (-view.direction.as_dvec3(), 1.0, f64::from(irradiance))
+        }
+    };
+    let l = to_light.normalize();
+    let cos_theta = l.y;
+    if cos_theta < 0.05 {
+        return None;
+    }
+    if let motion_shadows::technique::LightKind::Spot { cos_cone, .. } = view.kind {
+        let cos_axis = (-l).dot(view.direction.as_dvec3());
+        if (cos_axis - f64::from(cos_cone)).abs() < cone_margin {
+            return None;
+        }
+        if cos_axis < f64::from(cos_cone) {
+            return Some(0.0);
+        }
+    }
+    Some(albedo / std::f64::consts::PI * emission * cos_theta / dist2)
+}
+
+/// Per caster (every mesh but the ground, mesh 0), the screen-space box in pixels that holds
+/// it during frame `frame`'s whole shutter, grown by `margin` pixels: the convex hull of its
+/// vertices' projections at both ends holds every position in between (lines project to
+/// lines in front of the camera).
+fn caster_boxes(world: &World, frame: u32, margin: f32) -> Vec<[f32; 4]> {
+    let view_proj = world.camera.view_proj(SIZE.0 as f32 / SIZE.1 as f32);
+    let f = frame as f64;
+    world.meshes[1..]
+        .iter()
+        .map(|m| {
+            let mut b = [f32::MAX, f32::MAX, f32::MIN, f32::MIN];
+            for p in m
+                .world_positions(f - 1.0)
+                .into_iter()
+                .chain(m.world_positions(f))
+            {
+                let clip = view_proj * p.extend(1.0);
+                assert!(clip.w > 0.0, "a caster behind the camera");
+                let x = (clip.x / clip.w * 0.5 + 0.5) * SIZE.0 as f32;
+                let y = (clip.y / clip.w * 0.5 + 0.5) * SIZE.1 as f32;
+                b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
+            }
+            [b[0] - margin, b[1] - margin, b[2] + margin, b[3] + margin]
+        })
+        .collect()
+}
+
+fn in_any_box(boxes: &[[f32; 4]], x: u32, y: u32) -> bool {
+    let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
+    boxes
+        .iter()
+        .any(|b| cx >= b[0] && cx <= b[2] && cy >= b[1] && cy <= b[3])
+}
+
+/// Whether a mask changes by more than `step` to one of the pixel's 8 neighbours: a shadow
+/// edge (or a shadow-map texel step) crosses the pixel, where a pixel-area average and a
+/// pixel-centre value differ by a share of the step.
+fn near_mask_edge(mask: &[f32], x: u32, y: u32, step: f32) -> bool {
+    let centre = mask[(y * SIZE.0 + x) as usize];
+    (-1i32..=1).any(|dy| {
+        (-1i32..=1).any(|dx| {
+            let (nx, ny) = (x as i32 + dx, y as i32 + dy);
+            if nx < 0 || ny < 0 || nx >= SIZE.0 as i32 || ny >= SIZE.1 as i32 {
+                return true;
+            }
+            (mask[(ny as u32 * SIZE.0 + nx as u32) as usize] - centre).abs() > step
+        })
+    })
+}
+
+/// Mean, standard deviation, RMSE and largest magnitude of differences.
+fn stats(diffs: &[f64]) -> (f64, f64, f64, f64) {
+    let n = diffs.len().max(1) as f64;
+    let mean = diffs.iter().sum::<f64>() / n;
+    let var = diffs.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+    let rmse = (diffs.iter().map(|d| d * d).sum::<f64>() / n).sqrt();
+    let max = diffs.iter().map(|d| d.abs()).fold(0.0, f64::max);
+    (mean, var.sqrt(), rmse, max)
+}
+
+/// Prints and checks the differences (renderer minus host, in visibility units, each with
+/// whether the host's value is partial) over all compared pixels and over the partly lit
+/// ones alone: the mean within 4 standard errors of 0 plus 0.004, the RMSE below 0.0625 (see
+/// the test's documentation).
+fn check_agreement(what: &str, diffs: &[(f64, bool)], min_partial: usize) {
+    let all: Vec<f64> = diffs.iter().map(|d| d.0).collect();
+    let partial: Vec<f64> = diffs.iter().filter(|d| d.1).map(|d| d.0).collect();
+    eprintln!("{what}:");
+    for (name, set) in [("all", &all), ("partly lit", &partial)] {
+        let (mean, std, rmse, max) = stats(set);
+        let standard_error = std / (set.len().max(1) as f64).sqrt();
+        eprintln!(
+            "  {name:>10}: {:5} pixels, mean {mean:+.5} (standard error {standard_error:.5}), \
+             std {std:.4}, RMSE {rmse:.4}, max {max:.3}",
+            set.len()
+        );
+        assert!(
+            mean.abs() <= 4.0 * standard_error + 0.004,
+            "{what}, {name}: the mean difference {mean} is biased"
+        );
+        assert!(rmse < 0.0625, "{what}, {name}: RMSE {rmse}");
+    }
+    assert!(
+        all.len() > 2000,
+        "{what}: only {} pixels compared",
+        all.len()
+    );
+    assert!(
+        partial.len() >= min_partial,
+        "{what}: only {} partly lit pixels compared",
+        partial.len()
+    );
+}
+
+/// The host's visibility mask of light `light` against the renderer's image of the same
+/// frame lit by that light alone, on ground pixels that no caster touches during the shutter,
+/// away from the spot's cone edge and from shadow edges. Returns the differences (renderer
+/// minus host, in visibility units: radiance less ambient, over the unshadowed direct
+/// radiance at the pixel centre), each with whether the host's value is partial.
+fn compare_light(
+    world: &World,
+    host_frame: &FrameOutput,
+    light: usize,
+    renderer_rgb: &[f32],
+) -> Vec<(f64, bool)> {
+    let scene = app_scene(world, host_frame.frame, light);
+    let rays = camera_rays(&scene, 1);
+    let boxes = caster_boxes(world, host_frame.frame, 2.0);
+    let mask = &host_frame.masks[light];
+    let ambient = f64::from(world.ambient) * GROUND_ALBEDO;
+    let mut diffs = Vec::new();
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            if in_any_box(&boxes, x, y) || near_mask_edge(mask, x, y, 0.2) {
+                continue;
+            }
+            let Some(p) = ground_point(&rays, x as f32 + 0.5, y as f32 + 0.5, 6.0) else {
+                continue;
+            };
+            let Some(direct) = ground_direct(&world.lights[light], p, GROUND_ALBEDO, 0.01) else {
+                continue;
+            };
+            if direct < 0.02 {
+                continue; // outside the cone: no visibility to compare
+            }
+            let i = (y * SIZE.0 + x) as usize;
+            let v_renderer = (f64::from(renderer_rgb[3 * i]) - ambient) / direct;
+            let v_host = f64::from(mask[i]);
+            diffs.push((v_renderer - v_host, v_host > 1e-3 && v_host < 1.0 - 1e-3));
+        }
+    }
+    diffs
+}
+
+/// The host's image equals the standalone renderer's on static receivers, per light and for
+/// both lights together, for the frames of both frame-in-flight slots.
+///
+/// Tolerances. The renderer averages visibility over the pixel's area and over 64 stratified
+/// sample times; the host's mask is the exact lit fraction (no time noise) at the pixel
+/// centre. On pixels away from shadow edges their expectations agree up to second-order
+/// terms, so:
+/// - the mean difference (renderer minus host) must be within 4 standard errors of 0, plus
+///   0.004 for the residual bias of pixel-area against pixel-centre values on piecewise
+///   linear penumbra profiles and shadow-map texel steps (up to 0.2 between neighbours, the
+///   edge filter's threshold) that the two sample differently;
+/// - the RMSE must stay below 0.0625 = 0.5 / sqrt(64): the standard deviation of a 64-sample
+///   Bernoulli estimate at visibility 1/2, the worst case before stratification (which only
+///   lowers it).
+///
+/// Both hold over all compared pixels and over the partly lit ones alone. The brute-force
+/// reference (256 time slices, ordinary shadow maps) is held to the same bounds for one
+/// frame.
+#[test]
+fn host_image_equals_the_standalone_renderer_on_static_receivers() {
+    let host = new_host();
+    let world = World::demo();
+    // Small starting capacities: the first frame of each slot overflows, its maps grow, and
+    // the kept frame is rendered again.
+    let frames = {
+        let mut engine = Engine::new(&host, &world, settings((4096, 4096))).expect("engine");
+        let frames = engine.render(&world, 0..4, &|_| true).expect("frames");
+        assert_eq!(
+            engine.context().validation_messages(),
+            Vec::<String>::new(),
+            "a from_raw context has no messenger of its own"
+        );
+        frames
+    };
+    assert_eq!(
+        frames.iter().map(|f| (f.frame, f.slot)).collect::<Vec<_>>(),
+        [(0, 0), (1, 1), (2, 0), (3, 1)]
+    );
+    // Each slot's maps grow once, with headroom for the next frames.
+    assert_eq!(
+        frames.iter().map(|f| f.attempts).collect::<Vec<_>>(),
+        [2, 2, 1, 1],
+        "4096-entry maps overflow in the first frame of each slot, and only there"
+    );
+    for frame in &frames {
+        eprintln!(
+            "frame {} (slot {}): {} submission(s); N_f / N_r per light: {:?}",
+            frame.frame,
+            frame.slot,
+            frame.attempts,
+            frame
+                .counters
+                .iter()
+                .map(|c| (c.node_count, c.range_count))
+                .collect::<Vec<_>>()
+        );
+        for c in &frame.counters {
+            assert!(c.node_count <= c.node_capacity && c.range_count <= c.range_capacity);
+            assert!(c.node_count > 0 && c.range_count > 0);
+        }
+    }
+
+    let ctx = context();
+    let ambient = world.ambient * GROUND_ALBEDO as f32;
+    for frame in &frames[2..] {
+        let mut per_light = Vec::new();
+        for light in 0..world.lights.len() {
+            let scene = app_scene(&world, frame.frame, light);
+            let settings = RenderSettings {
+                width: SIZE.0,
+                height: SIZE.1,
+                spp: 64,
+                seed: SEED,
+                shadow_size: Some(SHADOW),
+                method: Method::Temporal,
+                ..RenderSettings::default()
+            };
+            let result = render(&ctx, &scene, &settings);
+            let diffs = compare_light(&world, frame, light, &result.image.rgb);
+            let what = format!(
+                "frame {} (slot {}), light {light}, temporal 64 spp",
+                frame.frame, frame.slot
+            );
+            check_agreement(&what, &diffs, 150);
+            per_light.push(result.image.rgb);
+        }
+
+        // Both lights together: the host's radiance against the sum of the renderer's
+        // single-light images (each of which carries the ambient term once).
+        let scene = app_scene(&world, frame.frame, 0);
+        let rays = camera_rays(&scene, 1);
+        let boxes = caster_boxes(&world, frame.frame, 2.0);
+        let mut diffs = Vec::new();
+        for y in 0..SIZE.1 {
+            for x in 0..SIZE.0 {
+                if in_any_box(&boxes, x, y)
+                    || frame.masks.iter().any(|m| near_mask_edge(m, x, y, 0.2))
+                {
+                    continue;
+                }
+                let Some(p) = ground_point(&rays, x as f32 + 0.5, y as f32 + 0.5, 6.0) else {
+                    continue;
+                };
+                let direct: Option<Vec<f64>> = world
+                    .lights
+                    .iter()
+                    .map(|l| ground_direct(l, p, GROUND_ALBEDO, 0.01))
+                    .collect();
+                let Some(direct) = direct else { continue };
+                let i = (y * SIZE.0 + x) as usize;
+                let expected = per_light[0][3 * i] + per_light[1][3 * i] - ambient;
+                let got = frame.radiance[i][0];
+                let partial = frame.masks.iter().any(|m| m[i] > 1e-3 && m[i] < 1.0 - 1e-3);
+                diffs.push((
+                    f64::from(expected - got) / direct.iter().sum::<f64>(),
+                    partial,
+                ));
+            }
+        }
+        let what = format!(
+            "frame {} (slot {}), both lights (relative to the summed direct radiance)",
+            frame.frame, frame.slot
+        );
+        check_agreement(&what, &diffs, 150);
+    }
+
+    // The brute-force reference, for the last frame's spot light.
+    let frame = &frames[3];
+    let scene = app_scene(&world, frame.frame, 0);
+    let settings = RenderSettings {
+        width: SIZE.0,
+        height: SIZE.1,
+        spp: 1,
+        seed: SEED,
+        shadow_size: Some(SHADOW),
+        method: Method::Reference { slices: 256 },
+        ..RenderSettings::default()
+    };
+    let start = std::time::Instant::now();
+    let reference = render(&ctx, &scene, &settings);
+    let what = format!(
+        "frame 3, light 0, reference 256 slices ({:.1} s)",
+        start.elapsed().as_secs_f64()
+    );
+    check_agreement(
+        &what,
+        &compare_light(&world, frame, 0, &reference.image.rgb),
+        150,
+    );
+
+    assert_no_validation_messages(&ctx);
+    assert_host_clean(host);
+}
+
+/// A query of the host's probe shader (`Query` in tests/glsl/probe.comp).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+struct Query {
+    position: [f32; 3],
+    time: f32,
+    normal: [f32; 3],
+    own: u32,
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+struct ProbePush {
+    map: u64,
+    queries: u64,
+    results: u64,
+    count: u32,
+    reserved: u32,
+}
+
+/// Runs the host's probe shader (its own GLSL, including the library's header) on `queries`
+/// against `map`, in the host's own command buffer.
+fn probe(host: &Host, map: &TemporalShadowMap, queries: &[Query]) -> Vec<f32> {
+    let device = &host.device;
+    let push = [vk::PushConstantRange {
+        stage_flags: vk::ShaderStageFlags::COMPUTE,
+        offset: 0,
+        size: std::mem::size_of::<ProbePush>() as u32,
+    }];
+    let layout = unsafe {
+        device.create_pipeline_layout(
+            &vk::PipelineLayoutCreateInfo::default().push_constant_ranges(&push),
+            None,
+        )
+    }
+    .expect("probe layout");
+    let pipeline =
+        deferred::compute_pipeline(device, "probe.comp", deferred::sources::PROBE_COMP, layout)
+            .expect("probe pipeline");
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
+    let query_buffer = HostBuffer::with_data(host, queries, usage).expect("queries");
+    let results = HostBuffer::new(host, 4 * queries.len() as u64, usage).expect("results");
+    let constants = ProbePush {
+        map: map.header_address(),
+        queries: query_buffer.address(),
+        results: results.address(),
+        count: queries.len() as u32,
+        reserved: 0,
+    };
+    host.record_and_wait(|cmd| unsafe {
+        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+        let bytes = std::slice::from_raw_parts(
+            &constants as *const ProbePush as *const u8,
+            std::mem::size_of::<ProbePush>(),
+        );
+        device.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::COMPUTE, 0, bytes);
+        device.cmd_dispatch(cmd, (queries.len() as u32).div_ceil(64), 1, 1);
+        let to_host = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+        deferred::pipeline_barrier(device, cmd, &[], &to_host);
+    })
+    .expect("probe submission");
+    let out = results.read::<f32>(queries.len()).expect("results");
+    unsafe {
+        device.destroy_pipeline(pipeline, None);
+        device.destroy_pipeline_layout(layout, None);
+    }
+    out
+}
+
+/// The ground grid's triangle (index within the mesh) under world point (x, z), `None` within
+/// `margin` of a diagonal (cell edges are shared by coplanar triangles of one surface, where
+/// either id gives the same answer). Mirrors `deferred::ground_grid(6, 4)`.
+fn ground_triangle(p: DVec3, margin: f64) -> Option<u32> {
+    let (half, cells) = (6.0, 4u32);
+    let step = 2.0 * half / cells as f64;
+    let col = ((p.x + half) / step).floor() as u32;
+    let row = ((p.z + half) / step).floor() as u32;
+    let (u, w) = (
+        p.x + half - col as f64 * step,
+        p.z + half - row as f64 * step,
+    );
+    if (u - w).abs() < margin || col >= cells || row >= cells {
+        return None;
+    }
+    // (a, b, c) holds the part with w > u, (a, c, d) the rest.
+    Some(2 * (row * cells + col) + u32::from(w < u))
+}
+
+/// The GLSL include in a shader that is not the library's: the host's probe shader calls
+/// `ms_visibility` at the points and times of the renderer's 1-spp samples on the ground, with
+/// the ground triangle's id as its own, against the host's map of the same frame. Where the
+/// renderer's lighting pass (which calls the same function) found the sample lit (radiance
+/// above the ambient term by half the direct radiance), the probe must say 1, else 0.
+///
+/// The two hit points differ by float rounding (the GPU intersects in f32, this test in f64),
+/// and the maps by the transforms (applied by the GPU in f32 here, on the CPU in f64 for the
+/// renderer's scene): a sample within that distance of a shadow boundary can go either way.
+/// Such samples are few: at most 0.5% may disagree.
+#[test]
+fn glsl_include_in_a_host_shader_agrees_with_the_library_lighting_pass() {
+    let host = new_host();
+    let world = World::demo();
+    let mut engine = Engine::new(&host, &world, settings((600_000, 300_000))).expect("engine");
+    let frames = engine.render(&world, 0..4, &|f| f == 3).expect("frames");
+    assert_eq!(frames.len(), 1);
+    assert_eq!(frames[0].attempts, 1, "the capacities are generous");
+    let slot = frames[0].slot;
+    let ground_first_id = engine.first_triangle_id(0);
+
+    let ctx = context();
+    let ambient = f64::from(world.ambient) * GROUND_ALBEDO;
+    for light in 0..world.lights.len() {
+        let scene = app_scene(&world, 3, light);
+        let settings = RenderSettings {
+            width: SIZE.0,
+            height: SIZE.1,
+            spp: 1,
+            seed: SEED,
+            shadow_size: Some(SHADOW),
+            method: Method::Temporal,
+            ..RenderSettings::default()
+        };
+        let result = render(&ctx, &scene, &settings);
+        let rays = camera_rays(&scene, 1);
+        let casters: Vec<(Vec<Vec3>, Vec<Vec3>)> = scene.meshes[1..]
+            .iter()
+            .map(|m| (m.t0.clone(), m.t1.clone()))
+            .collect();
+        let ground = &scene.meshes[0];
+        let (mut queries, mut expected, mut directs) = (Vec::new(), Vec::new(), Vec::new());
+        let mut skipped = 0;
+        for y in 0..SIZE.1 {
+            for x in 0..SIZE.0 {
+                let (t, offset) = pixel_sample(pixel_key(x, y, SEED), 0, 1);
+                let (px, py) = (x as f32 + offset[0], y as f32 + offset[1]);
+                let dir = rays.direction(px, py);
+                let at = |(t0, t1): &(Vec<Vec3>, Vec<Vec3>), i: usize| -> [DVec3; 3] {
+                    [0, 1, 2].map(|k| t0[3 * i + k].lerp(t1[3 * i + k], t).as_dvec3())
+                };
+                // The sample must see the ground: no caster in front at its time, and a clear
+                // hit of one ground triangle.
+                let caster_answers: Vec<Option<bool>> = casters
+                    .iter()
+                    .flat_map(|c| (0..c.0.len() / 3).map(move |i| (c, i)))
+                    .map(|(c, i)| hits(&rays, dir, at(c, i), 1e-4))
+                    .collect();
+                if caster_answers.contains(&Some(true)) {
+                    continue;
+                }
+                let Some(p) = ground_point(&rays, px, py, 6.0) else {
+                    continue;
+                };
+                let Some(tri) = ground_triangle(p, 1e-3) else {
+                    skipped += 1;
+                    continue;
+                };
+                let ground_tri = [0, 1, 2].map(|k| ground.t0[3 * tri as usize + k].as_dvec3());
+                if caster_answers.contains(&None)
+                    || hits(&rays, dir, ground_tri, 1e-4) != Some(true)
+                {
+                    skipped += 1;
+                    continue;
+                }
+                let Some(direct) = ground_direct(&world.lights[light], p, GROUND_ALBEDO, 0.005)
+                else {
+                    skipped += 1;
+                    continue;
+                };
+                if direct < 0.02 {
+                    continue; // outside the cone: ambient either way
+                }
+                let radiance = f64::from(result.image.rgb[3 * (y * SIZE.0 + x) as usize]);
+                queries.push(Query {
+                    position: p.as_vec3().to_array(),
+                    time: t,
+                    normal: [0.0, 1.0, 0.0],
+                    own: ground_first_id + tri,
+                });
+                expected.push(radiance - ambient > 0.5 * direct);
+                directs.push(direct);
+            }
+        }
+        let visibility = probe(&host, engine.shadow_map(slot, light), &queries);
+        let disagree: Vec<usize> = (0..queries.len())
+            .filter(|&i| (visibility[i] > 0.5) != expected[i])
+            .collect();
+        let unlit = expected.iter().filter(|&&lit| !lit).count();
+        eprintln!(
+            "light {light}: {} ground samples, {unlit} in shadow, {} disagree ({:.3}%), {skipped} \
+             too close to an edge to call",
+            queries.len(),
+            disagree.len(),
+            100.0 * disagree.len() as f64 / queries.len().max(1) as f64
+        );
+        for &i in disagree.iter().take(5) {
+            eprintln!(
+                "  {:?}: probe {}, renderer lit {}",
+                queries[i], visibility[i], expected[i]
+            );
+        }
+        assert!(
+            visibility.iter().all(|&v| v == 0.0 || v == 1.0),
+            "ms_visibility is 0 or 1"
+        );
+        assert!(queries.len() > 5000, "only {} samples", queries.len());
+        assert!(unlit > 300, "only {unlit} samples in shadow");
+        assert!(
+            disagree.len() * 200 <= queries.len(),
+            "{} of {} samples disagree",
+            disagree.len(),
+            queries.len()
+        );
+    }
+    drop(engine);
+    assert_no_validation_messages(&ctx);
+    assert_host_clean(host);
+}
+
+/// A square of side `SIDE` at height 1 translating by `TRAVEL` in +x over the shutter, under
+/// a directional light straight down: a ground point (x, z) with z under the square is in
+/// shadow while a + TRAVEL t <= x <= a + SIDE + TRAVEL t, so its lit fraction is 1 minus the
+/// length of [(x - a - SIDE) / TRAVEL, (x - a) / TRAVEL] within [0, 1].
+fn square_world() -> (World, f64, f64) {
+    const START: f64 = -4.0;
+    const Z0: f32 = -1.0;
+    let (ground_v, ground_i) = deferred::ground_grid(6.0, 4);
+    let square = [[0.0, 0.0], [0.0, SIDE], [SIDE, SIDE], [SIDE, 0.0]].map(|[x, z]| Vertex {
+        position: [x, 0.0, z],
+        normal: [0.0, 1.0, 0.0],
+    });
+    let world = World {
+        camera: Camera {
+            eye: Vec3::new(0.0, 9.0, 7.0),
+            target: Vec3::new(-1.0, 0.0, 0.0),
+            up: Vec3::Y,
+            fov_y_deg: 45.0,
+            near: 0.1,
+            far: 50.0,
+        },
+        lights: vec![Light::Directional {
+            direction: Vec3::NEG_Y,
+            irradiance: 2.0,
+            center: Vec3::ZERO,
+            half_extent: 6.0,
+            distance: 10.0,
+            near: 0.5,
+            far: 20.0,
+        }],
+        ambient: 0.05,
+        meshes: vec![
+            Mesh {
+                name: "ground".into(),
+                vertices: ground_v,
+                indices: MeshIndices::U32(ground_i),
+                albedo: Vec3::splat(0.8),
+                closed: false,
+                motion: Motion::Rigid(Box::new(|_| DMat4::IDENTITY)),
+            },
+            Mesh {
+                name: "square".into(),
+                vertices: square.to_vec(),
+                indices: MeshIndices::U16(vec![0, 1, 2, 0, 2, 3]),
+                albedo: Vec3::splat(0.5),
+                closed: false,
+                motion: Motion::Rigid(Box::new(|f| {
+                    DMat4::from_translation(DVec3::new(
+                        START + f64::from(TRAVEL) * f,
+                        1.0,
+                        f64::from(Z0),
+                    ))
+                })),
+            },
+        ],
+    };
+    (world, START, f64::from(Z0))
+}
+
+const SIDE: f32 = 2.0;
+const TRAVEL: f32 = 4.0;
+
+/// `ms_lit_fraction` (through the mask pass, and through the host's own shader) against the
+/// closed form of `square_world`, at the centres of ground pixels that the square does not
+/// cover at t = 1 and that lie more than 1.5 shadow texels from the shadow's sides (z edges).
+///
+/// Tolerance: 2e-3 (the prism's rasterization snaps vertices to 1/256 texel, plus f32
+/// rounding), plus what a shadow-map texel of motion implies: the map holds the interval
+/// during which the square covers the texel's centre, which lies up to half a texel from the
+/// point along the motion, so both ends of the interval move by up to 0.5 texel / TRAVEL;
+/// its length changes only where one end is clipped to the shutter, by at most that much.
+#[test]
+fn lit_fraction_matches_the_closed_form_for_a_translating_square() {
+    let host = new_host();
+    let (world, start, z0) = square_world();
+    let mut engine = Engine::new(&host, &world, settings((300_000, 200_000))).expect("engine");
+    let frame = engine
+        .render(&world, 0..2, &|f| f == 1)
+        .expect("frames")
+        .pop()
+        .expect("frame 1 kept");
+    let texel = 2.0 * 6.0 / f64::from(SHADOW.1);
+    let tolerance = 2e-3 + 0.5 * texel / f64::from(TRAVEL);
+    let (side, travel) = (f64::from(SIDE), f64::from(TRAVEL));
+    let closed_form = |p: DVec3| -> f64 {
+        if p.z < z0 || p.z > z0 + side {
+            return 1.0;
+        }
+        let enter = ((p.x - start - side) / travel).clamp(0.0, 1.0);
+        let leave = ((p.x - start) / travel).clamp(0.0, 1.0);
+        1.0 - (leave - enter).max(0.0)
+    };
+
+    // Frame 1's shutter: the square from x = start to start + travel. Pixels showing the
+    // square itself at t = 1 (the G-buffer's time) are not ground.
+    let scene = app_scene(&world, 1, 0);
+    let rays = camera_rays(&scene, 1);
+    let covered = caster_boxes(&world, 1, 2.0);
+    let covered_at_1 = {
+        let view_proj = world.camera.view_proj(SIZE.0 as f32 / SIZE.1 as f32);
+        let mut b = [f32::MAX, f32::MAX, f32::MIN, f32::MIN];
+        for p in world.meshes[1].world_positions(1.0) {
+            let clip = view_proj * p.extend(1.0);
+            let x = (clip.x / clip.w * 0.5 + 0.5) * SIZE.0 as f32;
+            let y = (clip.y / clip.w * 0.5 + 0.5) * SIZE.1 as f32;
+            b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
+        }
+        [b[0] - 2.0, b[1] - 2.0, b[2] + 2.0, b[3] + 2.0]
+    };
+    let (mut compared, mut partial, mut worst) = (0, 0, 0.0f64);
+    let mut points = Vec::new();
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            if in_any_box(&[covered_at_1], x, y) {
+                continue;
+            }
+            let Some(p) = ground_point(&rays, x as f32 + 0.5, y as f32 + 0.5, 6.0) else {
+                continue;
+            };
+            if (p.z - z0).abs() < 1.5 * texel || (p.z - z0 - side).abs() < 1.5 * texel {
+                continue;
+            }
+            let expected = closed_form(p);
+            let got = f64::from(frame.masks[0][(y * SIZE.0 + x) as usize]);
+            let error = (got - expected).abs();
+            assert!(
+                error <= tolerance,
+                "pixel ({x},{y}) at ({:.3}, {:.3}): mask {got}, closed form {expected} \
+                 (tolerance {tolerance:.4})",
+                p.x,
+                p.z
+            );
+            compared += 1;
+            partial += usize::from(expected > 0.0 && expected < 1.0);
+            worst = worst.max(error);
+            points.push((x, y, p, expected));
+        }
+    }
+    eprintln!(
+        "mask vs closed form: {compared} ground pixels ({partial} partly lit, {} under the \
+         square's path), max error {worst:.5}, tolerance {tolerance:.5}",
+        points
+            .iter()
+            .filter(|(x, y, ..)| in_any_box(&covered, *x, *y))
+            .count()
+    );
+    assert!(
+        compared > 5000 && partial > 500,
+        "{compared} pixels, {partial} partial"
+    );
+
+    // The host's own shader calling ms_lit_fraction gives the masks' values (the R16 masks
+    // round to 1/65535).
+    // Irradiance 2 straight down on the ground: cos(theta) = 1 everywhere.
+    let direct = |_: DVec3| GROUND_ALBEDO / std::f64::consts::PI * 2.0;
+    let ambient = 0.05 * GROUND_ALBEDO;
+    engine.set_lookup(ShadowLookup::LitFractionInShader);
+    let in_shader = engine
+        .render(&world, 1..2, &|_| true)
+        .expect("frame")
+        .pop()
+        .expect("kept");
+    let mut worst_shader = 0.0f64;
+    for &(x, y, p, _) in &points {
+        let i = (y * SIZE.0 + x) as usize;
+        let lit = (f64::from(in_shader.radiance[i][0]) - ambient) / direct(p);
+        worst_shader = worst_shader.max((lit - f64::from(frame.masks[0][i])).abs());
+    }
+    eprintln!(
+        "ms_lit_fraction in the host's shader vs the mask: max difference {worst_shader:.2e}"
+    );
+    assert!(worst_shader < 1e-4);
+
+    // And ms_visibility at one instant, t = 0.5: in shadow exactly under the square then (away
+    // from its edges by 1.5 texels).
+    engine.set_lookup(ShadowLookup::VisibilityAt(0.5));
+    let instant = engine
+        .render(&world, 1..2, &|_| true)
+        .expect("frame")
+        .pop()
+        .expect("kept");
+    let x_at = start + 0.5 * travel;
+    let mut checked = 0;
+    for &(x, y, p, _) in &points {
+        let dx = (p.x - x_at).min(x_at + side - p.x);
+        if dx.abs() < 1.5 * texel {
+            continue;
+        }
+        let under = p.z > z0 && p.z < z0 + side && dx > 0.0;
+        let i = (y * SIZE.0 + x) as usize;
+        let lit = (f64::from(instant.radiance[i][0]) - ambient) / direct(p);
+        assert!(
+            (lit - if under { 0.0 } else { 1.0 }).abs() < 1e-3,
+            "pixel ({x},{y}) at ({:.3}, {:.3}), t = 0.5: lit {lit}, under the square: {under}",
+            p.x,
+            p.z
+        );
+        checked += 1;
+    }
+    eprintln!("ms_visibility at t = 0.5: {checked} pixels match");
+    drop(engine);
+    assert_host_clean(host);
+}
