@@ -7,6 +7,77 @@
 //!
 //! The app (scenes, the standalone renderer, image output, the `motion-shadows` command
 //! line) is the `motion-shadows-app` crate in `app/`, a client of this public API.
+//!
+//! # One frame in a host engine
+//!
+//! The host owns the device, the command buffer and the geometry; the library reads the
+//! host's position buffers in place and leaves a temporal shadow map that the host's shaders
+//! query with `ms_visibility` / `ms_lit_fraction` from [`technique::GLSL_INCLUDE`] (or that
+//! [`technique::VisibilityMaskPass`] turns into a mask). `examples/deferred_host.rs` is a
+//! whole engine; the README's "Integrating into your engine" walks through it.
+//!
+//! ```no_run
+//! use motion_shadows::ash::vk;
+//! use motion_shadows::glam::Vec3;
+//! use motion_shadows::gpu::{Context, OptionalFeatures};
+//! use motion_shadows::technique::{
+//!     CollectionPass, Draw, DrawList, GenerationPass, Indices, IndexStream, LightView,
+//!     PositionStream, TemporalShadowMap,
+//! };
+//!
+//! /// The host's mesh: device addresses of last frame's and this frame's positions (stride
+//! /// 16) and of 32-bit indices, as its skinning pass left them.
+//! struct HostMesh { previous: u64, current: u64, indices: u64, vertices: u32, triangles: u32 }
+//!
+//! # fn host_objects() -> (motion_shadows::ash::Instance, vk::PhysicalDevice,
+//! #     motion_shadows::ash::Device, u32, vk::Queue, vk::CommandBuffer, HostMesh) {
+//! #     unimplemented!()
+//! # }
+//! fn main() -> motion_shadows::Result<()> {
+//!     let (instance, physical, device, family, queue, cmd, mesh) = host_objects();
+//!     // SAFETY: the host created `device` with the features `from_raw` lists and keeps it
+//!     // alive longer than `ctx`.
+//!     let ctx = unsafe {
+//!         Context::from_raw(&instance, physical, device.clone(), family, queue,
+//!                           OptionalFeatures::default())?
+//!     };
+//!     // Once: the passes (shared by every frame in flight and light).
+//!     let collection = CollectionPass::new(&ctx)?;
+//!     let generation = GenerationPass::new(&ctx)?;
+//!     // Per frame in flight and light: the draw list and the map.
+//!     let mut draws = DrawList::new(&ctx, 16)?;
+//!     let mut map = TemporalShadowMap::new(&ctx, 1024, 1024, 1 << 21, 1 << 20)?;
+//!     let light = LightView::spot(Vec3::new(0.0, 8.0, 0.0), Vec3::NEG_Y, 40.0, 50.0, 0.5,
+//!                                 50.0, (1024, 1024));
+//!     // SAFETY: the addresses point at live buffers with SHADER_DEVICE_ADDRESS usage holding
+//!     // `vertices` positions (and 3 * `triangles` indices), unchanged until `cmd` completes.
+//!     let draw = unsafe {
+//!         Draw::new(
+//!             PositionStream::from_device_address(mesh.previous, 16),
+//!             PositionStream::from_device_address(mesh.current, 16),
+//!             mesh.vertices,
+//!             Indices::U32(IndexStream::from_device_address(mesh.indices)),
+//!             mesh.triangles,
+//!             0,
+//!         )
+//!     };
+//!     // Each frame, in the host's command buffer (recording, outside any render pass):
+//!     unsafe {
+//!         draws.record_update(&device, cmd, &[draw])?;
+//!         collection.record(&device, cmd, &draws, &light, &map, None)?;
+//!         generation.record(&device, cmd, &map);
+//!         map.record_counter_readback(&device, cmd);
+//!     }
+//!     // ... the host's shading passes `map.header_address()` to `ms_visibility` ...
+//!     // After the frame's fence: grow for the next frame if this one overflowed.
+//!     let counts = map.read_counters()?;
+//!     if map.needs_more_room(&counts) {
+//!         map.reserve(&ctx, counts.node_count / 4 * 5, counts.range_count / 4 * 5)?;
+//!     }
+//!     map.check_complete(&counts)?;
+//!     Ok(())
+//! }
+//! ```
 
 #![warn(missing_docs)]
 

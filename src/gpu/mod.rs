@@ -10,6 +10,7 @@ mod commands;
 mod context;
 mod debug;
 mod device_select;
+mod image_bindings;
 mod pipeline;
 mod timestamps;
 
@@ -17,6 +18,7 @@ pub use barrier::{Access, memory_barrier};
 pub use buffer::{Buffer, BufferUsage};
 pub use commands::OneShot;
 pub use context::{Context, ContextOptions, DeviceInfo, OptionalFeatures};
+pub use image_bindings::{ImageBindingLayout, ImageBindings};
 pub use pipeline::{
     Pipeline, ShaderModule, attachmentless_pipeline, begin_attachmentless, compute_pipeline,
     compute_pipeline_with_sets, pipeline_layout, pipeline_layout_with_sets,

@@ -23,6 +23,10 @@ use ash::vk;
 /// The most samples one geometry pass handles (bounded further by the device's buffer limit).
 pub const MAX_SAMPLES_PER_CHUNK: u32 = 16;
 
+/// The visibility buffer's size above which a frame's samples are split into more chunks
+/// (16 samples of 1024x768 take 96 MiB; at 4096x4096 one chunk holds 2 samples).
+const VISIBILITY_BUDGET_BYTES: u64 = 256 << 20;
+
 /// Where the lighting pass renders: the per-sample visibility buffer of one chunk and the
 /// accumulated linear radiance (RGBA32F per pixel; alpha: the share of samples that see a
 /// moving triangle). One per frame in flight.
@@ -75,7 +79,10 @@ impl LightingTarget {
                 });
             }
         }
-        let fit = (limit / (pixels * 8)).min(MAX_SAMPLES_PER_CHUNK as u64) as u32;
+        // Samples per chunk: as many as fit the budget (large images take several chunks
+        // rather than one huge visibility buffer), at least one.
+        let budget = limit.min(VISIBILITY_BUDGET_BYTES).max(pixels * 8);
+        let fit = (budget / (pixels * 8)).min(MAX_SAMPLES_PER_CHUNK as u64) as u32;
         let samples_per_chunk = spp.min(max_samples_per_chunk).clamp(1, fit);
         Ok(Self {
             width,

@@ -7,13 +7,19 @@
 //! Host images cannot be reached by device address, so this pass, unlike the others, binds a
 //! descriptor set: one [`MaskBindings`] per use in flight (per frame in flight and light).
 
+/// The descriptor set one mask dispatch binds (the host's depth, normal and output views):
+/// one per dispatch that may be pending at the same time (per frame in flight and light),
+/// used once per command buffer. Made by [`VisibilityMaskPass::bindings`].
+pub type MaskBindings = ImageBindings;
+
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
-use crate::error::{Error, Result, VkContext};
-use crate::gpu::{Context, Pipeline, compute_pipeline_with_sets};
+use crate::error::{Error, Result};
+use crate::gpu::{
+    Context, ImageBindingLayout, ImageBindings, Pipeline, compute_pipeline_with_sets,
+};
 use ash::vk;
 use glam::Mat4;
-use std::sync::Arc;
 
 /// How the host's normal image stores a world-space normal in its rgb channels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -73,134 +79,38 @@ struct MaskConstants {
 const HAS_NORMALS: u32 = 1;
 const NORMALS_UNORM: u32 = 2;
 
-/// Objects of the pass that its bindings borrow: freed when the last of them goes.
-struct Shared {
-    device: ash::Device,
-    set_layout: vk::DescriptorSetLayout,
-    sampler: vk::Sampler,
-}
-
-impl Drop for Shared {
-    fn drop(&mut self) {
-        unsafe {
-            self.device.destroy_sampler(self.sampler, None);
-            self.device
-                .destroy_descriptor_set_layout(self.set_layout, None);
-        }
-    }
-}
-
 /// The visibility-mask pass. Immutable after creation.
 pub struct VisibilityMaskPass {
-    shared: Arc<Shared>,
+    layout: ImageBindingLayout,
     pipeline: Pipeline,
 }
 
-/// The descriptor set one mask dispatch binds (the host's three image views). Rewritten by
-/// every [`VisibilityMaskPass::record`], so: one per dispatch that may be pending at the same
-/// time (per frame in flight and per light), and used once per command buffer.
-pub struct MaskBindings {
-    shared: Arc<Shared>,
-    pool: vk::DescriptorPool,
-    set: vk::DescriptorSet,
-}
-
-impl Drop for MaskBindings {
-    fn drop(&mut self) {
-        unsafe { self.shared.device.destroy_descriptor_pool(self.pool, None) };
-    }
-}
-
 impl VisibilityMaskPass {
-    /// Creates the pass. Errors when the device does not support writing storage images
-    /// without a format in the shader (`shaderStorageImageWriteWithoutFormat`), which lets one
-    /// pipeline write any of the output formats; a host device must also have it enabled.
+    /// Creates the pass. Errors when the device does not have `shaderStorageImageWriteWithout
+    /// Format` enabled (a headless context enables it where supported; a host says so in
+    /// `Context::from_raw`), which lets one pipeline write any of the output formats.
     pub fn new(ctx: &Context) -> Result<Self> {
         if !ctx.info().storage_image_write_without_format {
             return Err(Error::MissingFeatures(
                 "the visibility-mask pass needs shaderStorageImageWriteWithoutFormat".into(),
             ));
         }
-        let device = ctx.device();
-        let binding = |binding, ty| {
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(binding)
-                .descriptor_type(ty)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::COMPUTE)
-        };
-        let bindings = [
-            binding(0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-            binding(1, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-            binding(2, vk::DescriptorType::STORAGE_IMAGE),
-        ];
-        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
-        let set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
-            .vk("vkCreateDescriptorSetLayout")?;
-        // Exact texel reads (texelFetch ignores filtering, but a sampler is required).
-        let sampler_info = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::NEAREST)
-            .min_filter(vk::Filter::NEAREST)
-            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
-            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE);
-        let sampler = match unsafe { device.create_sampler(&sampler_info, None) } {
-            Ok(s) => s,
-            Err(result) => {
-                unsafe { device.destroy_descriptor_set_layout(set_layout, None) };
-                return Err(Error::Vulkan {
-                    call: "vkCreateSampler",
-                    result,
-                });
-            }
-        };
-        let shared = Arc::new(Shared {
-            device: device.clone(),
-            set_layout,
-            sampler,
-        });
+        let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
+        let layout =
+            ImageBindingLayout::new(ctx, &[sampled, sampled, vk::DescriptorType::STORAGE_IMAGE])?;
         let pipeline = compute_pipeline_with_sets(
             ctx,
-            &[set_layout],
+            &[layout.raw()],
             std::mem::size_of::<MaskConstants>() as u32,
             "visibility_mask.comp",
             shaders::VISIBILITY_MASK_COMP,
         )?;
-        Ok(Self { shared, pipeline })
+        Ok(Self { layout, pipeline })
     }
 
     /// A descriptor set for one dispatch in flight.
     pub fn bindings(&self) -> Result<MaskBindings> {
-        let device = &self.shared.device;
-        let sizes = [
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                descriptor_count: 2,
-            },
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::STORAGE_IMAGE,
-                descriptor_count: 1,
-            },
-        ];
-        let info = vk::DescriptorPoolCreateInfo::default()
-            .max_sets(1)
-            .pool_sizes(&sizes);
-        let pool =
-            unsafe { device.create_descriptor_pool(&info, None) }.vk("vkCreateDescriptorPool")?;
-        // Owns the pool from here on, so an error below frees it.
-        let mut bindings = MaskBindings {
-            shared: self.shared.clone(),
-            pool,
-            set: vk::DescriptorSet::null(),
-        };
-        let layouts = [self.shared.set_layout];
-        let alloc = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(pool)
-            .set_layouts(&layouts);
-        bindings.set =
-            unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
-        Ok(bindings)
+        self.layout.allocate()
     }
 
     /// Records the mask of `map` (after its generation pass) for the host's images.
@@ -231,42 +141,11 @@ impl VisibilityMaskPass {
         inputs: &MaskInputs,
         map: &TemporalShadowMap,
     ) {
-        let sampled = |view, layout| {
-            [vk::DescriptorImageInfo {
-                sampler: self.shared.sampler,
-                image_view: view,
-                image_layout: layout,
-            }]
-        };
-        let depth = sampled(inputs.depth, inputs.depth_layout);
+        let depth = (inputs.depth, inputs.depth_layout);
         // Without a normal image the depth view stands in (never read: the flag says so).
-        let normals = match inputs.normals {
-            Some(n) => sampled(n.view, n.layout),
-            None => depth,
-        };
-        let output = [vk::DescriptorImageInfo {
-            sampler: vk::Sampler::null(),
-            image_view: inputs.output,
-            image_layout: vk::ImageLayout::GENERAL,
-        }];
-        fn write(
-            set: vk::DescriptorSet,
-            binding: u32,
-            ty: vk::DescriptorType,
-            info: &[vk::DescriptorImageInfo; 1],
-        ) -> vk::WriteDescriptorSet<'_> {
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(binding)
-                .descriptor_type(ty)
-                .image_info(info)
-        }
-        let sampled_ty = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
-        let writes = [
-            write(bindings.set, 0, sampled_ty, &depth),
-            write(bindings.set, 1, sampled_ty, &normals),
-            write(bindings.set, 2, vk::DescriptorType::STORAGE_IMAGE, &output),
-        ];
+        let normals = inputs.normals.map_or(depth, |n| (n.view, n.layout));
+        // SAFETY: the caller's contract (the set is not in use; the views are valid).
+        unsafe { bindings.write(&[depth, normals, (inputs.output, vk::ImageLayout::GENERAL)]) };
         let flags = match inputs.normals {
             Some(NormalImage {
                 encoding: NormalEncoding::Unorm,
@@ -283,18 +162,17 @@ impl VisibilityMaskPass {
             flags,
             reserved: [0; 2],
         };
+        self.pipeline.bind(device, cmd);
         unsafe {
-            device.update_descriptor_sets(&writes, &[]);
-            self.pipeline.bind(device, cmd);
             device.cmd_bind_descriptor_sets(
                 cmd,
                 vk::PipelineBindPoint::COMPUTE,
                 self.pipeline.layout,
                 0,
-                &[bindings.set],
+                &[bindings.raw()],
                 &[],
-            );
-        }
+            )
+        };
         self.pipeline.push(device, cmd, &constants);
         unsafe {
             device.cmd_dispatch(cmd, inputs.size.0.div_ceil(8), inputs.size.1.div_ceil(8), 1)

@@ -22,6 +22,7 @@ mod coverage;
 mod draws;
 mod generation;
 pub mod gpu_types;
+mod image_output;
 mod lighting;
 mod mask;
 mod plain_shadow;
@@ -37,6 +38,7 @@ pub use gpu_types::{
     CameraParams, Counters, DepthFormat, DrawRecord, FIXED_TIME, GpuLight, MAX_LIST_NODES, Node,
     PassConstants, PlainMapHeader, Range, ShadowMapHeader, ShadowMode,
 };
+pub use image_output::LightingImageOutput;
 pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, Samples, ShadowSource};
 pub use mask::{MaskBindings, MaskInputs, NormalEncoding, NormalImage, VisibilityMaskPass};
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};

@@ -34,3 +34,5 @@ pub const COVERAGE_FRAG: &[u8] = spirv!("coverage.frag");
 pub const COVERAGE_RESET_FRAG: &[u8] = spirv!("coverage_reset.frag");
 /// SPIR-V of `glsl/visibility_mask.comp`.
 pub const VISIBILITY_MASK_COMP: &[u8] = spirv!("visibility_mask.comp");
+/// SPIR-V of `glsl/radiance_to_image.comp`.
+pub const RADIANCE_TO_IMAGE_COMP: &[u8] = spirv!("radiance_to_image.comp");

@@ -2154,7 +2154,7 @@ impl Image {
     }
 
     /// A synchronization2 layout transition of the whole image.
-    fn barrier(
+    pub fn barrier(
         &self,
         (old, src_stage, src_access): (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
         (new, dst_stage, dst_access): (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),

@@ -1,0 +1,105 @@
+//! The papers' lighting pass into a host image: copies a [`LightingTarget`]'s radiance into
+//! the host's own storage image (any four-channel format: RGBA32F, RGBA16F, ...), so an
+//! engine can use the stochastic lighting pass as one of its passes and keep compositing.
+
+use super::lighting::LightingTarget;
+use super::shaders;
+use crate::error::{Error, Result};
+use crate::gpu::{
+    Context, ImageBindingLayout, ImageBindings, Pipeline, compute_pipeline_with_sets,
+};
+use ash::vk;
+
+/// The shader's push constants.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+struct OutputConstants {
+    radiance: u64,
+    size: [u32; 2],
+}
+
+/// Writes lighting targets into host images. Immutable after creation.
+pub struct LightingImageOutput {
+    layout: ImageBindingLayout,
+    pipeline: Pipeline,
+}
+
+impl LightingImageOutput {
+    /// Creates the pass; needs shaderStorageImageWriteWithoutFormat enabled (as the
+    /// visibility-mask pass does), so that one pipeline writes any format.
+    pub fn new(ctx: &Context) -> Result<Self> {
+        if !ctx.info().storage_image_write_without_format {
+            return Err(Error::MissingFeatures(
+                "writing the lighting pass into a host image needs shaderStorageImageWriteWithoutFormat"
+                    .into(),
+            ));
+        }
+        let layout = ImageBindingLayout::new(ctx, &[vk::DescriptorType::STORAGE_IMAGE])?;
+        let pipeline = compute_pipeline_with_sets(
+            ctx,
+            &[layout.raw()],
+            std::mem::size_of::<OutputConstants>() as u32,
+            "radiance_to_image.comp",
+            shaders::RADIANCE_TO_IMAGE_COMP,
+        )?;
+        Ok(Self { layout, pipeline })
+    }
+
+    /// A descriptor set for one use in flight (per frame in flight).
+    pub fn bindings(&self) -> Result<ImageBindings> {
+        self.layout.allocate()
+    }
+
+    /// Records the copy of `target`'s radiance (rgb; alpha: the share of samples seeing a
+    /// moving triangle) into `image`, after [`super::LightingPass::record`] of the frame.
+    ///
+    /// # Safety
+    /// - `cmd` was allocated from the device the pass was made on, is recording, outside any
+    ///   render pass or dynamic rendering, on a queue with compute.
+    /// - `bindings` was made by this pass and no command buffer using it is pending or has
+    ///   it bound in `cmd` (its set is rewritten here).
+    /// - `image` is a view of a 2D image of the device with storage usage, a four-channel
+    ///   format, the target's size, in `GENERAL` layout; earlier accesses of it are ordered
+    ///   before `COMPUTE_SHADER` storage writes by the host's barrier; it stays alive until
+    ///   `cmd` completes.
+    ///
+    /// Synchronization: waits for the lighting pass (its closing barrier covers compute
+    /// reads); leaves the image written by `COMPUTE_SHADER` with `SHADER_STORAGE_WRITE`.
+    /// State changed: the bound compute pipeline, descriptor set 0 of the compute bind point,
+    /// push constants.
+    pub unsafe fn record(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        bindings: &mut ImageBindings,
+        target: &LightingTarget,
+        image: vk::ImageView,
+    ) {
+        // SAFETY: the caller's contract.
+        unsafe { bindings.write(&[(image, vk::ImageLayout::GENERAL)]) };
+        self.pipeline.bind(device, cmd);
+        unsafe {
+            device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.pipeline.layout,
+                0,
+                &[bindings.raw()],
+                &[],
+            )
+        };
+        let constants = OutputConstants {
+            radiance: target.radiance.device_address(),
+            size: [target.width(), target.height()],
+        };
+        self.pipeline.push(device, cmd, &constants);
+        unsafe {
+            device.cmd_dispatch(
+                cmd,
+                target.width().div_ceil(8),
+                target.height().div_ceil(8),
+                1,
+            )
+        };
+    }
+}
