@@ -443,6 +443,9 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
             frame.frame, frame.slot
         );
         check_agreement(&what, &diffs, 150);
+        if let Ok(dir) = std::env::var("MOTION_SHADOWS_TEST_IMAGES") {
+            write_side_by_side(std::path::Path::new(&dir), frame, &per_light, ambient);
+        }
     }
 
     // The brute-force reference, for the last frame's spot light.
@@ -1046,4 +1049,47 @@ fn lighting_pass_writes_into_a_host_image() {
     assert_eq!(differing, 0, "{differing} channels differ");
     assert!(rgb_host.iter().any(|&v| v > 0.0), "not a black image");
     assert_eq!(host.validation_messages(), Vec::<String>::new());
+}
+
+/// With `MOTION_SHADOWS_TEST_IMAGES=DIR`: the host's image beside the standalone renderer's
+/// (both lights: the sum of its single-light images, one ambient term), one exposure, as
+/// `DIR/deferred-host-vs-renderer-frame-N.png`, for people to look at.
+fn write_side_by_side(
+    dir: &std::path::Path,
+    frame: &FrameOutput,
+    per_light: &[Vec<f32>],
+    ambient: f32,
+) {
+    use motion_shadows_app::compare::{Rgb8Image, side_by_side};
+    use motion_shadows_app::output::{RadianceImage, auto_exposure, write_rgb8_png};
+    let host_rgb: Vec<f32> = frame
+        .radiance
+        .iter()
+        .flat_map(|p| [p[0], p[1], p[2]])
+        .collect();
+    let renderer_rgb: Vec<f32> = (0..host_rgb.len())
+        .map(|i| per_light[0][i] + per_light[1][i] - ambient)
+        .collect();
+    let host = RadianceImage::new(SIZE.0, SIZE.1, host_rgb).unwrap();
+    let renderer = RadianceImage::new(SIZE.0, SIZE.1, renderer_rgb).unwrap();
+    let exposure = auto_exposure(&renderer);
+    let panels = [
+        (
+            "host + mask",
+            Rgb8Image::from_radiance(&host, exposure).unwrap(),
+        ),
+        (
+            "renderer",
+            Rgb8Image::from_radiance(&renderer, exposure).unwrap(),
+        ),
+    ];
+    let refs: Vec<(&str, &Rgb8Image)> = panels.iter().map(|(l, i)| (*l, i)).collect();
+    let image = side_by_side(&refs, [24, 24, 24]);
+    std::fs::create_dir_all(dir).unwrap();
+    let path = dir.join(format!(
+        "deferred-host-vs-renderer-frame-{}.png",
+        frame.frame
+    ));
+    write_rgb8_png(&path, image.width, image.height, &image.data).unwrap();
+    eprintln!("wrote {}", path.display());
 }
