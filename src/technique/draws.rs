@@ -60,6 +60,38 @@ impl PositionStream {
         }
     }
 
+    /// Positions in a host buffer given by its raw handle and size: the library asks the
+    /// device for its address, and checks the bytes the draw's vertex count needs against
+    /// `buffer_size - offset` when the draw is added to a [`DrawList`].
+    ///
+    /// # Safety
+    /// `buffer` is a live buffer of `device` of `buffer_size` bytes, created with
+    /// `SHADER_DEVICE_ADDRESS` and `STORAGE_BUFFER` usage and bound to memory allocated with
+    /// the device-address flag; it stays alive and unchanged until every command buffer
+    /// recording a pass with the draw has completed, and the host's writes to it are made
+    /// visible to shader reads by a barrier of its own (as for
+    /// [`Self::from_device_address`]).
+    pub unsafe fn from_raw_buffer(
+        device: &ash::Device,
+        buffer: vk::Buffer,
+        buffer_size: u64,
+        offset: u64,
+        stride: u32,
+    ) -> Result<Self> {
+        let info = vk::BufferDeviceAddressInfo::default().buffer(buffer);
+        let address = unsafe { device.get_buffer_device_address(&info) };
+        if address == 0 || offset > buffer_size {
+            return Err(Error::InvalidArgument(format!(
+                "position stream at offset {offset} of a {buffer_size}-byte buffer (device address {address:#x})"
+            )));
+        }
+        Ok(Self {
+            address: address + offset,
+            stride,
+            available: buffer_size - offset,
+        })
+    }
+
     /// The device address of vertex 0's position.
     pub fn address(&self) -> u64 {
         self.address
@@ -105,6 +137,30 @@ impl IndexStream {
         Ok(Self {
             address: address + offset,
             available: buffer.size() - offset,
+        })
+    }
+
+    /// Indices in a host buffer given by its raw handle and size (see
+    /// [`PositionStream::from_raw_buffer`], whose contract applies).
+    ///
+    /// # Safety
+    /// As [`PositionStream::from_raw_buffer`].
+    pub unsafe fn from_raw_buffer(
+        device: &ash::Device,
+        buffer: vk::Buffer,
+        buffer_size: u64,
+        offset: u64,
+    ) -> Result<Self> {
+        let info = vk::BufferDeviceAddressInfo::default().buffer(buffer);
+        let address = unsafe { device.get_buffer_device_address(&info) };
+        if address == 0 || offset > buffer_size {
+            return Err(Error::InvalidArgument(format!(
+                "index stream at offset {offset} of a {buffer_size}-byte buffer (device address {address:#x})"
+            )));
+        }
+        Ok(Self {
+            address: address + offset,
+            available: buffer_size - offset,
         })
     }
 

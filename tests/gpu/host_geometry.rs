@@ -308,6 +308,18 @@ fn bad_draw_descriptions_are_refused() {
     let (positions, indices) = engine_square(&ctx);
     let stream = PositionStream::from_buffer(&positions, 0, 12).unwrap();
     let good = Draw::new(stream, stream, 4, Indices::None, 1, 0);
+    // A host's raw handle gives the same stream as the library's own buffer.
+    // SAFETY: `positions` is a live buffer of this device with address usage, alive here.
+    let raw = unsafe {
+        PositionStream::from_raw_buffer(ctx.device(), positions.raw(), positions.size(), 0, 12)
+    }
+    .unwrap();
+    assert_eq!(raw, stream);
+    // SAFETY: as above.
+    let raw_indices =
+        unsafe { IndexStream::from_raw_buffer(ctx.device(), indices.raw(), indices.size(), 4) }
+            .unwrap();
+    assert_eq!(raw_indices, IndexStream::from_buffer(&indices, 4).unwrap());
     let mut list = DrawList::new(&ctx, 4).unwrap();
     let attempt = |list: &mut DrawList, draws: &[Draw]| -> Result<(), Error> {
         let mut outcome = Ok(());
