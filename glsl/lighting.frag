@@ -14,6 +14,10 @@ void main() {
     CameraParams camera = TargetHeader(pc.target).camera;
     DrawRecord d = DrawTable(pc.draws).draws[pc.draw_index];
     Triangle tri = fetch_triangle(d, in_prim);
+    // A static triangle is intersected at t = 0 exactly, whatever the sample's time (see
+    // resolve.comp).
+    bool moving = false;
+    for (int i = 0; i < 3; ++i) moving = moving || tri.p0[i] != tri.p1[i];
     uint id = d.first_id + in_prim;
     Uint64Array visibility = Uint64Array(camera.visibility);
     uvec2 pixel = uvec2(gl_FragCoord.xy);
@@ -28,6 +32,7 @@ void main() {
         vec2 offset;
         pixel_sample(key, rotation, pc.first_sample + j, spp, t, offset);
         if ((pc.flags & FIXED_TIME) != 0u) t = pc.time;
+        if (!moving) t = 0.0;
         vec3 dir = camera_ray(camera, vec2(pixel) + offset);
         float depth = intersect_triangle(origin, dir, mix(tri.p0[0], tri.p1[0], t),
                                          mix(tri.p0[1], tri.p1[1], t),

@@ -61,8 +61,11 @@ vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, out bool 
     DrawRecord d = table.draws[find_draw(table, pc.draw_count, id)];
     Triangle tri = fetch_triangle(d, id - d.first_id);
     for (int i = 0; i < 3; ++i) moving = moving || tri.p0[i] != tri.p1[i];
-    vec3 pa = mix(tri.p0[0], tri.p1[0], t), pb = mix(tri.p0[1], tri.p1[1], t);
-    vec3 pc_ = mix(tri.p0[2], tri.p1[2], t);
+    // A static triangle is taken at t = 0 exactly (mix(a, a, t) may round differently for
+    // another t), so its shading cannot depend on the sample's time.
+    float s = moving ? t : 0.0;
+    vec3 pa = mix(tri.p0[0], tri.p1[0], s), pb = mix(tri.p0[1], tri.p1[1], s);
+    vec3 pc_ = mix(tri.p0[2], tri.p1[2], s);
     vec3 n = normalize(cross(pb - pa, pc_ - pa));
     if (dot(n, -dir) < 0.0) n = -n;  // two-sided: the face the camera sees
     vec3 albedo = d.albedo_flags.rgb;
@@ -80,7 +83,11 @@ vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, out bool 
     vec3 direct = albedo / PI * light.emission.x * cos_theta / dist2;
 
     bool dark = false;
-    if (pc.mode == SHADOW_TEMPORAL) {
+    if (pc.mode == SHADOW_TEMPORAL && camera.shading.y > 0.5 && !moving) {
+        // The analytic estimator: a receiver that stays put all frame is lit for exactly
+        // ms_lit_fraction of the shutter, whatever the sample's time.
+        return ambient + direct * ms_lit_fraction(MsShadowMap(pc.map), p, n, id);
+    } else if (pc.mode == SHADOW_TEMPORAL) {
         dark = ms_shadowed(MsShadowMap(pc.map), p, n, t, id);
     } else if (pc.mode != SHADOW_NONE) {
         dark = shadowed_ordinary(p, n, id, time_stratum(rotation, k, camera.image.z));

@@ -147,3 +147,43 @@ fn no_device_gives_a_clear_error() {
     assert!(stderr.contains("no Vulkan device"), "stderr: {stderr}");
     assert!(stderr.contains("mesa-vulkan-drivers"), "stderr: {stderr}");
 }
+
+/// `--shadow-estimator` reaches the renderer and `--json`, and `compare` reports the RMSE on
+/// static receivers for each method.
+#[test]
+fn shadow_estimator_is_reported_and_compare_measures_static_receivers() {
+    let dir = temp_dir("estimator");
+    let small = ["--width", "48", "--height", "36", "--spp", "1"];
+    let out = motion_shadows(
+        &[
+            &["render", "--json", "--shadow-estimator", "analytic"][..],
+            &small,
+        ]
+        .concat(),
+        &dir,
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["shadow_estimator"], "analytic");
+    let out = motion_shadows(
+        &[
+            &[
+                "compare",
+                "--json",
+                "--slices",
+                "16",
+                "--shadow-estimator",
+                "analytic",
+            ][..],
+            &small,
+        ]
+        .concat(),
+        &dir,
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let methods = json["methods"].as_array().unwrap();
+    let temporal = methods.iter().find(|m| m["method"] == "temporal").unwrap();
+    assert_eq!(temporal["stats"]["shadow_estimator"], "analytic");
+    let rmse_static = temporal["rmse_static"].as_f64().expect("rmse_static");
+    assert!(rmse_static.is_finite() && rmse_static >= 0.0);
+    std::fs::remove_dir_all(&dir).ok();
+}

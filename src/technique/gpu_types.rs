@@ -192,7 +192,7 @@ pub struct CameraParams {
     pub ray_dy: Vec4,
     /// xy = image size, z = samples per pixel, w = seed.
     pub image: UVec4,
-    /// x = ambient radiance factor.
+    /// x = ambient radiance factor, y = 1 for the analytic shadow estimator.
     pub shading: Vec4,
     /// The per-sample visibility buffer.
     pub visibility: u64,

@@ -45,7 +45,7 @@ pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
 pub use shadow_map::{ShadowMapContents, TemporalShadowMap};
 pub use view::{
     CameraView, DEFAULT_DEPTH_BIAS, DEFAULT_NORMAL_OFFSET_TEXELS, LightKind, LightView,
-    LightingView,
+    LightingView, ShadowEstimator,
 };
 
 /// `glsl/motion_shadows.glsl`: the GLSL include a host's own shaders use to test visibility

@@ -183,6 +183,19 @@ impl LightView {
     }
 }
 
+/// How the lighting pass turns a temporal shadow map into a sample's shadow term.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum ShadowEstimator {
+    /// The papers' test: shadowed or not at exactly the sample's time (noise over time,
+    /// like every stochastic estimate).
+    #[default]
+    Sampled,
+    /// For a sample on a triangle that does not move during the shutter, the exact fraction
+    /// of the shutter its point sees the light (`ms_lit_fraction`): no time noise. Samples on
+    /// moving triangles keep the per-sample test. Ordinary shadow maps (plain, TSM) ignore it.
+    Analytic,
+}
+
 /// How the library's own lighting pass samples the camera view and shades.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LightingView {
@@ -192,6 +205,8 @@ pub struct LightingView {
     pub seed: u32,
     /// Constant ambient radiance factor (radiance += ambient * albedo).
     pub ambient: f32,
+    /// How the shadow term of the temporal shadow map is estimated.
+    pub estimator: ShadowEstimator,
 }
 
 /// Camera ray directions as an affine function of the pixel position (see `camera_ray` in
@@ -224,7 +239,15 @@ impl CameraParams {
             ray_dx,
             ray_dy,
             image: UVec4::new(image_size.0, image_size.1, spp, view.seed),
-            shading: Vec4::new(view.ambient, 0.0, 0.0, 0.0),
+            shading: Vec4::new(
+                view.ambient,
+                match view.estimator {
+                    ShadowEstimator::Sampled => 0.0,
+                    ShadowEstimator::Analytic => 1.0,
+                },
+                0.0,
+                0.0,
+            ),
             ..Self::default()
         }
     }

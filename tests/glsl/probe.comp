@@ -11,7 +11,7 @@ layout(local_size_x = 64) in;
 
 struct Query {
     vec3 position;      // world
-    float time;         // shutter time in [0, 1]
+    float time;         // shutter time in [0, 1]; negative: the lit fraction (no time)
     vec3 normal;        // unit, on the side facing the light
     uint own;           // the receiver's triangle id, or MS_NO_TRIANGLE
 };
@@ -34,6 +34,9 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.count) return;
     Query q = Queries(pc.queries).q[i];
-    Results(pc.results).v[i] = ms_visibility(MsShadowMap(pc.map), q.position, q.normal, q.time,
-                                             q.own);
+    // A negative time asks for the lit fraction of the whole shutter instead.
+    MsShadowMap map = MsShadowMap(pc.map);
+    Results(pc.results).v[i] = q.time < 0.0
+                                   ? ms_lit_fraction(map, q.position, q.normal, q.own)
+                                   : ms_visibility(map, q.position, q.normal, q.time, q.own);
 }

@@ -129,6 +129,7 @@ fn camera_rays(scene: &app::Scene, spp: u32) -> CameraRays {
         camera: camera_view(scene, SIZE),
         seed: SEED,
         ambient: scene.ambient,
+        estimator: Default::default(),
     };
     let camera = CameraParams::new(&view, SIZE, spp);
     CameraRays {
@@ -898,6 +899,48 @@ fn lit_fraction_matches_the_closed_form_for_a_translating_square() {
         checked += 1;
     }
     eprintln!("ms_visibility at t = 0.5: {checked} pixels match");
+
+    // At texel centres the map holds exactly the intervals of the point itself (no half
+    // texel of motion): there ms_lit_fraction equals the closed form to 1e-3, along a row of
+    // texels across the square's whole path, through the host's own probe shader.
+    let light = world.lights[0].view(SHADOW);
+    let to_world = (light.proj * light.view).as_dmat4().inverse();
+    let row = {
+        // The texel row through the middle of the square's z extent.
+        let ndc = (light.proj * light.view).as_dmat4()
+            * DVec3::new(0.0, 0.0, z0 + 0.5 * side).extend(1.0);
+        ((ndc.y / ndc.w * 0.5 + 0.5) * f64::from(SHADOW.1)).floor()
+    };
+    let queries: Vec<Query> = (0..SHADOW.0)
+        .map(|column| {
+            let ndc_x = (f64::from(column) + 0.5) / f64::from(SHADOW.0) * 2.0 - 1.0;
+            let ndc_y = (row + 0.5) / f64::from(SHADOW.1) * 2.0 - 1.0;
+            let p = to_world * glam::DVec4::new(ndc_x, ndc_y, 0.5, 1.0);
+            Query {
+                position: [(p.x / p.w) as f32, 0.0, (p.z / p.w) as f32],
+                time: -1.0,
+                normal: [0.0, 1.0, 0.0],
+                own: u32::MAX,
+            }
+        })
+        .collect();
+    let lit = probe(&host, engine.shadow_map(frame.slot, 0), &queries);
+    let (mut worst_centre, mut partly) = (0.0f64, 0);
+    for (q, &got) in queries.iter().zip(&lit) {
+        let p = DVec3::new(f64::from(q.position[0]), 0.0, f64::from(q.position[2]));
+        let expected = closed_form(p);
+        partly += usize::from(expected > 0.0 && expected < 1.0);
+        worst_centre = worst_centre.max((f64::from(got) - expected).abs());
+    }
+    eprintln!(
+        "ms_lit_fraction at {} texel centres ({partly} partly lit): max error {worst_centre:.2e}",
+        queries.len()
+    );
+    assert!(partly > 50, "{partly} partly lit texels");
+    assert!(
+        worst_centre < 1e-3,
+        "max error {worst_centre} at texel centres"
+    );
     drop(engine);
     assert_host_clean(host);
 }
@@ -945,6 +988,7 @@ fn lighting_pass_writes_into_a_host_image() {
             camera: camera_view(&scene, size),
             seed: 3,
             ambient: scene.ambient,
+            estimator: Default::default(),
         };
         let collection = CollectionPass::new(&ctx).unwrap();
         let generation = GenerationPass::new(&ctx).unwrap();

@@ -52,6 +52,7 @@ fn render_embedded(host: &Host, scene: &Scene) -> Embedded {
         camera: upload::camera_view(scene, size),
         seed: SEED,
         ambient: scene.ambient,
+        estimator: Default::default(),
     };
     let collection = CollectionPass::new(&ctx).expect("collection pass");
     let generation = GenerationPass::new(&ctx).expect("generation pass");

@@ -23,6 +23,7 @@ fn views(scene: &Scene) -> (LightView, LightingView) {
         camera: camera_view(scene, SIZE),
         seed: 11,
         ambient: scene.ambient,
+        estimator: Default::default(),
     };
     (light, view)
 }

@@ -5,6 +5,7 @@
 mod support;
 
 mod analytic;
+mod analytic_estimator;
 mod baselines;
 mod bench;
 mod coverage;

@@ -88,6 +88,7 @@ fn every_sample_sees_what_its_ray_meets_at_its_time() {
         camera: camera_view(&s, SIZE),
         seed: SEED,
         ambient: 0.0,
+        estimator: Default::default(),
     };
     let camera = CameraParams::new(&view, SIZE, SPP);
     let rays = CameraRays {

@@ -81,6 +81,9 @@ pub struct CompareArgs {
     /// Time slices of the brute-force reference (the papers use 3000).
     #[arg(long, default_value_t = 1024)]
     pub slices: u32,
+    /// Shadow term of the temporal method: sampled (the papers') or analytic.
+    #[arg(long, value_enum, default_value_t = EstimatorArg::Sampled)]
+    pub shadow_estimator: EstimatorArg,
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
     /// Print the table as one JSON object on stdout.
@@ -116,6 +119,25 @@ pub enum MethodArg {
     Reference,
     /// An ordinary shadow map of the scene frozen at mid-shutter (t = 0.5).
     Plain,
+}
+
+/// `--shadow-estimator`: how the temporal shadow map's shadow term is estimated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum EstimatorArg {
+    /// The papers' test at each sample's time (noisy over time).
+    Sampled,
+    /// Static receivers take the exact lit fraction of the shutter (no time noise); samples
+    /// on moving triangles keep the per-sample test.
+    Analytic,
+}
+
+impl EstimatorArg {
+    pub fn estimator(self) -> motion_shadows::technique::ShadowEstimator {
+        match self {
+            Self::Sampled => motion_shadows::technique::ShadowEstimator::Sampled,
+            Self::Analytic => motion_shadows::technique::ShadowEstimator::Analytic,
+        }
+    }
 }
 
 #[derive(Debug, Args, Clone)]
@@ -164,6 +186,9 @@ pub struct RenderArgs {
     pub shadow_size: Option<(u32, u32)>,
     #[arg(long, value_enum, default_value_t = MethodArg::Temporal)]
     pub method: MethodArg,
+    /// Shadow term of the temporal and coverage methods: sampled (the papers') or analytic.
+    #[arg(long, value_enum, default_value_t = EstimatorArg::Sampled)]
+    pub shadow_estimator: EstimatorArg,
     /// Reference: number of time slices averaged (the papers use 3000).
     #[arg(long, default_value_t = 1024)]
     pub slices: u32,

@@ -21,6 +21,8 @@ const MASK_COVERAGE: f32 = 0.5;
 struct MethodRow {
     method: String,
     errors: Option<ErrorStats>,
+    /// RMSE over the static receivers: the pixels outside the moving-object mask.
+    rmse_static: Option<f64>,
     /// GPU time of the method's shadow passes and of its lighting, milliseconds.
     shadow_ms: f64,
     lighting_ms: f64,
@@ -96,6 +98,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         seed: args.seed,
         shadow_size: args.shadow_size,
         method,
+        shadow_estimator: args.shadow_estimator.estimator(),
         ..RenderSettings::default()
     };
     // Checked before anything is loaded or rendered.
@@ -152,6 +155,9 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         write_pair(&staged, &stem, &result.image, exposure)?;
         let label = match method.as_str() {
             "reference" => format!("reference M={}", args.slices),
+            "temporal" if result.stats.shadow_estimator == "analytic" => {
+                format!("temporal analytic {spp} spp")
+            }
             _ => format!("{method} {spp} spp"),
         };
         panels.push((
@@ -168,10 +174,17 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             let mask = (mask_pixels > 0).then_some(mask.as_slice());
             Some(error_stats(&result.image, &reference.image, mask)?)
         };
+        let static_mask: Vec<bool> = mask.iter().map(|&m| !m).collect();
+        let rmse_static = if method == "reference" || !static_mask.contains(&true) {
+            None
+        } else {
+            error_stats(&result.image, &reference.image, Some(&static_mask))?.rmse_masked
+        };
         let (shadow_ms, lighting_ms) = split_times(&result.stats);
         rows.push(MethodRow {
             method,
             errors,
+            rmse_static,
             shadow_ms,
             lighting_ms,
             shadow_map_bytes: if result.stats.shadow_map_bytes_eq2 > 0 {
@@ -227,10 +240,11 @@ fn table(r: &Report) -> String {
     );
     let _ = writeln!(
         s,
-        "{:<10} {:>10} {:>9} {:>12} {:>11} {:>11} {:>12} {:>12}",
+        "{:<10} {:>10} {:>9} {:>12} {:>12} {:>11} {:>11} {:>12} {:>12}",
         "method",
         "RMSE",
         "PSNR dB",
+        "RMSE static",
         "RMSE mask",
         "PSNR mask",
         "shadow ms",
@@ -247,12 +261,14 @@ fn table(r: &Report) -> String {
             ),
             None => ("-".into(), "-".into(), "-".into(), "-".into()),
         };
+        let rmse_s = row.rmse_static.map_or("-".into(), |v| format!("{v:.5}"));
         let _ = writeln!(
             s,
-            "{:<10} {:>10} {:>9} {:>12} {:>11} {:>11.1} {:>12.1} {:>12.2}",
+            "{:<10} {:>10} {:>9} {:>12} {:>12} {:>11} {:>11.1} {:>12.1} {:>12.2}",
             row.method,
             rmse,
             psnr,
+            rmse_s,
             rmse_m,
             psnr_m,
             row.shadow_ms,

@@ -18,7 +18,8 @@ use methods::ShadowOutcome;
 use motion_shadows::gpu::{Context, OneShot, TimestampQueries};
 use motion_shadows::technique::{
     CollectionPass, CoveragePass, DrawList, GenerationPass, LightView, LightingPass,
-    LightingTarget, LightingView, MAX_SAMPLES_PER_CHUNK, PlainShadowPass, TemporalShadowMap,
+    LightingTarget, LightingView, MAX_SAMPLES_PER_CHUNK, PlainShadowPass, ShadowEstimator,
+    TemporalShadowMap,
 };
 pub use stats::{FrameStats, PassTime, equation_2_bytes};
 use std::time::Instant;
@@ -84,6 +85,8 @@ pub struct RenderSettings {
     /// Samples per pixel one lighting geometry pass handles (1 = one pass per sample; for
     /// measurements). Any value gives the same image.
     pub max_samples_per_chunk: u32,
+    /// How the temporal and coverage methods estimate the shadow term.
+    pub shadow_estimator: ShadowEstimator,
 }
 
 impl Default for RenderSettings {
@@ -98,6 +101,7 @@ impl Default for RenderSettings {
             initial_node_capacity: None,
             initial_range_capacity: None,
             max_samples_per_chunk: MAX_SAMPLES_PER_CHUNK,
+            shadow_estimator: ShadowEstimator::Sampled,
         }
     }
 }
@@ -214,6 +218,7 @@ impl<'a> Renderer<'a> {
             camera: upload::camera_view(scene, image_size),
             seed: settings.seed,
             ambient: scene.ambient,
+            estimator: settings.shadow_estimator,
         };
         let inputs = FrameInputs {
             draws: &draws,
@@ -298,6 +303,11 @@ impl<'a> Renderer<'a> {
         let stats = FrameStats {
             scene: scene.name.clone(),
             method: settings.method.name().to_owned(),
+            shadow_estimator: match settings.shadow_estimator {
+                ShadowEstimator::Sampled => "sampled",
+                ShadowEstimator::Analytic => "analytic",
+            }
+            .to_owned(),
             width: settings.width,
             height: settings.height,
             shadow_width: shadow_size.0,

@@ -17,6 +17,9 @@ pub struct PassTime {
 pub struct FrameStats {
     pub scene: String,
     pub method: String,
+    /// "sampled" or "analytic" (`--shadow-estimator`; only the temporal and coverage methods
+    /// use it).
+    pub shadow_estimator: String,
     pub width: u32,
     pub height: u32,
     pub shadow_width: u32,
