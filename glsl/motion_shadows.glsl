@@ -4,7 +4,7 @@
 // in Rust) and pass the map's header address (`TemporalShadowMap::header_address()`, 8 bytes)
 // in your push constants or uniform buffer. Then
 //
-//     MsShadowMap map = MsShadowMap(header_address);
+//     MsMap map = ms_load(MsShadowMap(header_address));  // once per invocation
 //     float lit = ms_visibility(map, world_position, world_normal, t, MS_NO_TRIANGLE);
 //
 // gives 1 where the point sees the light at shutter time t in [0, 1] and 0 where a triangle
@@ -100,9 +100,27 @@ vec3 ms_offset_receiver(MsLight light, vec3 p, vec3 n) {
     return p + n * (light.bias.x * texel);
 }
 
+// The header's contents as one value. A shader that tests many points loads it once
+// (ms_load) and passes it on: reading the header for every test costs a few hundred bytes of
+// loads each time, which a CPU device does lane by lane. Every function below also takes the
+// header itself, for a single test.
+struct MsMap {
+    MsLight light;
+    uvec2 size;
+    uint64_t range_heads;
+    uint64_t ranges;
+    uint64_t coverage;
+    uint64_t cover_depth;
+};
+
+MsMap ms_load(MsShadowMap header) {
+    return MsMap(header.light, header.size.xy, header.range_heads, header.ranges,
+                 header.coverage, header.cover_depth);
+}
+
 // Is a receiver at light depth `depth`, on triangle `own`, in shadow at time t, given the
 // ranges of its texel? Ranges of the receiver's own triangle are skipped.
-bool ms_ranges_shadow(MsShadowMap map, uint texel, float depth, float t, uint own) {
+bool ms_ranges_shadow(MsMap map, uint texel, float depth, float t, uint own) {
     MsRanges ranges = MsRanges(map.ranges);
     for (uint r = MsUints(map.range_heads).v[texel]; r != MS_END_OF_LIST;
          r = ranges.v[r - 1u].next) {
@@ -122,21 +140,26 @@ bool ms_ranges_shadow(MsShadowMap map, uint texel, float depth, float t, uint ow
 // "what is behind it" (its depth at time t, linear in t, from the coverage map) is what its
 // range would say, so that neighbouring triangles of one surface do not shadow each other
 // where a texel straddles their shared edge.
-bool ms_covered_shadow(MsShadowMap map, uint texel, uint cover, float depth, float t,
-                       uint own) {
+bool ms_covered_shadow(MsMap map, uint texel, uint cover, float depth, float t, uint own) {
     vec2 d = MsVec2s(map.cover_depth).v[texel];
     return cover != own && mix(d.x, d.y, t) < depth;
 }
 
+// The texel and the biased light depth of a receiver at `p` with unit normal `n` (on the
+// side facing the light); false outside the light's view.
+bool ms_receiver(MsMap map, vec3 p, vec3 n, out uint texel, out float depth) {
+    if (!ms_project(map.light, map.size, ms_offset_receiver(map.light, p, n), texel, depth))
+        return false;
+    depth *= 1.0 - map.light.bias.y;
+    return true;
+}
+
 // Shadowed at time t? `p` is the receiver's world position, `n` its unit normal on the side
 // facing the light (used for the receiver offset), `own` its triangle id or MS_NO_TRIANGLE.
-bool ms_shadowed(MsShadowMap map, vec3 p, vec3 n, float t, uint own) {
-    MsLight light = map.light;
+bool ms_shadowed(MsMap map, vec3 p, vec3 n, float t, uint own) {
     uint texel;
     float depth;
-    if (!ms_project(light, map.size.xy, ms_offset_receiver(light, p, n), texel, depth))
-        return false;
-    depth *= 1.0 - light.bias.y;
+    if (!ms_receiver(map, p, n, texel, depth)) return false;
     if (map.coverage != 0UL) {
         uint cover = MsUints(map.coverage).v[texel];
         if (cover != MS_NO_TRIANGLE) return ms_covered_shadow(map, texel, cover, depth, t, own);
@@ -144,10 +167,18 @@ bool ms_shadowed(MsShadowMap map, vec3 p, vec3 n, float t, uint own) {
     return ms_ranges_shadow(map, texel, depth, t, own);
 }
 
+bool ms_shadowed(MsShadowMap header, vec3 p, vec3 n, float t, uint own) {
+    return ms_shadowed(ms_load(header), p, n, t, own);
+}
+
 // 1 where the point sees the light at time t, 0 where it is in shadow (the light's cone and
 // the surface's orientation are the host's shading: this is visibility alone).
-float ms_visibility(MsShadowMap map, vec3 p, vec3 n, float t, uint own) {
+float ms_visibility(MsMap map, vec3 p, vec3 n, float t, uint own) {
     return ms_shadowed(map, p, n, t, own) ? 0.0 : 1.0;
+}
+
+float ms_visibility(MsShadowMap header, vec3 p, vec3 n, float t, uint own) {
+    return ms_visibility(ms_load(header), p, n, t, own);
 }
 
 // ---- visibility integrated over the shutter, for a receiver that does not move ----
@@ -179,13 +210,10 @@ vec2 ms_range_nearer(MsRange range, float depth, uint own) {
 // same receiver offset, bias and own-triangle rule as ms_shadowed. The union is measured by
 // taking the intervals in order of their start, found by a scan per interval: no arrays,
 // O(n^2) in the texel's ranges (a handful in practice; at most 512).
-float ms_lit_fraction(MsShadowMap map, vec3 p, vec3 n, uint own) {
-    MsLight light = map.light;
+float ms_lit_fraction(MsMap map, vec3 p, vec3 n, uint own) {
     uint texel;
     float depth;
-    if (!ms_project(light, map.size.xy, ms_offset_receiver(light, p, n), texel, depth))
-        return 1.0;
-    depth *= 1.0 - light.bias.y;
+    if (!ms_receiver(map, p, n, texel, depth)) return 1.0;
     if (map.coverage != 0UL) {
         uint cover = MsUints(map.coverage).v[texel];
         if (cover != MS_NO_TRIANGLE) {
@@ -225,4 +253,8 @@ float ms_lit_fraction(MsShadowMap map, vec3 p, vec3 n, uint own) {
         last_index = next_index;
     }
     return 1.0 - min(shadowed, 1.0);
+}
+
+float ms_lit_fraction(MsShadowMap header, vec3 p, vec3 n, uint own) {
+    return ms_lit_fraction(ms_load(header), p, n, own);
 }

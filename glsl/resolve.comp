@@ -14,10 +14,35 @@ layout(push_constant) uniform Push { PassConstants pc; };
 
 const float PI = 3.14159265358979323846;
 
+// Loaded once per invocation (per pixel), not per sample: reading a header costs a few
+// hundred bytes of loads, which a CPU device makes lane by lane.
 CameraParams camera;
+MsLight light;          // the light of either kind of map (both headers start with it)
+MsMap temporal;         // SHADOW_TEMPORAL
+uvec4 plain_size;       // ordinary maps: x, y = texels, z = layers
+uint64_t plain_depths;
 
-bool shadowed_plain(PlainHeader map, uint index, float depth, uint own) {
-    uint64_t nearest = Uint64Array(map.depths).v[index];
+// The triangle the previous sample of the pixel hit: most samples of a pixel hit the same
+// one, and fetching it (its draw, indices, positions, transforms) is the costly part.
+uint cached_id = NO_TRIANGLE;
+Triangle cached_tri;
+vec3 cached_albedo;
+bool cached_moving;
+
+void fetch_hit(uint id) {
+    if (id == cached_id) return;
+    DrawTable table = DrawTable(pc.draws);
+    DrawRecord d = table.draws[find_draw(table, pc.draw_count, id)];
+    cached_tri = fetch_triangle(d, id - d.first_id);
+    cached_albedo = d.albedo_flags.rgb;
+    cached_moving = false;
+    for (int i = 0; i < 3; ++i)
+        cached_moving = cached_moving || cached_tri.p0[i] != cached_tri.p1[i];
+    cached_id = id;
+}
+
+bool shadowed_plain(uint index, float depth, uint own) {
+    uint64_t nearest = Uint64Array(plain_depths).v[index];
     uint id = uint(nearest & 0xffffffffUL);
     if (id == NO_TRIANGLE || id == own) return false;
     return uintBitsToFloat(uint(nearest >> 32)) < depth;
@@ -25,23 +50,21 @@ bool shadowed_plain(PlainHeader map, uint index, float depth, uint own) {
 
 // Time-dependent shadow maps: the map of the sample's time stratum, depth only, no id (the
 // time mismatch between that map and the sample is the method's self-shadow artifact).
-bool shadowed_tsm(PlainHeader map, uint index, float depth, uint stratum) {
-    uint layer_size = map.size.x * map.size.y;
-    return uintBitsToFloat(UintArray(map.depths).v[stratum * layer_size + index]) < depth;
+bool shadowed_tsm(uint index, float depth, uint stratum) {
+    uint layer_size = plain_size.x * plain_size.y;
+    return uintBitsToFloat(UintArray(plain_depths).v[stratum * layer_size + index]) < depth;
 }
 
 // Shadow test of the ordinary maps (plain, TSM), with the same receiver offset and bias as
 // ms_shadowed applies to the temporal map.
 bool shadowed_ordinary(vec3 p, vec3 n, uint id, uint stratum) {
-    PlainHeader map = PlainHeader(pc.map);
-    MsLight light = map.light;
     uint index;
     float depth;
-    if (!ms_project(light, map.size.xy, ms_offset_receiver(light, p, n), index, depth))
+    if (!ms_project(light, plain_size.xy, ms_offset_receiver(light, p, n), index, depth))
         return false;
     depth *= 1.0 - light.bias.y;
-    return pc.mode == SHADOW_TSM ? shadowed_tsm(map, index, depth, stratum)
-                                 : shadowed_plain(map, index, depth, id);
+    return pc.mode == SHADOW_TSM ? shadowed_tsm(index, depth, stratum)
+                                 : shadowed_plain(index, depth, id);
 }
 
 // Radiance of sample k; `moving` is set when the sample sees a moving triangle.
@@ -57,10 +80,9 @@ vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, out bool 
     vec3 dir = camera_ray(camera, vec2(pixel) + offset);
     vec3 p = camera.position.xyz + view_depth * dir;
 
-    DrawTable table = DrawTable(pc.draws);
-    DrawRecord d = table.draws[find_draw(table, pc.draw_count, id)];
-    Triangle tri = fetch_triangle(d, id - d.first_id);
-    for (int i = 0; i < 3; ++i) moving = moving || tri.p0[i] != tri.p1[i];
+    fetch_hit(id);
+    Triangle tri = cached_tri;
+    moving = cached_moving;
     // A static triangle is taken at t = 0 exactly (mix(a, a, t) may round differently for
     // another t), so its shading cannot depend on the sample's time.
     float s = moving ? t : 0.0;
@@ -68,10 +90,8 @@ vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, out bool 
     vec3 pc_ = mix(tri.p0[2], tri.p1[2], s);
     vec3 n = normalize(cross(pb - pa, pc_ - pa));
     if (dot(n, -dir) < 0.0) n = -n;  // two-sided: the face the camera sees
-    vec3 albedo = d.albedo_flags.rgb;
+    vec3 albedo = cached_albedo;
 
-    // Both kinds of map start with the light they were rendered for.
-    MsLight light = PlainHeader(pc.map).light;
     bool spot = light.position.w > 0.5;
     vec3 to_light = spot ? light.position.xyz - p : -light.direction.xyz;
     float dist2 = spot ? dot(to_light, to_light) : 1.0;
@@ -86,9 +106,9 @@ vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, out bool 
     if (pc.mode == SHADOW_TEMPORAL && camera.shading.y > 0.5 && !moving) {
         // The analytic estimator: a receiver that stays put all frame is lit for exactly
         // ms_lit_fraction of the shutter, whatever the sample's time.
-        return ambient + direct * ms_lit_fraction(MsShadowMap(pc.map), p, n, id);
+        return ambient + direct * ms_lit_fraction(temporal, p, n, id);
     } else if (pc.mode == SHADOW_TEMPORAL) {
-        dark = ms_shadowed(MsShadowMap(pc.map), p, n, t, id);
+        dark = ms_shadowed(temporal, p, n, t, id);
     } else if (pc.mode != SHADOW_NONE) {
         dark = shadowed_ordinary(p, n, id, time_stratum(rotation, k, camera.image.z));
     }
@@ -97,6 +117,15 @@ vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, out bool 
 
 void main() {
     camera = TargetHeader(pc.target).camera;
+    if (pc.mode == SHADOW_TEMPORAL) {
+        temporal = ms_load(MsShadowMap(pc.map));
+        light = temporal.light;
+    } else {
+        PlainHeader header = PlainHeader(pc.map);
+        light = header.light;
+        plain_size = header.size;
+        plain_depths = header.depths;
+    }
     uvec2 pixel = gl_GlobalInvocationID.xy;
     if (pixel.x >= camera.image.x || pixel.y >= camera.image.y) return;
     uint p = pixel.y * camera.image.x + pixel.x;

@@ -61,6 +61,7 @@ const uint INDEX_U16 = 1u;
 const uint INDEX_U32 = 2u;
 
 const uint DRAW_CLOSED = 1u;   // the mesh is closed: faces away all frame -> may be culled
+const uint DRAW_UNTRANSFORMED = 2u;  // both transforms are the identity: positions are world
 
 // One draw of the host's geometry (std430, 160 bytes): positions at shutter open and close
 // (3 floats each, at any stride; the addresses include the offset), optional indices, object
@@ -122,8 +123,14 @@ void fetch_corner(DrawRecord d, uint prim, uint corner, out vec3 p0, out vec3 p1
     uint v = min(draw_index(d, 3u * prim + corner), d.vertex_count - 1u);
     Float3Ref a = Float3Ref(d.positions0 + uint64_t(d.stride0) * uint64_t(v));
     Float3Ref b = Float3Ref(d.positions1 + uint64_t(d.stride1) * uint64_t(v));
-    p0 = transform(d.model0, vec3(a.v[0], a.v[1], a.v[2]));
-    p1 = transform(d.model1, vec3(b.v[0], b.v[1], b.v[2]));
+    p0 = vec3(a.v[0], a.v[1], a.v[2]);
+    p1 = vec3(b.v[0], b.v[1], b.v[2]);
+    // Most draws have no transform (world-space positions): skip its loads and arithmetic
+    // (every fragment of the lighting pass fetches its triangle).
+    if (!has_flag(d, DRAW_UNTRANSFORMED)) {
+        p0 = transform(d.model0, p0);
+        p1 = transform(d.model1, p1);
+    }
 }
 
 // A triangle's three corners at t = 0 and t = 1.

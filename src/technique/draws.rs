@@ -4,7 +4,9 @@
 //! the CPU: a [`DrawList`] holds the draws' descriptions (160 bytes each) in a small GPU
 //! buffer that every pass reads by address.
 
-use super::gpu_types::{DRAW_CLOSED, DrawRecord, INDEX_NONE, INDEX_U16, INDEX_U32};
+use super::gpu_types::{
+    DRAW_CLOSED, DRAW_UNTRANSFORMED, DrawRecord, INDEX_NONE, INDEX_U16, INDEX_U32,
+};
 use crate::error::{Error, Result};
 use crate::gpu::{Access, Buffer, BufferUsage, Context, memory_barrier};
 use ash::vk;
@@ -310,7 +312,10 @@ impl Draw {
         if !self.albedo.is_finite() {
             return fail(format!("albedo {} is not finite", self.albedo));
         }
-        let flags = if self.closed { DRAW_CLOSED } else { 0 };
+        let untransformed =
+            self.transform_t0 == Mat4::IDENTITY && self.transform_t1 == Mat4::IDENTITY;
+        let flags = if self.closed { DRAW_CLOSED } else { 0 }
+            | if untransformed { DRAW_UNTRANSFORMED } else { 0 };
         Ok(DrawRecord {
             positions0: self.positions_t0.address,
             positions1: self.positions_t1.address,

@@ -141,6 +141,8 @@ pub const INDEX_U16: u32 = 1;
 pub const INDEX_U32: u32 = 2;
 /// Draw flag: the mesh is closed (a triangle facing away all frame may be culled).
 pub const DRAW_CLOSED: u32 = 1;
+/// Draw flag: both transforms are the identity (the shaders skip them).
+pub const DRAW_UNTRANSFORMED: u32 = 2;
 
 /// One draw of host geometry as shaders read it (160 bytes). Built from a
 /// [`super::Draw`] by [`super::DrawList`].
