@@ -6,6 +6,7 @@ use crate::compare::rmse;
 use crate::error::Result;
 use crate::render::{Method, RenderSettings};
 use crate::scene::BuiltinOptions;
+use motion_shadows::technique::ShadowEstimator;
 
 /// (GPU ms, RMSE, samples per pixel or slices) of each configuration of one method.
 type Curve = Vec<(f64, f64, u32)>;
@@ -13,12 +14,13 @@ type Curve = Vec<(f64, f64, u32)>;
 pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
     let scene = builtin_scene("cubes-toward-light", &BuiltinOptions::default())?;
     let (width, height) = b.scale.pick((128, 96), (320, 240));
-    let at = |method, spp, seed| RenderSettings {
+    let at = |method, spp, seed, shadow_estimator| RenderSettings {
         width,
         height,
         spp,
         seed,
         method,
+        shadow_estimator,
         ..RenderSettings::default()
     };
     let reference_slices = b.scale.pick(512, 2048);
@@ -33,6 +35,7 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
                 },
                 1,
                 1000,
+                ShadowEstimator::Sampled,
             ),
         )
         .ok_or_else(|| bench_error("the reference could not be rendered"))?;
@@ -42,9 +45,14 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
             .to_vec(),
     );
     let mut curves: Vec<(&str, Curve)> = Vec::new();
-    let sweeps: [(&str, Vec<u32>); 3] = [
+    let sweeps: [(&str, Vec<u32>); 4] = [
         (
             "temporal",
+            b.scale
+                .pick(vec![1, 2, 4, 8, 16, 32], vec![1, 2, 4, 8, 16, 32, 64]),
+        ),
+        (
+            "temporal analytic",
             b.scale
                 .pick(vec![1, 2, 4, 8, 16, 32], vec![1, 2, 4, 8, 16, 32, 64]),
         ),
@@ -64,12 +72,14 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
     for (name, samples) in sweeps {
         let mut curve = Vec::new();
         for n in samples {
-            let (method, spp) = match name {
-                "temporal" => (Method::Temporal, n),
-                "tsm" => (Method::Tsm, n),
-                _ => (Method::Reference { slices: n }, 1),
+            let (method, spp, estimator) = match name {
+                "temporal" => (Method::Temporal, n, ShadowEstimator::Sampled),
+                "temporal analytic" => (Method::Temporal, n, ShadowEstimator::Analytic),
+                "tsm" => (Method::Tsm, n, ShadowEstimator::Sampled),
+                _ => (Method::Reference { slices: n }, 1, ShadowEstimator::Sampled),
             };
-            let Some(m) = b.measure(&format!("{name} {n}"), &scene, &at(method, spp, 1)) else {
+            let settings = at(method, spp, 1, estimator);
+            let Some(m) = b.measure(&format!("{name} {n}"), &scene, &settings) else {
                 continue;
             };
             let e = rmse(&m.image, &reference.image, None).map_err(bench_error)?;
@@ -141,6 +151,17 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
                 fmt_num(goal)
             ));
         }
+    }
+    // The analytic estimator against brute force at the same goal (issue target: >= 20).
+    let t_analytic = time_to(&curves[1].1);
+    let t_reference = time_to(&curves[3].1);
+    if t_analytic.is_finite() && t_reference.is_finite() {
+        b.report.ratios.push(target(
+            "equal-quality time reference / temporal analytic".to_string(),
+            t_reference / t_analytic,
+            20.0,
+            false,
+        ));
     }
     Ok(())
 }
