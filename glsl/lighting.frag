@@ -8,7 +8,9 @@
 
 layout(push_constant) uniform Push { PassConstants pc; };
 
-layout(location = 0) flat in uint in_prim;
+// The triangle, from the geometry shader: corners at t = 0 and t = 1, id in p0[0].w's bits.
+layout(location = 0) flat in vec4 in_p0[3];
+layout(location = 3) flat in vec3 in_p1[3];
 
 void main() {
     // Only the members used here are loaded (each load from an address is made lane by lane
@@ -19,13 +21,12 @@ void main() {
     float far = header.camera.forward.w;
     vec3 ray00 = header.camera.ray00.xyz, ray_dx = header.camera.ray_dx.xyz;
     vec3 ray_dy = header.camera.ray_dy.xyz;
-    DrawRecord d = DrawTable(pc.draws).draws[pc.draw_index];
-    Triangle tri = fetch_triangle(d, in_prim);
+    vec3 p0[3] = vec3[3](in_p0[0].xyz, in_p0[1].xyz, in_p0[2].xyz);
+    uint id = floatBitsToUint(in_p0[0].w);
     // A static triangle is intersected at t = 0 exactly, whatever the sample's time (see
     // resolve.comp).
     bool moving = false;
-    for (int i = 0; i < 3; ++i) moving = moving || tri.p0[i] != tri.p1[i];
-    uint id = d.first_id + in_prim;
+    for (int i = 0; i < 3; ++i) moving = moving || p0[i] != in_p1[i];
     Uint64Array visibility = Uint64Array(header.camera.visibility);
     uvec2 pixel = uvec2(gl_FragCoord.xy);
     uint p = pixel.y * image.x + pixel.x;
@@ -42,9 +43,8 @@ void main() {
         if (!moving) t = 0.0;
         vec2 at = vec2(pixel) + offset;
         vec3 dir = ray00 + at.x * ray_dx + at.y * ray_dy;
-        float depth = intersect_triangle(origin, dir, mix(tri.p0[0], tri.p1[0], t),
-                                         mix(tri.p0[1], tri.p1[1], t),
-                                         mix(tri.p0[2], tri.p1[2], t));
+        float depth = intersect_triangle(origin, dir, mix(p0[0], in_p1[0], t),
+                                         mix(p0[1], in_p1[1], t), mix(p0[2], in_p1[2], t));
         if (depth < near || depth > far) continue;
         uint64_t packed = (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(id);
         atomicMin(visibility.v[p * pc.sample_count + j], packed);

@@ -8,19 +8,29 @@
 #include "shared.glsl"
 
 layout(triangles) in;
-layout(triangle_strip, max_vertices = 64) out;
+layout(triangle_strip, max_vertices = 32) out;
 
 layout(push_constant) uniform Push { PassConstants pc; };
 
 layout(location = 0) in vec3 in_p0[];
 layout(location = 1) in vec3 in_p1[];
 layout(location = 2) in float in_valid[];
-layout(location = 0) flat out uint out_prim;   // the triangle's index in its draw
+// The triangle itself, for the fragment shader's per-sample ray tests: its corners at t = 0
+// (xyz) and t = 1, and its global id (the bits of p0[0].w). Passed along rather than fetched
+// again per fragment: a fetch (draw record, indices, positions) costs many loads per
+// fragment, made lane by lane on a CPU device. 7 locations, 28 components per vertex: 32
+// vertices stay within the 1024 output components every device has.
+layout(location = 0) flat out vec4 out_p0[3];
+layout(location = 3) flat out vec3 out_p1[3];
 
 CameraParams camera;
 
 const int MAX_CLIPPED = 12;  // corners in front of the near plane and crossings of it
-const int MAX_POINTS = 48;   // each hull vertex grown into at most 4 pixel-square corners
+// Grown hull points: one per hull vertex plus the pixel-square corners where the outward
+// normal crosses a quadrant boundary, 4 in all around a convex polygon: at most
+// MAX_CLIPPED + 4 = 16. Floating-point wobble on near-collinear edges could add a few;
+// past the room left, the hull's grown bounding box is drawn instead (conservative).
+const int MAX_POINTS = 32;
 
 vec2 to_pixels(vec4 clip) {
     return (clip.xy / clip.w * 0.5 + 0.5) * vec2(camera.image.xy);
@@ -115,7 +125,12 @@ void main() {
     const vec2 corner[4] = vec2[4](vec2(r, r), vec2(-r, r), vec2(-r, -r), vec2(r, -r));
     vec2 poly[MAX_POINTS];
     int count = 0;
-    for (int i = 0; i < h; ++i) {
+    bool overflow = false;
+    for (int i = 0; i < h && !overflow; ++i) {
+        if (count > MAX_POINTS - 4) {
+            overflow = true;
+            break;
+        }
         vec2 v = hull[i];
         if (h == 1) {
             for (int q = 0; q < 4; ++q) poly[count++] = v + corner[q];
@@ -139,6 +154,21 @@ void main() {
         }
     }
 
+    if (overflow) {
+        vec2 lo_corner = hull[0], hi_corner = hull[0];
+        for (int i = 1; i < h; ++i) {
+            lo_corner = min(lo_corner, hull[i]);
+            hi_corner = max(hi_corner, hull[i]);
+        }
+        lo_corner -= vec2(r);
+        hi_corner += vec2(r);
+        poly[0] = lo_corner;
+        poly[1] = vec2(hi_corner.x, lo_corner.y);
+        poly[2] = hi_corner;
+        poly[3] = vec2(lo_corner.x, hi_corner.y);
+        count = 4;
+    }
+
     // A convex polygon as one strip: 0, 1, count-1, 2, count-2, ...
     int lo = 1, hi = count - 1;
     vec2 size = vec2(camera.image.xy);
@@ -148,7 +178,10 @@ void main() {
         else if ((i & 1) == 1) idx = lo++;
         else idx = hi--;
         gl_Position = vec4(poly[idx] / size * 2.0 - 1.0, 0.5, 1.0);
-        out_prim = prim;
+        for (int c = 0; c < 3; ++c) {
+            out_p0[c] = vec4(in_p0[c], c == 0 ? uintBitsToFloat(d.first_id + prim) : 0.0);
+            out_p1[c] = in_p1[c];
+        }
         EmitVertex();
     }
     EndPrimitive();
