@@ -185,5 +185,17 @@ fn shadow_estimator_is_reported_and_compare_measures_static_receivers() {
     assert_eq!(temporal["stats"]["shadow_estimator"], "analytic");
     let rmse_static = temporal["rmse_static"].as_f64().expect("rmse_static");
     assert!(rmse_static.is_finite() && rmse_static >= 0.0);
+    let bench = dir.join("bench");
+    let status = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args(["bench", "--quick", "--preset", "shadow-pass"])
+        .args(["--shadow-estimator", "analytic", "--out"])
+        .arg(&bench)
+        .env("MOTION_SHADOWS_VALIDATION", "1")
+        .status()
+        .expect("run the binary");
+    assert!(status.success());
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(bench.join("bench-summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["shadow_estimator"], "analytic");
     std::fs::remove_dir_all(&dir).ok();
 }

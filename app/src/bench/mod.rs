@@ -21,6 +21,9 @@ pub struct Scale {
     /// Repetitions per configuration; the fastest counts.
     pub runs: u32,
     pub out: PathBuf,
+    /// The shadow estimator of the presets' temporal and coverage renders
+    /// (`--shadow-estimator`; equal-quality sweeps both whatever it says).
+    pub shadow_estimator: motion_shadows::technique::ShadowEstimator,
 }
 
 impl Scale {
@@ -32,6 +35,7 @@ impl Scale {
             height,
             runs,
             out,
+            shadow_estimator: Default::default(),
         }
     }
 

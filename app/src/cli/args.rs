@@ -41,6 +41,9 @@ pub struct BenchArgs {
     /// shadow-pass, scaling.
     #[arg(long = "preset")]
     pub presets: Vec<String>,
+    /// Shadow term of the presets' temporal and coverage renders (equal-quality sweeps both).
+    #[arg(long, value_enum, default_value_t = EstimatorArg::Sampled)]
+    pub shadow_estimator: EstimatorArg,
     #[arg(long, default_value = "bench")]
     pub out: PathBuf,
     /// Print the results as one JSON object on stdout.

@@ -12,6 +12,7 @@ use std::time::Instant;
 struct Summary<'a> {
     device: String,
     quick: bool,
+    shadow_estimator: &'static str,
     width: u32,
     height: u32,
     wall_seconds: f64,
@@ -36,7 +37,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let (bar, mut report) = progress_reporter();
     let ctx = Context::headless(&ContextOptions::from_env())?;
     let device = format!("{} ({})", ctx.info().name, ctx.info().driver);
-    let scale = Scale::new(args.quick, args.out.clone());
+    let scale = Scale {
+        shadow_estimator: args.shadow_estimator.estimator(),
+        ..Scale::new(args.quick, args.out.clone())
+    };
     let mut renderer = Renderer::new(&ctx)?;
     let mut reports = Vec::new();
     for preset in presets {
@@ -48,6 +52,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let summary = Summary {
         device,
         quick: args.quick,
+        shadow_estimator: match args.shadow_estimator {
+            super::args::EstimatorArg::Sampled => "sampled",
+            super::args::EstimatorArg::Analytic => "analytic",
+        },
         width: scale.width,
         height: scale.height,
         wall_seconds: start.elapsed().as_secs_f64(),

@@ -129,6 +129,7 @@ impl Bench<'_, '_> {
             spp,
             seed: 1,
             method,
+            shadow_estimator: self.scale.shadow_estimator,
             ..RenderSettings::default()
         }
     }
