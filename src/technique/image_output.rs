@@ -2,12 +2,11 @@
 //! the host's own storage image (any four-channel format: RGBA32F, RGBA16F, ...), so an
 //! engine can use the stochastic lighting pass as one of its passes and keep compositing.
 
+use super::image_pass::ImagePass;
 use super::lighting::LightingTarget;
 use super::shaders;
-use crate::error::{Error, Result};
-use crate::gpu::{
-    Context, ImageBindingLayout, ImageBindings, Pipeline, compute_pipeline_with_sets,
-};
+use crate::error::Result;
+use crate::gpu::{Context, ImageBindings};
 use ash::vk;
 
 /// The shader's push constants.
@@ -20,34 +19,27 @@ struct OutputConstants {
 
 /// Writes lighting targets into host images. Immutable after creation.
 pub struct LightingImageOutput {
-    layout: ImageBindingLayout,
-    pipeline: Pipeline,
+    pass: ImagePass,
 }
 
 impl LightingImageOutput {
     /// Creates the pass; needs shaderStorageImageWriteWithoutFormat enabled (as the
     /// visibility-mask pass does), so that one pipeline writes any format.
     pub fn new(ctx: &Context) -> Result<Self> {
-        if !ctx.info().storage_image_write_without_format {
-            return Err(Error::MissingFeatures(
-                "writing the lighting pass into a host image needs shaderStorageImageWriteWithoutFormat"
-                    .into(),
-            ));
-        }
-        let layout = ImageBindingLayout::new(ctx, &[vk::DescriptorType::STORAGE_IMAGE])?;
-        let pipeline = compute_pipeline_with_sets(
+        let pass = ImagePass::new(
             ctx,
-            &[layout.raw()],
+            "writing the lighting pass into a host image",
+            &[vk::DescriptorType::STORAGE_IMAGE],
             std::mem::size_of::<OutputConstants>() as u32,
             "radiance_to_image.comp",
             shaders::RADIANCE_TO_IMAGE_COMP,
         )?;
-        Ok(Self { layout, pipeline })
+        Ok(Self { pass })
     }
 
     /// A descriptor set for one use in flight (per frame in flight).
     pub fn bindings(&self) -> Result<ImageBindings> {
-        self.layout.allocate()
+        self.pass.layout.allocate()
     }
 
     /// Records the copy of `target`'s radiance (rgb; alpha: the share of samples seeing a
@@ -77,29 +69,12 @@ impl LightingImageOutput {
     ) {
         // SAFETY: the caller's contract.
         unsafe { bindings.write(&[(image, vk::ImageLayout::GENERAL)]) };
-        self.pipeline.bind(device, cmd);
-        unsafe {
-            device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                self.pipeline.layout,
-                0,
-                &[bindings.raw()],
-                &[],
-            )
-        };
         let constants = OutputConstants {
             radiance: target.radiance.device_address(),
             size: [target.width(), target.height()],
         };
-        self.pipeline.push(device, cmd, &constants);
-        unsafe {
-            device.cmd_dispatch(
-                cmd,
-                target.width().div_ceil(8),
-                target.height().div_ceil(8),
-                1,
-            )
-        };
+        let size = (target.width(), target.height());
+        // SAFETY: the caller's contract; the set was just written.
+        unsafe { self.pass.record(device, cmd, bindings, &constants, size) };
     }
 }

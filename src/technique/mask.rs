@@ -12,12 +12,11 @@
 /// used once per command buffer. Made by [`VisibilityMaskPass::bindings`].
 pub type MaskBindings = ImageBindings;
 
+use super::image_pass::ImagePass;
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
-use crate::error::{Error, Result};
-use crate::gpu::{
-    Context, ImageBindingLayout, ImageBindings, Pipeline, compute_pipeline_with_sets,
-};
+use crate::error::Result;
+use crate::gpu::{Context, ImageBindings};
 use ash::vk;
 use glam::Mat4;
 
@@ -81,8 +80,7 @@ const NORMALS_UNORM: u32 = 2;
 
 /// The visibility-mask pass. Immutable after creation.
 pub struct VisibilityMaskPass {
-    layout: ImageBindingLayout,
-    pipeline: Pipeline,
+    pass: ImagePass,
 }
 
 impl VisibilityMaskPass {
@@ -90,27 +88,21 @@ impl VisibilityMaskPass {
     /// Format` enabled (a headless context enables it where supported; a host says so in
     /// `Context::from_raw`), which lets one pipeline write any of the output formats.
     pub fn new(ctx: &Context) -> Result<Self> {
-        if !ctx.info().storage_image_write_without_format {
-            return Err(Error::MissingFeatures(
-                "the visibility-mask pass needs shaderStorageImageWriteWithoutFormat".into(),
-            ));
-        }
         let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
-        let layout =
-            ImageBindingLayout::new(ctx, &[sampled, sampled, vk::DescriptorType::STORAGE_IMAGE])?;
-        let pipeline = compute_pipeline_with_sets(
+        let pass = ImagePass::new(
             ctx,
-            &[layout.raw()],
+            "the visibility-mask pass",
+            &[sampled, sampled, vk::DescriptorType::STORAGE_IMAGE],
             std::mem::size_of::<MaskConstants>() as u32,
             "visibility_mask.comp",
             shaders::VISIBILITY_MASK_COMP,
         )?;
-        Ok(Self { layout, pipeline })
+        Ok(Self { pass })
     }
 
     /// A descriptor set for one dispatch in flight.
     pub fn bindings(&self) -> Result<MaskBindings> {
-        self.layout.allocate()
+        self.pass.layout.allocate()
     }
 
     /// Records the mask of `map` (after its generation pass) for the host's images.
@@ -162,20 +154,10 @@ impl VisibilityMaskPass {
             flags,
             reserved: [0; 2],
         };
-        self.pipeline.bind(device, cmd);
+        // SAFETY: the caller's contract; the set was just written.
         unsafe {
-            device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                self.pipeline.layout,
-                0,
-                &[bindings.raw()],
-                &[],
-            )
-        };
-        self.pipeline.push(device, cmd, &constants);
-        unsafe {
-            device.cmd_dispatch(cmd, inputs.size.0.div_ceil(8), inputs.size.1.div_ceil(8), 1)
+            self.pass
+                .record(device, cmd, bindings, &constants, inputs.size)
         };
     }
 }

@@ -23,6 +23,7 @@ mod draws;
 mod generation;
 pub mod gpu_types;
 mod image_output;
+mod image_pass;
 mod lighting;
 mod mask;
 mod plain_shadow;

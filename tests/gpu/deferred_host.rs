@@ -13,7 +13,7 @@ use deferred::{
     ShadowLookup, Vertex, World,
 };
 use glam::{DMat4, DVec3, Vec3};
-use motion_shadows::technique::{CameraParams, LightingView, TemporalShadowMap};
+use motion_shadows::technique::{LightingView, TemporalShadowMap};
 use motion_shadows_app::render::upload::camera_view;
 use motion_shadows_app::render::{Method, RenderSettings};
 use motion_shadows_app::scene as app;
@@ -43,20 +43,6 @@ fn settings(initial_capacity: (u32, u32)) -> Settings {
         initial_capacity,
         lookup: ShadowLookup::MaskImages,
     }
-}
-
-/// The host's validation messenger heard nothing, also while its device and instance were
-/// destroyed (which reports objects left alive).
-fn assert_host_clean(host: Host) {
-    let messages = host.messages.clone();
-    drop(host);
-    let messages = messages.lock().map(|m| m.clone()).unwrap_or_default();
-    assert!(
-        messages.is_empty(),
-        "the validation layer reported {} message(s) on the host's instance:\n{}",
-        messages.len(),
-        messages.join("\n")
-    );
 }
 
 /// Frame `frame` of the host's world as the app's scene lit by light `light` alone: every
@@ -124,22 +110,8 @@ fn app_scene(world: &World, frame: u32, light: usize) -> app::Scene {
 }
 
 /// The renderer's camera rays for `scene` (`shared.glsl`'s `camera_ray`).
-fn camera_rays(scene: &app::Scene, spp: u32) -> CameraRays {
-    let view = LightingView {
-        camera: camera_view(scene, SIZE),
-        seed: SEED,
-        ambient: scene.ambient,
-        estimator: Default::default(),
-    };
-    let camera = CameraParams::new(&view, SIZE, spp);
-    CameraRays {
-        origin: camera.position.truncate(),
-        ray00: camera.ray00,
-        dx: camera.ray_dx,
-        dy: camera.ray_dy,
-        near: camera.position.w,
-        far: camera.forward.w,
-    }
+fn camera_rays(scene: &app::Scene) -> CameraRays {
+    CameraRays::of(&camera_view(scene, SIZE), SIZE)
 }
 
 /// Where the ray through image position (x, y) meets the ground plane y = 0, inside the
@@ -292,7 +264,7 @@ fn compare_light(
     renderer_rgb: &[f32],
 ) -> Vec<(f64, bool)> {
     let scene = app_scene(world, host_frame.frame, light);
-    let rays = camera_rays(&scene, 1);
+    let rays = camera_rays(&scene);
     let boxes = caster_boxes(world, host_frame.frame, 2.0);
     let mask = &host_frame.masks[light];
     let ambient = f64::from(world.ambient) * GROUND_ALBEDO;
@@ -410,7 +382,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
         // Both lights together: the host's radiance against the sum of the renderer's
         // single-light images (each of which carries the ambient term once).
         let scene = app_scene(&world, frame.frame, 0);
-        let rays = camera_rays(&scene, 1);
+        let rays = camera_rays(&scene);
         let boxes = caster_boxes(&world, frame.frame, 2.0);
         let mut diffs = Vec::new();
         for y in 0..SIZE.1 {
@@ -474,7 +446,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
     );
 
     assert_no_validation_messages(&ctx);
-    assert_host_clean(host);
+    host.assert_clean_teardown();
 }
 
 /// A query of the host's probe shader (`Query` in tests/glsl/probe.comp).
@@ -604,7 +576,7 @@ fn glsl_include_in_a_host_shader_agrees_with_the_library_lighting_pass() {
             ..RenderSettings::default()
         };
         let result = render(&ctx, &scene, &settings);
-        let rays = camera_rays(&scene, 1);
+        let rays = camera_rays(&scene);
         let casters: Vec<(Vec<Vec3>, Vec<Vec3>)> = scene.meshes[1..]
             .iter()
             .map(|m| (m.t0.clone(), m.t1.clone()))
@@ -696,7 +668,7 @@ fn glsl_include_in_a_host_shader_agrees_with_the_library_lighting_pass() {
     }
     drop(engine);
     assert_no_validation_messages(&ctx);
-    assert_host_clean(host);
+    host.assert_clean_teardown();
 }
 
 /// A square of side `SIDE` at height 1 translating by `TRAVEL` in +x over the shutter, under
@@ -706,7 +678,6 @@ fn glsl_include_in_a_host_shader_agrees_with_the_library_lighting_pass() {
 fn square_world() -> (World, f64, f64) {
     const START: f64 = -4.0;
     const Z0: f32 = -1.0;
-    let (ground_v, ground_i) = deferred::ground_grid(6.0, 4);
     let square = [[0.0, 0.0], [0.0, SIDE], [SIDE, SIDE], [SIDE, 0.0]].map(|[x, z]| Vertex {
         position: [x, 0.0, z],
         normal: [0.0, 1.0, 0.0],
@@ -731,14 +702,7 @@ fn square_world() -> (World, f64, f64) {
         }],
         ambient: 0.05,
         meshes: vec![
-            Mesh {
-                name: "ground".into(),
-                vertices: ground_v,
-                indices: MeshIndices::U32(ground_i),
-                albedo: Vec3::splat(0.8),
-                closed: false,
-                motion: Motion::Rigid(Box::new(|_| DMat4::IDENTITY)),
-            },
+            deferred::ground_mesh(),
             Mesh {
                 name: "square".into(),
                 vertices: square.to_vec(),
@@ -795,7 +759,7 @@ fn lit_fraction_matches_the_closed_form_for_a_translating_square() {
     // Frame 1's shutter: the square from x = start to start + travel. Pixels showing the
     // square itself at t = 1 (the G-buffer's time) are not ground.
     let scene = app_scene(&world, 1, 0);
-    let rays = camera_rays(&scene, 1);
+    let rays = camera_rays(&scene);
     let covered = caster_boxes(&world, 1, 2.0);
     let covered_at_1 = {
         let view_proj = world.camera.view_proj(SIZE.0 as f32 / SIZE.1 as f32);
@@ -942,7 +906,7 @@ fn lit_fraction_matches_the_closed_form_for_a_translating_square() {
         "max error {worst_centre} at texel centres"
     );
     drop(engine);
-    assert_host_clean(host);
+    host.assert_clean_teardown();
 }
 
 /// The papers' lighting pass written into a host's own storage image

@@ -192,13 +192,5 @@ fn host_device_and_command_buffer_render_the_same_image_as_the_renderer() {
     assert_eq!(host.validation_messages(), Vec::<String>::new());
 
     // Destroying the host's device and instance reports any object the library left on them.
-    let messages = host.messages.clone();
-    drop(host);
-    let messages = messages.lock().map(|m| m.clone()).unwrap_or_default();
-    assert!(
-        messages.is_empty(),
-        "the validation layer reported {} message(s) on the host's instance:\n{}",
-        messages.len(),
-        messages.join("\n")
-    );
+    host.assert_clean_teardown();
 }

@@ -9,7 +9,6 @@ use crate::support::gpu::{
 };
 use crate::support::sampling::{CameraRays, hits, pixel_key, pixel_sample};
 use glam::{DVec3, Vec3};
-use motion_shadows::technique::{CameraParams, LightingView};
 use motion_shadows_app::render::upload::camera_view;
 use motion_shadows_app::render::{Method, RenderSettings};
 
@@ -84,21 +83,7 @@ fn every_sample_sees_what_its_ray_meets_at_its_time() {
     };
     let result = render(&ctx, &s, &settings);
 
-    let view = LightingView {
-        camera: camera_view(&s, SIZE),
-        seed: SEED,
-        ambient: 0.0,
-        estimator: Default::default(),
-    };
-    let camera = CameraParams::new(&view, SIZE, SPP);
-    let rays = CameraRays {
-        origin: camera.position.truncate(),
-        ray00: camera.ray00,
-        dx: camera.ray_dx,
-        dy: camera.ray_dy,
-        near: camera.position.w,
-        far: camera.forward.w,
-    };
+    let rays = CameraRays::of(&camera_view(&s, SIZE), SIZE);
     let at = |(t0, t1): &(Vec<Vec3>, Vec<Vec3>), t: f32| -> [DVec3; 3] {
         [0, 1, 2].map(|i| t0[i].lerp(t1[i], t).as_dvec3())
     };

@@ -268,6 +268,19 @@ pub fn cuboid(half: Vec3) -> (Vec<Vertex>, Vec<u16>) {
     (vertices, indices)
 }
 
+/// The static ground of both demo worlds: a light grey `ground_grid(6, 4)`, 32-bit indices.
+pub fn ground_mesh() -> Mesh {
+    let (vertices, indices) = ground_grid(6.0, 4);
+    Mesh {
+        name: "ground".into(),
+        vertices,
+        indices: MeshIndices::U32(indices),
+        albedo: Vec3::splat(0.8),
+        closed: false,
+        motion: Motion::Rigid(Box::new(|_| DMat4::IDENTITY)),
+    }
+}
+
 /// A flat grid in the xz plane facing +y: `cells` x `cells` quads over [-half, half]^2.
 pub fn ground_grid(half: f32, cells: u32) -> (Vec<Vertex>, Vec<u32>) {
     let n = cells + 1;
@@ -335,7 +348,6 @@ impl World {
     /// pillar, and a bent strip that the CPU deforms every frame while it drifts; a spot
     /// light and a directional light.
     pub fn demo() -> World {
-        let (ground_v, ground_i) = ground_grid(6.0, 4);
         let (box_v, box_i) = cuboid(Vec3::splat(0.5));
         let (pillar_v, pillar_i) = cuboid(Vec3::new(0.3, 0.8, 0.3));
         const SEGMENTS: u32 = 6;
@@ -373,14 +385,7 @@ impl World {
             ],
             ambient: 0.04,
             meshes: vec![
-                Mesh {
-                    name: "ground".into(),
-                    vertices: ground_v,
-                    indices: MeshIndices::U32(ground_i),
-                    albedo: Vec3::splat(0.8),
-                    closed: false,
-                    motion: Motion::Rigid(Box::new(|_| DMat4::IDENTITY)),
-                },
+                ground_mesh(),
                 Mesh {
                     name: "flying box".into(),
                     vertices: box_v,

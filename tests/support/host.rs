@@ -315,6 +315,20 @@ impl Host {
         Ok(())
     }
 
+    /// Destroys the host's device and instance and asserts that the validation layer heard
+    /// nothing, also during the teardown (which reports objects left alive on them).
+    pub fn assert_clean_teardown(self) {
+        let messages = self.messages.clone();
+        drop(self);
+        let messages = messages.lock().map(|m| m.clone()).unwrap_or_default();
+        assert!(
+            messages.is_empty(),
+            "the validation layer reported {} message(s) on the host's instance:\n{}",
+            messages.len(),
+            messages.join("\n")
+        );
+    }
+
     /// Everything the host's validation messenger collected so far.
     pub fn validation_messages(&self) -> Vec<String> {
         self.messages.lock().map(|m| m.clone()).unwrap_or_default()

@@ -40,6 +40,25 @@ pub struct CameraRays {
 }
 
 impl CameraRays {
+    /// The rays the lighting pass casts for `camera` at `size` (its `CameraParams`).
+    pub fn of(camera: &motion_shadows::technique::CameraView, size: (u32, u32)) -> Self {
+        let view = motion_shadows::technique::LightingView {
+            camera: *camera,
+            seed: 0,
+            ambient: 0.0,
+            estimator: Default::default(),
+        };
+        let params = motion_shadows::technique::CameraParams::new(&view, size, 1);
+        Self {
+            origin: params.position.truncate(),
+            ray00: params.ray00,
+            dx: params.ray_dx,
+            dy: params.ray_dy,
+            near: params.position.w,
+            far: params.forward.w,
+        }
+    }
+
     pub fn direction(&self, x: f32, y: f32) -> DVec3 {
         (self.ray00.truncate() + x * self.dx.truncate() + y * self.dy.truncate()).as_dvec3()
     }

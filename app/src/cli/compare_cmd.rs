@@ -2,7 +2,7 @@
 //! reference over the whole image and over the moving-object mask.
 
 use super::args::{CompareArgs, Preset};
-use super::render_cmd::{builtin_options, make_culling_safe, progress_reporter};
+use super::render_cmd::{builtin_options, progress_reporter};
 use crate::compare::{ErrorStats, Rgb8Image, error_image, error_stats, side_by_side};
 use crate::output::{
     RadianceImage, StagedFiles, auto_exposure, write_exr, write_png, write_rgb8_png,
@@ -111,14 +111,13 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         settings(method).validate()?;
     }
     let (bar, mut report) = progress_reporter();
-    let mut scene = match (&args.scene_file, &args.scene) {
+    let scene = match (&args.scene_file, &args.scene) {
         (Some(path), _) => load_scene_file(path)?,
         (None, name) => builtin(
             name.as_deref().unwrap_or(preset_scene),
             &builtin_options(&args.random),
         )?,
     };
-    make_culling_safe(&mut scene, &bar);
     let staged = StagedFiles::prepare(&args.out, &output_names(&scene.name))
         .with_context(|| format!("preparing the output directory {}", args.out.display()))?;
     let ctx = Context::headless(&ContextOptions::from_env())?;

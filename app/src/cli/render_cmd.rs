@@ -4,9 +4,7 @@ use super::args::{MethodArg, RandomCubesArgs, RenderArgs};
 use super::summary::summary_text;
 use crate::output::{StagedFiles, auto_exposure, write_exr, write_png};
 use crate::render::{Method, RenderSettings, Renderer};
-use crate::scene::{
-    BuiltinOptions, Scene, builtin, load_scene_file, open_meshes_around_viewpoints,
-};
+use crate::scene::{BuiltinOptions, Scene, builtin, load_scene_file};
 use anyhow::Context as _;
 use indicatif::{ProgressBar, ProgressStyle};
 use motion_shadows::gpu::{Context, ContextOptions};
@@ -42,9 +40,9 @@ pub fn progress_reporter() -> (Option<ProgressBar>, impl FnMut(&str)) {
         bar
     });
     let handle = bar.clone();
-    // Warnings must stay on screen: printed above the spinner, not as its message.
+    // Notes and warnings must stay on screen: printed above the spinner, not as its message.
     let report = move |msg: &str| match &handle {
-        Some(bar) if msg.starts_with("warning:") => bar.println(msg),
+        Some(bar) if msg.starts_with("warning:") || msg.starts_with("note:") => bar.println(msg),
         Some(bar) => bar.set_message(msg.to_owned()),
         None => eprintln!("{msg}"),
     };
@@ -73,21 +71,6 @@ pub fn render_settings(args: &RenderArgs) -> RenderSettings {
     }
 }
 
-/// A line on stderr that must stay visible (a spinner's message would be overwritten).
-pub fn print_note(bar: &Option<ProgressBar>, note: &str) {
-    match bar {
-        Some(bar) => bar.println(format!("note: {note}")),
-        None => eprintln!("note: {note}"),
-    }
-}
-
-/// Treats the closed meshes around the light or camera as open, saying so for each.
-pub fn make_culling_safe(scene: &mut Scene, bar: &Option<ProgressBar>) {
-    for exception in open_meshes_around_viewpoints(scene) {
-        print_note(bar, &exception.note(scene));
-    }
-}
-
 /// The heat maps `--heatmaps` writes for a frame of `method` named `stem`.
 fn heat_map_names(method: MethodArg, stem: &str) -> Vec<String> {
     let mut names = vec![format!("{stem}-ranges.png")];
@@ -110,8 +93,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     let (bar, mut report) = progress_reporter();
     report("loading the scene");
-    let mut scene = load_scene(args)?;
-    make_culling_safe(&mut scene, &bar);
+    let scene = load_scene(args)?;
     let stem = format!("{}-{}", scene.name, settings.method.name());
     let (exr, png) = (format!("{stem}.exr"), format!("{stem}.png"));
     let mut names = vec![exr.clone(), png.clone()];

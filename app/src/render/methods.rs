@@ -167,26 +167,10 @@ impl Renderer<'_> {
         passes: &mut Vec<PassTime>,
         progress: &mut dyn FnMut(&str),
     ) -> Result<ShadowOutcome> {
-        let (width, height) = settings.shadow_size();
         let layers = settings.spp;
         progress(&format!("time-dependent shadow maps: {layers} maps"));
-        let maps = PlainShadowMap::new(self.ctx, width, height, layers, DepthFormat::DepthOnly)?;
         let times = stratified_times(layers, settings.seed, TSM_SALT);
-        self.run_timed(passes, |this, cmd, ts| {
-            // SAFETY: as in `temporal_shadow`.
-            unsafe {
-                this.plain.record(
-                    this.ctx.device(),
-                    cmd,
-                    inputs.draws,
-                    inputs.light,
-                    &maps,
-                    &times,
-                )
-            };
-            ts.mark(cmd, "tsm shadow maps");
-            Ok(())
-        })?;
+        let maps = self.ordinary_maps(inputs, settings, DepthFormat::DepthOnly, &times, passes)?;
         Ok(ShadowOutcome::TimeDependent(maps))
     }
 
@@ -197,24 +181,37 @@ impl Renderer<'_> {
         time: f32,
         passes: &mut Vec<PassTime>,
     ) -> Result<ShadowOutcome> {
+        let map = self.ordinary_maps(inputs, settings, DepthFormat::DepthAndId, &[time], passes)?;
+        Ok(ShadowOutcome::Plain(map))
+    }
+
+    /// One ordinary map per time of `times`, in one timed submission (labelled by format).
+    fn ordinary_maps(
+        &mut self,
+        inputs: FrameInputs<'_>,
+        settings: &RenderSettings,
+        format: DepthFormat,
+        times: &[f32],
+        passes: &mut Vec<PassTime>,
+    ) -> Result<PlainShadowMap> {
         let (width, height) = settings.shadow_size();
-        let map = PlainShadowMap::new(self.ctx, width, height, 1, DepthFormat::DepthAndId)?;
+        let layers = times.len() as u32;
+        let maps = PlainShadowMap::new(self.ctx, width, height, layers, format)?;
+        let label = match format {
+            DepthFormat::DepthOnly => "tsm shadow maps",
+            DepthFormat::DepthAndId => "plain shadow map",
+        };
         self.run_timed(passes, |this, cmd, ts| {
             // SAFETY: as in `temporal_shadow`.
             unsafe {
-                this.plain.record(
-                    this.ctx.device(),
-                    cmd,
-                    inputs.draws,
-                    inputs.light,
-                    &map,
-                    &[time],
-                )
+                let device = this.ctx.device();
+                this.plain
+                    .record(device, cmd, inputs.draws, inputs.light, &maps, times)
             };
-            ts.mark(cmd, "plain shadow map");
+            ts.mark(cmd, label);
             Ok(())
         })?;
-        Ok(ShadowOutcome::Plain(map))
+        Ok(maps)
     }
 
     /// Brute force: per slice, an ordinary shadow map at the slice's time and one sample per

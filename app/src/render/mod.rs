@@ -203,8 +203,10 @@ impl<'a> Renderer<'a> {
         let shadow_size = settings.shadow_size();
         let spp = settings.method.samples_per_pixel(settings.spp);
 
+        // The one place closed meshes around the light or camera are handled: the upload
+        // draws them open (`effective_closed`), and the user is told.
         for exception in crate::scene::culling_exceptions(scene) {
-            progress(&exception.note(scene));
+            progress(&format!("note: {}", exception.note(scene)));
         }
         progress("uploading the scene");
         let geometry = SceneGeometry::upload(ctx, scene)?;

@@ -27,7 +27,6 @@ pub use builtin::{BUILTIN_NAMES, BuiltinOptions, builtin, builtin_file};
 pub use clip::{clip, quoted};
 pub use culling::{
     CullingException, contains_during_shutter, culling_exceptions, effective_closed,
-    open_meshes_around_viewpoints,
 };
 pub use error::SceneError;
 pub use file::{
