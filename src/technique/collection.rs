@@ -6,7 +6,7 @@ use super::draws::DrawList;
 use super::gpu_types::{COUNT_INVALID, Counters, PassConstants};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
-use super::view::LightView;
+use super::view::{LightView, PrismConstruction};
 use crate::error::{Error, Result};
 use crate::gpu::{
     Access, Context, Pipeline, attachmentless_pipeline, begin_attachmentless, memory_barrier,
@@ -16,18 +16,54 @@ use ash::vk;
 /// The collection sub-pass. Immutable after creation: one serves every frame in flight and
 /// every light.
 pub struct CollectionPass {
-    pipeline: Pipeline,
+    pipelines: PrismPipelines,
 }
 
 /// Bytes of push constants every pipeline of the technique takes.
 pub(crate) const PUSH_BYTES: u32 = std::mem::size_of::<PassConstants>() as u32;
 
-/// Every triangle's prism from the light (scene.vert, collection.geom), into `fragment`: the
-/// collection pass and the coverage map's reset pass draw the same prisms.
-pub(crate) fn prism_pipeline(
+/// Every triangle's prism from the light (scene.vert and the construction's geometry shader),
+/// into the construction's fragment shader of a pass: the collection pass and the coverage
+/// map's reset pass draw the same prisms.
+pub(crate) struct PrismShaders {
+    pub paper_fragment: (&'static str, &'static [u8]),
+    pub exact_fragment: (&'static str, &'static [u8]),
+}
+
+/// One pipeline per [`PrismConstruction`], so the construction is chosen per record.
+pub(crate) struct PrismPipelines {
+    exact: Pipeline,
+    paper: Pipeline,
+}
+
+impl PrismPipelines {
+    pub(crate) fn new(ctx: &Context, shaders: PrismShaders) -> Result<Self> {
+        Ok(Self {
+            exact: prism_pipeline(
+                ctx,
+                ("collection_exact.geom", shaders::COLLECTION_EXACT_GEOM),
+                shaders.exact_fragment,
+            )?,
+            paper: prism_pipeline(
+                ctx,
+                ("collection.geom", shaders::COLLECTION_GEOM),
+                shaders.paper_fragment,
+            )?,
+        })
+    }
+
+    pub(crate) fn get(&self, construction: PrismConstruction) -> &Pipeline {
+        match construction {
+            PrismConstruction::Exact => &self.exact,
+            PrismConstruction::Paper => &self.paper,
+        }
+    }
+}
+
+fn prism_pipeline(
     ctx: &Context,
-    fragment_name: &str,
-    fragment: &[u8],
+    (geometry_name, geometry): (&str, &[u8]),
+    (fragment_name, fragment): (&str, &[u8]),
 ) -> Result<Pipeline> {
     attachmentless_pipeline(
         ctx,
@@ -38,11 +74,7 @@ pub(crate) fn prism_pipeline(
                 "scene.vert",
                 shaders::SCENE_VERT,
             ),
-            (
-                vk::ShaderStageFlags::GEOMETRY,
-                "collection.geom",
-                shaders::COLLECTION_GEOM,
-            ),
+            (vk::ShaderStageFlags::GEOMETRY, geometry_name, geometry),
             (vk::ShaderStageFlags::FRAGMENT, fragment_name, fragment),
         ],
     )
@@ -76,13 +108,19 @@ pub(crate) fn draw_each(
 impl CollectionPass {
     /// Creates the pipeline (vertex, geometry and fragment shader; no attachments).
     pub fn new(ctx: &Context) -> Result<Self> {
-        let pipeline = prism_pipeline(ctx, "collection.frag", shaders::COLLECTION_FRAG)?;
-        Ok(Self { pipeline })
+        let pipelines = PrismPipelines::new(
+            ctx,
+            PrismShaders {
+                paper_fragment: ("collection.frag", shaders::COLLECTION_FRAG),
+                exact_fragment: ("collection_exact.frag", shaders::COLLECTION_EXACT_FRAG),
+            },
+        )?;
+        Ok(Self { pipelines })
     }
 
     /// Records the collection sub-pass of `map` for the frame lit by `light`: writes the map's
     /// header (light and buffer addresses), clears its lists and counters, and draws every
-    /// triangle's prism. The map's counters say afterwards whether it had room (see
+    /// triangle's prism, built as `light.prisms` says. The map's counters say afterwards whether it had room (see
     /// [`TemporalShadowMap::needs_more_room`]). With `coverage`, also fills its nearest map
     /// (the 2017 extension's first pass; [`super::CoveragePass`] follows).
     ///
@@ -162,13 +200,14 @@ impl CollectionPass {
                 .and(Access::COMPUTE_RW),
         );
         begin_attachmentless(device, cmd, map.width(), map.height());
-        self.pipeline.bind(device, cmd);
+        let pipeline = self.pipelines.get(light.prisms);
+        pipeline.bind(device, cmd);
         let constants = PassConstants {
             map: map.header_address(),
             flags: COUNT_INVALID,
             ..PassConstants::default()
         };
-        draw_each(device, cmd, &self.pipeline, draws, constants);
+        draw_each(device, cmd, pipeline, draws, constants);
         unsafe { device.cmd_end_rendering(cmd) };
         memory_barrier(
             device,

@@ -10,11 +10,12 @@
 //!    nearer at some time, or the triangle's own edge sweeps over the pixel (see
 //!    coverage_reset.frag).
 
-use super::collection::{PUSH_BYTES, draw_each, prism_pipeline};
+use super::collection::{PUSH_BYTES, PrismPipelines, PrismShaders, draw_each};
 use super::draws::DrawList;
 use super::gpu_types::{DepthFormat, PassConstants};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
+use super::view::LightView;
 use crate::error::{Error, Result};
 use crate::gpu::{
     Access, Buffer, BufferUsage, Context, Pipeline, attachmentless_pipeline, begin_attachmentless,
@@ -81,7 +82,7 @@ impl CoverageMap {
 /// flight and every light.
 pub struct CoveragePass {
     caps: Pipeline,
-    reset: Pipeline,
+    reset: PrismPipelines,
 }
 
 impl CoveragePass {
@@ -104,13 +105,23 @@ impl CoveragePass {
                 ),
             ],
         )?;
-        let reset = prism_pipeline(ctx, "coverage_reset.frag", shaders::COVERAGE_RESET_FRAG)?;
+        let reset = PrismPipelines::new(
+            ctx,
+            PrismShaders {
+                paper_fragment: ("coverage_reset.frag", shaders::COVERAGE_RESET_FRAG),
+                exact_fragment: (
+                    "coverage_reset_exact.frag",
+                    shaders::COVERAGE_RESET_EXACT_FRAG,
+                ),
+            },
+        )?;
         Ok(Self { caps, reset })
     }
 
     /// Records passes 2 and 3 for `coverage`, after [`super::CollectionPass::record`] of
     /// `map` with the same coverage map (which wrote the header and filled the nearest map),
-    /// and before [`super::GenerationPass::record`].
+    /// and before [`super::GenerationPass::record`]; `light` is the collection's (its
+    /// [`LightView::prisms`] picks the same prisms).
     ///
     /// # Safety
     /// As [`super::CollectionPass::record`], with `draws` the same list the collection pass
@@ -125,6 +136,7 @@ impl CoveragePass {
         device: &ash::Device,
         cmd: vk::CommandBuffer,
         draws: &DrawList,
+        light: &LightView,
         map: &TemporalShadowMap,
         coverage: &CoverageMap,
     ) {
@@ -154,12 +166,13 @@ impl CoveragePass {
         // The reset pass reads what the caps wrote, in other fragment invocations.
         memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::FRAGMENT_RW);
         begin_attachmentless(device, cmd, coverage.width, coverage.height);
-        self.reset.bind(device, cmd);
+        let reset = self.reset.get(light.prisms);
+        reset.bind(device, cmd);
         let constants = PassConstants {
             map: map.header_address(),
             ..PassConstants::default()
         };
-        draw_each(device, cmd, &self.reset, draws, constants);
+        draw_each(device, cmd, reset, draws, constants);
         unsafe { device.cmd_end_rendering(cmd) };
         memory_barrier(
             device,

@@ -46,7 +46,7 @@ pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
 pub use shadow_map::{ShadowMapContents, TemporalShadowMap};
 pub use view::{
     CameraView, DEFAULT_DEPTH_BIAS, DEFAULT_NORMAL_OFFSET_TEXELS, LightKind, LightView,
-    LightingView, ShadowEstimator,
+    LightingView, PrismConstruction, ShadowEstimator,
 };
 
 /// `glsl/motion_shadows.glsl`: the GLSL include a host's own shaders use to test visibility

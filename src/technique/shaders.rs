@@ -12,6 +12,10 @@ pub const SCENE_VERT: &[u8] = spirv!("scene.vert");
 pub const COLLECTION_GEOM: &[u8] = spirv!("collection.geom");
 /// SPIR-V of `glsl/collection.frag`.
 pub const COLLECTION_FRAG: &[u8] = spirv!("collection.frag");
+/// SPIR-V of `glsl/collection_exact.geom`.
+pub const COLLECTION_EXACT_GEOM: &[u8] = spirv!("collection_exact.geom");
+/// SPIR-V of `glsl/collection_exact.frag`.
+pub const COLLECTION_EXACT_FRAG: &[u8] = spirv!("collection_exact.frag");
 /// SPIR-V of `glsl/generation.comp`.
 pub const GENERATION_COMP: &[u8] = spirv!("generation.comp");
 /// SPIR-V of `glsl/generation_long.comp`.
@@ -32,6 +36,8 @@ pub const LAYOUT_PROBE_COMP: &[u8] = spirv!("layout_probe.comp");
 pub const COVERAGE_FRAG: &[u8] = spirv!("coverage.frag");
 /// SPIR-V of `glsl/coverage_reset.frag`.
 pub const COVERAGE_RESET_FRAG: &[u8] = spirv!("coverage_reset.frag");
+/// SPIR-V of `glsl/coverage_reset_exact.frag`.
+pub const COVERAGE_RESET_EXACT_FRAG: &[u8] = spirv!("coverage_reset_exact.frag");
 /// SPIR-V of `glsl/visibility_mask.comp`.
 pub const VISIBILITY_MASK_COMP: &[u8] = spirv!("visibility_mask.comp");
 /// SPIR-V of `glsl/radiance_to_image.comp`.

@@ -85,6 +85,23 @@ pub struct LightView {
     /// Relative depth bias: a receiver at light depth d is tested at d * (1 - bias)
     /// (default 1e-4).
     pub depth_bias: f32,
+    /// How the collection pass turns each moving triangle into fragments (default exact).
+    pub prisms: PrismConstruction,
+}
+
+/// How the collection pass finds, per shadow-map texel, when a moving triangle covers it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum PrismConstruction {
+    /// Per texel, the covered times solved in closed form (where each edge passes the texel
+    /// centre: a quadratic in t for linear vertex motion), from one footprint per triangle
+    /// that the light's near and far planes do not clip. Exact for any linear vertex motion
+    /// (rotation, hinges, deformation), static edges add no fragments, and casters between
+    /// the light and its near plane keep their shadow.
+    #[default]
+    Exact,
+    /// The papers' prism: caps at t = 0 and t = 1 and each side triangulated around its
+    /// centre (t = 0.5). Exact only while edges translate; kept so both can be measured.
+    Paper,
 }
 
 /// Default [`LightView::normal_offset_texels`].
@@ -126,6 +143,7 @@ impl LightView {
             texel: 2.0 * half.tan() / shadow_size.1 as f32,
             normal_offset_texels: DEFAULT_NORMAL_OFFSET_TEXELS,
             depth_bias: DEFAULT_DEPTH_BIAS,
+            prisms: PrismConstruction::default(),
         }
     }
 
@@ -155,6 +173,7 @@ impl LightView {
             texel: 2.0 * hy / shadow_size.1 as f32,
             normal_offset_texels: DEFAULT_NORMAL_OFFSET_TEXELS,
             depth_bias: DEFAULT_DEPTH_BIAS,
+            prisms: PrismConstruction::default(),
         }
     }
 

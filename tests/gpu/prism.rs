@@ -1,14 +1,16 @@
-//! The GPU's prisms against an independent CPU model of the geometry shader's triangulation
+//! The GPU's prisms in the papers' construction (`PrismConstruction::Paper`) against an independent CPU model of the geometry shader's triangulation
 //! (tests/support/prism_model.rs): same fragment count, times and depths at every pixel whose
 //! centre is clear of all prism edges, in the centre-vertex case and in the crossing case.
 
 use crate::support::gpu::{
-    assert_no_validation_messages, context, light_setup, mesh, overhead_spot, scene, temporal_map,
+    assert_no_validation_messages, context, light_setup, mesh, overhead_spot, scene,
+    temporal_map_with,
 };
 use crate::support::prism_model::{
     EdgeCase, edge_cases, edge_margin_at_pixel, fragments_at_pixel, prism_triangles,
 };
 use glam::{Quat, Vec3};
+use motion_shadows::technique::PrismConstruction;
 
 const SIZE: (u32, u32) = (96, 96);
 
@@ -25,7 +27,7 @@ fn compare_with_model(p0: [Vec3; 3], p1: [Vec3; 3], want: EdgeCase) {
         "the test motion must exercise {want:?}"
     );
     let model = prism_triangles(&setup, p0, p1, false);
-    let map = temporal_map(&ctx, &s, SIZE);
+    let map = temporal_map_with(&ctx, &s, SIZE, PrismConstruction::Paper);
 
     // A rasterizer snaps each vertex to its sub-pixel grid (up to half a step in x and in y),
     // which moves an interpolated attribute by up to its screen gradient times that shift:

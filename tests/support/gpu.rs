@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 use motion_shadows::gpu::{Context, ContextOptions};
-use motion_shadows::technique::ShadowMapContents;
+use motion_shadows::technique::{PrismConstruction, ShadowMapContents};
 use motion_shadows_app::render::{Method, RenderResult, RenderSettings, Renderer};
 use motion_shadows_app::scene::{Camera, DirectionalLight, Light, Mesh, Scene, SpotLight};
 
@@ -33,14 +33,26 @@ pub fn render(ctx: &Context, scene: &Scene, settings: &RenderSettings) -> Render
         .expect("render")
 }
 
-/// The temporal shadow map of `scene` at `shadow_size` (the camera image is a token 8x8).
+/// The temporal shadow map of `scene` at `shadow_size` (the camera image is a token 8x8),
+/// built with the default (exact) prisms.
 pub fn temporal_map(ctx: &Context, scene: &Scene, shadow_size: (u32, u32)) -> ShadowMapContents {
+    temporal_map_with(ctx, scene, shadow_size, PrismConstruction::default())
+}
+
+/// [`temporal_map`] with the prisms built as `prisms` says.
+pub fn temporal_map_with(
+    ctx: &Context,
+    scene: &Scene,
+    shadow_size: (u32, u32),
+    prisms: PrismConstruction,
+) -> ShadowMapContents {
     let settings = RenderSettings {
         width: 8,
         height: 8,
         spp: 1,
         shadow_size: Some(shadow_size),
         method: Method::Temporal,
+        prisms,
         ..RenderSettings::default()
     };
     let result = render(ctx, scene, &settings);

@@ -24,6 +24,8 @@ pub struct Scale {
     /// The shadow estimator of the presets' temporal and coverage renders
     /// (`--shadow-estimator`; equal-quality sweeps both whatever it says).
     pub shadow_estimator: motion_shadows::technique::ShadowEstimator,
+    /// The prism construction of the presets' temporal and coverage renders (`--prisms`).
+    pub prisms: motion_shadows::technique::PrismConstruction,
 }
 
 impl Scale {
@@ -36,6 +38,7 @@ impl Scale {
             runs,
             out,
             shadow_estimator: Default::default(),
+            prisms: Default::default(),
         }
     }
 

@@ -44,6 +44,9 @@ pub struct BenchArgs {
     /// Shadow term of the presets' temporal and coverage renders (equal-quality sweeps both).
     #[arg(long, value_enum, default_value_t = EstimatorArg::Sampled)]
     pub shadow_estimator: EstimatorArg,
+    /// Prism construction of the presets' temporal and coverage renders.
+    #[arg(long, value_enum, default_value_t = PrismsArg::Exact)]
+    pub prisms: PrismsArg,
     #[arg(long, default_value = "bench")]
     pub out: PathBuf,
     /// Print the results as one JSON object on stdout.
@@ -87,6 +90,9 @@ pub struct CompareArgs {
     /// Shadow term of the temporal method: sampled (the papers') or analytic.
     #[arg(long, value_enum, default_value_t = EstimatorArg::Sampled)]
     pub shadow_estimator: EstimatorArg,
+    /// Prism construction of the temporal method: exact or the papers'.
+    #[arg(long, value_enum, default_value_t = PrismsArg::Exact)]
+    pub prisms: PrismsArg,
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
     /// Print the table as one JSON object on stdout.
@@ -122,6 +128,26 @@ pub enum MethodArg {
     Reference,
     /// An ordinary shadow map of the scene frozen at mid-shutter (t = 0.5).
     Plain,
+}
+
+/// `--prisms`: how the temporal shadow map's collection pass builds each moving triangle's
+/// fragments.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PrismsArg {
+    /// Covered times solved in closed form per texel: exact for any linear vertex motion.
+    Exact,
+    /// The papers' prism (caps and sides triangulated around their centres): exact only for
+    /// translation.
+    Paper,
+}
+
+impl PrismsArg {
+    pub fn construction(self) -> motion_shadows::technique::PrismConstruction {
+        match self {
+            Self::Exact => motion_shadows::technique::PrismConstruction::Exact,
+            Self::Paper => motion_shadows::technique::PrismConstruction::Paper,
+        }
+    }
 }
 
 /// `--shadow-estimator`: how the temporal shadow map's shadow term is estimated.
@@ -192,6 +218,10 @@ pub struct RenderArgs {
     /// Shadow term of the temporal and coverage methods: sampled (the papers') or analytic.
     #[arg(long, value_enum, default_value_t = EstimatorArg::Sampled)]
     pub shadow_estimator: EstimatorArg,
+    /// Prism construction of the temporal and coverage methods: exact (closed-form covered
+    /// times per texel) or the papers' triangulated prism.
+    #[arg(long, value_enum, default_value_t = PrismsArg::Exact)]
+    pub prisms: PrismsArg,
     /// Reference: number of time slices averaged (the papers use 3000).
     #[arg(long, default_value_t = 1024)]
     pub slices: u32,

@@ -13,6 +13,7 @@ struct Summary<'a> {
     device: String,
     quick: bool,
     shadow_estimator: &'static str,
+    prisms: &'static str,
     width: u32,
     height: u32,
     wall_seconds: f64,
@@ -39,6 +40,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let device = format!("{} ({})", ctx.info().name, ctx.info().driver);
     let scale = Scale {
         shadow_estimator: args.shadow_estimator.estimator(),
+        prisms: args.prisms.construction(),
         ..Scale::new(args.quick, args.out.clone())
     };
     let mut renderer = Renderer::new(&ctx)?;
@@ -56,6 +58,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             super::args::EstimatorArg::Sampled => "sampled",
             super::args::EstimatorArg::Analytic => "analytic",
         },
+        prisms: crate::render::stats::prisms_name(scale.prisms),
         width: scale.width,
         height: scale.height,
         wall_seconds: start.elapsed().as_secs_f64(),

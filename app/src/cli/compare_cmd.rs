@@ -99,6 +99,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         shadow_size: args.shadow_size,
         method,
         shadow_estimator: args.shadow_estimator.estimator(),
+        prisms: args.prisms.construction(),
         ..RenderSettings::default()
     };
     // Checked before anything is loaded or rendered.

@@ -67,6 +67,7 @@ pub fn render_settings(args: &RenderArgs) -> RenderSettings {
             MethodArg::Plain => Method::Plain { time: 0.5 },
         },
         shadow_estimator: args.shadow_estimator.estimator(),
+        prisms: args.prisms.construction(),
         ..RenderSettings::default()
     }
 }

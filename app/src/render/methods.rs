@@ -129,7 +129,7 @@ impl Renderer<'_> {
                         .record(device, cmd, draws, light, &map, coverage.as_deref())?;
                     ts.mark(cmd, "collection");
                     if let Some(cover) = &coverage {
-                        this.coverage.record(device, cmd, draws, &map, cover);
+                        this.coverage.record(device, cmd, draws, light, &map, cover);
                         ts.mark(cmd, "coverage");
                     }
                     this.generation.record(device, cmd, &map);

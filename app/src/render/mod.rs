@@ -18,8 +18,8 @@ use methods::ShadowOutcome;
 use motion_shadows::gpu::{Context, OneShot, TimestampQueries};
 use motion_shadows::technique::{
     CollectionPass, CoveragePass, DrawList, GenerationPass, LightView, LightingPass,
-    LightingTarget, LightingView, MAX_SAMPLES_PER_CHUNK, PlainShadowPass, ShadowEstimator,
-    TemporalShadowMap,
+    LightingTarget, LightingView, MAX_SAMPLES_PER_CHUNK, PlainShadowPass, PrismConstruction,
+    ShadowEstimator, TemporalShadowMap,
 };
 pub use stats::{FrameStats, PassTime, equation_2_bytes};
 use std::time::Instant;
@@ -87,6 +87,8 @@ pub struct RenderSettings {
     pub max_samples_per_chunk: u32,
     /// How the temporal and coverage methods estimate the shadow term.
     pub shadow_estimator: ShadowEstimator,
+    /// How the temporal and coverage methods' collection pass builds the prisms.
+    pub prisms: PrismConstruction,
 }
 
 impl Default for RenderSettings {
@@ -102,6 +104,7 @@ impl Default for RenderSettings {
             initial_range_capacity: None,
             max_samples_per_chunk: MAX_SAMPLES_PER_CHUNK,
             shadow_estimator: ShadowEstimator::Sampled,
+            prisms: PrismConstruction::Exact,
         }
     }
 }
@@ -215,7 +218,10 @@ impl<'a> Renderer<'a> {
             // SAFETY: a OneShot command buffer of this context, recording, outside rendering.
             unsafe { draws.record_update(this.ctx.device(), cmd, &geometry.draws) }
         })?;
-        let light = upload::light_view(scene, shadow_size);
+        let light = LightView {
+            prisms: settings.prisms,
+            ..upload::light_view(scene, shadow_size)
+        };
         let view = LightingView {
             camera: upload::camera_view(scene, image_size),
             seed: settings.seed,
@@ -310,6 +316,7 @@ impl<'a> Renderer<'a> {
                 ShadowEstimator::Analytic => "analytic",
             }
             .to_owned(),
+            prisms: stats::prisms_name(settings.prisms).to_owned(),
             width: settings.width,
             height: settings.height,
             shadow_width: shadow_size.0,

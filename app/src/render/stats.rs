@@ -6,6 +6,14 @@ use serde::Serialize;
 pub const NODE_BYTES: u64 = 16;
 pub const RANGE_BYTES: u64 = 24;
 
+/// The name `--prisms` and the JSON outputs give a construction.
+pub fn prisms_name(construction: motion_shadows::technique::PrismConstruction) -> &'static str {
+    match construction {
+        motion_shadows::technique::PrismConstruction::Exact => "exact",
+        motion_shadows::technique::PrismConstruction::Paper => "paper",
+    }
+}
+
 #[derive(Debug, Clone, Serialize)]
 pub struct PassTime {
     pub pass: String,
@@ -20,6 +28,8 @@ pub struct FrameStats {
     /// "sampled" or "analytic" (`--shadow-estimator`; only the temporal and coverage methods
     /// use it).
     pub shadow_estimator: String,
+    /// "exact" or "paper" (`--prisms`; only the temporal and coverage methods use it).
+    pub prisms: String,
     pub width: u32,
     pub height: u32,
     pub shadow_width: u32,

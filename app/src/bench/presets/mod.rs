@@ -130,6 +130,7 @@ impl Bench<'_, '_> {
             seed: 1,
             method,
             shadow_estimator: self.scale.shadow_estimator,
+            prisms: self.scale.prisms,
             ..RenderSettings::default()
         }
     }

@@ -1,0 +1,155 @@
+#version 450
+// Collection sub-pass, exact construction (exact_prism.glsl): instead of the prism's caps and
+// triangulated sides, one footprint per triangle (the convex hull of its six projected
+// corners, dilated by a sliver of a texel so that every texel centre the exact test may
+// count is visited), with the corners handed flat to the fragment shader, which solves each
+// texel's covered times in closed form.
+//
+// Every emitted vertex has z = w / 2: the footprint is never clipped by the light's near or
+// far plane, so a caster between the light and its near plane keeps its shadow (the
+// fragment shader keeps only what lies in front of the light itself).
+#include "shared.glsl"
+
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 6) out;
+
+layout(push_constant) uniform Push { PassConstants pc; };
+
+layout(location = 0) in vec3 in_p0[];
+layout(location = 1) in vec3 in_p1[];
+layout(location = 2) in float in_valid[];
+
+layout(location = 0) flat out vec4 out_at0[3];
+layout(location = 3) flat out vec4 out_at1[3];
+layout(location = 6) flat out uint out_id;
+
+// How far the footprint is pushed out, in texels: far more than the rasterizer's snapping
+// (1/256 texel) and float rounding, far less than a texel.
+const float DILATION_TEXELS = 1.0 / 16.0;
+// Footprints reaching beyond this many map widths (a corner nearly level with a perspective
+// light) are drawn as the whole map instead: the fragment shader's test is exact either way.
+const float FOOTPRINT_LIMIT_NDC = 64.0;
+
+vec4 corner_at0[3], corner_at1[3];
+uint triangle_id;
+
+void emit_ndc(vec2 ndc) {
+    gl_Position = vec4(ndc, 0.5, 1.0);
+    for (int k = 0; k < 3; ++k) {
+        out_at0[k] = corner_at0[k];
+        out_at1[k] = corner_at1[k];
+    }
+    out_id = triangle_id;
+    EmitVertex();
+}
+
+void emit_whole_map() {
+    emit_ndc(vec2(-1.0, -1.0));
+    emit_ndc(vec2(1.0, -1.0));
+    emit_ndc(vec2(-1.0, 1.0));
+    emit_ndc(vec2(1.0, 1.0));
+    EndPrimitive();
+}
+
+float cross2(vec2 x, vec2 y) { return x.x * y.y - x.y * y.x; }
+
+// The convex hull of six points (Andrew's monotone chain), counter-clockwise in the sense of
+// cross2; returns its size (below 3: no area).
+int convex_hull(vec2 p[6], out vec2 hull[7]) {
+    for (int i = 1; i < 6; ++i) {
+        vec2 key = p[i];
+        int j = i;
+        for (; j > 0 && (p[j - 1].x > key.x || (p[j - 1].x == key.x && p[j - 1].y > key.y)); --j)
+            p[j] = p[j - 1];
+        p[j] = key;
+    }
+    vec2 chain[12];
+    int h = 0;
+    for (int i = 0; i < 6; ++i) {
+        while (h >= 2 && cross2(chain[h - 1] - chain[h - 2], p[i] - chain[h - 2]) <= 0.0) --h;
+        chain[h++] = p[i];
+    }
+    int lower = h + 1;
+    for (int i = 4; i >= 0; --i) {
+        while (h >= lower && cross2(chain[h - 1] - chain[h - 2], p[i] - chain[h - 2]) <= 0.0) --h;
+        chain[h++] = p[i];
+    }
+    --h;  // the chain ends where it started
+    for (int i = 0; i < 7; ++i) hull[i] = chain[min(i, 11)];
+    return h;
+}
+
+// Each corner of the convex polygon pushed out so that every edge moves out by `by` (the
+// miter, bounded at sharp corners).
+void dilate(inout vec2 hull[7], int h, float by) {
+    vec2 moved[7];
+    for (int i = 0; i < h; ++i) {
+        vec2 prev = hull[(i + h - 1) % h], here = hull[i], next = hull[(i + 1) % h];
+        vec2 e1 = normalize(here - prev), e2 = normalize(next - here);
+        vec2 n1 = vec2(e1.y, -e1.x), n2 = vec2(e2.y, -e2.x);
+        moved[i] = here + by * (n1 + n2) / max(1.0 + dot(n1, n2), 0.125);
+    }
+    for (int i = 0; i < h; ++i) hull[i] = moved[i];
+}
+
+void main() {
+    DrawRecord d = DrawTable(pc.draws).draws[pc.draw_index];
+    MsShadowMap map = MsShadowMap(pc.map);
+    if (in_valid[0] == 0.0 || in_valid[1] == 0.0 || in_valid[2] == 0.0) {
+        if ((pc.flags & COUNT_INVALID) != 0u)
+            atomicAdd(CounterRef(map.counters).c.invalid_triangles, 1u);
+        return;
+    }
+    triangle_id = d.first_id + uint(gl_PrimitiveIDIn);
+    MsLight light = map.light;
+    bool orthographic = light.position.w == 0.0;
+
+    vec3 v0[3], v1[3];
+    vec4 clip[6];
+    bool all_in_front = true;
+    for (int i = 0; i < 3; ++i) {
+        v0[i] = (light.view * vec4(in_p0[i], 1.0)).xyz;
+        v1[i] = (light.view * vec4(in_p1[i], 1.0)).xyz;
+        clip[i] = light.proj * vec4(v0[i], 1.0);
+        clip[i + 3] = light.proj * vec4(v1[i], 1.0);
+        corner_at0[i] = vec4(clip[i].xyw, -v0[i].z);
+        corner_at1[i] = vec4(clip[i + 3].xyw, -v1[i].z);
+    }
+    bool behind = true, left = true, right = true, below = true, above = true;
+    for (int i = 0; i < 6; ++i) {
+        behind = behind && clip[i].w <= 0.0;
+        left = left && clip[i].x < -clip[i].w;
+        right = right && clip[i].x > clip[i].w;
+        below = below && clip[i].y < -clip[i].w;
+        above = above && clip[i].y > clip[i].w;
+        all_in_front = all_in_front && clip[i].w > 0.0;
+    }
+    if (behind || left || right || below || above) return;
+    if (has_flag(d, DRAW_CLOSED) &&
+        faces_away_whole_frame(v0[0], v0[1], v0[2], v1[0], v1[1], v1[2], orthographic))
+        return;
+
+    vec2 size = vec2(map.size.xy);
+    vec2 texels[6];
+    bool bounded = all_in_front;
+    for (int i = 0; i < 6 && bounded; ++i) {
+        vec2 ndc = clip[i].xy / clip[i].w;
+        bounded = all(lessThan(abs(ndc), vec2(FOOTPRINT_LIMIT_NDC)));
+        texels[i] = (ndc * 0.5 + 0.5) * size;
+    }
+    if (!bounded) {
+        emit_whole_map();
+        return;
+    }
+    vec2 hull[7];
+    int h = convex_hull(texels, hull);
+    if (h < 3) return;  // seen edge-on all frame long: covers no texel centre
+    dilate(hull, h, DILATION_TEXELS);
+    // A convex polygon as one strip: 0, 1, h-1, 2, h-2, ...
+    int lo = 0, hi = h - 1;
+    emit_ndc(hull[lo++] / size * 2.0 - 1.0);
+    for (bool from_low = true; lo <= hi; from_low = !from_low) {
+        emit_ndc((from_low ? hull[lo++] : hull[hi--]) / size * 2.0 - 1.0);
+    }
+    EndPrimitive();
+}
