@@ -12,6 +12,7 @@ mod coverage;
 mod deferred_host;
 mod embedding;
 mod errors;
+mod exact_prisms;
 mod generation;
 mod host_geometry;
 mod layout;

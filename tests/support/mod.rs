@@ -1,4 +1,5 @@
 #![allow(dead_code)]
+pub mod coverage_oracle;
 pub mod frame;
 pub mod gpu;
 pub mod host;
