@@ -127,12 +127,30 @@ float exact_depth_at(vec2 a[3], vec2 d[3], ExactCorner c[3], float t, float inne
 // The covered runs of the texel whose centre is `ndc`, as nodes (start, end, start, end, ...).
 ExactNodes exact_prism_nodes(ExactCorner c[3], vec2 ndc) {
     vec2 a[3], d[3];
+    bool moving = false;
     for (int k = 0; k < 3; ++k) {
         precise vec2 u0 = c[k].at0.xy - ndc * c[k].at0.z;
         precise vec2 u1 = c[k].at1.xy - ndc * c[k].at1.z;
         a[k] = u0;
         precise vec2 dk = u1 - u0;
         d[k] = dk;
+        moving = moving || c[k].at0 != c[k].at1;
+    }
+    ExactNodes out_nodes;
+    out_nodes.count = 0;
+    if (!moving) {
+        // Most triangles of a scene do not move: one test, [0, 1] or nothing. (Same
+        // arithmetic as the general path at t = 0.5: d is zero, so u = a exactly.)
+        ExactState s = exact_state_at(a, d, c, 0.5);
+        if (exact_covered(s)) {
+            float depth = s.depth / (s.e.x + s.e.y + s.e.z);
+            out_nodes.count = 2;
+            out_nodes.time[0] = 0.0;
+            out_nodes.depth[0] = depth;
+            out_nodes.time[1] = 1.0;
+            out_nodes.depth[1] = depth;
+        }
+        return out_nodes;
     }
     float roots[6];
     int n = 0;
@@ -149,8 +167,6 @@ ExactNodes exact_prism_nodes(ExactCorner c[3], vec2 ndc) {
         for (; j > 0 && roots[j - 1] > r; --j) roots[j] = roots[j - 1];
         roots[j] = r;
     }
-    ExactNodes out_nodes;
-    out_nodes.count = 0;
     float run_start = -1.0;
     for (int piece = 0; piece <= n; ++piece) {
         float from = piece == 0 ? 0.0 : roots[piece - 1];

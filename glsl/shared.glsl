@@ -62,6 +62,7 @@ const uint INDEX_U32 = 2u;
 
 const uint DRAW_CLOSED = 1u;   // the mesh is closed: faces away all frame -> may be culled
 const uint DRAW_UNTRANSFORMED = 2u;  // both transforms are the identity: positions are world
+const uint DRAW_STATIC = 4u;  // same positions and transform at t = 0 and 1: nothing moves
 
 // One draw of the host's geometry (std430, 160 bytes): positions at shutter open and close
 // (3 floats each, at any stride; the addresses include the offset), optional indices, object

@@ -3,7 +3,7 @@
 
 use super::coverage::{CoverageMap, MAX_COVERAGE_TRIANGLES};
 use super::draws::DrawList;
-use super::gpu_types::{COUNT_INVALID, Counters, PassConstants};
+use super::gpu_types::{COUNT_INVALID, Counters, DRAW_STATIC, DrawRecord, PassConstants};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
 use super::view::{LightView, PrismConstruction};
@@ -28,11 +28,15 @@ pub(crate) const PUSH_BYTES: u32 = std::mem::size_of::<PassConstants>() as u32;
 pub(crate) struct PrismShaders {
     pub paper_fragment: (&'static str, &'static [u8]),
     pub exact_fragment: (&'static str, &'static [u8]),
+    /// The exact construction's static draws (`collection_static.vert`, no geometry shader).
+    pub static_fragment: (&'static str, &'static [u8]),
 }
 
-/// One pipeline per [`PrismConstruction`], so the construction is chosen per record.
+/// One pipeline per [`PrismConstruction`] (and one for the exact construction's static
+/// draws), so the construction is chosen per record.
 pub(crate) struct PrismPipelines {
     exact: Pipeline,
+    exact_static: Pipeline,
     paper: Pipeline,
 }
 
@@ -44,6 +48,22 @@ impl PrismPipelines {
                 ("collection_exact.geom", shaders::COLLECTION_EXACT_GEOM),
                 shaders.exact_fragment,
             )?,
+            exact_static: attachmentless_pipeline(
+                ctx,
+                PUSH_BYTES,
+                &[
+                    (
+                        vk::ShaderStageFlags::VERTEX,
+                        "collection_static.vert",
+                        shaders::COLLECTION_STATIC_VERT,
+                    ),
+                    (
+                        vk::ShaderStageFlags::FRAGMENT,
+                        shaders.static_fragment.0,
+                        shaders.static_fragment.1,
+                    ),
+                ],
+            )?,
             paper: prism_pipeline(
                 ctx,
                 ("collection.geom", shaders::COLLECTION_GEOM),
@@ -52,10 +72,32 @@ impl PrismPipelines {
         })
     }
 
-    pub(crate) fn get(&self, construction: PrismConstruction) -> &Pipeline {
-        match construction {
-            PrismConstruction::Exact => &self.exact,
+    /// Records every draw's prisms with `construction`'s pipelines (binding them), pushing
+    /// `constants` with each draw's index. Inside dynamic rendering.
+    pub(crate) fn draw(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        construction: PrismConstruction,
+        draws: &DrawList,
+        constants: PassConstants,
+    ) {
+        let pipeline_of = |record: &DrawRecord| match construction {
             PrismConstruction::Paper => &self.paper,
+            _ if record.flags() & DRAW_STATIC != 0 => &self.exact_static,
+            PrismConstruction::Exact => &self.exact,
+        };
+        let mut bound: Option<vk::Pipeline> = None;
+        for (i, record) in draws.records().iter().enumerate() {
+            if record.triangle_count == 0 {
+                continue;
+            }
+            let pipeline = pipeline_of(record);
+            if bound != Some(pipeline.raw) {
+                pipeline.bind(device, cmd);
+                bound = Some(pipeline.raw);
+            }
+            draw_one(device, cmd, pipeline, draws, i, record, constants);
         }
     }
 }
@@ -91,18 +133,29 @@ pub(crate) fn draw_each(
     constants: PassConstants,
 ) {
     for (i, record) in draws.records().iter().enumerate() {
-        if record.triangle_count == 0 {
-            continue;
+        if record.triangle_count > 0 {
+            draw_one(device, cmd, pipeline, draws, i, record, constants);
         }
-        let constants = PassConstants {
-            draws: draws.address(),
-            draw_index: i as u32,
-            draw_count: draws.draw_count(),
-            ..constants
-        };
-        pipeline.push(device, cmd, &constants);
-        unsafe { device.cmd_draw(cmd, 3 * record.triangle_count, 1, 0, 0) };
     }
+}
+
+fn draw_one(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    pipeline: &Pipeline,
+    draws: &DrawList,
+    index: usize,
+    record: &DrawRecord,
+    constants: PassConstants,
+) {
+    let constants = PassConstants {
+        draws: draws.address(),
+        draw_index: index as u32,
+        draw_count: draws.draw_count(),
+        ..constants
+    };
+    pipeline.push(device, cmd, &constants);
+    unsafe { device.cmd_draw(cmd, 3 * record.triangle_count, 1, 0, 0) };
 }
 
 impl CollectionPass {
@@ -113,6 +166,7 @@ impl CollectionPass {
             PrismShaders {
                 paper_fragment: ("collection.frag", shaders::COLLECTION_FRAG),
                 exact_fragment: ("collection_exact.frag", shaders::COLLECTION_EXACT_FRAG),
+                static_fragment: ("collection_static.frag", shaders::COLLECTION_STATIC_FRAG),
             },
         )?;
         Ok(Self { pipelines })
@@ -200,14 +254,13 @@ impl CollectionPass {
                 .and(Access::COMPUTE_RW),
         );
         begin_attachmentless(device, cmd, map.width(), map.height());
-        let pipeline = self.pipelines.get(light.prisms);
-        pipeline.bind(device, cmd);
         let constants = PassConstants {
             map: map.header_address(),
             flags: COUNT_INVALID,
             ..PassConstants::default()
         };
-        draw_each(device, cmd, pipeline, draws, constants);
+        self.pipelines
+            .draw(device, cmd, light.prisms, draws, constants);
         unsafe { device.cmd_end_rendering(cmd) };
         memory_barrier(
             device,

@@ -113,6 +113,10 @@ impl CoveragePass {
                     "coverage_reset_exact.frag",
                     shaders::COVERAGE_RESET_EXACT_FRAG,
                 ),
+                static_fragment: (
+                    "coverage_reset_static.frag",
+                    shaders::COVERAGE_RESET_STATIC_FRAG,
+                ),
             },
         )?;
         Ok(Self { caps, reset })
@@ -166,13 +170,11 @@ impl CoveragePass {
         // The reset pass reads what the caps wrote, in other fragment invocations.
         memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::FRAGMENT_RW);
         begin_attachmentless(device, cmd, coverage.width, coverage.height);
-        let reset = self.reset.get(light.prisms);
-        reset.bind(device, cmd);
         let constants = PassConstants {
             map: map.header_address(),
             ..PassConstants::default()
         };
-        draw_each(device, cmd, reset, draws, constants);
+        self.reset.draw(device, cmd, light.prisms, draws, constants);
         unsafe { device.cmd_end_rendering(cmd) };
         memory_barrier(
             device,

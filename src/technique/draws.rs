@@ -5,7 +5,7 @@
 //! buffer that every pass reads by address.
 
 use super::gpu_types::{
-    DRAW_CLOSED, DRAW_UNTRANSFORMED, DrawRecord, INDEX_NONE, INDEX_U16, INDEX_U32,
+    DRAW_CLOSED, DRAW_STATIC, DRAW_UNTRANSFORMED, DrawRecord, INDEX_NONE, INDEX_U16, INDEX_U32,
 };
 use crate::error::{Error, Result};
 use crate::gpu::{Access, Buffer, BufferUsage, Context, memory_barrier};
@@ -184,6 +184,10 @@ impl IndexStream {
 /// One draw of the host's geometry: what the shadow passes (and the library's own lighting
 /// pass) draw. Vertex v of the draw is at `transform_t0 * positions_t0[v]` at shutter open
 /// and `transform_t1 * positions_t1[v]` at shutter close, and moves linearly in between.
+///
+/// Give a draw that does not move the same stream twice (and equal transforms): it is then
+/// [static](Draw::is_static), and the collection pass rasterizes its triangles directly
+/// instead of solving their covered times.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Draw {
     /// Object-space positions at shutter open (for a skinned mesh: last frame's skinning).
@@ -235,6 +239,14 @@ impl Draw {
             closed: false,
             albedo: Vec3::ZERO,
         }
+    }
+
+    /// Nothing moves: the same position stream (address and stride) and the same transform
+    /// at t = 0 and t = 1.
+    pub fn is_static(&self) -> bool {
+        self.positions_t0.address == self.positions_t1.address
+            && self.positions_t0.stride == self.positions_t1.stride
+            && self.transform_t0 == self.transform_t1
     }
 
     /// The ids after the draw's last (`first_triangle_id + triangle_count`).
@@ -315,7 +327,8 @@ impl Draw {
         let untransformed =
             self.transform_t0 == Mat4::IDENTITY && self.transform_t1 == Mat4::IDENTITY;
         let flags = if self.closed { DRAW_CLOSED } else { 0 }
-            | if untransformed { DRAW_UNTRANSFORMED } else { 0 };
+            | if untransformed { DRAW_UNTRANSFORMED } else { 0 }
+            | if self.is_static() { DRAW_STATIC } else { 0 };
         Ok(DrawRecord {
             positions0: self.positions_t0.address,
             positions1: self.positions_t1.address,

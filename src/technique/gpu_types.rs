@@ -143,6 +143,9 @@ pub const INDEX_U32: u32 = 2;
 pub const DRAW_CLOSED: u32 = 1;
 /// Draw flag: both transforms are the identity (the shaders skip them).
 pub const DRAW_UNTRANSFORMED: u32 = 2;
+/// Draw flag: the same positions and transform at t = 0 and t = 1 (nothing moves; the exact
+/// construction rasterizes its triangles directly).
+pub const DRAW_STATIC: u32 = 4;
 
 /// One draw of host geometry as shaders read it (160 bytes). Built from a
 /// [`super::Draw`] by [`super::DrawList`].
@@ -173,6 +176,13 @@ pub struct DrawRecord {
     pub model0: [Vec4; 3],
     /// Rows of the object's 3x4 affine transform at t = 1.
     pub model1: [Vec4; 3],
+}
+
+impl DrawRecord {
+    /// The `DRAW_*` flags.
+    pub fn flags(&self) -> u32 {
+        self.albedo_flags.w as u32
+    }
 }
 
 /// The camera and targets of the lighting pass (`CameraParams`, 208 bytes).

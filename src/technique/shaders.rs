@@ -16,6 +16,10 @@ pub const COLLECTION_FRAG: &[u8] = spirv!("collection.frag");
 pub const COLLECTION_EXACT_GEOM: &[u8] = spirv!("collection_exact.geom");
 /// SPIR-V of `glsl/collection_exact.frag`.
 pub const COLLECTION_EXACT_FRAG: &[u8] = spirv!("collection_exact.frag");
+/// SPIR-V of `glsl/collection_static.vert`.
+pub const COLLECTION_STATIC_VERT: &[u8] = spirv!("collection_static.vert");
+/// SPIR-V of `glsl/collection_static.frag`.
+pub const COLLECTION_STATIC_FRAG: &[u8] = spirv!("collection_static.frag");
 /// SPIR-V of `glsl/generation.comp`.
 pub const GENERATION_COMP: &[u8] = spirv!("generation.comp");
 /// SPIR-V of `glsl/generation_long.comp`.
@@ -38,6 +42,8 @@ pub const COVERAGE_FRAG: &[u8] = spirv!("coverage.frag");
 pub const COVERAGE_RESET_FRAG: &[u8] = spirv!("coverage_reset.frag");
 /// SPIR-V of `glsl/coverage_reset_exact.frag`.
 pub const COVERAGE_RESET_EXACT_FRAG: &[u8] = spirv!("coverage_reset_exact.frag");
+/// SPIR-V of `glsl/coverage_reset_static.frag`.
+pub const COVERAGE_RESET_STATIC_FRAG: &[u8] = spirv!("coverage_reset_static.frag");
 /// SPIR-V of `glsl/visibility_mask.comp`.
 pub const VISIBILITY_MASK_COMP: &[u8] = spirv!("visibility_mask.comp");
 /// SPIR-V of `glsl/radiance_to_image.comp`.

@@ -272,6 +272,51 @@ fn a_closed_mesh_with_a_static_outline_lets_no_light_through() {
     assert!(inside > 800, "{inside}");
     assert_eq!(exact_leaks, 0, "texels letting light through");
     // The count sees leaks where there are some.
-    assert!(paper_leaks > 0, "the papers' construction was expected to leak here");
+    assert!(
+        paper_leaks > 0,
+        "the papers' construction was expected to leak here"
+    );
+    assert_no_validation_messages(&ctx);
+}
+
+/// A static closed box (drawn without the geometry shader): at every texel inside its
+/// outline exactly one range, [0, 1] at the top face's depth; the faces turned away from the
+/// light are culled, the sides (edge-on) cover no texel centre.
+#[test]
+fn a_static_closed_box_keeps_only_its_lit_face() {
+    let ctx = context();
+    let half = 2.0f32;
+    let cube: Vec<Vec3> = box_mesh(Vec3::new(2.0 * half, 1.0, 2.0 * half), 3)
+        .into_iter()
+        .map(|p| p + Vec3::new(0.0, 1.0, 0.0))
+        .collect();
+    let s = scene(
+        "static-box",
+        overhead_directional(4.0),
+        vec![mesh("box", cube.clone(), cube, true)],
+    );
+    let map = exact_map(&ctx, &s);
+    let light = light_view(&s, SIZE);
+    let mut inside = 0;
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let p = texel_ray(&light, SIZE, x, y).origin;
+            let ranges = map.ranges_at(x, y);
+            if p.x.abs() > half as f64 + 1e-3 || p.z.abs() > half as f64 + 1e-3 {
+                assert!(ranges.is_empty(), "texel ({x},{y}) outside: {ranges:?}");
+                continue;
+            }
+            if p.x.abs() > half as f64 - 1e-3 || p.z.abs() > half as f64 - 1e-3 {
+                continue;
+            }
+            inside += 1;
+            assert_eq!(ranges.len(), 1, "texel ({x},{y}): {ranges:?}");
+            let r = ranges[0];
+            // The eye is 10 above the origin: the top face (y = 1.5) is 8.5 away.
+            assert_eq!((r.t_s, r.t_e), (0.0, 1.0), "texel ({x},{y})");
+            assert!((r.d_s - 8.5).abs() < 1e-4 && r.d_e == r.d_s, "{r:?}");
+        }
+    }
+    assert!(inside > 800, "{inside}");
     assert_no_validation_messages(&ctx);
 }

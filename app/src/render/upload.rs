@@ -71,9 +71,16 @@ impl SceneGeometry {
             let count = mesh.t0.len() as u32;
             let offset = first_vertex * stride as u64;
             if count >= 3 {
+                // A mesh that does not move names its t0 positions twice: the library then
+                // knows it is static (and rasterizes it directly).
+                let t1_offset = if mesh.t0 == mesh.t1 {
+                    offset
+                } else {
+                    offset + 16
+                };
                 let mut draw = Draw::new(
                     PositionStream::from_buffer(&buffer, offset, stride)?,
-                    PositionStream::from_buffer(&buffer, offset + 16, stride)?,
+                    PositionStream::from_buffer(&buffer, t1_offset, stride)?,
                     count,
                     Indices::None,
                     count / 3,
