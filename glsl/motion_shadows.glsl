@@ -43,7 +43,8 @@ struct MsLight {
     vec4 emission;      // x = intensity (W/sr, spot) or irradiance (W/m^2, directional)
     vec4 bias;          // x = receiver offset along its normal, in shadow texels;
                         // y = relative depth bias (depth d is tested as d * (1 - y));
-                        // z = world size of a texel per unit depth (spot) or absolute
+                        // z = world size of a texel per unit depth (spot) or absolute;
+                        // w = 1: test the receiver's plane at the texel centre
 };
 
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer MsUints {
@@ -100,6 +101,46 @@ vec3 ms_offset_receiver(MsLight light, vec3 p, vec3 n) {
     return p + n * (light.bias.x * texel);
 }
 
+// The depth of the receiver's tangent plane (through p, unit normal n) where the ray of the
+// centre of `texel` meets it, or `depth` (p's own) where that ray runs along the plane.
+// Why: every caster in the texel is stored as it is at the texel's centre, and a receiver
+// compared at its own depth differs from its own plane there by up to half a texel times
+// its slope, which at grazing light is many texels of depth: acne, or, with a normal offset
+// large enough to hide it, lost contact shadows. At the centre the plane's depth is what a
+// planar receiver's neighbours store, so they no longer shadow it while anything in front
+// of the plane still does. Assumes a projection without shear (the library's own lights).
+float ms_receiver_plane_depth(MsLight light, uvec2 size, uvec2 texel, vec3 p, vec3 n,
+                              float depth) {
+    vec2 c = (vec2(texel) + 0.5) / vec2(size) * 2.0 - 1.0;
+    vec3 pv = (light.view * vec4(p, 1.0)).xyz;
+    vec3 nv = mat3(light.view) * n;
+    vec3 o = vec3(0.0), d = vec3(0.0, 0.0, -1.0);
+    if (light.position.w > 0.5) {
+        d.xy = (c + vec2(light.proj[2][0], light.proj[2][1])) /
+               vec2(light.proj[0][0], light.proj[1][1]);
+    } else {
+        o.xy = (c - vec2(light.proj[3][0], light.proj[3][1])) /
+               vec2(light.proj[0][0], light.proj[1][1]);
+    }
+    float nd = dot(nv, d);
+    if (abs(nd) <= 1e-6 * length(d)) return depth;
+    return -(o + d * (dot(nv, pv - o) / nd)).z;
+}
+
+// The texel and the light depth a receiver at p (unit normal n) is tested with: p moved
+// by the normal offset, then, if the light asks for it, its plane's depth at the texel.
+bool ms_receiver_texel(MsLight light, uvec2 size, vec3 p, vec3 n, out uint texel_index,
+                       out float depth) {
+    vec3 q = ms_offset_receiver(light, p, n);
+    if (!ms_project(light, size, q, texel_index, depth)) return false;
+    if (light.bias.w > 0.5) {
+        uvec2 texel = uvec2(texel_index % size.x, texel_index / size.x);
+        depth = ms_receiver_plane_depth(light, size, texel, q, n, depth);
+    }
+    depth *= 1.0 - light.bias.y;
+    return true;
+}
+
 // The header's contents as one value. A shader that tests many points loads it once
 // (ms_load) and passes it on: reading the header for every test costs a few hundred bytes of
 // loads each time, which a CPU device does lane by lane. Every function below also takes the
@@ -148,10 +189,7 @@ bool ms_covered_shadow(MsMap map, uint texel, uint cover, float depth, float t, 
 // The texel and the biased light depth of a receiver at `p` with unit normal `n` (on the
 // side facing the light); false outside the light's view.
 bool ms_receiver(MsMap map, vec3 p, vec3 n, out uint texel, out float depth) {
-    if (!ms_project(map.light, map.size, ms_offset_receiver(map.light, p, n), texel, depth))
-        return false;
-    depth *= 1.0 - map.light.bias.y;
-    return true;
+    return ms_receiver_texel(map.light, map.size, p, n, texel, depth);
 }
 
 // Shadowed at time t? `p` is the receiver's world position, `n` its unit normal on the side

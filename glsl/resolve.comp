@@ -60,9 +60,7 @@ bool shadowed_tsm(uint index, float depth, uint stratum) {
 bool shadowed_ordinary(vec3 p, vec3 n, uint id, uint stratum) {
     uint index;
     float depth;
-    if (!ms_project(light, plain_size.xy, ms_offset_receiver(light, p, n), index, depth))
-        return false;
-    depth *= 1.0 - light.bias.y;
+    if (!ms_receiver_texel(light, plain_size.xy, p, n, index, depth)) return false;
     return pc.mode == SHADOW_TSM ? shadowed_tsm(index, depth, stratum)
                                  : shadowed_plain(index, depth, id);
 }

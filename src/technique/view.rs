@@ -87,6 +87,11 @@ pub struct LightView {
     pub depth_bias: f32,
     /// How the collection pass turns each moving triangle into fragments (default exact).
     pub prisms: PrismConstruction,
+    /// Test a receiver at its tangent plane's depth at the texel's centre instead of at its
+    /// own depth (receiver-plane depth): a planar receiver's neighbours stop shadowing it
+    /// without a normal offset, which keeps contact shadows at grazing light. Default off;
+    /// with it on, `normal_offset_texels` is usually 0. Applies to every map's lookup.
+    pub receiver_plane: bool,
 }
 
 /// How the collection pass finds, per shadow-map texel, when a moving triangle covers it.
@@ -144,6 +149,7 @@ impl LightView {
             normal_offset_texels: DEFAULT_NORMAL_OFFSET_TEXELS,
             depth_bias: DEFAULT_DEPTH_BIAS,
             prisms: PrismConstruction::default(),
+            receiver_plane: false,
         }
     }
 
@@ -174,6 +180,7 @@ impl LightView {
             normal_offset_texels: DEFAULT_NORMAL_OFFSET_TEXELS,
             depth_bias: DEFAULT_DEPTH_BIAS,
             prisms: PrismConstruction::default(),
+            receiver_plane: false,
         }
     }
 
@@ -197,7 +204,12 @@ impl LightView {
             position: self.position.extend(w),
             direction: self.direction.extend(cos_cone),
             emission: Vec4::new(emission, 0.0, 0.0, 0.0),
-            bias: Vec4::new(self.normal_offset_texels, self.depth_bias, self.texel, 0.0),
+            bias: Vec4::new(
+                self.normal_offset_texels,
+                self.depth_bias,
+                self.texel,
+                if self.receiver_plane { 1.0 } else { 0.0 },
+            ),
         }
     }
 }

@@ -138,7 +138,11 @@ fn indexed_strided_offset_draws_render_like_deindexed_triangles() {
             // A static mesh names its t0 positions twice, as the renderer's upload does (the
             // documented way to make a draw static, which the exact construction rasterizes
             // directly).
-            let t1 = if original.t0 == original.t1 { base } else { base + 12 };
+            let t1 = if original.t0 == original.t1 {
+                base
+            } else {
+                base + 12
+            };
             let mut draw = Draw::new(
                 PositionStream::from_buffer(&vertex_buffer, base, STRIDE).unwrap(),
                 PositionStream::from_buffer(&vertex_buffer, t1, STRIDE).unwrap(),

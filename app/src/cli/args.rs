@@ -93,6 +93,10 @@ pub struct CompareArgs {
     /// Prism construction of the temporal method: exact or the papers'.
     #[arg(long, value_enum, default_value_t = PrismsArg::Exact)]
     pub prisms: PrismsArg,
+    /// Test receivers at their plane's depth at the shadow texel's centre, without the normal
+    /// offset (every method's lookup): keeps contact shadows at grazing light.
+    #[arg(long)]
+    pub receiver_plane: bool,
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
     /// Print the table as one JSON object on stdout.
@@ -222,6 +226,10 @@ pub struct RenderArgs {
     /// times per texel) or the papers' triangulated prism.
     #[arg(long, value_enum, default_value_t = PrismsArg::Exact)]
     pub prisms: PrismsArg,
+    /// Test receivers at their plane's depth at the shadow texel's centre, without the normal
+    /// offset (every method's lookup): keeps contact shadows at grazing light.
+    #[arg(long)]
+    pub receiver_plane: bool,
     /// Reference: number of time slices averaged (the papers use 3000).
     #[arg(long, default_value_t = 1024)]
     pub slices: u32,

@@ -100,6 +100,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         method,
         shadow_estimator: args.shadow_estimator.estimator(),
         prisms: args.prisms.construction(),
+        receiver_plane: args.receiver_plane,
         ..RenderSettings::default()
     };
     // Checked before anything is loaded or rendered.

@@ -68,6 +68,7 @@ pub fn render_settings(args: &RenderArgs) -> RenderSettings {
         },
         shadow_estimator: args.shadow_estimator.estimator(),
         prisms: args.prisms.construction(),
+        receiver_plane: args.receiver_plane,
         ..RenderSettings::default()
     }
 }

@@ -89,6 +89,9 @@ pub struct RenderSettings {
     pub shadow_estimator: ShadowEstimator,
     /// How the temporal and coverage methods' collection pass builds the prisms.
     pub prisms: PrismConstruction,
+    /// Receivers tested at their plane's depth at the texel centre, without normal offset
+    /// (`LightView::receiver_plane`), for every method.
+    pub receiver_plane: bool,
 }
 
 impl Default for RenderSettings {
@@ -105,6 +108,7 @@ impl Default for RenderSettings {
             max_samples_per_chunk: MAX_SAMPLES_PER_CHUNK,
             shadow_estimator: ShadowEstimator::Sampled,
             prisms: PrismConstruction::Exact,
+            receiver_plane: false,
         }
     }
 }
@@ -218,10 +222,14 @@ impl<'a> Renderer<'a> {
             // SAFETY: a OneShot command buffer of this context, recording, outside rendering.
             unsafe { draws.record_update(this.ctx.device(), cmd, &geometry.draws) }
         })?;
-        let light = LightView {
+        let mut light = LightView {
             prisms: settings.prisms,
             ..upload::light_view(scene, shadow_size)
         };
+        if settings.receiver_plane {
+            light.receiver_plane = true;
+            light.normal_offset_texels = 0.0;
+        }
         let view = LightingView {
             camera: upload::camera_view(scene, image_size),
             seed: settings.seed,
@@ -317,6 +325,7 @@ impl<'a> Renderer<'a> {
             }
             .to_owned(),
             prisms: stats::prisms_name(settings.prisms).to_owned(),
+            receiver_plane: settings.receiver_plane,
             width: settings.width,
             height: settings.height,
             shadow_width: shadow_size.0,

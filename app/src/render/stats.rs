@@ -30,6 +30,8 @@ pub struct FrameStats {
     pub shadow_estimator: String,
     /// "exact" or "paper" (`--prisms`; only the temporal and coverage methods use it).
     pub prisms: String,
+    /// `--receiver-plane`: receivers tested at their plane's depth at the texel centre.
+    pub receiver_plane: bool,
     pub width: u32,
     pub height: u32,
     pub shadow_width: u32,
