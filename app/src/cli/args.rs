@@ -122,6 +122,9 @@ pub enum MethodArg {
     Reference,
     /// An ordinary shadow map of the scene frozen at mid-shutter (t = 0.5).
     Plain,
+    /// The same samples ray traced on the CPU (motion BVH, watertight triangle test, no
+    /// shadow map): the exact truth. Needs no Vulkan device.
+    Raytrace,
 }
 
 /// `--shadow-estimator`: how the temporal shadow map's shadow term is estimated.
