@@ -87,6 +87,10 @@ pub struct CompareArgs {
     /// Shadow term of the temporal method: sampled (the papers') or analytic.
     #[arg(long, value_enum, default_value_t = EstimatorArg::Sampled)]
     pub shadow_estimator: EstimatorArg,
+    /// What the other methods are measured against: the brute-force reference, or the ray
+    /// tracer (then the reference is one more method measured against it).
+    #[arg(long, value_enum, default_value_t = TruthArg::Reference)]
+    pub truth: TruthArg,
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
     /// Print the table as one JSON object on stdout.
@@ -124,6 +128,15 @@ pub enum MethodArg {
     Plain,
     /// The same samples ray traced on the CPU (motion BVH, watertight triangle test, no
     /// shadow map): the exact truth. Needs no Vulkan device.
+    Raytrace,
+}
+
+/// `compare --truth`: the image every other method's error is measured against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TruthArg {
+    /// The brute-force reference (`--slices` shadow maps).
+    Reference,
+    /// The ray-traced reference (`--spp` samples, no shadow map).
     Raytrace,
 }
 

@@ -18,7 +18,7 @@ const MAX_LEAF: usize = 8;
 /// Bins per axis of the SAH sweep.
 const BINS: usize = 16;
 /// Past this depth, nodes are split at the median (halving), which bounds the depth and so
-/// the traversal stack whatever the triangles' distribution.
+/// the traversal stack whatever the triangles' distribution: 48 + log2(2^25 triangles).
 const SAH_DEPTH: usize = 48;
 const STACK: usize = 128;
 /// Node boxes are grown by this share of their largest coordinate: the blend of two boxes
@@ -95,6 +95,12 @@ struct Item {
 
 impl Bvh {
     pub fn new(triangles: &[Triangle]) -> Self {
+        Self::with_sah_depth(triangles, SAH_DEPTH)
+    }
+
+    /// As [`Bvh::new`], with nodes below `sah_depth` split at the median (tests: 0 gives a
+    /// pure median tree).
+    pub(crate) fn with_sah_depth(triangles: &[Triangle], sah_depth: usize) -> Self {
         let mut items: Vec<Item> = triangles
             .iter()
             .map(|tri| {
@@ -111,7 +117,7 @@ impl Bvh {
             .collect();
         let mut nodes = Vec::with_capacity(2 * items.len().max(1));
         if !items.is_empty() {
-            build(&mut items, &mut nodes);
+            build(&mut items, &mut nodes, sah_depth);
         }
         Self {
             nodes,
@@ -121,6 +127,20 @@ impl Bvh {
 
     pub fn triangles(&self) -> &[Triangle] {
         &self.triangles
+    }
+
+    /// Levels of the tree (a lone root is 1).
+    pub fn depth(&self) -> usize {
+        let mut deepest = 0;
+        let mut stack = vec![(0usize, 1usize)];
+        while let Some((i, d)) = stack.pop() {
+            deepest = deepest.max(d);
+            let node = &self.nodes[i];
+            if node.count == 0 && !self.nodes.is_empty() {
+                stack.extend([(i + 1, d + 1), (node.first as usize, d + 1)]);
+            }
+        }
+        if self.nodes.is_empty() { 0 } else { deepest }
     }
 
     /// The nearest triangle the ray meets at time `t` with parameter in `[s_min, s_max]`;
@@ -237,7 +257,7 @@ fn enters(node: &Node, ray: &Ray, t: f64, s_min: f64, s_max: f64) -> bool {
 }
 
 /// Builds the tree of `items` (reordering them), depth first, appending to `nodes`.
-fn build(items: &mut [Item], nodes: &mut Vec<Node>) {
+fn build(items: &mut [Item], nodes: &mut Vec<Node>, sah_depth: usize) {
     // (range start, range end, depth, the inner node whose second child this is). A first
     // child is made right after its parent (index + 1); a second child only after the whole
     // first subtree, when its index becomes known to its parent.
@@ -247,7 +267,7 @@ fn build(items: &mut [Item], nodes: &mut Vec<Node>) {
         if let Some(parent) = parent {
             nodes[parent].first = index as u32;
         }
-        match split(&mut items[start..end], depth) {
+        match split(&mut items[start..end], depth >= sah_depth) {
             None => {
                 nodes[index].first = start as u32;
                 nodes[index].count = (end - start) as u16;
@@ -280,9 +300,9 @@ fn push_node(nodes: &mut Vec<Node>, items: &[Item]) -> usize {
     nodes.len() - 1
 }
 
-/// Where to split `items` (reordered so the first part comes first) and along which axis;
-/// `None` makes a leaf.
-fn split(items: &mut [Item], depth: usize) -> Option<(usize, usize)> {
+/// Where to split `items` (reordered so the first part comes first) and along which axis, by
+/// SAH or else at the median; `None` makes a leaf.
+fn split(items: &mut [Item], median_only: bool) -> Option<(usize, usize)> {
     let n = items.len();
     if n <= 2 {
         return None;
@@ -303,8 +323,8 @@ fn split(items: &mut [Item], depth: usize) -> Option<(usize, usize)> {
         // All centres coincide: no split separates them; halve only to bound leaf size.
         return (n > MAX_LEAF).then_some((n / 2, axis));
     }
-    if depth >= SAH_DEPTH {
-        return Some((median(items, axis), axis));
+    if median_only {
+        return (n > MAX_LEAF).then(|| (median(items, axis), axis));
     }
     let Some((axis, bin, cost)) = best_sah(items, &centers) else {
         return (n > MAX_LEAF).then(|| (median(items, axis), axis));

@@ -144,3 +144,6 @@ pub fn render(
         shadow_map: None,
     })
 }
+
+#[cfg(test)]
+mod tests;
