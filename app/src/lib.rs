@@ -1,7 +1,8 @@
 //! The motion-shadows app: a client of the library's public API.
 //!
 //! [`scene`] (built-in scenes, scene files, OBJ), [`render`] (a standalone renderer that
-//! creates its own headless context and drives the passes), [`output`] (EXR/PNG), [`compare`]
+//! creates its own headless context and drives the passes), [`raytrace`] (the exact CPU
+//! reference every method can be judged against), [`output`] (EXR/PNG), [`compare`]
 //! and [`bench`] (the papers' experiments), [`chart`] (CSV and line charts), and [`cli`] (the
 //! `motion-shadows` binary's commands).
 
@@ -11,6 +12,7 @@ pub mod cli;
 pub mod compare;
 pub mod error;
 pub mod output;
+pub mod raytrace;
 pub mod render;
 pub mod scene;
 

@@ -27,6 +27,7 @@ mod image_pass;
 mod lighting;
 mod mask;
 mod plain_shadow;
+pub mod sampling;
 pub mod shaders;
 mod shadow_map;
 mod view;
@@ -43,6 +44,7 @@ pub use image_output::LightingImageOutput;
 pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, Samples, ShadowSource};
 pub use mask::{MaskBindings, MaskInputs, NormalEncoding, NormalImage, VisibilityMaskPass};
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
+pub use sampling::{pixel_key, pixel_sample};
 pub use shadow_map::{ShadowMapContents, TemporalShadowMap};
 pub use view::{
     CameraView, DEFAULT_DEPTH_BIAS, DEFAULT_NORMAL_OFFSET_TEXELS, LightKind, LightView,

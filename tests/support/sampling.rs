@@ -1,32 +1,11 @@
-//! A CPU model of the lighting pass's samples (shared.glsl: `pixel_key`, `pixel_sample`,
-//! `camera_ray`) and of what each sample sees, written from the shaders' definitions: a
-//! sample at time t looks along its camera ray and hits a triangle iff the ray meets the
-//! triangle's position at t between the near and far planes.
+//! A CPU model of the lighting pass's samples (the library's mirror of shared.glsl's
+//! `pixel_key` and `pixel_sample`, plus `camera_ray`) and of what each sample sees, written
+//! from the shaders' definitions: a sample at time t looks along its camera ray and hits a
+//! triangle iff the ray meets the triangle's position at t between the near and far planes.
 
 use glam::{DVec3, Vec3, Vec4};
 
-fn pcg_hash(v: u32) -> u32 {
-    let state = v.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
-    let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);
-    (word >> 22) ^ word
-}
-
-pub fn pixel_key(x: u32, y: u32, seed: u32) -> u32 {
-    pcg_hash(x.wrapping_add(pcg_hash(y.wrapping_add(pcg_hash(seed)))))
-}
-
-/// Time in [0, 1) and position in the pixel of sample k: stratum (k + key mod spp) mod spp.
-pub fn pixel_sample(key: u32, k: u32, spp: u32) -> (f32, [f32; 2]) {
-    let h = pcg_hash(key ^ pcg_hash(k));
-    let stratum = (k + key % spp) % spp;
-    let t = (stratum as f32 + (h >> 8) as f32 * (1.0 / 16_777_216.0)) / spp as f32;
-    let g = pcg_hash(h);
-    let offset = [
-        ((g & 0xffff) as f32 + 0.5) * (1.0 / 65536.0),
-        ((g >> 16) as f32 + 0.5) * (1.0 / 65536.0),
-    ];
-    (t, offset)
-}
+pub use motion_shadows::technique::sampling::{pixel_key, pixel_sample};
 
 /// The camera ray through an image position: `ray00 + x dx + y dy` (unit view-axis
 /// component, so a hit's ray parameter is its view depth).

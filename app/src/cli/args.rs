@@ -97,6 +97,10 @@ pub struct CompareArgs {
     /// offset (every method's lookup): keeps contact shadows at grazing light.
     #[arg(long)]
     pub receiver_plane: bool,
+    /// What the other methods are measured against: the brute-force reference, or the ray
+    /// tracer (then the reference is one more method measured against it).
+    #[arg(long, value_enum, default_value_t = TruthArg::Reference)]
+    pub truth: TruthArg,
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
     /// Print the table as one JSON object on stdout.
@@ -132,6 +136,18 @@ pub enum MethodArg {
     Reference,
     /// An ordinary shadow map of the scene frozen at mid-shutter (t = 0.5).
     Plain,
+    /// The same samples ray traced on the CPU (motion BVH, watertight triangle test, no
+    /// shadow map): the exact truth. Needs no Vulkan device.
+    Raytrace,
+}
+
+/// `compare --truth`: the image every other method's error is measured against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TruthArg {
+    /// The brute-force reference (`--slices` shadow maps).
+    Reference,
+    /// The ray-traced reference (`--spp` samples, no shadow map).
+    Raytrace,
 }
 
 /// `--prisms`: how the temporal shadow map's collection pass builds each moving triangle's

@@ -1,7 +1,8 @@
-//! `motion-shadows compare`: reference, temporal and TSM of one scene, judged against the
-//! reference over the whole image and over the moving-object mask.
+//! `motion-shadows compare`: reference, temporal and TSM of one scene (and with
+//! `--truth raytrace`, the ray tracer), judged against the truth over the whole image and over
+//! the moving-object mask.
 
-use super::args::{CompareArgs, Preset};
+use super::args::{CompareArgs, Preset, TruthArg};
 use super::render_cmd::{builtin_options, progress_reporter};
 use crate::compare::{ErrorStats, Rgb8Image, error_image, error_stats, side_by_side};
 use crate::output::{
@@ -13,7 +14,7 @@ use anyhow::Context as _;
 use motion_shadows::gpu::{Context, ContextOptions};
 use serde::Serialize;
 
-/// A pixel belongs to the moving-object mask when most of its reference samples see a moving
+/// A pixel belongs to the moving-object mask when most of its truth's samples see a moving
 /// triangle.
 const MASK_COVERAGE: f32 = 0.5;
 
@@ -33,6 +34,8 @@ struct MethodRow {
 #[derive(Serialize)]
 struct Report {
     scene: String,
+    /// The method the errors are measured against: "reference" or "raytrace".
+    truth: String,
     width: u32,
     height: u32,
     spp: u32,
@@ -49,8 +52,12 @@ fn preset_defaults(preset: Option<Preset>) -> (&'static str, u32) {
     }
 }
 
+/// (shadow, lighting) milliseconds. The ray tracer's BVH build counts as its shadow step (the
+/// structure built before any sample is shaded, as a shadow map is) and its tracing as its
+/// lighting; both are CPU times.
 fn split_times(stats: &FrameStats) -> (f64, f64) {
-    let lighting = |p: &str| p.starts_with("lighting") || p == "reference slices";
+    let lighting =
+        |p: &str| p.starts_with("lighting") || p == "reference slices" || p == "raytrace";
     let sum = |keep: &dyn Fn(&str) -> bool| {
         stats
             .passes
@@ -72,16 +79,25 @@ fn write_pair(
     Ok(())
 }
 
+/// The methods a comparison renders, the truth first.
+fn methods(truth: TruthArg, slices: u32) -> Vec<Method> {
+    let reference = Method::Reference { slices };
+    match truth {
+        TruthArg::Reference => vec![reference, Method::Temporal, Method::Tsm],
+        TruthArg::Raytrace => vec![Method::Raytrace, reference, Method::Temporal, Method::Tsm],
+    }
+}
+
 /// Every file a comparison of `scene` writes, in the order the report lists them.
-fn output_names(scene: &str) -> Vec<String> {
+fn output_names(scene: &str, methods: &[Method]) -> Vec<String> {
     let mut names = vec![
         format!("{scene}-compare.png"),
         format!("{scene}-compare-error.png"),
     ];
-    for method in ["reference", "temporal", "tsm"] {
+    for (i, method) in methods.iter().map(Method::name).enumerate() {
         names.push(format!("{scene}-{method}.exr"));
         names.push(format!("{scene}-{method}.png"));
-        if method != "reference" {
+        if i > 0 {
             names.push(format!("{scene}-{method}-error.png"));
         }
     }
@@ -120,37 +136,37 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             &builtin_options(&args.random),
         )?,
     };
-    let staged = StagedFiles::prepare(&args.out, &output_names(&scene.name))
+    let methods = methods(args.truth, args.slices);
+    let staged = StagedFiles::prepare(&args.out, &output_names(&scene.name, &methods))
         .with_context(|| format!("preparing the output directory {}", args.out.display()))?;
     let ctx = Context::headless(&ContextOptions::from_env())?;
     let mut renderer = Renderer::new(&ctx)?;
 
-    report(&format!("reference ({} slices)", args.slices));
-    let reference = renderer.render(
-        &scene,
-        &settings(Method::Reference {
-            slices: args.slices,
-        }),
-        &mut report,
-    )?;
-    let mask: Vec<bool> = reference
+    let mut results = Vec::new();
+    for &method in &methods {
+        if let Method::Reference { slices } = method {
+            report(&format!("reference ({slices} slices)"));
+        }
+        results.push(renderer.render(&scene, &settings(method), &mut report)?);
+    }
+    let truth = &results[0];
+    let mask: Vec<bool> = truth
         .moving_coverage
         .iter()
         .map(|&c| c > MASK_COVERAGE)
         .collect();
     let mask_pixels = mask.iter().filter(|&&m| m).count();
-    let temporal = renderer.render(&scene, &settings(Method::Temporal), &mut report)?;
-    let tsm = renderer.render(&scene, &settings(Method::Tsm), &mut report)?;
 
     report("writing images");
-    let exposure = auto_exposure(&reference.image);
+    let exposure = auto_exposure(&truth.image);
     let mut rows = Vec::new();
     let mut panels = Vec::new();
     let mut error_panels = Vec::new();
-    // One scale for both error images, so they can be compared by eye: a tenth of the
-    // reference's robust peak radiance.
-    let max_error = (crate::compare::peak_radiance(&reference.image) * 0.1) as f32;
-    for result in [&reference, &temporal, &tsm] {
+    // One scale for all error images, so they can be compared by eye: a tenth of the
+    // truth's robust peak radiance.
+    let max_error = (crate::compare::peak_radiance(&truth.image) * 0.1) as f32;
+    for (i, result) in results.iter().enumerate() {
+        let is_truth = i == 0;
         let method = result.stats.method.clone();
         let stem = format!("{}-{method}", scene.name);
         write_pair(&staged, &stem, &result.image, exposure)?;
@@ -165,21 +181,21 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             label.clone(),
             Rgb8Image::from_radiance(&result.image, exposure)?,
         ));
-        let errors = if method == "reference" {
+        let errors = if is_truth {
             None
         } else {
-            let heat = error_image(&result.image, &reference.image, max_error.max(1e-6))?;
+            let heat = error_image(&result.image, &truth.image, max_error.max(1e-6))?;
             let path = staged.temp_path(&format!("{stem}-error.png"))?;
             write_rgb8_png(path, heat.width, heat.height, &heat.data)?;
             error_panels.push((format!("{method} error"), heat));
             let mask = (mask_pixels > 0).then_some(mask.as_slice());
-            Some(error_stats(&result.image, &reference.image, mask)?)
+            Some(error_stats(&result.image, &truth.image, mask)?)
         };
         let static_mask: Vec<bool> = mask.iter().map(|&m| !m).collect();
-        let rmse_static = if method == "reference" || !static_mask.contains(&true) {
+        let rmse_static = if is_truth || !static_mask.contains(&true) {
             None
         } else {
-            error_stats(&result.image, &reference.image, Some(&static_mask))?.rmse_masked
+            error_stats(&result.image, &truth.image, Some(&static_mask))?.rmse_masked
         };
         let (shadow_ms, lighting_ms) = split_times(&result.stats);
         rows.push(MethodRow {
@@ -215,6 +231,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
 
     let report_data = Report {
         scene: scene.name.clone(),
+        truth: methods[0].name().to_owned(),
         width: args.width,
         height: args.height,
         spp,
@@ -236,8 +253,8 @@ fn table(r: &Report) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{}: {}x{}, {} spp, reference {} slices, moving-object mask {} pixels",
-        r.scene, r.width, r.height, r.spp, r.reference_slices, r.moving_mask_pixels
+        "{}: {}x{}, {} spp, reference {} slices, errors against {}, moving-object mask {} pixels",
+        r.scene, r.width, r.height, r.spp, r.reference_slices, r.truth, r.moving_mask_pixels
     );
     let _ = writeln!(
         s,

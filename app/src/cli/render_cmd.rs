@@ -65,6 +65,7 @@ pub fn render_settings(args: &RenderArgs) -> RenderSettings {
                 slices: args.slices,
             },
             MethodArg::Plain => Method::Plain { time: 0.5 },
+            MethodArg::Raytrace => Method::Raytrace,
         },
         shadow_estimator: args.shadow_estimator.estimator(),
         prisms: args.prisms.construction(),
@@ -105,10 +106,18 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let staged = StagedFiles::prepare(&args.out, &names)
         .with_context(|| format!("preparing the output directory {}", args.out.display()))?;
 
-    report("creating the Vulkan device");
-    let ctx = Context::headless(&ContextOptions::from_env())?;
-    let mut renderer = Renderer::new(&ctx)?;
-    let result = renderer.render(&scene, &settings, &mut report)?;
+    // The ray tracer needs no device (nor a Vulkan installation).
+    let (ctx, result) = if settings.method == Method::Raytrace {
+        (
+            None,
+            crate::raytrace::render(&scene, &settings, &mut report)?,
+        )
+    } else {
+        report("creating the Vulkan device");
+        let ctx = Context::headless(&ContextOptions::from_env())?;
+        let result = Renderer::new(&ctx)?.render(&scene, &settings, &mut report)?;
+        (Some(ctx), result)
+    };
 
     report("writing images");
     let exposure = args
@@ -116,9 +125,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         .unwrap_or_else(|| auto_exposure(&result.image));
     write_exr(staged.temp_path(&exr)?, &result.image)?;
     write_png(staged.temp_path(&png)?, &result.image, exposure)?;
-    if args.heatmaps {
+    if let (true, Some(ctx)) = (args.heatmaps, &ctx) {
         report("writing heat maps");
-        write_heat_maps(&ctx, &result, &staged, &names[2..])?;
+        write_heat_maps(ctx, &result, &staged, &names[2..])?;
     }
     let files: Vec<String> = staged
         .commit()?
@@ -137,7 +146,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         print!("{}", summary_text(&result.stats, &files));
         println!("PNG exposure: {exposure:+.2} stops");
     }
-    super::validation_clean(&ctx)
+    ctx.as_ref().map_or(Ok(()), super::validation_clean)
 }
 
 /// Heat maps of the ranges stored per shadow-map pixel; for the coverage method also without

@@ -43,6 +43,9 @@ pub enum Method {
     /// One ordinary shadow map of the scene frozen at `time`, for every sample. Exact for
     /// static scenes; the baseline for checks.
     Plain { time: f32 },
+    /// No shadow map: the lighting pass's samples ray traced on the CPU against the
+    /// triangles at each sample's time (see [`crate::raytrace`]). The exact truth.
+    Raytrace,
 }
 
 impl Method {
@@ -53,6 +56,7 @@ impl Method {
             Method::Tsm => "tsm",
             Method::Reference { .. } => "reference",
             Method::Plain { .. } => "plain",
+            Method::Raytrace => "raytrace",
         }
     }
 
@@ -196,12 +200,16 @@ impl<'a> Renderer<'a> {
     }
 
     /// Renders `scene`. `progress` receives a line for each step that may take a while.
+    /// [`Method::Raytrace`] runs on the CPU ([`crate::raytrace::render`]), without the device.
     pub fn render(
         &mut self,
         scene: &Scene,
         settings: &RenderSettings,
         progress: &mut dyn FnMut(&str),
     ) -> Result<RenderResult> {
+        if settings.method == Method::Raytrace {
+            return crate::raytrace::render(scene, settings, progress);
+        }
         let start = Instant::now();
         settings.validate()?;
         scene.validate()?;
@@ -266,6 +274,7 @@ impl<'a> Renderer<'a> {
                 &mut passes,
                 progress,
             )?,
+            Method::Raytrace => unreachable!("traced on the CPU above"),
         };
         if let Some(shadow) = outcome.source() {
             progress(&format!(

@@ -19,7 +19,7 @@ mod precision;
 mod pretty;
 mod primitives;
 mod read;
-mod rng;
+pub(crate) mod rng;
 mod types;
 mod validate;
 

@@ -1,0 +1,151 @@
+//! `--method raytrace`: an exact reference that shares none of the shadow-map methods'
+//! assumptions (no shadow map, no resolution, no normal offset or depth bias, no near plane
+//! on the light's side), so that it can see the errors they all share.
+//!
+//! It takes the lighting pass's own samples (same pixel positions and times, from the
+//! library's CPU mirror of the shaders' sampling, and the same camera rays) and traces, for
+//! each, the camera ray and then a shadow ray against the triangles at that sample's time,
+//! through a motion BVH ([`bvh`]) with a watertight ray/triangle test ([`intersect`]), and
+//! shades it as the GPU's resolve pass does ([`shade`]). On the CPU, in parallel with rayon;
+//! no Vulkan device is needed.
+//!
+//! What it does not copy from the GPU methods, on purpose: closed meshes are not back-face
+//! culled (the nearest surface is the one seen, wherever the camera is), and the triangle test
+//! is exact where Moller-Trumbore rounds (shared edges). Everything else that decides a pixel
+//! (near and far planes of the camera, the nearest hit with ties to the lowest id, a static
+//! triangle at t = 0 exactly, the shading) is the GPU's.
+
+pub mod bvh;
+pub mod intersect;
+pub mod pixels;
+pub mod shade;
+pub mod triangles;
+
+use crate::error::Result;
+use crate::output::RadianceImage;
+use crate::render::upload::{camera_view, light_view};
+use crate::render::{FrameStats, PassTime, RenderResult, RenderSettings};
+use crate::scene::Scene;
+use bvh::Bvh;
+use motion_shadows::technique::{CameraParams, LightingView, ShadowEstimator};
+use pixels::{CameraRays, trace_rows};
+use shade::{Shading, ShadingLight};
+use std::time::Instant;
+
+/// Progress is reported about this many times per image (each band of rows is traced in
+/// parallel, then reported).
+const PROGRESS_STEPS: u32 = 16;
+
+/// Renders `scene` with the lighting pass's samples for `settings` (size, spp, seed), traced.
+/// The stats have no shadow map (its fields are 0) and two passes, "bvh build" and
+/// "raytrace", whose times are CPU wall-clock milliseconds.
+pub fn render(
+    scene: &Scene,
+    settings: &RenderSettings,
+    progress: &mut dyn FnMut(&str),
+) -> Result<RenderResult> {
+    let start = Instant::now();
+    settings.validate()?;
+    scene.validate()?;
+    let (width, height) = (settings.width, settings.height);
+
+    progress(&format!(
+        "raytrace: building the motion BVH over {} triangles",
+        scene.triangle_count()
+    ));
+    let build_start = Instant::now();
+    let bvh = Bvh::new(&triangles::scene_triangles(scene));
+    let build_ms = build_start.elapsed().as_secs_f64() * 1e3;
+
+    let view = LightingView {
+        camera: camera_view(scene, (width, height)),
+        seed: settings.seed,
+        ambient: scene.ambient,
+        estimator: settings.shadow_estimator,
+    };
+    let rays = CameraRays::new(&CameraParams::new(&view, (width, height), settings.spp));
+    let (lo, hi) = scene.bounds();
+    let scale = f64::from((hi - lo).length().max(lo.abs().max(hi.abs()).max_element()));
+    let ambient = f64::from(scene.ambient);
+    let shading = Shading {
+        bvh: &bvh,
+        light: ShadingLight::new(&light_view(scene, settings.shadow_size()), scale),
+        albedo: scene
+            .meshes
+            .iter()
+            .map(|m| (m.albedo.as_dvec3(), ambient * m.albedo.as_dvec3()))
+            .collect(),
+    };
+
+    let trace_start = Instant::now();
+    let band = height.div_ceil(PROGRESS_STEPS).max(1);
+    let mut pixels = Vec::with_capacity(width as usize * height as usize);
+    let mut first = 0;
+    while first < height {
+        let last = (first + band).min(height);
+        progress(&format!(
+            "raytrace: rows {first}..{last} of {height} ({} spp, {} threads)",
+            settings.spp,
+            rayon::current_num_threads()
+        ));
+        pixels.extend(trace_rows(first..last, width, &rays, &shading));
+        first = last;
+    }
+    let trace_ms = trace_start.elapsed().as_secs_f64() * 1e3;
+
+    let rgb = pixels
+        .iter()
+        .flat_map(|(c, _)| [c.x as f32, c.y as f32, c.z as f32])
+        .collect();
+    let moving_coverage = pixels.iter().map(|&(_, m)| m as f32).collect();
+    let stats = FrameStats {
+        scene: scene.name.clone(),
+        method: "raytrace".to_owned(),
+        shadow_estimator: match settings.shadow_estimator {
+            ShadowEstimator::Sampled => "sampled",
+            ShadowEstimator::Analytic => "analytic",
+        }
+        .to_owned(),
+        prisms: crate::render::stats::prisms_name(settings.prisms).to_owned(),
+        receiver_plane: settings.receiver_plane,
+        width,
+        height,
+        shadow_width: 0,
+        shadow_height: 0,
+        spp: settings.spp,
+        seed: settings.seed,
+        triangles: bvh.triangles().len() as u32,
+        fragments: 0,
+        ranges: 0,
+        ranges_without_coverage: 0,
+        shadow_map_bytes_eq2: 0,
+        shadow_map_bytes_eq2_without_coverage: 0,
+        coverage_map_bytes: 0,
+        shadow_map_bytes_allocated: 0,
+        longest_fragment_list: 0,
+        shadow_pass_attempts: 1,
+        samples_per_chunk: settings.spp,
+        passes: vec![
+            PassTime {
+                pass: "bvh build".to_owned(),
+                gpu_ms: build_ms,
+            },
+            PassTime {
+                pass: "raytrace".to_owned(),
+                gpu_ms: trace_ms,
+            },
+        ],
+        warnings: Vec::new(),
+        wall_ms: start.elapsed().as_secs_f64() * 1e3,
+        device: format!("CPU ({} rayon threads)", rayon::current_num_threads()),
+    };
+    Ok(RenderResult {
+        image: RadianceImage::new(width, height, rgb)?,
+        moving_coverage,
+        stats,
+        shadow_map: None,
+    })
+}
+
+#[cfg(test)]
+mod tests;

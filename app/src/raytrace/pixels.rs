@@ -1,0 +1,81 @@
+//! The image, pixel by pixel: the lighting pass's samples (the library's CPU mirror of the
+//! shaders' sampling and the same camera rays), each traced and shaded, averaged per pixel.
+
+use super::bvh::Bvh;
+use super::intersect::Ray;
+use super::shade::Shading;
+use glam::{DVec3, Vec2, Vec3};
+use motion_shadows::technique::CameraParams;
+use motion_shadows::technique::sampling::{pixel_key, pixel_sample};
+use rayon::prelude::*;
+
+/// The camera rays of the GPU's lighting pass (`camera_ray` in shared.glsl), from the same
+/// [`CameraParams`] the renderer gives it.
+#[derive(Debug, Clone, Copy)]
+pub struct CameraRays {
+    origin: Vec3,
+    ray00: Vec3,
+    dx: Vec3,
+    dy: Vec3,
+    near: f64,
+    far: f64,
+    spp: u32,
+    seed: u32,
+}
+
+impl CameraRays {
+    pub fn new(params: &CameraParams) -> Self {
+        Self {
+            origin: params.position.truncate(),
+            ray00: params.ray00.truncate(),
+            dx: params.ray_dx.truncate(),
+            dy: params.ray_dy.truncate(),
+            near: f64::from(params.position.w),
+            far: f64::from(params.forward.w),
+            spp: params.image.z,
+            seed: params.image.w,
+        }
+    }
+
+    /// The ray through image position `at` (pixels from the top-left corner), in f32 as the
+    /// shader computes it; its direction has unit length along the view axis, so a hit's ray
+    /// parameter is its view depth.
+    pub fn ray(&self, at: Vec2) -> Ray {
+        let dir = self.ray00 + at.x * self.dx + at.y * self.dy;
+        Ray::new(self.origin.as_dvec3(), dir.as_dvec3())
+    }
+}
+
+/// One pixel: its radiance averaged over the samples and the share of samples that see a
+/// moving triangle.
+pub fn trace_pixel(x: u32, y: u32, rays: &CameraRays, shading: &Shading) -> (DVec3, f64) {
+    let bvh: &Bvh = shading.bvh;
+    let key = pixel_key(x, y, rays.seed);
+    let (mut sum, mut moving) = (DVec3::ZERO, 0u32);
+    for k in 0..rays.spp {
+        let (t, offset) = pixel_sample(key, k, rays.spp);
+        let t = f64::from(t);
+        let ray = rays.ray(Vec2::new(x as f32, y as f32) + offset);
+        // The GPU keeps hits with view depth in [near, far].
+        let Some(hit) = bvh.closest(&ray, t, rays.near, rays.far) else {
+            continue;
+        };
+        let tri = &bvh.triangles()[hit.index as usize];
+        moving += u32::from(tri.moving);
+        sum += shading.radiance(&ray, hit.s, tri, t);
+    }
+    let n = f64::from(rays.spp);
+    (sum / n, f64::from(moving) / n)
+}
+
+/// Rows `rows` of a `width`-pixel image, in parallel: RGB and moving share per pixel.
+pub fn trace_rows(
+    rows: std::ops::Range<u32>,
+    width: u32,
+    rays: &CameraRays,
+    shading: &Shading,
+) -> Vec<(DVec3, f64)> {
+    rows.into_par_iter()
+        .flat_map_iter(|y| (0..width).map(move |x| trace_pixel(x, y, rays, shading)))
+        .collect()
+}

@@ -1,0 +1,111 @@
+//! One sample's radiance, as glsl/resolve.comp shades it, with its shadow found by a ray.
+//!
+//! The shading is the GPU's, term for term (docs/scene-format.md): two-sided Lambert, the
+//! normal turned toward the camera; no direct light where that normal faces away from the
+//! light or (spot) where the point lies outside the cone; `albedo / pi * E * cos / d^2`
+//! (d = 1 for a directional light); `ambient * albedo` everywhere. The light's numbers are
+//! the ones the GPU shades with ([`LightView::gpu`]: the normalised direction, the cone's
+//! cosine and the emission as f32), so the two differ only in visibility.
+//!
+//! Visibility is a shadow ray from the hit point at the sample's time to the light, against
+//! every triangle at that same time but the hit one, with no normal offset or depth bias:
+//!  - spot: the segment to the light's position, whatever the shadow map's near and far
+//!    planes (a caster nearer to the light than the map's near plane still casts its shadow);
+//!  - directional: a ray against the light's direction to infinity. The GPU methods see only
+//!    casters inside the shadow map's box and shadow no receiver outside it; the box is a
+//!    setting of those methods, not of the light, so the truth ignores it and comparisons
+//!    show what a too-small box loses.
+
+use super::bvh::Bvh;
+use super::intersect::Ray;
+use super::triangles::Triangle;
+use glam::DVec3;
+use motion_shadows::technique::LightView;
+
+/// The shadow ray starts and (spot) ends this share of its length away from its ends. The
+/// hit point is computed in f64 (~1e-15 of the scene's size off its triangle's plane), so a
+/// coplanar neighbour of the hit triangle is crossed at most ~1e-15 / sin(angle) of the way
+/// out; 1e-7 keeps such self-hits out down to 1e-8 rad of grazing and loses no blocker
+/// farther than 1 um from a receiver 10 units from the light.
+pub const SHADOW_EPSILON: f64 = 1e-7;
+
+/// The light as the GPU shades with it.
+#[derive(Debug, Clone, Copy)]
+pub struct ShadingLight {
+    spot: bool,
+    position: DVec3,
+    /// Unit: the direction the light points (spot axis) or travels (directional).
+    direction: DVec3,
+    cos_cone: f64,
+    emission: f64,
+    /// Length scale of the directional shadow ray's epsilon (the scene's size).
+    scale: f64,
+}
+
+impl ShadingLight {
+    pub fn new(light: &LightView, scene_scale: f64) -> Self {
+        let gpu = light.gpu();
+        Self {
+            spot: gpu.position.w > 0.5,
+            position: gpu.position.truncate().as_dvec3(),
+            direction: gpu.direction.truncate().as_dvec3(),
+            cos_cone: f64::from(gpu.direction.w),
+            emission: f64::from(gpu.emission.x),
+            scale: scene_scale.max(f64::MIN_POSITIVE),
+        }
+    }
+}
+
+/// What shading a sample needs besides the hit.
+pub struct Shading<'a> {
+    pub bvh: &'a Bvh,
+    pub light: ShadingLight,
+    /// Per mesh: `albedo` and `ambient * albedo`.
+    pub albedo: Vec<(DVec3, DVec3)>,
+}
+
+impl Shading<'_> {
+    /// Radiance of a sample at time `t` whose camera ray `ray` hits `tri` at parameter `s`.
+    pub fn radiance(&self, ray: &Ray, s: f64, tri: &Triangle, t: f64) -> DVec3 {
+        let p = ray.origin + s * ray.dir;
+        let [a, b, c] = tri.at(t);
+        let mut n = (b - a).cross(c - a).normalize();
+        if n.dot(-ray.dir) < 0.0 {
+            n = -n;
+        }
+        let (albedo, ambient) = self.albedo[tri.mesh as usize];
+        let light = &self.light;
+        let to_light = if light.spot {
+            light.position - p
+        } else {
+            -light.direction
+        };
+        let dist2 = if light.spot {
+            to_light.length_squared()
+        } else {
+            1.0
+        };
+        let l = to_light.normalize();
+        let cos_theta = n.dot(l);
+        if cos_theta <= 0.0 {
+            return ambient;
+        }
+        if light.spot && (-l).dot(light.direction) < light.cos_cone {
+            return ambient;
+        }
+        let shadow = if light.spot {
+            Ray::new(p, to_light)
+        } else {
+            Ray::new(p, l)
+        };
+        let (s_min, s_max) = if light.spot {
+            (SHADOW_EPSILON, 1.0 - SHADOW_EPSILON)
+        } else {
+            (SHADOW_EPSILON * light.scale, f64::INFINITY)
+        };
+        if self.bvh.occluded(&shadow, t, s_min, s_max, tri.id) {
+            return ambient;
+        }
+        albedo / std::f64::consts::PI * light.emission * cos_theta / dist2 + ambient
+    }
+}
