@@ -132,7 +132,8 @@ pub enum MethodArg {
     Coverage,
     /// Time-dependent shadow maps: one depth map per time stratum (as many as spp).
     Tsm,
-    /// Brute-force accumulation over --slices times: the ground truth.
+    /// Brute-force accumulation over --slices times with ordinary shadow maps (the papers'
+    /// ground truth).
     Reference,
     /// An ordinary shadow map of the scene frozen at mid-shutter (t = 0.5).
     Plain,

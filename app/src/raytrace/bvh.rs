@@ -129,18 +129,22 @@ impl Bvh {
         &self.triangles
     }
 
-    /// Levels of the tree (a lone root is 1).
+    /// Levels of the tree (a lone root is 1, no triangles 0).
     pub fn depth(&self) -> usize {
         let mut deepest = 0;
-        let mut stack = vec![(0usize, 1usize)];
+        let mut stack = if self.nodes.is_empty() {
+            vec![]
+        } else {
+            vec![(0usize, 1usize)]
+        };
         while let Some((i, d)) = stack.pop() {
             deepest = deepest.max(d);
             let node = &self.nodes[i];
-            if node.count == 0 && !self.nodes.is_empty() {
+            if node.count == 0 {
                 stack.extend([(i + 1, d + 1), (node.first as usize, d + 1)]);
             }
         }
-        if self.nodes.is_empty() { 0 } else { deepest }
+        deepest
     }
 
     /// The nearest triangle the ray meets at time `t` with parameter in `[s_min, s_max]`;

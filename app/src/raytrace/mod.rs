@@ -79,25 +79,24 @@ pub fn render(
 
     let trace_start = Instant::now();
     let band = height.div_ceil(PROGRESS_STEPS).max(1);
-    let mut pixels = Vec::with_capacity(width as usize * height as usize);
-    let mut first = 0;
-    while first < height {
-        let last = (first + band).min(height);
+    let w = width as usize;
+    let mut rgb = vec![0.0f32; 3 * w * height as usize];
+    let mut moving_coverage = vec![0.0f32; w * height as usize];
+    let bands = rgb
+        .chunks_mut(3 * w * band as usize)
+        .zip(moving_coverage.chunks_mut(w * band as usize));
+    for (i, (rgb, moving)) in bands.enumerate() {
+        let first = i as u32 * band;
         progress(&format!(
-            "raytrace: rows {first}..{last} of {height} ({} spp, {} threads)",
+            "raytrace: rows {first}..{} of {height} ({} spp, {} threads)",
+            first + (moving.len() / w) as u32,
             settings.spp,
             rayon::current_num_threads()
         ));
-        pixels.extend(trace_rows(first..last, width, &rays, &shading));
-        first = last;
+        trace_rows(first, width, rgb, moving, &rays, &shading);
     }
     let trace_ms = trace_start.elapsed().as_secs_f64() * 1e3;
 
-    let rgb = pixels
-        .iter()
-        .flat_map(|(c, _)| [c.x as f32, c.y as f32, c.z as f32])
-        .collect();
-    let moving_coverage = pixels.iter().map(|&(_, m)| m as f32).collect();
     let stats = FrameStats {
         scene: scene.name.clone(),
         method: "raytrace".to_owned(),

@@ -68,14 +68,27 @@ pub fn trace_pixel(x: u32, y: u32, rays: &CameraRays, shading: &Shading) -> (DVe
     (sum / n, f64::from(moving) / n)
 }
 
-/// Rows `rows` of a `width`-pixel image, in parallel: RGB and moving share per pixel.
+/// Rows `first..` of a `width`-pixel image, as many as `rgb` (3 values per pixel) and
+/// `moving` (the share of samples seeing a moving triangle) hold, in parallel over rows.
 pub fn trace_rows(
-    rows: std::ops::Range<u32>,
+    first: u32,
     width: u32,
+    rgb: &mut [f32],
+    moving: &mut [f32],
     rays: &CameraRays,
     shading: &Shading,
-) -> Vec<(DVec3, f64)> {
-    rows.into_par_iter()
-        .flat_map_iter(|y| (0..width).map(move |x| trace_pixel(x, y, rays, shading)))
-        .collect()
+) {
+    let w = width as usize;
+    rgb.par_chunks_mut(3 * w)
+        .zip(moving.par_chunks_mut(w))
+        .enumerate()
+        .for_each(|(row, (rgb, moving))| {
+            let y = first + row as u32;
+            for x in 0..width {
+                let (radiance, share) = trace_pixel(x, y, rays, shading);
+                let i = x as usize;
+                rgb[3 * i..3 * i + 3].copy_from_slice(&radiance.as_vec3().to_array());
+                moving[i] = share as f32;
+            }
+        });
 }

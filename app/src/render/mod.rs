@@ -38,7 +38,7 @@ pub enum Method {
     /// of its stratum.
     Tsm,
     /// Brute force: the scene at `slices` stratified times, each with an ordinary shadow map
-    /// at that time and one jittered sample per pixel, averaged. The ground truth.
+    /// at that time and one jittered sample per pixel, averaged. The papers' ground truth.
     Reference { slices: u32 },
     /// One ordinary shadow map of the scene frozen at `time`, for every sample. Exact for
     /// static scenes; the baseline for checks.
