@@ -59,7 +59,7 @@ pub(super) fn scene() -> SceneFile {
     let aim = LIGHT + (CENTRE - LIGHT) * (LIGHT.y / (LIGHT.y - CENTRE.y));
     scene_file(
         "hard-deforming",
-        camera(Vec3::new(2.5, 7.0, 9.0), Vec3::new(0.6, 0.7, -0.8)),
+        camera(Vec3::new(2.55, 6.25, 6.7), Vec3::new(1.05, 1.25, -1.05)),
         spot(LIGHT, aim, 35.0, 1.0, 30.0),
         vec![
             ground(16.0, 8),

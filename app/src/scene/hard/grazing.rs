@@ -61,9 +61,12 @@ fn standing(name: &str, albedo: Vec3, size: Vec3, at: Vec2, to: Option<(Vec2, f3
 }
 
 pub(super) fn scene() -> SceneFile {
-    let sandstone = Vec3::new(0.3, 0.26, 0.2);
-    let slate = Vec3::new(0.18, 0.22, 0.3);
-    let rust = Vec3::new(0.32, 0.16, 0.1);
+    // Dark: a face turned to the light gets 1 / sin 7 ~ 8 times the ground's irradiance, so
+    // these faces come out at about half the ground's radiance (albedo 0.8) and show against
+    // it at the exposure that suits the ground.
+    let sandstone = Vec3::new(0.07, 0.055, 0.04);
+    let slate = Vec3::new(0.035, 0.05, 0.07);
+    let rust = Vec3::new(0.075, 0.035, 0.02);
     let objects = vec![
         object(
             "ground",
@@ -122,7 +125,7 @@ pub(super) fn scene() -> SceneFile {
     let e = ELEVATION_DEG.to_radians();
     scene_file(
         "hard-grazing",
-        camera(Vec3::new(-0.7, 10.0, 14.5), Vec3::new(-0.7, 0.0, 0.0)),
+        camera(Vec3::new(-0.7, 13.0, 10.0), Vec3::new(-0.7, 0.0, 0.3)),
         LightFile::Directional {
             direction: direction(),
             irradiance: GROUND_RADIANCE * std::f32::consts::PI / GROUND_ALBEDO / e.sin(),

@@ -16,7 +16,6 @@ use glam::Vec3;
 
 use super::super::builtin::{ground, object, translate};
 use super::super::file::{BoxSpec, MeshSpec, SceneFile, TransformFile};
-use super::super::primitives::box_mesh;
 use super::{camera, scene_file, spot, turn};
 
 const LIGHT: Vec3 = Vec3::new(-2.5, 8.0, 3.0);
@@ -50,7 +49,7 @@ pub(super) fn scene() -> SceneFile {
     let post_height = HINGE.y - LIMB.y * 0.5 - 0.02;
     scene_file(
         "hard-hinged-limb",
-        camera(Vec3::new(2.5, 7.0, 9.5), Vec3::new(0.3, 0.8, -1.0)),
+        camera(Vec3::new(1.5, 4.0, 4.6), Vec3::new(0.4, 1.0, -0.4)),
         spot(LIGHT, aim, 35.0, 1.0, 30.0),
         vec![
             ground(16.0, 8),
@@ -82,6 +81,7 @@ pub(super) fn scene() -> SceneFile {
 
 #[cfg(test)]
 mod tests {
+    use super::super::super::primitives::box_mesh;
     use super::super::check::{centre, mesh, scene};
     use super::*;
     use glam::Vec2;

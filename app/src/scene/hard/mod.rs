@@ -197,6 +197,20 @@ mod tests {
         assert_eq!(hard, HARD_NAMES.len());
     }
 
+    /// The scene format's built-in list and the README name every hard scene.
+    #[test]
+    fn every_hard_scene_is_documented() {
+        let doc = include_str!("../../../../docs/scene-format.md");
+        let readme = include_str!("../../../../README.md");
+        for name in HARD_NAMES {
+            assert!(
+                doc.contains(&format!("- `{name}`")),
+                "docs/scene-format.md: {name}"
+            );
+            assert!(readme.contains(&format!("`{name}`")), "README.md: {name}");
+        }
+    }
+
     /// Small enough for the ray tracer, every caster lit at both ends of the shutter (so at
     /// every time: the cone and the box are convex and vertices move on straight lines), its
     /// shadow on the ground plane and on screen (aspect 1, the narrowest likely). The shadow

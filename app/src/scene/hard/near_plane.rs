@@ -18,19 +18,22 @@ use super::super::file::{MeshSpec, PlaneSpec, SceneFile};
 use super::{camera, scene_file, spot};
 
 const LIGHT: Vec3 = Vec3::new(0.0, 7.0, 0.0);
-/// The shadow map's near plane, as a depth along the light's axis (straight down).
-pub(super) const NEAR: f32 = 2.5;
-/// The plate's centre at t0 (depth 1.5) and t1 (depth 4.0).
-const PLATE_T0: Vec3 = Vec3::new(-0.3, 5.5, 0.2);
-const PLATE_T1: Vec3 = Vec3::new(0.5, 3.0, -0.3);
-const PLATE_SIZE: f32 = 0.8;
+/// The plate's depth below the light (along the light's axis, straight down) at t0 and t1.
+const DEPTHS: (f32, f32) = (1.5, 4.0);
 /// When the plate crosses the near plane.
-pub(super) const CROSSING_T: f32 = 0.4;
+const CROSSING_T: f32 = 0.4;
+/// The shadow map's near plane, as a depth along the light's axis: where the plate is at
+/// `CROSSING_T` (2.5).
+const NEAR: f32 = DEPTHS.0 + CROSSING_T * (DEPTHS.1 - DEPTHS.0);
+/// The plate's centre at t0 and t1.
+const PLATE_T0: Vec3 = Vec3::new(-0.3, LIGHT.y - DEPTHS.0, 0.2);
+const PLATE_T1: Vec3 = Vec3::new(0.5, LIGHT.y - DEPTHS.1, -0.3);
+const PLATE_SIZE: f32 = 0.8;
 
 pub(super) fn scene() -> SceneFile {
     scene_file(
         "hard-near-plane",
-        camera(Vec3::new(1.5, 7.5, 9.0), Vec3::new(0.0, 0.5, -0.5)),
+        camera(Vec3::new(0.75, 10.2, 10.9), Vec3::new(-0.85, 2.75, 0.8)),
         spot(LIGHT, Vec3::ZERO, 40.0, NEAR, 20.0),
         vec![
             ground(16.0, 8),

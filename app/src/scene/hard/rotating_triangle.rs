@@ -48,7 +48,7 @@ pub(super) fn scene() -> SceneFile {
     let aim = LIGHT + (CENTRE - LIGHT) * (LIGHT.y / (LIGHT.y - CENTRE.y));
     scene_file(
         "hard-rotating-triangle",
-        camera(Vec3::new(3.5, 7.5, 9.5), Vec3::new(0.2, 0.8, -1.2)),
+        camera(Vec3::new(4.0, 7.4, 7.7), Vec3::new(1.3, 1.9, -1.2)),
         spot(LIGHT, aim, 35.0, 1.0, 30.0),
         vec![
             ground(16.0, 8),

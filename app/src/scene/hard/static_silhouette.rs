@@ -60,7 +60,7 @@ pub(super) fn scene() -> SceneFile {
     let aim = LIGHT + (CENTRE - LIGHT) * (LIGHT.y / (LIGHT.y - CENTRE.y));
     scene_file(
         "hard-static-silhouette",
-        camera(Vec3::new(3.0, 7.5, 9.5), Vec3::new(0.8, 0.8, -1.0)),
+        camera(Vec3::new(3.2, 6.9, 6.7), Vec3::new(1.5, 1.65, -1.5)),
         spot(LIGHT, aim, 35.0, 1.0, 30.0),
         vec![
             ground(16.0, 8),

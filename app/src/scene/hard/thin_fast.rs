@@ -86,7 +86,7 @@ pub(super) fn scene() -> SceneFile {
     objects.extend(RODS.iter().map(rod));
     scene_file(
         "hard-thin-fast",
-        camera(Vec3::new(2.0, 6.5, 8.0), Vec3::new(0.5, 0.5, -0.8)),
+        camera(Vec3::new(1.8, 5.7, 6.2), Vec3::new(0.65, 1.15, -0.4)),
         spot(LIGHT, aim, 35.0, 1.0, 30.0),
         objects,
     )
