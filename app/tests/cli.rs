@@ -127,6 +127,61 @@ fn quick_bench_preset_writes_csv_and_png() {
     std::fs::remove_dir_all(&out).ok();
 }
 
+/// `bench --quick --preset hard`: every hard scene, each method's RMSE against the truth in
+/// the CSV (finite, and zero for no method: each differs from the truth somewhere), one
+/// side-by-side image per scene, and the temporal method's RMSE per scene as a ratio.
+#[test]
+fn quick_hard_preset_measures_every_method_on_every_hard_scene() {
+    let out = temp_dir("bench-hard");
+    let status = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args(["bench", "--quick", "--preset", "hard", "--out"])
+        .arg(&out)
+        .env("MOTION_SHADOWS_VALIDATION", "1")
+        .status()
+        .expect("run the binary");
+    assert!(status.success());
+    let scenes = [
+        "rotating-triangle",
+        "hinged-limb",
+        "propeller",
+        "near-plane",
+        "grazing",
+        "thin-fast",
+        "deforming",
+        "small-cubes",
+        "static-silhouette",
+    ];
+    let methods = ["temporal", "coverage", "tsm", "plain", "reference"];
+    let csv = std::fs::read_to_string(out.join("hard-results.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(
+        lines[0],
+        "scene,method,rmse,rmse_moving,rmse_static,frame_ms"
+    );
+    // The truth is the brute-force reference, so it is not among the measured methods.
+    assert_eq!(lines.len(), 1 + scenes.len() * (methods.len() - 1), "{csv}");
+    for scene in scenes {
+        let name = format!("hard-{scene}");
+        for method in &methods[..4] {
+            let row = lines
+                .iter()
+                .find(|l| l.starts_with(&format!("{name},{method},")))
+                .unwrap_or_else(|| panic!("no row for {name} {method}: {csv}"));
+            let rmse: f64 = row.split(',').nth(2).unwrap().parse().unwrap();
+            assert!(rmse.is_finite() && rmse > 0.0, "{row}");
+        }
+        let png = image::open(out.join(format!("hard-{scene}.png"))).expect("a decodable PNG");
+        assert!(png.width() >= 4 * 64, "{scene}: {}", png.width());
+    }
+    image::open(out.join("hard-rmse.png")).expect("the chart");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("bench-summary.json")).unwrap()).unwrap();
+    let report = &summary["reports"][0];
+    assert_eq!(report["preset"], "hard");
+    assert_eq!(report["ratios"].as_array().unwrap().len(), scenes.len());
+    std::fs::remove_dir_all(&out).ok();
+}
+
 /// With no Vulkan driver the binary fails with a message that says what is missing and how
 /// to install lavapipe.
 #[test]

@@ -38,7 +38,7 @@ pub struct BenchArgs {
     #[arg(long)]
     pub quick: bool,
     /// Presets to run (default: all): spp, random-cubes, speed, cube-size, equal-quality,
-    /// shadow-pass, scaling.
+    /// shadow-pass, scaling, hard.
     #[arg(long = "preset")]
     pub presets: Vec<String>,
     /// Shadow term of the presets' temporal and coverage renders (equal-quality sweeps both).

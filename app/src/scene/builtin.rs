@@ -9,15 +9,30 @@ use super::file::{
     BoxSpec, CameraFile, LightFile, MeshSpec, ObjectFile, PlaneSpec, SCENE_FORMAT, SceneFile,
     TransformFile,
 };
+use super::hard::hard_scene;
 use super::leg::leg_toward_light;
 use super::limits::{CUBE_SIZE_RANGE, MAX_CUBE_SPEED, MAX_SCENE_TRIANGLES};
 use super::rng::SplitMix64;
 use super::{Scene, SceneError};
 
-/// The first name is the default scene.
-pub const BUILTIN_NAMES: &[&str] = &["cubes-toward-light", "random-cubes", "leg-toward-light"];
+/// The first name is the default scene; the `hard-` scenes are also in `HARD_NAMES`.
+pub const BUILTIN_NAMES: &[&str] = &[
+    "cubes-toward-light",
+    "random-cubes",
+    "leg-toward-light",
+    "hard-rotating-triangle",
+    "hard-hinged-limb",
+    "hard-propeller",
+    "hard-near-plane",
+    "hard-grazing",
+    "hard-thin-fast",
+    "hard-deforming",
+    "hard-small-cubes",
+    "hard-static-silhouette",
+];
 
-/// Parameters of the procedural scenes (only `random-cubes` uses them).
+/// Parameters of the procedural scenes (only `random-cubes` uses them; the hard scenes are
+/// fixed).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BuiltinOptions {
     pub cube_count: usize,
@@ -51,7 +66,7 @@ pub fn builtin_file(name: &str, opts: &BuiltinOptions) -> Result<SceneFile, Scen
         "cubes-toward-light" => Ok(cubes_toward_light()),
         "random-cubes" => random_cubes(opts),
         "leg-toward-light" => Ok(leg_toward_light()),
-        _ => Err(SceneError::UnknownBuiltin {
+        _ => hard_scene(name).ok_or_else(|| SceneError::UnknownBuiltin {
             name: name.to_owned(),
             available: BUILTIN_NAMES.iter().map(|s| s.to_string()).collect(),
         }),
@@ -179,7 +194,7 @@ const GROUND_SUBDIVISIONS: u32 = 8;
 const RANDOM_CUBES_GROUND_TRIANGLES: u64 = 2 * (GROUND_SUBDIVISIONS as u64).pow(2);
 
 /// Pleasant, not garish: moderate saturation and value, any hue.
-fn random_albedo(rng: &mut SplitMix64) -> Vec3 {
+pub(super) fn random_albedo(rng: &mut SplitMix64) -> Vec3 {
     let (h, s, v) = (
         rng.range(0.0, 6.0),
         rng.range(0.45, 0.75),

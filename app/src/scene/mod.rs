@@ -11,6 +11,7 @@ mod clip;
 mod culling;
 mod error;
 mod file;
+mod hard;
 mod leg;
 pub mod limits;
 mod name;
@@ -33,6 +34,7 @@ pub use file::{
     BoxSpec, CameraFile, LightFile, MeshSpec, ObjectFile, PlaneSpec, SCENE_FORMAT, SceneFile,
     TransformFile, TrianglesSpec, load_scene_file, parse_scene_json, scene_to_json,
 };
+pub use hard::HARD_NAMES;
 pub use name::{name_from_file_stem, scene_name_problem};
 pub use primitives::{RigidTransform, box_mesh, plane_mesh};
 pub use types::{Camera, DirectionalLight, Light, Mesh, Scene, SpotLight};

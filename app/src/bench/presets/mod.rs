@@ -2,6 +2,7 @@
 
 mod cubes;
 mod equal_quality;
+mod hard;
 mod scaling;
 mod shadow_pass;
 mod spp;
@@ -32,6 +33,8 @@ pub enum Preset {
     ShadowPass,
     /// Frame time against triangle count.
     Scaling,
+    /// Each hard scene (issue 11), every method's RMSE against a truth image.
+    Hard,
 }
 
 pub const PRESETS: &[Preset] = &[
@@ -42,6 +45,7 @@ pub const PRESETS: &[Preset] = &[
     Preset::EqualQuality,
     Preset::ShadowPass,
     Preset::Scaling,
+    Preset::Hard,
 ];
 
 impl Preset {
@@ -54,6 +58,7 @@ impl Preset {
             Preset::EqualQuality => "equal-quality",
             Preset::ShadowPass => "shadow-pass",
             Preset::Scaling => "scaling",
+            Preset::Hard => "hard",
         }
     }
 
@@ -141,8 +146,29 @@ impl Bench<'_, '_> {
         scene: &Scene,
         settings: &RenderSettings,
     ) -> Option<Measurement> {
+        self.measure_runs(what, scene, settings, self.scale.runs)
+    }
+
+    /// One render, for presets that measure images rather than time (its time includes any
+    /// first-use cost).
+    fn measure_once(
+        &mut self,
+        what: &str,
+        scene: &Scene,
+        settings: &RenderSettings,
+    ) -> Option<Measurement> {
+        self.measure_runs(what, scene, settings, 1)
+    }
+
+    fn measure_runs(
+        &mut self,
+        what: &str,
+        scene: &Scene,
+        settings: &RenderSettings,
+        runs: u32,
+    ) -> Option<Measurement> {
         (self.progress)(&format!("bench {}: {what}", self.report.preset));
-        match measure(self.renderer, scene, settings, self.scale.runs) {
+        match measure(self.renderer, scene, settings, runs) {
             Ok(m) => Some(m),
             Err(e) => {
                 self.report.notes.push(format!("{what}: {e}"));
@@ -221,6 +247,7 @@ pub fn run_preset(
         Preset::EqualQuality => equal_quality::equal_quality(&mut bench)?,
         Preset::ShadowPass => shadow_pass::shadow_pass(&mut bench)?,
         Preset::Scaling => scaling::scaling(&mut bench)?,
+        Preset::Hard => hard::hard(&mut bench)?,
     }
     Ok(bench.report)
 }

@@ -1,0 +1,269 @@
+//! `bench --preset hard`: every hard scene of issue 11 (`hard-*`, see `scene::HARD_NAMES`)
+//! rendered by each shadow method and measured against a truth image, with the images side
+//! by side. The truth is chosen in one place, [`truth`]; the preset's sizes are
+//! [`HardParams`].
+
+use super::{Bench, bench_error, builtin_scene, chart, ratio, series, target};
+use crate::chart::{Table, fmt_num};
+use crate::compare::{Rgb8Image, rmse, side_by_side};
+use crate::error::Result;
+use crate::output::{RadianceImage, auto_exposure, write_rgb8_png};
+use crate::render::{Method, RenderSettings};
+use crate::scene::{BuiltinOptions, HARD_NAMES};
+
+/// What the methods are measured against.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Truth {
+    /// The brute-force reference at `slices` times. It shares the shadow maps' resolution,
+    /// receiver offset and near plane with the methods, so errors common to all shadow-map
+    /// methods are invisible to it: a stand-in until an exact renderer is the truth.
+    Reference { slices: u32 },
+}
+
+impl Truth {
+    fn method(self) -> Method {
+        match self {
+            Truth::Reference { slices } => Method::Reference { slices },
+        }
+    }
+
+    fn label(self) -> String {
+        match self {
+            Truth::Reference { slices } => format!("reference ({slices} slices)"),
+        }
+    }
+
+    /// Whether the truth is exact (independent of shadow maps); only then are the issue's
+    /// targets (temporal RMSE <= 0.005, and <= the brute-force reference's) checked.
+    fn exact(self) -> bool {
+        match self {
+            Truth::Reference { .. } => false,
+        }
+    }
+}
+
+/// The truth of the preset, given the slices of its brute-force reference. Measuring against
+/// another renderer (the exact ray tracer) is a change of this one line.
+fn truth(reference_slices: u32) -> Truth {
+    Truth::Reference {
+        slices: reference_slices,
+    }
+}
+
+/// The preset's sizes.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct HardParams {
+    pub width: u32,
+    pub height: u32,
+    pub shadow_size: (u32, u32),
+    /// Samples per pixel of every method but the brute-force reference (and of the truth
+    /// where it takes samples), all at the same positions and times (seed 1).
+    pub spp: u32,
+    /// Time slices of the brute-force reference, measured or truth.
+    pub reference_slices: u32,
+    pub truth: Truth,
+}
+
+impl HardParams {
+    /// The issue's measurement: 256 x 192, 2048 x 2048 shadow maps, 64 spp, the reference at
+    /// 1,024 slices.
+    pub fn full() -> Self {
+        Self::new((256, 192), (2048, 2048), 64, 1024)
+    }
+
+    /// A first look and the test: 64 x 48, 256 x 256 shadow maps, 4 spp, 32 slices.
+    pub fn quick() -> Self {
+        Self::new((64, 48), (256, 256), 4, 32)
+    }
+
+    fn new(image: (u32, u32), shadow_size: (u32, u32), spp: u32, reference_slices: u32) -> Self {
+        Self {
+            width: image.0,
+            height: image.1,
+            shadow_size,
+            spp,
+            reference_slices,
+            truth: truth(reference_slices),
+        }
+    }
+
+    fn settings(&self, method: Method, b: &Bench) -> RenderSettings {
+        RenderSettings {
+            width: self.width,
+            height: self.height,
+            spp: self.spp,
+            seed: 1,
+            shadow_size: Some(self.shadow_size),
+            method,
+            shadow_estimator: b.scale.shadow_estimator,
+            ..RenderSettings::default()
+        }
+    }
+
+    /// The methods measured: every method except the truth's own.
+    fn methods(&self) -> Vec<Method> {
+        [
+            Method::Temporal,
+            Method::Coverage,
+            Method::Tsm,
+            Method::Plain { time: 0.5 },
+            Method::Reference {
+                slices: self.reference_slices,
+            },
+        ]
+        .into_iter()
+        .filter(|&m| m != self.truth.method())
+        .collect()
+    }
+}
+
+/// A pixel is in the moving-object mask when more than half of the truth's samples see a
+/// moving triangle (as `compare` does).
+const MASK_COVERAGE: f32 = 0.5;
+
+pub(super) fn hard(b: &mut Bench) -> Result<()> {
+    let params = b.scale.pick(HardParams::quick(), HardParams::full());
+    hard_with(b, &params)
+}
+
+pub(super) fn hard_with(b: &mut Bench, params: &HardParams) -> Result<()> {
+    let methods = params.methods();
+    let mut table = Table::new(
+        [
+            "scene",
+            "method",
+            "rmse",
+            "rmse_moving",
+            "rmse_static",
+            "frame_ms",
+        ]
+        .map(String::from)
+        .to_vec(),
+    );
+    // Per method, (scene index, RMSE).
+    let mut curves: Vec<Vec<(f64, f64)>> = vec![Vec::new(); methods.len()];
+    for (index, &name) in HARD_NAMES.iter().enumerate() {
+        let scene = builtin_scene(name, &BuiltinOptions::default())?;
+        let truth_settings = params.settings(params.truth.method(), b);
+        let Some(truth) = b.measure_once(
+            &format!("{name}: truth, {}", params.truth.label()),
+            &scene,
+            &truth_settings,
+        ) else {
+            continue;
+        };
+        let moving: Vec<bool> = truth
+            .moving_coverage
+            .iter()
+            .map(|&c| c > MASK_COVERAGE)
+            .collect();
+        let still: Vec<bool> = moving.iter().map(|&m| !m).collect();
+        let exposure = auto_exposure(&truth.image);
+        let mut panels = Vec::new();
+        let mut errors = Vec::new();
+        for (k, &method) in methods.iter().enumerate() {
+            let settings = params.settings(method, b);
+            let Some(m) = b.measure_once(&format!("{name}: {}", method.name()), &scene, &settings)
+            else {
+                continue;
+            };
+            let e = rmse(&m.image, &truth.image, None).map_err(bench_error)?;
+            let cell = |v: Option<f64>| v.map_or_else(String::new, fmt_num);
+            table
+                .push(vec![
+                    name.to_string(),
+                    method.name().to_string(),
+                    fmt_num(e),
+                    cell(masked_rmse(&m.image, &truth.image, &moving)?),
+                    cell(masked_rmse(&m.image, &truth.image, &still)?),
+                    fmt_num(m.frame_ms()),
+                ])
+                .map_err(bench_error)?;
+            curves[k].push(((index + 1) as f64, e));
+            errors.push((method, e));
+            panels.push((
+                format!("{} {}", method.name(), fmt_num(e)),
+                Rgb8Image::from_radiance(&m.image, exposure).map_err(bench_error)?,
+            ));
+        }
+        panels.push((
+            format!("truth: {}", params.truth.label()),
+            Rgb8Image::from_radiance(&truth.image, exposure).map_err(bench_error)?,
+        ));
+        let refs: Vec<(&str, &Rgb8Image)> = panels.iter().map(|(l, i)| (l.as_str(), i)).collect();
+        let side = side_by_side(&refs, [24, 24, 24]);
+        let path = b
+            .scale
+            .out
+            .join(format!("hard-{}.png", &name["hard-".len()..]));
+        write_rgb8_png(&path, side.width, side.height, &side.data).map_err(bench_error)?;
+        b.report.files.push(path);
+        push_ratios(b, params, name, &errors);
+    }
+    b.write_table("results", &table)?;
+    let last = HARD_NAMES.len();
+    let x_label = format!(
+        "scene (1 = {}, ..., {last} = {})",
+        HARD_NAMES[0],
+        HARD_NAMES[last - 1]
+    );
+    let lines = methods
+        .iter()
+        .zip(curves)
+        .map(|(m, points)| series(m.name(), points))
+        .collect();
+    let title = format!("RMSE against the truth, {}", params.truth.label());
+    b.write_chart("rmse", &chart(&title, &x_label, "RMSE", lines))?;
+    b.report.notes.push(format!(
+        "{}x{}, shadow maps {}x{}, {} spp, seed 1; truth: {}{}",
+        params.width,
+        params.height,
+        params.shadow_size.0,
+        params.shadow_size.1,
+        params.spp,
+        params.truth.label(),
+        if params.truth.exact() {
+            ""
+        } else {
+            " (not exact: it shares the shadow maps' errors, so no targets are checked)"
+        }
+    ));
+    Ok(())
+}
+
+/// RMSE over the pixels of `mask`; `None` when it selects none.
+fn masked_rmse(image: &RadianceImage, truth: &RadianceImage, mask: &[bool]) -> Result<Option<f64>> {
+    if mask.contains(&true) {
+        Ok(Some(rmse(image, truth, Some(mask)).map_err(bench_error)?))
+    } else {
+        Ok(None)
+    }
+}
+
+/// The temporal method's RMSE per scene; against an exact truth, with the issue's targets
+/// (at most 0.005, and at most the brute-force reference's error).
+fn push_ratios(b: &mut Bench, params: &HardParams, scene: &str, errors: &[(Method, f64)]) {
+    let of = |name: &str| {
+        errors
+            .iter()
+            .find(|(m, _)| m.name() == name)
+            .map(|&(_, e)| e)
+    };
+    let Some(temporal) = of("temporal") else {
+        return;
+    };
+    let what = format!("{scene}: temporal RMSE vs {}", params.truth.label());
+    if !params.truth.exact() {
+        b.report.ratios.push(ratio(what, temporal));
+        return;
+    }
+    b.report.ratios.push(target(what, temporal, 0.005, true));
+    if let Some(reference) = of("reference") {
+        b.report.ratios.push(target(
+            format!("{scene}: temporal / reference RMSE"),
+            temporal / reference.max(f64::MIN_POSITIVE),
+            1.0,
+            true,
+        ));
+    }
+}
