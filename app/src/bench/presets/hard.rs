@@ -10,26 +10,32 @@ use crate::error::Result;
 use crate::output::{RadianceImage, auto_exposure, write_rgb8_png};
 use crate::render::{Method, RenderSettings};
 use crate::scene::{BuiltinOptions, HARD_NAMES};
+use motion_shadows::technique::PrismConstruction;
 
 /// What the methods are measured against.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum Truth {
     /// The brute-force reference at `slices` times. It shares the shadow maps' resolution,
     /// receiver offset and near plane with the methods, so errors common to all shadow-map
-    /// methods are invisible to it: a stand-in until an exact renderer is the truth.
+    /// methods are invisible to it.
+    #[allow(dead_code)]
     Reference { slices: u32 },
+    /// The CPU ray tracer (`--method raytrace`): the same samples, no shadow map; exact.
+    Raytrace,
 }
 
 impl Truth {
     fn method(self) -> Method {
         match self {
             Truth::Reference { slices } => Method::Reference { slices },
+            Truth::Raytrace => Method::Raytrace,
         }
     }
 
     fn label(self) -> String {
         match self {
             Truth::Reference { slices } => format!("reference ({slices} slices)"),
+            Truth::Raytrace => "raytrace".to_owned(),
         }
     }
 
@@ -38,16 +44,15 @@ impl Truth {
     fn exact(self) -> bool {
         match self {
             Truth::Reference { .. } => false,
+            Truth::Raytrace => true,
         }
     }
 }
 
-/// The truth of the preset, given the slices of its brute-force reference. Measuring against
-/// another renderer (the exact ray tracer) is a change of this one line.
-fn truth(reference_slices: u32) -> Truth {
-    Truth::Reference {
-        slices: reference_slices,
-    }
+/// The truth of the preset: the exact ray tracer (`Truth::Reference` measures against the
+/// brute-force reference instead).
+fn truth(_reference_slices: u32) -> Truth {
+    Truth::Raytrace
 }
 
 /// The preset's sizes.
@@ -88,7 +93,13 @@ impl HardParams {
     }
 
     fn settings(&self, method: Method, b: &Bench) -> RenderSettings {
+        self.row_settings(Row::of(method), b)
+    }
+
+    fn row_settings(&self, row: Row, b: &Bench) -> RenderSettings {
+        let method = row.method;
         RenderSettings {
+            prisms: row.prisms,
             width: self.width,
             height: self.height,
             spp: self.spp,
@@ -100,20 +111,48 @@ impl HardParams {
         }
     }
 
-    /// The methods measured: every method except the truth's own.
-    fn methods(&self) -> Vec<Method> {
+    /// The rows measured: every method except the truth's own, and the temporal method with
+    /// the papers' prisms too.
+    fn methods(&self) -> Vec<Row> {
         [
-            Method::Temporal,
-            Method::Coverage,
-            Method::Tsm,
-            Method::Plain { time: 0.5 },
-            Method::Reference {
-                slices: self.reference_slices,
+            Row::of(Method::Temporal),
+            Row {
+                method: Method::Temporal,
+                prisms: PrismConstruction::Paper,
             },
+            Row::of(Method::Coverage),
+            Row::of(Method::Tsm),
+            Row::of(Method::Plain { time: 0.5 }),
+            Row::of(Method::Reference {
+                slices: self.reference_slices,
+            }),
         ]
         .into_iter()
-        .filter(|&m| m != self.truth.method())
+        .filter(|r| r.method != self.truth.method())
         .collect()
+    }
+}
+
+/// One row of the table: a method, and for the temporal one its prism construction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Row {
+    method: Method,
+    prisms: PrismConstruction,
+}
+
+impl Row {
+    fn of(method: Method) -> Self {
+        Self {
+            method,
+            prisms: PrismConstruction::Exact,
+        }
+    }
+
+    fn name(&self) -> String {
+        match (self.method, self.prisms) {
+            (Method::Temporal, PrismConstruction::Paper) => "temporal-paper-prisms".to_owned(),
+            (m, _) => m.name().to_owned(),
+        }
     }
 }
 
@@ -161,9 +200,9 @@ pub(super) fn hard_with(b: &mut Bench, params: &HardParams) -> Result<()> {
         let exposure = auto_exposure(&truth.image);
         let mut panels = Vec::new();
         let mut errors = Vec::new();
-        for (k, &method) in methods.iter().enumerate() {
-            let settings = params.settings(method, b);
-            let Some(m) = b.measure_once(&format!("{name}: {}", method.name()), &scene, &settings)
+        for (k, &row) in methods.iter().enumerate() {
+            let settings = params.row_settings(row, b);
+            let Some(m) = b.measure_once(&format!("{name}: {}", row.name()), &scene, &settings)
             else {
                 continue;
             };
@@ -172,7 +211,7 @@ pub(super) fn hard_with(b: &mut Bench, params: &HardParams) -> Result<()> {
             table
                 .push(vec![
                     name.to_string(),
-                    method.name().to_string(),
+                    row.name(),
                     fmt_num(e),
                     cell(masked_rmse(&m.image, &truth.image, &moving)?),
                     cell(masked_rmse(&m.image, &truth.image, &still)?),
@@ -180,9 +219,9 @@ pub(super) fn hard_with(b: &mut Bench, params: &HardParams) -> Result<()> {
                 ])
                 .map_err(bench_error)?;
             curves[k].push(((index + 1) as f64, e));
-            errors.push((method, e));
+            errors.push((row, e));
             panels.push((
-                format!("{} {}", method.name(), fmt_num(e)),
+                format!("{} {}", row.name(), fmt_num(e)),
                 Rgb8Image::from_radiance(&m.image, exposure).map_err(bench_error)?,
             ));
         }
@@ -210,7 +249,7 @@ pub(super) fn hard_with(b: &mut Bench, params: &HardParams) -> Result<()> {
     let lines = methods
         .iter()
         .zip(curves)
-        .map(|(m, points)| series(m.name(), points))
+        .map(|(m, points)| series(&m.name(), points))
         .collect();
     let title = format!("RMSE against the truth, {}", params.truth.label());
     b.write_chart("rmse", &chart(&title, &x_label, "RMSE", lines))?;
@@ -242,7 +281,7 @@ fn masked_rmse(image: &RadianceImage, truth: &RadianceImage, mask: &[bool]) -> R
 
 /// The temporal method's RMSE per scene; against an exact truth, with the targets
 /// (at most 0.005, and at most the brute-force reference's error).
-fn push_ratios(b: &mut Bench, params: &HardParams, scene: &str, errors: &[(Method, f64)]) {
+fn push_ratios(b: &mut Bench, params: &HardParams, scene: &str, errors: &[(Row, f64)]) {
     let of = |name: &str| {
         errors
             .iter()
