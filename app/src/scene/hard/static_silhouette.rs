@@ -166,6 +166,7 @@ mod tests {
         for k in 0..=64 {
             let t = k as f32 / 64.0;
             // Directed edge (start, end) at t0 -> (triangle faces the light, vertex indices).
+            #[allow(clippy::type_complexity)]
             let mut edges: HashMap<([u32; 3], [u32; 3]), (bool, usize, usize)> = HashMap::new();
             for i in (0..m.t0.len()).step_by(3) {
                 let [p, q, r] = [i, i + 1, i + 2].map(|j| at(m, j, t));
