@@ -252,7 +252,7 @@ fn push_ratios(b: &mut Bench, params: &HardParams, scene: &str, errors: &[(Metho
     let Some(temporal) = of("temporal") else {
         return;
     };
-    let what = format!("{scene}: temporal RMSE vs {}", params.truth.label());
+    let what = format!("{scene}: temporal RMSE");
     if !params.truth.exact() {
         b.report.ratios.push(ratio(what, temporal));
         return;

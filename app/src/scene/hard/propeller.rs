@@ -100,7 +100,7 @@ mod tests {
                 let expected = HUB + spin * (a - HUB);
                 assert!((b - expected).length() < 1e-4, "{a} -> {b}, not {expected}");
                 let radius = Vec3::new(a.x - HUB.x, 0.0, a.z - HUB.z).length();
-                assert!(radius >= ROOT - 1e-5 && radius <= 1.62, "{radius}");
+                assert!((ROOT - 1e-5..=1.62).contains(&radius), "{radius}");
                 fastest = fastest.max((a - b).length());
             }
         }
