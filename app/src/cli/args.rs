@@ -37,8 +37,8 @@ pub struct BenchArgs {
     /// Every preset at reduced resolution and sweep sizes (CI, a first look).
     #[arg(long)]
     pub quick: bool,
-    /// Presets to run (default: all): spp, random-cubes, speed, cube-size, equal-quality,
-    /// shadow-pass, scaling, hard.
+    /// Presets to run (default: all but hard): spp, random-cubes, speed, cube-size,
+    /// equal-quality, shadow-pass, scaling, hard.
     #[arg(long = "preset")]
     pub presets: Vec<String>,
     /// Shadow term of the presets' temporal and coverage renders (equal-quality sweeps both).

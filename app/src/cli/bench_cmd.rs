@@ -22,7 +22,7 @@ struct Summary<'a> {
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let presets: Vec<Preset> = if args.presets.is_empty() {
-        PRESETS.to_vec()
+        PRESETS.iter().copied().filter(|p| p.by_default()).collect()
     } else {
         args.presets
             .iter()

@@ -37,6 +37,8 @@ pub enum Preset {
     Hard,
 }
 
+/// Every preset, in the order a run without `--preset` takes them (those of
+/// [`Preset::by_default`]).
 pub const PRESETS: &[Preset] = &[
     Preset::Spp,
     Preset::RandomCubes,
@@ -64,6 +66,13 @@ impl Preset {
 
     pub fn from_name(name: &str) -> Option<Self> {
         PRESETS.iter().copied().find(|p| p.name() == name)
+    }
+
+    /// Whether a run without `--preset` includes it. `hard` runs only when named: at its
+    /// full size (the brute-force reference at 1,024 slices of 2048 x 2048 maps for each of
+    /// nine scenes) it took 31 minutes on lavapipe.
+    pub fn by_default(self) -> bool {
+        self != Preset::Hard
     }
 }
 

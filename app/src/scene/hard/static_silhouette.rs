@@ -89,7 +89,10 @@ mod tests {
     use super::super::check::{mesh, scene};
     use super::*;
 
-    fn key(p: Vec3) -> [u32; 3] {
+    /// A position's bits: the same vertex in every triangle that lists it.
+    type Key = [u32; 3];
+
+    fn key(p: Vec3) -> Key {
         p.to_array().map(f32::to_bits)
     }
 
@@ -109,7 +112,7 @@ mod tests {
         let s = scene("hard-static-silhouette");
         let m = mesh(&s, "box");
         assert!(m.closed);
-        let mut edges: HashMap<([u32; 3], [u32; 3]), i32> = HashMap::new();
+        let mut edges: HashMap<(Key, Key), i32> = HashMap::new();
         for tri in m.t0.chunks_exact(3) {
             for (a, b) in [(0, 1), (1, 2), (2, 0)] {
                 *edges.entry((key(tri[a]), key(tri[b]))).or_default() += 1;
@@ -166,8 +169,7 @@ mod tests {
         for k in 0..=64 {
             let t = k as f32 / 64.0;
             // Directed edge (start, end) at t0 -> (triangle faces the light, vertex indices).
-            #[allow(clippy::type_complexity)]
-            let mut edges: HashMap<([u32; 3], [u32; 3]), (bool, usize, usize)> = HashMap::new();
+            let mut edges: HashMap<(Key, Key), (bool, usize, usize)> = HashMap::new();
             for i in (0..m.t0.len()).step_by(3) {
                 let [p, q, r] = [i, i + 1, i + 2].map(|j| at(m, j, t));
                 let facing = (q - p).cross(r - p).dot(light.position - p) > 0.0;
