@@ -467,12 +467,13 @@ fn coordinates_just_inside_the_bound_render_lit_and_beyond_are_refused() {
 fn a_shadow_map_that_receives_nothing_is_warned_about() {
     let dir = temp_dir("empty-map");
     // The spot light looks down from y = 10, but its depth range ends at 5: every triangle
-    // lies beyond its far plane.
+    // lies beyond its far plane, which clips the papers' prisms (the exact ones are not
+    // clipped by the near and far planes, so they would shadow it).
     let json = scene_json("beyond-far", 0.1, "[0, 10, 0]", &[floor(4.0)])
         .replace(r#""near": 0.05, "far": 50"#, r#""near": 0.05, "far": 5"#);
     let scene = write_scene(&dir, "beyond.json", &json);
     let out = dir.join("out");
-    let run = render_file(&scene, &out, &["--json"]);
+    let run = render_file(&scene, &out, &["--json", "--prisms", "paper"]);
     assert!(run.succeeded(), "stderr: {}", run.stderr());
     let json: serde_json::Value = serde_json::from_slice(&run.output.stdout).unwrap();
     assert_eq!(json["fragments"], 0);
@@ -489,6 +490,13 @@ fn a_shadow_map_that_receives_nothing_is_warned_about() {
         "{}",
         run.stderr()
     );
+
+    // The exact prisms are not clipped by the far plane: the same scene has fragments.
+    let run = render_file(&scene, &out, &["--json"]);
+    assert!(run.succeeded(), "stderr: {}", run.stderr());
+    let json: serde_json::Value = serde_json::from_slice(&run.output.stdout).unwrap();
+    assert!(json["fragments"].as_u64().unwrap() > 0, "{json}");
+    assert_eq!(json["warnings"].as_array().map(Vec::len), Some(0), "{json}");
 
     // Within the depth range: fragments, no warning.
     let json = scene_json("within-far", 0.1, "[0, 10, 0]", &[floor(4.0)]);

@@ -314,10 +314,14 @@ impl<'a> Renderer<'a> {
             && counts.node_count == 0
             && geometry.triangle_count > 0
         {
-            warnings.push(
-                "no triangle reaches the shadow map (all outside the light's cone or its near..far depth range): the image has no shadows"
-                    .to_owned(),
-            );
+            // The exact construction is not clipped by the light's near and far planes.
+            let outside = match settings.prisms {
+                PrismConstruction::Exact => "the light's cone or box",
+                PrismConstruction::Paper => "the light's cone or its near..far depth range",
+            };
+            warnings.push(format!(
+                "no triangle reaches the shadow map (all outside {outside}): the image has no shadows"
+            ));
         }
         for w in &warnings {
             progress(&format!("warning: {w}"));
