@@ -43,8 +43,11 @@ void main() {
         if (!moving) t = 0.0;
         vec2 at = vec2(pixel) + offset;
         vec3 dir = ray00 + at.x * ray_dx + at.y * ray_dy;
-        float depth = intersect_triangle(origin, dir, mix(p0[0], in_p1[0], t),
-                                         mix(p0[1], in_p1[1], t), mix(p0[2], in_p1[2], t));
+        // p0 + t (p1 - p0), not mix(): a corner that does not move is then exactly p0 at
+        // every time, as it is for the static triangles that share it (no crack between).
+        float depth = intersect_triangle(origin, dir, p0[0] + t * (in_p1[0] - p0[0]),
+                                         p0[1] + t * (in_p1[1] - p0[1]),
+                                         p0[2] + t * (in_p1[2] - p0[2]));
         if (depth < near || depth > far) continue;
         uint64_t packed = (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(id);
         atomicMin(visibility.v[p * pc.sample_count + j], packed);

@@ -307,22 +307,42 @@ bool outside_one_plane(vec4 c[6]) {
     return all_l || all_r || all_b || all_t || all_n || all_f;
 }
 
-// Ray-triangle intersection (Moller-Trumbore), both faces. Returns the ray parameter, or -1.
+// (v[kx], v[ky], v[kz]) for the permutation of intersect_triangle: kz the axis of the ray's
+// largest component, kx and ky swapped when the ray points down it (keeps the winding).
+vec3 permute_axes(vec3 v, int kz, bool swap_xy) {
+    vec3 p = kz == 0 ? v.yzx : (kz == 1 ? v.zxy : v.xyz);
+    return swap_xy ? p.yxz : p;
+}
+
+// Watertight ray-triangle intersection (Woop, Benthin and Wald 2013, "Watertight
+// Ray/Triangle Intersection"), both faces. Returns the ray parameter, or -1. The ray is
+// sheared to run along +z from the origin, and each edge function is a 2D cross product of
+// two sheared corners: triangles sharing an edge compute its function from the same products
+// with the subtraction reversed (`precise`: no fused multiply-add on one side only), so a ray
+// through the edge, or a shared corner, hits at least one of them. (Moller-Trumbore rounds
+// each triangle's barycentrics on its own and lets rare samples through such cracks.)
 float intersect_triangle(vec3 origin, vec3 dir, vec3 a, vec3 b, vec3 c) {
-    vec3 e1 = b - a;
-    vec3 e2 = c - a;
-    vec3 p = cross(dir, e2);
-    float det = dot(e1, p);
-    if (abs(det) < 1e-12) return -1.0;
-    float inv = 1.0 / det;
-    vec3 s = origin - a;
-    float u = dot(s, p) * inv;
-    if (u < 0.0 || u > 1.0) return -1.0;
-    vec3 q = cross(s, e1);
-    float v = dot(dir, q) * inv;
-    if (v < 0.0 || u + v > 1.0) return -1.0;
-    float d = dot(e2, q) * inv;
-    return d > 0.0 ? d : -1.0;
+    vec3 m = abs(dir);
+    int kz = m.x >= m.y && m.x >= m.z ? 0 : (m.y >= m.z ? 1 : 2);
+    vec3 d = permute_axes(dir, kz, false);
+    bool swap_xy = d.z < 0.0;
+    d = swap_xy ? d.yxz : d;
+    float sz = 1.0 / d.z;
+    vec2 s = d.xy * sz;
+    vec3 pa = permute_axes(a - origin, kz, swap_xy);
+    vec3 pb = permute_axes(b - origin, kz, swap_xy);
+    vec3 pc = permute_axes(c - origin, kz, swap_xy);
+    precise vec2 sa = pa.xy - s * pa.z;
+    precise vec2 sb = pb.xy - s * pb.z;
+    precise vec2 sc = pc.xy - s * pc.z;
+    precise float u = sc.x * sb.y - sc.y * sb.x;
+    precise float v = sa.x * sc.y - sa.y * sc.x;
+    precise float w = sb.x * sa.y - sb.y * sa.x;
+    if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) return -1.0;
+    float det = u + v + w;
+    if (det == 0.0) return -1.0;
+    float hit = (u * pa.z + v * pb.z + w * pc.z) * sz / det;
+    return hit > 0.0 ? hit : -1.0;
 }
 
 // The camera ray through a point of the image, in pixels from the top-left corner. `dir` is
