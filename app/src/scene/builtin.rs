@@ -209,6 +209,33 @@ pub(super) fn random_albedo(rng: &mut SplitMix64) -> Vec3 {
 
 /// Hong & Oh 2017, Fig. 8: a dense field of unit cubes each flying in its own random
 /// direction, over a ground plane, lit from above by a spot light covering the field.
+/// Cube `i` of a random field (`random-cubes`, `hard-small-cubes`): at `p0` in a random
+/// orientation, moving a random distance in `speed` in a random direction, a random albedo.
+pub(super) fn random_moving_cube(
+    rng: &mut SplitMix64,
+    i: usize,
+    unit: &MeshSpec,
+    p0: Vec3,
+    speed: (f32, f32),
+) -> ObjectFile {
+    let t0 = TransformFile {
+        translation: Some(p0),
+        rotation_axis: Some(rng.unit_vector()),
+        rotation_deg: Some(rng.range(0.0, 360.0)),
+        scale: None,
+    };
+    let p1 = p0 + rng.unit_vector() * rng.range(speed.0, speed.1);
+    let albedo = random_albedo(rng);
+    object(
+        &format!("cube-{i}"),
+        albedo,
+        true,
+        unit.clone(),
+        t0,
+        Some(translate(p1)),
+    )
+}
+
 fn random_cubes(opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
     let BuiltinOptions {
         cube_count,
@@ -259,21 +286,12 @@ fn random_cubes(opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
                 rng.range(-0.5, 0.5),
                 rng.range(-0.5, 0.5),
             ) * side;
-        let t0 = TransformFile {
-            translation: Some(p0),
-            rotation_axis: Some(rng.unit_vector()),
-            rotation_deg: Some(rng.range(0.0, 360.0)),
-            scale: None,
-        };
-        let p1 = p0 + rng.unit_vector() * rng.range(speed_min, speed_max);
-        let albedo = random_albedo(&mut rng);
-        objects.push(object(
-            &format!("cube-{i}"),
-            albedo,
-            true,
-            unit.clone(),
-            t0,
-            Some(translate(p1)),
+        objects.push(random_moving_cube(
+            &mut rng,
+            i,
+            &unit,
+            p0,
+            (speed_min, speed_max),
         ));
     }
 

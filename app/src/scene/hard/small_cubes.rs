@@ -9,8 +9,8 @@
 
 use glam::Vec3;
 
-use super::super::builtin::{ground, object, random_albedo, translate};
-use super::super::file::{BoxSpec, MeshSpec, SceneFile, TransformFile};
+use super::super::builtin::{ground, random_moving_cube};
+use super::super::file::{BoxSpec, MeshSpec, SceneFile};
 use super::super::rng::SplitMix64;
 use super::{camera, scene_file, spot};
 
@@ -37,22 +37,7 @@ pub(super) fn scene() -> SceneFile {
             rng.range(HEIGHTS.0, HEIGHTS.1),
             rng.range(-HALF_WIDTH, HALF_WIDTH),
         );
-        let t0 = TransformFile {
-            translation: Some(p0),
-            rotation_axis: Some(rng.unit_vector()),
-            rotation_deg: Some(rng.range(0.0, 360.0)),
-            scale: None,
-        };
-        let p1 = p0 + rng.unit_vector() * rng.range(SPEED.0, SPEED.1);
-        let albedo = random_albedo(&mut rng);
-        objects.push(object(
-            &format!("cube-{i}"),
-            albedo,
-            true,
-            unit.clone(),
-            t0,
-            Some(translate(p1)),
-        ));
+        objects.push(random_moving_cube(&mut rng, i, &unit, p0, SPEED));
     }
     let middle = Vec3::new(0.0, (HEIGHTS.0 + HEIGHTS.1) * 0.5, 0.0);
     let aim = LIGHT + (middle - LIGHT) * (LIGHT.y / (LIGHT.y - middle.y));
