@@ -1,7 +1,7 @@
 // Coverage map, third pass of the 2017 paper's extension: the prisms again (shared by both
-// constructions). A pixel loses its
-// mark when another triangle may come nearer to the light than the covering one at some time
-// during the frame, or when the covering triangle itself does not cover it all frame long.
+// constructions). A pixel loses its mark when another triangle may come nearer to the light
+// than the covering one at some time during the frame, or when the covering triangle itself
+// does not cover it all frame long.
 //
 // Where the paper leaves it open (it tests against the depth buffer, i.e. the last cap depth
 // written, which misses a blocker that is nearer only while the covering triangle is far):

@@ -59,7 +59,7 @@ impl Truth {
 
 /// The truth of the preset: the exact ray tracer (`Truth::Reference` measures against the
 /// brute-force reference instead).
-fn truth(_reference_slices: u32) -> Truth {
+fn truth() -> Truth {
     Truth::Raytrace
 }
 
@@ -96,7 +96,7 @@ impl HardParams {
             shadow_size,
             spp,
             reference_slices,
-            truth: truth(reference_slices),
+            truth: truth(),
         }
     }
 
