@@ -141,6 +141,58 @@ bool ms_receiver_texel(MsLight light, uvec2 size, vec3 p, vec3 n, out uint texel
     return true;
 }
 
+// ---- filtered lookups: the 2x2 texels around a receiver's projection ----
+//
+// One texel's answer is a step in space: a receiver is shadowed or lit as its texel's centre
+// is. The filtered lookups weigh the four texels nearest to the receiver's projection by
+// their overlap with a one-texel box centred on it (bilinear weights, as percentage-closer
+// filtering does), so shadow edges ramp over one texel instead of stair-stepping. Each texel
+// tests the receiver at its own depth there: with the receiver-plane test, its tangent
+// plane's depth at that texel's centre (so the receiver's own surface does not shadow it in
+// the neighbouring texels either); otherwise its own depth.
+
+// Where a receiver at p (unit normal n) falls among the texels: `base` is the lower-left
+// texel of its 2x2 footprint (may be -1 or `size` at the map's borders), `f` the bilinear
+// weights' fractions, `q` the offset point and `depth` its light depth. False outside the
+// light's view.
+bool ms_receiver_footprint(MsLight light, uvec2 size, vec3 p, vec3 n, out vec3 q,
+                           out float depth, out ivec2 base, out vec2 f) {
+    q = ms_offset_receiver(light, p, n);
+    vec4 view = light.view * vec4(q, 1.0);
+    vec4 clip = light.proj * view;
+    depth = -view.z;
+    base = ivec2(0);
+    f = vec2(0.0);
+    if (clip.w <= 0.0) return false;
+    vec2 ndc = clip.xy / clip.w;
+    if (any(lessThan(ndc, vec2(-1.0))) || any(greaterThanEqual(ndc, vec2(1.0)))) return false;
+    vec2 u = (ndc * 0.5 + 0.5) * vec2(size) - 0.5;
+    vec2 lower = floor(u);
+    base = ivec2(lower);
+    f = u - lower;
+    return true;
+}
+
+// Texel k (0..3: x + 2 y) of a footprint: its index, the depth the receiver is tested at in
+// it and its weight; false for a texel outside the map (nothing there shadows: weight lit).
+bool ms_footprint_texel(MsLight light, uvec2 size, ivec2 base, vec2 f, int k, vec3 q,
+                        vec3 n, float depth, out uint texel_index, out float texel_depth,
+                        out float weight) {
+    ivec2 offset = ivec2(k & 1, k >> 1);
+    ivec2 c = base + offset;
+    vec2 w = mix(1.0 - f, f, vec2(offset));
+    weight = w.x * w.y;
+    texel_index = 0u;
+    texel_depth = depth;
+    if (any(lessThan(c, ivec2(0))) || any(greaterThanEqual(c, ivec2(size)))) return false;
+    texel_index = uint(c.y) * size.x + uint(c.x);
+    if (light.bias.w > 0.5) {
+        texel_depth = ms_receiver_plane_depth(light, size, uvec2(c), q, n, depth);
+    }
+    texel_depth *= 1.0 - light.bias.y;
+    return true;
+}
+
 // The header's contents as one value. A shader that tests many points loads it once
 // (ms_load) and passes it on: reading the header for every test costs a few hundred bytes of
 // loads each time, which a CPU device does lane by lane. Every function below also takes the
@@ -186,6 +238,16 @@ bool ms_covered_shadow(MsMap map, uint texel, uint cover, float depth, float t, 
     return cover != own && mix(d.x, d.y, t) < depth;
 }
 
+// Is a receiver at light depth `depth` on triangle `own` in shadow at time t in `texel`
+// (whose coverage mark, if the map has a coverage map, decides first)?
+bool ms_texel_shadowed(MsMap map, uint texel, float depth, float t, uint own) {
+    if (map.coverage != 0UL) {
+        uint cover = MsUints(map.coverage).v[texel];
+        if (cover != MS_NO_TRIANGLE) return ms_covered_shadow(map, texel, cover, depth, t, own);
+    }
+    return ms_ranges_shadow(map, texel, depth, t, own);
+}
+
 // The texel and the biased light depth of a receiver at `p` with unit normal `n` (on the
 // side facing the light); false outside the light's view.
 bool ms_receiver(MsMap map, vec3 p, vec3 n, out uint texel, out float depth) {
@@ -198,11 +260,7 @@ bool ms_shadowed(MsMap map, vec3 p, vec3 n, float t, uint own) {
     uint texel;
     float depth;
     if (!ms_receiver(map, p, n, texel, depth)) return false;
-    if (map.coverage != 0UL) {
-        uint cover = MsUints(map.coverage).v[texel];
-        if (cover != MS_NO_TRIANGLE) return ms_covered_shadow(map, texel, cover, depth, t, own);
-    }
-    return ms_ranges_shadow(map, texel, depth, t, own);
+    return ms_texel_shadowed(map, texel, depth, t, own);
 }
 
 bool ms_shadowed(MsShadowMap header, vec3 p, vec3 n, float t, uint own) {
@@ -242,16 +300,9 @@ vec2 ms_range_nearer(MsRange range, float depth, uint own) {
     return ms_nearer_interval(range.t_s, range.t_e, range.d_s, range.d_e, depth);
 }
 
-// The fraction of the shutter [0, 1] during which a receiver that stays at `p` all frame
-// sees the light: 1 minus the length of the union of the intervals during which some range
-// of its texel is nearer to the light than it. Exact (no time samples, no noise), with the
-// same receiver offset, bias and own-triangle rule as ms_shadowed. The union is measured by
-// taking the intervals in order of their start, found by a scan per interval: no arrays,
-// O(n^2) in the texel's ranges (a handful in practice; at most 512).
-float ms_lit_fraction(MsMap map, vec3 p, vec3 n, uint own) {
-    uint texel;
-    float depth;
-    if (!ms_receiver(map, p, n, texel, depth)) return 1.0;
+// The lit fraction of the shutter for a receiver at light depth `depth` on triangle `own`
+// in `texel` (see ms_lit_fraction).
+float ms_texel_lit_fraction(MsMap map, uint texel, float depth, uint own) {
     if (map.coverage != 0UL) {
         uint cover = MsUints(map.coverage).v[texel];
         if (cover != MS_NO_TRIANGLE) {
@@ -293,6 +344,70 @@ float ms_lit_fraction(MsMap map, vec3 p, vec3 n, uint own) {
     return 1.0 - min(shadowed, 1.0);
 }
 
+// The fraction of the shutter [0, 1] during which a receiver that stays at `p` all frame
+// sees the light: 1 minus the length of the union of the intervals during which some range
+// of its texel is nearer to the light than it. Exact (no time samples, no noise), with the
+// same receiver offset, bias and own-triangle rule as ms_shadowed. The union is measured by
+// taking the intervals in order of their start, found by a scan per interval: no arrays,
+// O(n^2) in the texel's ranges (a handful in practice; at most 512).
+float ms_lit_fraction(MsMap map, vec3 p, vec3 n, uint own) {
+    uint texel;
+    float depth;
+    if (!ms_receiver(map, p, n, texel, depth)) return 1.0;
+    return ms_texel_lit_fraction(map, texel, depth, own);
+}
+
 float ms_lit_fraction(MsShadowMap header, vec3 p, vec3 n, uint own) {
     return ms_lit_fraction(ms_load(header), p, n, own);
+}
+
+// ---- filtered (see ms_receiver_footprint): smooth in space as well ----
+
+// The share of the 2x2 footprint around p that sees the light at time t: 1 lit, 0 shadowed,
+// in between on a shadow edge (percentage-closer filtering of the ranges at time t).
+float ms_visibility_filtered(MsMap map, vec3 p, vec3 n, float t, uint own) {
+    vec3 q;
+    float depth;
+    ivec2 base;
+    vec2 f;
+    if (!ms_receiver_footprint(map.light, map.size, p, n, q, depth, base, f)) return 1.0;
+    float lit = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        uint texel;
+        float texel_depth, weight;
+        bool inside = ms_footprint_texel(map.light, map.size, base, f, k, q, n, depth, texel,
+                                         texel_depth, weight);
+        if (weight == 0.0) continue;
+        if (!inside || !ms_texel_shadowed(map, texel, texel_depth, t, own)) lit += weight;
+    }
+    return lit;
+}
+
+float ms_visibility_filtered(MsShadowMap header, vec3 p, vec3 n, float t, uint own) {
+    return ms_visibility_filtered(ms_load(header), p, n, t, own);
+}
+
+// ms_lit_fraction over the 2x2 footprint around p: the weighted mean of the four texels'
+// exact lit fractions of the shutter. For a receiver that does not move during the shutter:
+// no time noise, and shadow edges ramp over a texel.
+float ms_lit_fraction_filtered(MsMap map, vec3 p, vec3 n, uint own) {
+    vec3 q;
+    float depth;
+    ivec2 base;
+    vec2 f;
+    if (!ms_receiver_footprint(map.light, map.size, p, n, q, depth, base, f)) return 1.0;
+    float lit = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        uint texel;
+        float texel_depth, weight;
+        bool inside = ms_footprint_texel(map.light, map.size, base, f, k, q, n, depth, texel,
+                                         texel_depth, weight);
+        if (weight == 0.0) continue;
+        lit += weight * (inside ? ms_texel_lit_fraction(map, texel, texel_depth, own) : 1.0);
+    }
+    return lit;
+}
+
+float ms_lit_fraction_filtered(MsShadowMap header, vec3 p, vec3 n, uint own) {
+    return ms_lit_fraction_filtered(ms_load(header), p, n, own);
 }

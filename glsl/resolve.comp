@@ -55,14 +55,37 @@ bool shadowed_tsm(uint index, float depth, uint stratum) {
     return uintBitsToFloat(UintArray(plain_depths).v[stratum * layer_size + index]) < depth;
 }
 
-// Shadow test of the ordinary maps (plain, TSM), with the same receiver offset and bias as
-// ms_shadowed applies to the temporal map.
-bool shadowed_ordinary(vec3 p, vec3 n, uint id, uint stratum) {
-    uint index;
-    float depth;
-    if (!ms_receiver_texel(light, plain_size.xy, p, n, index, depth)) return false;
+// Shadow test of the ordinary maps (plain, TSM) in texel `index` at `depth`.
+bool shadowed_ordinary_texel(uint index, float depth, uint id, uint stratum) {
     return pc.mode == SHADOW_TSM ? shadowed_tsm(index, depth, stratum)
                                  : shadowed_plain(index, depth, id);
+}
+
+// Visibility from the ordinary maps (plain, TSM), with the same receiver test as
+// ms_visibility applies to the temporal map; `filtered`: percentage-closer filtering over the
+// same 2x2 footprint as ms_visibility_filtered.
+float visibility_ordinary(vec3 p, vec3 n, uint id, uint stratum, bool filtered) {
+    if (!filtered) {
+        uint index;
+        float depth;
+        if (!ms_receiver_texel(light, plain_size.xy, p, n, index, depth)) return 1.0;
+        return shadowed_ordinary_texel(index, depth, id, stratum) ? 0.0 : 1.0;
+    }
+    vec3 q;
+    float depth;
+    ivec2 base;
+    vec2 f;
+    if (!ms_receiver_footprint(light, plain_size.xy, p, n, q, depth, base, f)) return 1.0;
+    float lit = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        uint index;
+        float texel_depth, weight;
+        bool inside = ms_footprint_texel(light, plain_size.xy, base, f, k, q, n, depth, index,
+                                         texel_depth, weight);
+        if (weight == 0.0) continue;
+        if (!inside || !shadowed_ordinary_texel(index, texel_depth, id, stratum)) lit += weight;
+    }
+    return lit;
 }
 
 // Radiance of sample k; `moving` is set when the sample sees a moving triangle.
@@ -100,17 +123,22 @@ vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, out bool 
     if (spot && dot(-l, light.direction.xyz) < light.direction.w) return ambient;
     vec3 direct = albedo / PI * light.emission.x * cos_theta / dist2;
 
-    bool dark = false;
+    bool filtered = camera.shading.z > 0.5;
     if (pc.mode == SHADOW_TEMPORAL && camera.shading.y > 0.5 && !moving) {
         // The analytic estimator: a receiver that stays put all frame is lit for exactly
         // ms_lit_fraction of the shutter, whatever the sample's time.
-        return ambient + direct * ms_lit_fraction(temporal, p, n, id);
-    } else if (pc.mode == SHADOW_TEMPORAL) {
-        dark = ms_shadowed(temporal, p, n, t, id);
-    } else if (pc.mode != SHADOW_NONE) {
-        dark = shadowed_ordinary(p, n, id, time_stratum(rotation, k, camera.image.z));
+        float lit = filtered ? ms_lit_fraction_filtered(temporal, p, n, id)
+                             : ms_lit_fraction(temporal, p, n, id);
+        return ambient + direct * lit;
     }
-    return dark ? ambient : direct + ambient;
+    float lit = 1.0;
+    if (pc.mode == SHADOW_TEMPORAL) {
+        lit = filtered ? ms_visibility_filtered(temporal, p, n, t, id)
+                       : ms_visibility(temporal, p, n, t, id);
+    } else if (pc.mode != SHADOW_NONE) {
+        lit = visibility_ordinary(p, n, id, time_stratum(rotation, k, camera.image.z), filtered);
+    }
+    return ambient + direct * lit;
 }
 
 void main() {

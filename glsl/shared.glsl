@@ -166,7 +166,8 @@ struct CameraParams {
     vec4 ray_dx;            // the view axis; its change per pixel right
     vec4 ray_dy;            // and down
     uvec4 image;            // xy = image size, z = samples per pixel, w = seed
-    vec4 shading;           // x = ambient radiance factor, y = 1: analytic shadow estimator
+    vec4 shading;           // x = ambient radiance factor, y = 1: analytic shadow estimator,
+                            // z = 1: filtered lookups (2x2 texels, bilinear weights)
     uint64_t visibility;    // Uint64Array: per pixel and sample of a chunk, depth bits | id
     uint64_t radiance;      // Vec4Array: per pixel, accumulated radiance and moving share
     uint64_t counters;      // UintArray: [0] = triangles dropped for an invalid index

@@ -205,6 +205,7 @@ fn static_scene_matches_the_closed_form_shading() {
             seed: SEED,
             ambient: AMBIENT,
             estimator: Default::default(),
+            filter: Default::default(),
         };
         let params = CameraParams::new(&view, SIZE, SPP);
         let origin = params.position.truncate().as_dvec3();

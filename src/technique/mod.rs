@@ -48,7 +48,7 @@ pub use sampling::{pixel_key, pixel_sample};
 pub use shadow_map::{ShadowMapContents, TemporalShadowMap};
 pub use view::{
     CameraView, DEFAULT_DEPTH_BIAS, DEFAULT_NORMAL_OFFSET_TEXELS, LightKind, LightView,
-    LightingView, PrismConstruction, ShadowEstimator,
+    LightingView, PrismConstruction, ShadowEstimator, ShadowFilter,
 };
 
 /// `glsl/motion_shadows.glsl`: the GLSL include a host's own shaders use to test visibility

@@ -227,6 +227,20 @@ pub enum ShadowEstimator {
     Analytic,
 }
 
+/// How the lighting pass reads a shadow map around a receiver.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum ShadowFilter {
+    /// The receiver's own texel: shadow edges are steps one texel wide.
+    #[default]
+    None,
+    /// The 2x2 texels nearest to the receiver's projection, weighted by their overlap with
+    /// a one-texel box centred on it (percentage-closer filtering; on the temporal map each
+    /// texel's answer is its ranges' at the sample's time, or with the analytic estimator its
+    /// exact lit fraction of the shutter): edges ramp over one texel. GLSL:
+    /// `ms_visibility_filtered`, `ms_lit_fraction_filtered`. Applies to every map.
+    Bilinear,
+}
+
 /// How the library's own lighting pass samples the camera view and shades.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LightingView {
@@ -238,6 +252,8 @@ pub struct LightingView {
     pub ambient: f32,
     /// How the shadow term of the temporal shadow map is estimated.
     pub estimator: ShadowEstimator,
+    /// How the shadow maps are read around each receiver.
+    pub filter: ShadowFilter,
 }
 
 /// Camera ray directions as an affine function of the pixel position (see `camera_ray` in
@@ -276,7 +292,10 @@ impl CameraParams {
                     ShadowEstimator::Sampled => 0.0,
                     ShadowEstimator::Analytic => 1.0,
                 },
-                0.0,
+                match view.filter {
+                    ShadowFilter::None => 0.0,
+                    ShadowFilter::Bilinear => 1.0,
+                },
                 0.0,
             ),
             ..Self::default()

@@ -108,6 +108,7 @@ fn fixed_time_image(
         seed,
         ambient: s.ambient,
         estimator,
+        filter: Default::default(),
     };
     let collection = CollectionPass::new(ctx).unwrap();
     let generation = GenerationPass::new(ctx).unwrap();

@@ -15,7 +15,7 @@ use deferred::{
 use glam::{DMat4, DVec3, Vec3};
 use motion_shadows::technique::{LightingView, TemporalShadowMap};
 use motion_shadows_app::render::upload::camera_view;
-use motion_shadows_app::render::{Method, RenderSettings};
+use motion_shadows_app::render::{Method, ReceiverTest, RenderSettings};
 use motion_shadows_app::scene as app;
 
 // `deferred` finds the host's device type as `super::host`.
@@ -367,6 +367,8 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
                 seed: SEED,
                 shadow_size: Some(SHADOW),
                 method: Method::Temporal,
+                // The host's lights keep the library's default receiver test (the normal offset).
+                receiver: ReceiverTest::Offset,
                 ..RenderSettings::default()
             };
             let result = render(&ctx, &scene, &settings);
@@ -431,6 +433,8 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
         seed: SEED,
         shadow_size: Some(SHADOW),
         method: Method::Reference { slices: 256 },
+        // The host's lights keep the library's default receiver test (the normal offset).
+        receiver: ReceiverTest::Offset,
         ..RenderSettings::default()
     };
     let start = std::time::Instant::now();
@@ -573,6 +577,8 @@ fn glsl_include_in_a_host_shader_agrees_with_the_library_lighting_pass() {
             seed: SEED,
             shadow_size: Some(SHADOW),
             method: Method::Temporal,
+            // The host's lights keep the library's default receiver test (the normal offset).
+            receiver: ReceiverTest::Offset,
             ..RenderSettings::default()
         };
         let result = render(&ctx, &scene, &settings);
@@ -953,6 +959,7 @@ fn lighting_pass_writes_into_a_host_image() {
             seed: 3,
             ambient: scene.ambient,
             estimator: Default::default(),
+            filter: Default::default(),
         };
         let collection = CollectionPass::new(&ctx).unwrap();
         let generation = GenerationPass::new(&ctx).unwrap();

@@ -10,8 +10,8 @@ use motion_shadows::technique::{
     CollectionPass, Counters, DrawList, GenerationPass, LightingPass, LightingTarget, LightingView,
     MAX_SAMPLES_PER_CHUNK, ShadowSource, TemporalShadowMap,
 };
-use motion_shadows_app::render::RenderSettings;
 use motion_shadows_app::render::upload::{self, SceneGeometry};
+use motion_shadows_app::render::{ReceiverTest, RenderSettings};
 use motion_shadows_app::scene::{BuiltinOptions, Scene, builtin};
 
 const WIDTH: u32 = 128;
@@ -53,6 +53,7 @@ fn render_embedded(host: &Host, scene: &Scene) -> Embedded {
         seed: SEED,
         ambient: scene.ambient,
         estimator: Default::default(),
+        filter: Default::default(),
     };
     let collection = CollectionPass::new(&ctx).expect("collection pass");
     let generation = GenerationPass::new(&ctx).expect("generation pass");
@@ -141,6 +142,8 @@ fn host_device_and_command_buffer_render_the_same_image_as_the_renderer() {
         height: HEIGHT,
         spp: SPP,
         seed: SEED,
+        // The host's lights keep the library's default receiver test (the normal offset).
+        receiver: ReceiverTest::Offset,
         ..RenderSettings::default()
     };
     let reference = render(&ctx, &scene, &settings);

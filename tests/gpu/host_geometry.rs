@@ -24,6 +24,7 @@ fn views(scene: &Scene) -> (LightView, LightingView) {
         seed: 11,
         ambient: scene.ambient,
         estimator: Default::default(),
+        filter: Default::default(),
     };
     (light, view)
 }

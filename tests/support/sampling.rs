@@ -26,6 +26,7 @@ impl CameraRays {
             seed: 0,
             ambient: 0.0,
             estimator: Default::default(),
+            filter: Default::default(),
         };
         let params = motion_shadows::technique::CameraParams::new(&view, size, 1);
         Self {

@@ -26,6 +26,10 @@ pub struct Scale {
     pub shadow_estimator: motion_shadows::technique::ShadowEstimator,
     /// The prism construction of the presets' temporal and coverage renders (`--prisms`).
     pub prisms: motion_shadows::technique::PrismConstruction,
+    /// The receiver test of the presets' renders (`--receiver`).
+    pub receiver: crate::render::ReceiverTest,
+    /// The shadow-map filter of the presets' renders but the reference (`--shadow-filter`).
+    pub shadow_filter: motion_shadows::technique::ShadowFilter,
 }
 
 impl Scale {
@@ -39,6 +43,20 @@ impl Scale {
             out,
             shadow_estimator: Default::default(),
             prisms: Default::default(),
+            receiver: Default::default(),
+            shadow_filter: Default::default(),
+        }
+    }
+
+    /// The filter `method` renders with: `shadow_filter`, but never for the brute-force
+    /// reference (a filtered reference would not converge to the truth).
+    pub fn shadow_filter_for(
+        &self,
+        method: &crate::render::Method,
+    ) -> motion_shadows::technique::ShadowFilter {
+        match method {
+            crate::render::Method::Reference { .. } => Default::default(),
+            _ => self.shadow_filter,
         }
     }
 

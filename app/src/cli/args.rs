@@ -47,6 +47,13 @@ pub struct BenchArgs {
     /// Prism construction of the presets' temporal and coverage renders.
     #[arg(long, value_enum, default_value_t = PrismsArg::Exact)]
     pub prisms: PrismsArg,
+    /// Receiver test of the presets' renders (see `render --receiver`).
+    #[arg(long, value_enum, default_value_t = ReceiverArg::Auto)]
+    pub receiver: ReceiverArg,
+    /// Shadow-map lookups: `none` (the receiver's texel) or `bilinear` (2x2 texels weighted
+    /// by footprint, each integrated over time with the analytic estimator).
+    #[arg(long, value_enum, default_value_t = FilterArg::None)]
+    pub shadow_filter: FilterArg,
     #[arg(long, default_value = "bench")]
     pub out: PathBuf,
     /// Print the results as one JSON object on stdout.
@@ -93,9 +100,18 @@ pub struct CompareArgs {
     /// Prism construction of the temporal method: exact or the papers'.
     #[arg(long, value_enum, default_value_t = PrismsArg::Exact)]
     pub prisms: PrismsArg,
-    /// Test receivers at their plane's depth at the shadow texel's centre, without the normal
-    /// offset (every method's lookup): keeps contact shadows at grazing light.
-    #[arg(long)]
+    /// Receiver test of every map lookup: `plane` (the receiver's plane's depth at the
+    /// shadow texel's centre, no normal offset: keeps contact shadows at grazing light),
+    /// `offset` (one shadow texel along the normal, the papers'), or `auto` (plane where the
+    /// maps hold triangle ids, offset for TSM).
+    #[arg(long, value_enum, default_value_t = ReceiverArg::Auto)]
+    pub receiver: ReceiverArg,
+    /// Shadow-map lookups: `none` (the receiver's texel) or `bilinear` (2x2 texels weighted
+    /// by footprint, each integrated over time with the analytic estimator).
+    #[arg(long, value_enum, default_value_t = FilterArg::None)]
+    pub shadow_filter: FilterArg,
+    /// The same as `--receiver plane` (kept for scripts written before `--receiver`).
+    #[arg(long, conflicts_with = "receiver")]
     pub receiver_plane: bool,
     /// What the other methods are measured against: the brute-force reference, or the ray
     /// tracer (then the reference is one more method measured against it).
@@ -167,6 +183,49 @@ impl PrismsArg {
         match self {
             Self::Exact => motion_shadows::technique::PrismConstruction::Exact,
             Self::Paper => motion_shadows::technique::PrismConstruction::Paper,
+        }
+    }
+}
+
+/// `--shadow-filter`: how a shadow map is read around a receiver.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FilterArg {
+    /// The receiver's own texel.
+    None,
+    /// The 2x2 texels around the receiver's projection, bilinear weights (PCF).
+    Bilinear,
+}
+
+impl FilterArg {
+    pub fn filter(self) -> motion_shadows::technique::ShadowFilter {
+        match self {
+            Self::None => motion_shadows::technique::ShadowFilter::None,
+            Self::Bilinear => motion_shadows::technique::ShadowFilter::Bilinear,
+        }
+    }
+}
+
+/// `--receiver`: how a receiver is tested against the shadow maps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ReceiverArg {
+    /// `plane` where the maps hold triangle ids (temporal, coverage, reference, plain),
+    /// `offset` for TSM.
+    Auto,
+    /// The receiver's tangent plane's depth at the texel centre, no normal offset.
+    Plane,
+    /// The receiver moved one shadow texel along its normal (the papers').
+    Offset,
+}
+
+impl ReceiverArg {
+    /// The setting, with the older `--receiver-plane` flag folded in.
+    pub fn test(self, receiver_plane_flag: bool) -> crate::render::ReceiverTest {
+        use crate::render::ReceiverTest;
+        match self {
+            _ if receiver_plane_flag => ReceiverTest::Plane,
+            Self::Auto => ReceiverTest::Auto,
+            Self::Plane => ReceiverTest::Plane,
+            Self::Offset => ReceiverTest::Offset,
         }
     }
 }
@@ -243,9 +302,18 @@ pub struct RenderArgs {
     /// times per texel) or the papers' triangulated prism.
     #[arg(long, value_enum, default_value_t = PrismsArg::Exact)]
     pub prisms: PrismsArg,
-    /// Test receivers at their plane's depth at the shadow texel's centre, without the normal
-    /// offset (every method's lookup): keeps contact shadows at grazing light.
-    #[arg(long)]
+    /// Receiver test of every map lookup: `plane` (the receiver's plane's depth at the
+    /// shadow texel's centre, no normal offset: keeps contact shadows at grazing light),
+    /// `offset` (one shadow texel along the normal, the papers'), or `auto` (plane where the
+    /// maps hold triangle ids, offset for TSM).
+    #[arg(long, value_enum, default_value_t = ReceiverArg::Auto)]
+    pub receiver: ReceiverArg,
+    /// Shadow-map lookups: `none` (the receiver's texel) or `bilinear` (2x2 texels weighted
+    /// by footprint, each integrated over time with the analytic estimator).
+    #[arg(long, value_enum, default_value_t = FilterArg::None)]
+    pub shadow_filter: FilterArg,
+    /// The same as `--receiver plane` (kept for scripts written before `--receiver`).
+    #[arg(long, conflicts_with = "receiver")]
     pub receiver_plane: bool,
     /// Reference: number of time slices averaged (the papers use 3000).
     #[arg(long, default_value_t = 1024)]

@@ -14,6 +14,10 @@ struct Summary<'a> {
     quick: bool,
     shadow_estimator: &'static str,
     prisms: &'static str,
+    /// `--receiver`: auto, plane or offset.
+    receiver: &'static str,
+    /// `--shadow-filter`: none or bilinear.
+    shadow_filter: &'static str,
     width: u32,
     height: u32,
     wall_seconds: f64,
@@ -41,6 +45,8 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let scale = Scale {
         shadow_estimator: args.shadow_estimator.estimator(),
         prisms: args.prisms.construction(),
+        receiver: args.receiver.test(false),
+        shadow_filter: args.shadow_filter.filter(),
         ..Scale::new(args.quick, args.out.clone())
     };
     let mut renderer = Renderer::new(&ctx)?;
@@ -59,6 +65,8 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             super::args::EstimatorArg::Analytic => "analytic",
         },
         prisms: crate::render::stats::prisms_name(scale.prisms),
+        receiver: scale.receiver.name(),
+        shadow_filter: crate::render::stats::filter_name(scale.shadow_filter),
         width: scale.width,
         height: scale.height,
         wall_seconds: start.elapsed().as_secs_f64(),

@@ -12,6 +12,7 @@ use crate::render::{FrameStats, Method, RenderSettings, Renderer};
 use crate::scene::{builtin, load_scene_file};
 use anyhow::Context as _;
 use motion_shadows::gpu::{Context, ContextOptions};
+use motion_shadows::technique::ShadowFilter;
 use serde::Serialize;
 
 /// A pixel belongs to the moving-object mask when most of its truth's samples see a moving
@@ -116,7 +117,13 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         method,
         shadow_estimator: args.shadow_estimator.estimator(),
         prisms: args.prisms.construction(),
-        receiver_plane: args.receiver_plane,
+        receiver: args.receiver.test(args.receiver_plane),
+        // The brute-force reference stays the papers' (a filtered one would not converge to
+        // the truth); the filter is for the methods being compared.
+        shadow_filter: match method {
+            Method::Reference { .. } => ShadowFilter::None,
+            _ => args.shadow_filter.filter(),
+        },
         ..RenderSettings::default()
     };
     // Checked before anything is loaded or rendered.
@@ -175,6 +182,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             "temporal" if result.stats.shadow_estimator == "analytic" => {
                 format!("temporal analytic {spp} spp")
             }
+            _ if result.stats.shadow_filter == "bilinear" => format!("{method} filtered {spp} spp"),
             _ => format!("{method} {spp} spp"),
         };
         panels.push((

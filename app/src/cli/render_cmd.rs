@@ -69,7 +69,8 @@ pub fn render_settings(args: &RenderArgs) -> RenderSettings {
         },
         shadow_estimator: args.shadow_estimator.estimator(),
         prisms: args.prisms.construction(),
-        receiver_plane: args.receiver_plane,
+        receiver: args.receiver.test(args.receiver_plane),
+        shadow_filter: args.shadow_filter.filter(),
         ..RenderSettings::default()
     }
 }

@@ -62,6 +62,7 @@ pub fn render(
         seed: settings.seed,
         ambient: scene.ambient,
         estimator: settings.shadow_estimator,
+        filter: Default::default(),
     };
     let rays = CameraRays::new(&CameraParams::new(&view, (width, height), settings.spp));
     let (lo, hi) = scene.bounds();
@@ -105,8 +106,9 @@ pub fn render(
             ShadowEstimator::Analytic => "analytic",
         }
         .to_owned(),
+        shadow_filter: "none".to_owned(),
         prisms: crate::render::stats::prisms_name(settings.prisms).to_owned(),
-        receiver_plane: settings.receiver_plane,
+        receiver_plane: settings.receiver_plane(),
         width,
         height,
         shadow_width: 0,

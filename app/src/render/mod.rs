@@ -7,6 +7,7 @@
 //! re-run if needed) -> lighting -> radiance read back -> [`RadianceImage`].
 
 mod methods;
+pub mod receiver;
 pub mod stats;
 pub mod times;
 pub mod upload;
@@ -19,8 +20,9 @@ use motion_shadows::gpu::{Context, OneShot, TimestampQueries};
 use motion_shadows::technique::{
     CollectionPass, CoveragePass, DrawList, GenerationPass, LightView, LightingPass,
     LightingTarget, LightingView, MAX_SAMPLES_PER_CHUNK, PlainShadowPass, PrismConstruction,
-    ShadowEstimator, TemporalShadowMap,
+    ShadowEstimator, ShadowFilter, TemporalShadowMap,
 };
+pub use receiver::ReceiverTest;
 pub use stats::{FrameStats, PassTime, equation_2_bytes};
 use std::time::Instant;
 use upload::SceneGeometry;
@@ -91,11 +93,14 @@ pub struct RenderSettings {
     pub max_samples_per_chunk: u32,
     /// How the temporal and coverage methods estimate the shadow term.
     pub shadow_estimator: ShadowEstimator,
+    /// How every shadow-map method reads its maps around a receiver (the ray tracer has
+    /// none).
+    pub shadow_filter: ShadowFilter,
     /// How the temporal and coverage methods' collection pass builds the prisms.
     pub prisms: PrismConstruction,
-    /// Receivers tested at their plane's depth at the texel centre, without normal offset
-    /// (`LightView::receiver_plane`), for every method.
-    pub receiver_plane: bool,
+    /// How receivers are tested against the maps: at their plane's depth at the texel centre
+    /// without normal offset (`LightView::receiver_plane`), or offset along their normal.
+    pub receiver: ReceiverTest,
 }
 
 impl Default for RenderSettings {
@@ -111,13 +116,19 @@ impl Default for RenderSettings {
             initial_range_capacity: None,
             max_samples_per_chunk: MAX_SAMPLES_PER_CHUNK,
             shadow_estimator: ShadowEstimator::Sampled,
+            shadow_filter: ShadowFilter::None,
             prisms: PrismConstruction::Exact,
-            receiver_plane: false,
+            receiver: ReceiverTest::Auto,
         }
     }
 }
 
 impl RenderSettings {
+    /// Whether this frame's method tests receivers at their plane's depth.
+    pub fn receiver_plane(&self) -> bool {
+        self.receiver.uses_plane(&self.method)
+    }
+
     pub fn shadow_size(&self) -> (u32, u32) {
         self.shadow_size.unwrap_or((self.width, self.height))
     }
@@ -234,7 +245,7 @@ impl<'a> Renderer<'a> {
             prisms: settings.prisms,
             ..upload::light_view(scene, shadow_size)
         };
-        if settings.receiver_plane {
+        if settings.receiver_plane() {
             light.receiver_plane = true;
             light.normal_offset_texels = 0.0;
         }
@@ -243,6 +254,7 @@ impl<'a> Renderer<'a> {
             seed: settings.seed,
             ambient: scene.ambient,
             estimator: settings.shadow_estimator,
+            filter: settings.shadow_filter,
         };
         let inputs = FrameInputs {
             draws: &draws,
@@ -337,8 +349,9 @@ impl<'a> Renderer<'a> {
                 ShadowEstimator::Analytic => "analytic",
             }
             .to_owned(),
+            shadow_filter: stats::filter_name(settings.shadow_filter).to_owned(),
             prisms: stats::prisms_name(settings.prisms).to_owned(),
-            receiver_plane: settings.receiver_plane,
+            receiver_plane: settings.receiver_plane(),
             width: settings.width,
             height: settings.height,
             shadow_width: shadow_size.0,

@@ -6,6 +6,14 @@ use serde::Serialize;
 pub const NODE_BYTES: u64 = 16;
 pub const RANGE_BYTES: u64 = 24;
 
+/// The name `--shadow-filter` and the JSON outputs give a filter.
+pub fn filter_name(filter: motion_shadows::technique::ShadowFilter) -> &'static str {
+    match filter {
+        motion_shadows::technique::ShadowFilter::None => "none",
+        motion_shadows::technique::ShadowFilter::Bilinear => "bilinear",
+    }
+}
+
 /// The name `--prisms` and the JSON outputs give a construction.
 pub fn prisms_name(construction: motion_shadows::technique::PrismConstruction) -> &'static str {
     match construction {
@@ -28,9 +36,13 @@ pub struct FrameStats {
     /// "sampled" or "analytic" (`--shadow-estimator`; only the temporal and coverage methods
     /// use it).
     pub shadow_estimator: String,
+    /// "none" or "bilinear" (`--shadow-filter`; every shadow-map method; the ray tracer has
+    /// no map: "none").
+    pub shadow_filter: String,
     /// "exact" or "paper" (`--prisms`; only the temporal and coverage methods use it).
     pub prisms: String,
-    /// `--receiver-plane`: receivers tested at their plane's depth at the texel centre.
+    /// Whether this frame's method tested receivers at their plane's depth at the texel
+    /// centre (`--receiver`: `auto` gives it to every method but TSM; never the ray tracer).
     pub receiver_plane: bool,
     pub width: u32,
     pub height: u32,

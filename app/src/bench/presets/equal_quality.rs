@@ -6,7 +6,8 @@ use crate::compare::rmse;
 use crate::error::Result;
 use crate::render::{Method, RenderSettings};
 use crate::scene::BuiltinOptions;
-use motion_shadows::technique::ShadowEstimator;
+use motion_shadows::technique::ShadowEstimator::{self, Analytic, Sampled};
+use motion_shadows::technique::ShadowFilter;
 
 /// (GPU ms, RMSE, samples per pixel or slices) of each configuration of one method.
 type Curve = Vec<(f64, f64, u32)>;
@@ -14,13 +15,17 @@ type Curve = Vec<(f64, f64, u32)>;
 pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
     let scene = builtin_scene("cubes-toward-light", &BuiltinOptions::default())?;
     let (width, height) = b.scale.pick((128, 96), (320, 240));
-    let at = |method, spp, seed, shadow_estimator| RenderSettings {
+    let (prisms, receiver) = (b.scale.prisms, b.scale.receiver);
+    let at = |method, spp, seed, shadow_estimator, shadow_filter| RenderSettings {
         width,
         height,
         spp,
         seed,
         method,
         shadow_estimator,
+        shadow_filter,
+        prisms,
+        receiver,
         ..RenderSettings::default()
     };
     let reference_slices = b.scale.pick(512, 2048);
@@ -36,6 +41,7 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
                 1,
                 1000,
                 ShadowEstimator::Sampled,
+                ShadowFilter::None,
             ),
         )
         .ok_or_else(|| bench_error("the reference could not be rendered"))?;
@@ -45,7 +51,7 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
             .to_vec(),
     );
     let mut curves: Vec<(&str, Curve)> = Vec::new();
-    let sweeps: [(&str, Vec<u32>); 4] = [
+    let sweeps: [(&str, Vec<u32>); 5] = [
         (
             "temporal",
             b.scale
@@ -53,6 +59,11 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
         ),
         (
             "temporal analytic",
+            b.scale
+                .pick(vec![1, 2, 4, 8, 16, 32], vec![1, 2, 4, 8, 16, 32, 64]),
+        ),
+        (
+            "temporal analytic filtered",
             b.scale
                 .pick(vec![1, 2, 4, 8, 16, 32], vec![1, 2, 4, 8, 16, 32, 64]),
         ),
@@ -72,13 +83,21 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
     for (name, samples) in sweeps {
         let mut curve = Vec::new();
         for n in samples {
-            let (method, spp, estimator) = match name {
-                "temporal" => (Method::Temporal, n, ShadowEstimator::Sampled),
-                "temporal analytic" => (Method::Temporal, n, ShadowEstimator::Analytic),
-                "tsm" => (Method::Tsm, n, ShadowEstimator::Sampled),
-                _ => (Method::Reference { slices: n }, 1, ShadowEstimator::Sampled),
+            let (method, spp, estimator, filter) = match name {
+                "temporal" => (Method::Temporal, n, Sampled, ShadowFilter::None),
+                "temporal analytic" => (Method::Temporal, n, Analytic, ShadowFilter::None),
+                "temporal analytic filtered" => {
+                    (Method::Temporal, n, Analytic, ShadowFilter::Bilinear)
+                }
+                "tsm" => (Method::Tsm, n, Sampled, ShadowFilter::None),
+                _ => (
+                    Method::Reference { slices: n },
+                    1,
+                    Sampled,
+                    ShadowFilter::None,
+                ),
             };
-            let settings = at(method, spp, 1, estimator);
+            let settings = at(method, spp, 1, estimator, filter);
             let Some(m) = b.measure(&format!("{name} {n}"), &scene, &settings) else {
                 continue;
             };
@@ -152,16 +171,25 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
             ));
         }
     }
-    // The analytic estimator against brute force at the same goal (issue target: >= 20).
-    let t_analytic = time_to(&curves[1].1);
-    let t_reference = time_to(&curves[3].1);
-    if t_analytic.is_finite() && t_reference.is_finite() {
-        b.report.ratios.push(target(
-            "equal-quality time reference / temporal analytic".to_string(),
-            t_reference / t_analytic,
-            20.0,
-            false,
-        ));
+    // The analytic estimators against brute force at the same goal (issue target: >= 20).
+    let curve = |wanted: &str| {
+        curves
+            .iter()
+            .find(|(name, _)| *name == wanted)
+            .map(|(_, c)| time_to(c))
+            .unwrap_or(f64::INFINITY)
+    };
+    let t_reference = curve("reference");
+    for name in ["temporal analytic", "temporal analytic filtered"] {
+        let t = curve(name);
+        if t.is_finite() && t_reference.is_finite() {
+            b.report.ratios.push(target(
+                format!("equal-quality time reference / {name}"),
+                t_reference / t,
+                20.0,
+                false,
+            ));
+        }
     }
     Ok(())
 }

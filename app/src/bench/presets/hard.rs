@@ -115,6 +115,8 @@ impl HardParams {
             shadow_size: Some(self.shadow_size),
             method,
             shadow_estimator: b.scale.shadow_estimator,
+            receiver: b.scale.receiver,
+            shadow_filter: b.scale.shadow_filter_for(&method),
             ..RenderSettings::default()
         }
     }

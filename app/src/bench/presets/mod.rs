@@ -145,6 +145,8 @@ impl Bench<'_, '_> {
             method,
             shadow_estimator: self.scale.shadow_estimator,
             prisms: self.scale.prisms,
+            receiver: self.scale.receiver,
+            shadow_filter: self.scale.shadow_filter_for(&method),
             ..RenderSettings::default()
         }
     }
