@@ -22,6 +22,13 @@
 
 const uint MS_END_OF_LIST = 0u;         // list links are index + 1, so 0 ends a list
 const uint MS_NO_TRIANGLE = 0xffffffffu;
+// The most ranges one texel can hold (the generation pass pairs at most 1,024 fragments).
+const uint MS_MAX_TEXEL_RANGES = 512u;
+
+// Loop iterations the ms_ functions have run in this invocation (an upper bound), so that a
+// caller on a device that leaves loops after a fixed count (lavapipe: 65,535 per invocation,
+// see DeviceInfo::shader_loop_limit) can tell when a result may have been cut short.
+uint ms_loop_iterations = 0u;
 
 // A depth-time range (24 bytes): triangle `id` covers the texel from t_s to t_e (t_s <= t_e),
 // at a linear light depth going linearly from d_s to d_e.
@@ -193,6 +200,33 @@ bool ms_footprint_texel(MsLight light, uvec2 size, ivec2 base, vec2 f, int k, ve
     return true;
 }
 
+// A pixel's footprint on the receiver's tangent plane: the parallelogram centred on p with
+// axes dpdx and dpdy (the world-space step of one pixel in x and y, e.g. dFdx / dFdy of the
+// world position in a fragment shader). The footprint lookups average the bilinear lookup
+// over a grid of points spread over it, as many per axis as the axis spans texels (1 to
+// MS_FOOTPRINT_MAX_TAPS): a pixel then gets its whole area's shadow from one sample, with
+// no noise from where in the pixel the sample fell.
+const int MS_FOOTPRINT_MAX_TAPS = 2;
+
+// The grid of points over a footprint: `taps` per axis.
+ivec2 ms_footprint_taps(MsLight light, uvec2 size, vec3 p, vec3 dpdx, vec3 dpdy) {
+    vec4 c0 = light.proj * (light.view * vec4(p, 1.0));
+    vec4 cx = light.proj * (light.view * vec4(p + dpdx, 1.0));
+    vec4 cy = light.proj * (light.view * vec4(p + dpdy, 1.0));
+    vec2 half_size = 0.5 * vec2(size);
+    float lx = length((cx.xy / cx.w - c0.xy / c0.w) * half_size);
+    float ly = length((cy.xy / cy.w - c0.xy / c0.w) * half_size);
+    bool seen = c0.w > 0.0 && cx.w > 0.0 && cy.w > 0.0 && lx < 1e6 && ly < 1e6;
+    return seen ? clamp(ivec2(ceil(vec2(lx, ly))), ivec2(1), ivec2(MS_FOOTPRINT_MAX_TAPS))
+                : ivec2(1);
+}
+
+// Point i (of taps.x * taps.y) of the grid over the footprint.
+vec3 ms_footprint_point(vec3 p, vec3 dpdx, vec3 dpdy, ivec2 taps, int i) {
+    vec2 s = (vec2(i % taps.x, i / taps.x) + 0.5) / vec2(taps) - 0.5;
+    return p + s.x * dpdx + s.y * dpdy;
+}
+
 // The header's contents as one value. A shader that tests many points loads it once
 // (ms_load) and passes it on: reading the header for every test costs a few hundred bytes of
 // loads each time, which a CPU device does lane by lane. Every function below also takes the
@@ -217,6 +251,7 @@ bool ms_ranges_shadow(MsMap map, uint texel, float depth, float t, uint own) {
     MsRanges ranges = MsRanges(map.ranges);
     for (uint r = MsUints(map.range_heads).v[texel]; r != MS_END_OF_LIST;
          r = ranges.v[r - 1u].next) {
+        ++ms_loop_iterations;
         MsRange range = ranges.v[r - 1u];
         if (range.id == own || t < range.t_s || t > range.t_e) continue;
         float span = range.t_e - range.t_s;
@@ -300,6 +335,14 @@ vec2 ms_range_nearer(MsRange range, float depth, uint own) {
     return ms_nearer_interval(range.t_s, range.t_e, range.d_s, range.d_e, depth);
 }
 
+// How many disjoint intervals ms_texel_lit_fraction keeps in private memory. Loop iterations
+// are the budget here: lavapipe leaves every loop of an invocation once they have run 65,535
+// iterations in all (silently). The union is built as a sorted set of disjoint intervals,
+// each new interval merged into it (n ranges cost about n times the set's size; the ranges
+// of a moving mesh overlap and merge, so the set stays small); only a texel whose shadow
+// comes and goes more often than this is measured by repeated scans (n per interval).
+const uint MS_DISJOINT_INTERVALS = 32u;
+
 // The lit fraction of the shutter for a receiver at light depth `depth` on triangle `own`
 // in `texel` (see ms_lit_fraction).
 float ms_texel_lit_fraction(MsMap map, uint texel, float depth, uint own) {
@@ -314,19 +357,53 @@ float ms_texel_lit_fraction(MsMap map, uint texel, float depth, uint own) {
     }
     MsRanges ranges = MsRanges(map.ranges);
     uint head = MsUints(map.range_heads).v[texel];
+    // The union so far: m disjoint intervals in order. A zero-length interval shadows an
+    // instant (measure zero) and is left out.
+    vec2 set[MS_DISJOINT_INTERVALS];
+    uint m = 0u;
+    bool fits = true;
+    for (uint r = head; r != MS_END_OF_LIST && fits; r = ranges.v[r - 1u].next) {
+        vec2 iv = ms_range_nearer(ranges.v[r - 1u], depth, own);
+        ms_loop_iterations += 1u + 2u * m;   // the scans and shifts below, at most
+        if (!(iv.y > iv.x)) continue;
+        // set[first .. last] are the intervals iv overlaps or touches (none: first > last,
+        // and iv goes in at first).
+        uint first = 0u;
+        while (first < m && set[first].y < iv.x) ++first;
+        uint last = first;
+        while (last < m && set[last].x <= iv.y) ++last;
+        if (last == first) {
+            fits = m < MS_DISJOINT_INTERVALS;
+            for (uint j = m; fits && j > first; --j) set[j] = set[j - 1u];
+            if (fits) {
+                set[first] = iv;
+                ++m;
+            }
+        } else {
+            set[first] = vec2(min(iv.x, set[first].x), max(iv.y, set[last - 1u].y));
+            uint removed = last - first - 1u;
+            for (uint j = first + 1u; j + removed < m; ++j) set[j] = set[j + removed];
+            m -= removed;
+        }
+    }
     float shadowed = 0.0;
     float covered_to = 0.0;     // the union so far ends here
-    // The last interval taken, as (start, position in the list): the next is the smallest
-    // (start, position) after it.
+    if (fits) {
+        for (uint j = 0u; j < m; ++j) shadowed += set[j].y - set[j].x;
+        return 1.0 - min(shadowed, 1.0);
+    }
+    // Many intervals: take them in order of their start, the next found by a scan (the last
+    // taken as (start, position in the list); the next is the smallest after it).
     float last_start = -1.0;
     uint last_index = 0u;
-    for (;;) {
+    for (uint taken = 0u; taken <= MS_MAX_TEXEL_RANGES && covered_to < 1.0; ++taken) {
         float next_start = 2.0, next_end = 0.0;
         uint next_index = 0xffffffffu;
         uint index = 0u;
         for (uint r = head; r != MS_END_OF_LIST; r = ranges.v[r - 1u].next, ++index) {
+            ++ms_loop_iterations;
             vec2 iv = ms_range_nearer(ranges.v[r - 1u], depth, own);
-            if (iv.x > iv.y) continue;
+            if (!(iv.y > iv.x) || iv.y <= covered_to) continue;
             bool after_last = iv.x > last_start || (iv.x == last_start && index > last_index);
             bool before_next = iv.x < next_start || (iv.x == next_start && index < next_index);
             if (after_last && before_next) {
@@ -410,4 +487,69 @@ float ms_lit_fraction_filtered(MsMap map, vec3 p, vec3 n, uint own) {
 
 float ms_lit_fraction_filtered(MsShadowMap header, vec3 p, vec3 n, uint own) {
     return ms_lit_fraction_filtered(ms_load(header), p, n, own);
+}
+
+// The footprint lookups' common part: the taps' bilinear weights summed per texel first, so
+// that a texel several taps share is evaluated once (its depth there is the receiver
+// plane's, the same for every tap; without the plane test, the first tap's own depth), then
+// each texel answered at time t, or over the shutter where t < 0.
+//
+// (Written as two flat loops on purpose: llvmpipe in Mesa 22.3 lost whole lanes' results
+// when the texel loop with its range scans sat inside the tap loop.)
+const int MS_FOOTPRINT_MAX_TEXELS = 4 * MS_FOOTPRINT_MAX_TAPS * MS_FOOTPRINT_MAX_TAPS;
+
+float ms_footprint_lookup(MsMap map, vec3 p, vec3 n, float t, uint own, vec3 dpdx, vec3 dpdy) {
+    ivec2 taps = ms_footprint_taps(map.light, map.size, p, dpdx, dpdy);
+    int tap_count = taps.x * taps.y;
+    uint texels[MS_FOOTPRINT_MAX_TEXELS];
+    float weights[MS_FOOTPRINT_MAX_TEXELS];
+    float depths[MS_FOOTPRINT_MAX_TEXELS];
+    int count = 0;
+    float lit = 0.0;    // weight of taps outside the map (lit) so far
+    for (int i = 0; i < tap_count; ++i) {
+        vec3 q;
+        float depth;
+        ivec2 base;
+        vec2 f;
+        vec3 point = ms_footprint_point(p, dpdx, dpdy, taps, i);
+        bool seen = ms_receiver_footprint(map.light, map.size, point, n, q, depth, base, f);
+        if (!seen) lit += 1.0;
+        for (int k = 0; k < 4 && seen; ++k) {
+            uint texel;
+            float texel_depth, weight;
+            bool inside = ms_footprint_texel(map.light, map.size, base, f, k, q, n, depth, texel,
+                                             texel_depth, weight);
+            if (!inside) lit += weight;
+            int found = count;
+            ms_loop_iterations += uint(MS_FOOTPRINT_MAX_TEXELS);
+            for (int j = 0; j < MS_FOOTPRINT_MAX_TEXELS; ++j) {
+                if (j < count && texels[j] == texel) found = j;
+            }
+            if (inside && found == count) {
+                texels[count] = texel;
+                weights[count] = 0.0;
+                depths[count] = texel_depth;
+                ++count;
+            }
+            if (inside) weights[found] += weight;
+        }
+    }
+    for (int j = 0; j < count; ++j) {
+        float v = t < 0.0 ? ms_texel_lit_fraction(map, texels[j], depths[j], own)
+                          : (ms_texel_shadowed(map, texels[j], depths[j], t, own) ? 0.0 : 1.0);
+        lit += weights[j] * v;
+    }
+    return lit / float(tap_count);
+}
+
+// ms_visibility_filtered averaged over a pixel's footprint (see ms_footprint_taps).
+float ms_visibility_footprint(MsMap map, vec3 p, vec3 n, float t, uint own, vec3 dpdx,
+                              vec3 dpdy) {
+    return ms_footprint_lookup(map, p, n, max(t, 0.0), own, dpdx, dpdy);
+}
+
+// ms_lit_fraction_filtered averaged over a pixel's footprint: for a receiver that does not
+// move during the shutter, the pixel's lit share of its area and of the shutter at once.
+float ms_lit_fraction_footprint(MsMap map, vec3 p, vec3 n, uint own, vec3 dpdx, vec3 dpdy) {
+    return ms_footprint_lookup(map, p, n, -1.0, own, dpdx, dpdy);
 }

@@ -88,6 +88,29 @@ float visibility_ordinary(vec3 p, vec3 n, uint id, uint stratum, bool filtered) 
     return lit;
 }
 
+// visibility_ordinary (filtered) averaged over a pixel's footprint, as
+// ms_visibility_footprint does for the temporal map.
+float visibility_ordinary_footprint(vec3 p, vec3 n, uint id, uint stratum, vec3 dpdx,
+                                    vec3 dpdy) {
+    ivec2 taps = ms_footprint_taps(light, plain_size.xy, p, dpdx, dpdy);
+    float sum = 0.0;
+    for (int i = 0; i < taps.x * taps.y; ++i) {
+        sum += visibility_ordinary(ms_footprint_point(p, dpdx, dpdy, taps, i), n, id, stratum,
+                                   true);
+    }
+    return sum / float(taps.x * taps.y);
+}
+
+// The world-space step of one pixel along x (`axis` (1, 0)) or y ((0, 1)) on the plane
+// through p with normal n, seen from the camera: where the ray one pixel over meets the
+// plane. Zero where that ray runs along the plane (or meets it behind the camera).
+vec3 pixel_step(vec2 pixel_pos, vec2 axis, vec3 p, vec3 n) {
+    vec3 dir = camera_ray(camera, pixel_pos + axis);
+    float along = dot(dir, n);
+    float s = abs(along) < 1e-8 ? 0.0 : dot(p - camera.position.xyz, n) / along;
+    return s > 0.0 ? camera.position.xyz + s * dir - p : vec3(0.0);
+}
+
 // Radiance of sample k; `moving` is set when the sample sees a moving triangle.
 vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, out bool moving) {
     moving = false;
@@ -123,20 +146,35 @@ vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, out bool 
     if (spot && dot(-l, light.direction.xyz) < light.direction.w) return ambient;
     vec3 direct = albedo / PI * light.emission.x * cos_theta / dist2;
 
+    // shading.z: 0 unfiltered, 1 bilinear, 2 the pixel's footprint (centred on the pixel's
+    // centre, not the sample, so that where the sample fell does not matter).
     bool filtered = camera.shading.z > 0.5;
+    bool footprint = camera.shading.z > 1.5;
+    vec3 dpdx = vec3(0.0), dpdy = vec3(0.0), centre = p;
+    if (footprint) {
+        vec2 pos = vec2(pixel) + offset;
+        dpdx = pixel_step(pos, vec2(1.0, 0.0), p, n);
+        dpdy = pixel_step(pos, vec2(0.0, 1.0), p, n);
+        centre = p + (0.5 - offset.x) * dpdx + (0.5 - offset.y) * dpdy;
+    }
+    // One return for every path: llvmpipe (Mesa 22.3) lost the value of an early return
+    // taken by some lanes only, ahead of the footprint loops, and shaded those samples with
+    // the per-sample path's answer instead.
+    float lit = 1.0;
+    uint stratum = time_stratum(rotation, k, camera.image.z);
     if (pc.mode == SHADOW_TEMPORAL && camera.shading.y > 0.5 && !moving) {
         // The analytic estimator: a receiver that stays put all frame is lit for exactly
         // ms_lit_fraction of the shutter, whatever the sample's time.
-        float lit = filtered ? ms_lit_fraction_filtered(temporal, p, n, id)
-                             : ms_lit_fraction(temporal, p, n, id);
-        return ambient + direct * lit;
-    }
-    float lit = 1.0;
-    if (pc.mode == SHADOW_TEMPORAL) {
-        lit = filtered ? ms_visibility_filtered(temporal, p, n, t, id)
-                       : ms_visibility(temporal, p, n, t, id);
+        lit = footprint ? ms_lit_fraction_footprint(temporal, centre, n, id, dpdx, dpdy)
+              : filtered ? ms_lit_fraction_filtered(temporal, p, n, id)
+                         : ms_lit_fraction(temporal, p, n, id);
+    } else if (pc.mode == SHADOW_TEMPORAL) {
+        lit = footprint ? ms_visibility_footprint(temporal, centre, n, t, id, dpdx, dpdy)
+              : filtered ? ms_visibility_filtered(temporal, p, n, t, id)
+                         : ms_visibility(temporal, p, n, t, id);
     } else if (pc.mode != SHADOW_NONE) {
-        lit = visibility_ordinary(p, n, id, time_stratum(rotation, k, camera.image.z), filtered);
+        lit = footprint ? visibility_ordinary_footprint(centre, n, id, stratum, dpdx, dpdy)
+                        : visibility_ordinary(p, n, id, stratum, filtered);
     }
     return ambient + direct * lit;
 }
@@ -168,4 +206,9 @@ void main() {
     }
     Vec4Array radiance = Vec4Array(camera.radiance);
     radiance.v[p] += vec4(sum, moving) / float(camera.image.z);
+    // The device leaves loops past a fixed count: say so when this pixel's lookups may have
+    // come near it (the host re-runs with fewer samples per invocation, or fails).
+    if (camera.shading.w > 0.0 && float(ms_loop_iterations) > camera.shading.w) {
+        atomicAdd(UintArray(camera.counters).v[1], 1u);
+    }
 }

@@ -167,10 +167,13 @@ struct CameraParams {
     vec4 ray_dy;            // and down
     uvec4 image;            // xy = image size, z = samples per pixel, w = seed
     vec4 shading;           // x = ambient radiance factor, y = 1: analytic shadow estimator,
-                            // z = 1: filtered lookups (2x2 texels, bilinear weights)
+                            // z = 1: filtered lookups (2x2 texels, bilinear weights),
+                            // 2: those over the pixel's footprint; w = the most loop
+                            // iterations a pixel's lookups may report (0: no limit)
     uint64_t visibility;    // Uint64Array: per pixel and sample of a chunk, depth bits | id
     uint64_t radiance;      // Vec4Array: per pixel, accumulated radiance and moving share
-    uint64_t counters;      // UintArray: [0] = triangles dropped for an invalid index
+    uint64_t counters;      // UintArray: [0] = triangles dropped for an invalid index,
+                            // [1] = pixels whose lookups ran past shading.w iterations
     uint64_t reserved;
 };
 

@@ -90,6 +90,19 @@ pub enum Error {
         triangles: u32,
     },
 
+    /// On a device that leaves shader loops after a fixed number of iterations (lavapipe),
+    /// the shadow lookups of some pixels needed more than their share even at one sample
+    /// per invocation, so their shading may have been cut short.
+    #[error(
+        "{pixels} pixel(s) need more shader loop iterations for their shadow lookups than this device runs ({limit} per invocation, lavapipe's loop limiter): their shading could be wrong. Read fewer texels per lookup (no shadow filter), use the sampled estimator, or a device without the limit"
+    )]
+    LoopLimit {
+        /// Pixels over the budget.
+        pixels: u32,
+        /// The device's limit.
+        limit: u32,
+    },
+
     /// A frame produced 2^32 fragments or more: the 32-bit fragment counter wrapped, so its
     /// figures cannot size the buffers.
     #[error(

@@ -56,6 +56,10 @@ pub struct DeviceInfo {
     /// shaderStorageImageWriteWithoutFormat is enabled (a headless context enables it where
     /// supported; a host says so in [`Context::from_raw`]): the visibility-mask pass needs it.
     pub storage_image_write_without_format: bool,
+    /// Loop iterations a shader invocation may run in all before the driver leaves its loops
+    /// (silently): 65,535 on lavapipe (llvmpipe's loop limiter, shared by every loop of an
+    /// invocation, counted per SIMD group); `None` where the driver has no such limit.
+    pub shader_loop_limit: Option<u32>,
 }
 
 /// Objects that must outlive every buffer and pipeline: freed last, in the right order
@@ -129,6 +133,7 @@ fn device_info(instance: &ash::Instance, pd: vk::PhysicalDevice, family: u32) ->
         name,
         device_type: format!("{:?}", props.device_type),
         driver: driver_name,
+        shader_loop_limit: (driver.driver_id == vk::DriverId::MESA_LLVMPIPE).then_some(65_535),
         max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
         max_allocation_size: p11.max_memory_allocation_size,
         timestamp_period_ns: props.limits.timestamp_period,

@@ -204,13 +204,16 @@ pub struct CameraParams {
     pub ray_dy: Vec4,
     /// xy = image size, z = samples per pixel, w = seed.
     pub image: UVec4,
-    /// x = ambient radiance factor, y = 1 for the analytic shadow estimator.
+    /// x = ambient radiance factor, y = 1 for the analytic shadow estimator, z = the shadow
+    /// filter (0 none, 1 bilinear, 2 footprint), w = the loop budget of a pixel's lookups
+    /// (0: none; see [`super::LightingTarget::read_over_budget_pixels`]).
     pub shading: Vec4,
     /// The per-sample visibility buffer.
     pub visibility: u64,
     /// The accumulated radiance (RGBA32F per pixel).
     pub radiance: u64,
-    /// The target's counters (u32: triangles dropped for an invalid index).
+    /// The target's counters (u32: triangles dropped for an invalid index; pixels whose
+    /// lookups ran past the loop budget).
     pub counters: u64,
     /// Unused (0).
     pub reserved: u64,

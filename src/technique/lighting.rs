@@ -95,11 +95,11 @@ impl LightingTarget {
                 std::mem::size_of::<CameraParams>() as u64,
                 BufferUsage::Storage,
             )?,
-            counters: Buffer::new(ctx, "lighting counters", 4, BufferUsage::Storage)?,
+            counters: Buffer::new(ctx, "lighting counters", 8, BufferUsage::Storage)?,
             counters_readback: Buffer::new(
                 ctx,
                 "lighting counters readback",
-                4,
+                8,
                 BufferUsage::Readback,
             )?,
             visibility: Buffer::new(
@@ -151,7 +151,7 @@ impl LightingTarget {
         let counter = [vk::BufferCopy {
             src_offset: 0,
             dst_offset: 0,
-            size: 4,
+            size: 8,
         }];
         unsafe {
             device.cmd_copy_buffer(cmd, self.radiance.raw(), self.readback.raw(), &region);
@@ -168,7 +168,17 @@ impl LightingTarget {
     /// Triangles the frame's lighting pass dropped because an index pointed past their draw's
     /// vertex count (read after the submission of [`Self::record_readback`] completed).
     pub fn read_invalid_triangles(&self) -> Result<u32> {
-        Ok(self.counters_readback.read::<u32>(1)?[0])
+        Ok(self.counters_readback.read::<u32>(2)?[0])
+    }
+
+    /// Pixels whose shadow lookups ran so many loop iterations that a device with a loop
+    /// limit ([`crate::gpu::DeviceInfo::shader_loop_limit`]) may have cut them short (read
+    /// like [`Self::read_invalid_triangles`]). Always 0 on devices without such a limit. When
+    /// it is not 0, render again with fewer samples per chunk (each invocation then shades
+    /// fewer samples); at one sample per chunk it means the map's lists are too long there
+    /// for this device.
+    pub fn read_over_budget_pixels(&self) -> Result<u32> {
+        Ok(self.counters_readback.read::<u32>(2)?[1])
     }
 
     /// Linear radiance, 3 floats per pixel, top row first.
@@ -222,7 +232,16 @@ impl ShadowSource<'_> {
 pub struct LightingPass {
     raster: Pipeline,
     resolve: Pipeline,
+    /// The most loop iterations one pixel's shadow lookups may report before the pass
+    /// counts it as possibly cut short (0: the device has no loop limit).
+    loop_budget: u32,
 }
+
+/// Invocations that share one loop counter on a loop-limited device (llvmpipe runs 8 lanes
+/// per SIMD group): a pixel may use its share of the limit, less what the shading's own
+/// loops take.
+const LOOP_LIMIT_LANES: u32 = 8;
+const LOOP_LIMIT_RESERVE: u32 = 256;
 
 impl LightingPass {
     /// Creates the raster pipeline (vertex, geometry, fragment shader) and the resolve
@@ -250,7 +269,14 @@ impl LightingPass {
             ],
         )?;
         let resolve = compute_pipeline(ctx, PUSH_BYTES, "resolve.comp", shaders::RESOLVE_COMP)?;
-        Ok(Self { raster, resolve })
+        let loop_budget = ctx.info().shader_loop_limit.map_or(0, |limit| {
+            (limit / LOOP_LIMIT_LANES).saturating_sub(LOOP_LIMIT_RESERVE)
+        });
+        Ok(Self {
+            raster,
+            resolve,
+            loop_budget,
+        })
     }
 
     /// Records the whole lighting pass for the target's samples per pixel (as many chunks as
@@ -314,12 +340,13 @@ impl LightingPass {
         view: &LightingView,
         target: &LightingTarget,
     ) {
-        let header = CameraParams {
+        let mut header = CameraParams {
             visibility: target.visibility.device_address(),
             radiance: target.radiance.device_address(),
             counters: target.counters.device_address(),
             ..CameraParams::new(view, (target.width, target.height), target.spp)
         };
+        header.shading.w = self.loop_budget as f32;
         memory_barrier(
             device,
             cmd,

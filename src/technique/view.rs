@@ -239,6 +239,12 @@ pub enum ShadowFilter {
     /// exact lit fraction of the shutter): edges ramp over one texel. GLSL:
     /// `ms_visibility_filtered`, `ms_lit_fraction_filtered`. Applies to every map.
     Bilinear,
+    /// [`Bilinear`](Self::Bilinear) averaged over the pixel's footprint on the receiver's
+    /// tangent plane (a grid of up to 4x4 points, as many per axis as the footprint spans
+    /// texels), centred on the pixel: with the analytic estimator, a static receiver's pixel
+    /// gets its lit share of both its area and the shutter from one sample. GLSL:
+    /// `ms_visibility_footprint`, `ms_lit_fraction_footprint`.
+    Footprint,
 }
 
 /// How the library's own lighting pass samples the camera view and shades.
@@ -295,6 +301,7 @@ impl CameraParams {
                 match view.filter {
                     ShadowFilter::None => 0.0,
                     ShadowFilter::Bilinear => 1.0,
+                    ShadowFilter::Footprint => 2.0,
                 },
                 0.0,
             ),

@@ -18,6 +18,7 @@ mod generation;
 mod host_geometry;
 mod layout;
 mod lighting;
+mod loop_limit;
 mod prism;
 mod receiver_plane;
 mod validation;

@@ -50,8 +50,9 @@ pub struct BenchArgs {
     /// Receiver test of the presets' renders (see `render --receiver`).
     #[arg(long, value_enum, default_value_t = ReceiverArg::Auto)]
     pub receiver: ReceiverArg,
-    /// Shadow-map lookups: `none` (the receiver's texel) or `bilinear` (2x2 texels weighted
-    /// by footprint, each integrated over time with the analytic estimator).
+    /// Shadow-map lookups: `none` (the receiver's texel), `bilinear` (2x2 texels weighted
+    /// by overlap, PCF) or `footprint` (bilinear over the pixel's footprint); each texel
+    /// integrated over the shutter with the analytic estimator.
     #[arg(long, value_enum, default_value_t = FilterArg::None)]
     pub shadow_filter: FilterArg,
     #[arg(long, default_value = "bench")]
@@ -106,8 +107,9 @@ pub struct CompareArgs {
     /// maps hold triangle ids, offset for TSM).
     #[arg(long, value_enum, default_value_t = ReceiverArg::Auto)]
     pub receiver: ReceiverArg,
-    /// Shadow-map lookups: `none` (the receiver's texel) or `bilinear` (2x2 texels weighted
-    /// by footprint, each integrated over time with the analytic estimator).
+    /// Shadow-map lookups: `none` (the receiver's texel), `bilinear` (2x2 texels weighted
+    /// by overlap, PCF) or `footprint` (bilinear over the pixel's footprint); each texel
+    /// integrated over the shutter with the analytic estimator.
     #[arg(long, value_enum, default_value_t = FilterArg::None)]
     pub shadow_filter: FilterArg,
     /// The same as `--receiver plane` (kept for scripts written before `--receiver`).
@@ -194,6 +196,8 @@ pub enum FilterArg {
     None,
     /// The 2x2 texels around the receiver's projection, bilinear weights (PCF).
     Bilinear,
+    /// Bilinear lookups averaged over the pixel's footprint on the receiver's plane.
+    Footprint,
 }
 
 impl FilterArg {
@@ -201,6 +205,7 @@ impl FilterArg {
         match self {
             Self::None => motion_shadows::technique::ShadowFilter::None,
             Self::Bilinear => motion_shadows::technique::ShadowFilter::Bilinear,
+            Self::Footprint => motion_shadows::technique::ShadowFilter::Footprint,
         }
     }
 }
@@ -308,8 +313,9 @@ pub struct RenderArgs {
     /// maps hold triangle ids, offset for TSM).
     #[arg(long, value_enum, default_value_t = ReceiverArg::Auto)]
     pub receiver: ReceiverArg,
-    /// Shadow-map lookups: `none` (the receiver's texel) or `bilinear` (2x2 texels weighted
-    /// by footprint, each integrated over time with the analytic estimator).
+    /// Shadow-map lookups: `none` (the receiver's texel), `bilinear` (2x2 texels weighted
+    /// by overlap, PCF) or `footprint` (bilinear over the pixel's footprint); each texel
+    /// integrated over the shutter with the analytic estimator.
     #[arg(long, value_enum, default_value_t = FilterArg::None)]
     pub shadow_filter: FilterArg,
     /// The same as `--receiver plane` (kept for scripts written before `--receiver`).

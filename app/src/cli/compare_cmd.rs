@@ -179,11 +179,19 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         write_pair(&staged, &stem, &result.image, exposure)?;
         let label = match method.as_str() {
             "reference" => format!("reference M={}", args.slices),
-            "temporal" if result.stats.shadow_estimator == "analytic" => {
-                format!("temporal analytic {spp} spp")
+            _ => {
+                let estimator =
+                    if method == "temporal" && result.stats.shadow_estimator == "analytic" {
+                        " analytic"
+                    } else {
+                        ""
+                    };
+                let filter = match result.stats.shadow_filter.as_str() {
+                    "none" => String::new(),
+                    other => format!(" {other}"),
+                };
+                format!("{method}{estimator}{filter} {spp} spp")
             }
-            _ if result.stats.shadow_filter == "bilinear" => format!("{method} filtered {spp} spp"),
-            _ => format!("{method} {spp} spp"),
         };
         panels.push((
             label.clone(),

@@ -288,30 +288,39 @@ impl<'a> Renderer<'a> {
             )?,
             Method::Raytrace => unreachable!("traced on the CPU above"),
         };
+        let mut target = target;
         if let Some(shadow) = outcome.source() {
             progress(&format!(
                 "lighting pass: {}x{} pixels, {} spp",
                 settings.width, settings.height, settings.spp
             ));
-            // The image is copied out in the same submission, after the timed passes.
-            self.run_timed(&mut passes, |this, cmd, ts| {
-                let device = this.ctx.device();
-                // SAFETY: a OneShot command buffer of this context, recording, outside
-                // rendering; the shadow source was recorded in an earlier submission.
-                unsafe {
-                    this.lighting
-                        .record(device, cmd, &draws, &view, shadow, &target, Some(ts))
-                };
-                // SAFETY: the same command buffer, after the frame's passes.
-                unsafe { target.record_readback(device, cmd) };
-                Ok(())
-            })?;
+            self.light(&draws, &view, shadow, &target, &mut passes)?;
+            let over = target.read_over_budget_pixels()?;
+            if over > 0 && max_chunk > 1 {
+                // Each invocation shades one sample instead: its lookups then fit.
+                progress(&format!(
+                    "lighting pass: {over} pixel(s) need more loop iterations than this device \
+                     runs per invocation; again, one sample per pass"
+                ));
+                target = LightingTarget::new(ctx, settings.width, settings.height, spp, 1)?;
+                passes.retain(|p| !p.pass.starts_with("lighting"));
+                self.light(&draws, &view, shadow, &target, &mut passes)?;
+            }
         } else {
             self.run_timed(&mut passes, |this, cmd, _| {
                 // SAFETY: the same command buffer, after the frame's passes.
                 unsafe { target.record_readback(this.ctx.device(), cmd) };
                 Ok(())
             })?;
+        }
+        let over = target.read_over_budget_pixels()?;
+        if over > 0 {
+            let limit = ctx.info().shader_loop_limit.unwrap_or(0);
+            return Err(motion_shadows::Error::LoopLimit {
+                pixels: over,
+                limit,
+            }
+            .into());
         }
         let invalid = target.read_invalid_triangles()?;
         if invalid > 0 {
@@ -395,6 +404,30 @@ impl<'a> Renderer<'a> {
     }
 
     /// Records with `record` between timestamps, submits, waits, and appends the spans.
+    /// Records and runs the lighting pass into `target`, then its readback.
+    fn light(
+        &mut self,
+        draws: &DrawList,
+        view: &LightingView,
+        shadow: motion_shadows::technique::ShadowSource<'_>,
+        target: &LightingTarget,
+        passes: &mut Vec<PassTime>,
+    ) -> Result<()> {
+        // The image is copied out in the same submission, after the timed passes.
+        self.run_timed(passes, |this, cmd, ts| {
+            let device = this.ctx.device();
+            // SAFETY: a OneShot command buffer of this context, recording, outside
+            // rendering; the shadow source was recorded in an earlier submission.
+            unsafe {
+                this.lighting
+                    .record(device, cmd, draws, view, shadow, target, Some(ts))
+            };
+            // SAFETY: the same command buffer, after the frame's passes.
+            unsafe { target.record_readback(device, cmd) };
+            Ok(())
+        })
+    }
+
     fn run_timed(
         &mut self,
         passes: &mut Vec<PassTime>,

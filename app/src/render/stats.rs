@@ -11,6 +11,7 @@ pub fn filter_name(filter: motion_shadows::technique::ShadowFilter) -> &'static 
     match filter {
         motion_shadows::technique::ShadowFilter::None => "none",
         motion_shadows::technique::ShadowFilter::Bilinear => "bilinear",
+        motion_shadows::technique::ShadowFilter::Footprint => "footprint",
     }
 }
 

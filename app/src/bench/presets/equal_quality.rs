@@ -63,7 +63,7 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
                 .pick(vec![1, 2, 4, 8, 16, 32], vec![1, 2, 4, 8, 16, 32, 64]),
         ),
         (
-            "temporal analytic filtered",
+            "temporal analytic footprint",
             b.scale
                 .pick(vec![1, 2, 4, 8, 16, 32], vec![1, 2, 4, 8, 16, 32, 64]),
         ),
@@ -86,8 +86,8 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
             let (method, spp, estimator, filter) = match name {
                 "temporal" => (Method::Temporal, n, Sampled, ShadowFilter::None),
                 "temporal analytic" => (Method::Temporal, n, Analytic, ShadowFilter::None),
-                "temporal analytic filtered" => {
-                    (Method::Temporal, n, Analytic, ShadowFilter::Bilinear)
+                "temporal analytic footprint" => {
+                    (Method::Temporal, n, Analytic, ShadowFilter::Footprint)
                 }
                 "tsm" => (Method::Tsm, n, Sampled, ShadowFilter::None),
                 _ => (
@@ -180,7 +180,7 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
             .unwrap_or(f64::INFINITY)
     };
     let t_reference = curve("reference");
-    for name in ["temporal analytic", "temporal analytic filtered"] {
+    for name in ["temporal analytic", "temporal analytic footprint"] {
         let t = curve(name);
         if t.is_finite() && t_reference.is_finite() {
             b.report.ratios.push(target(
