@@ -9,9 +9,9 @@ use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
 use super::clip::quoted;
+use super::gltf::{AnimationRef, GltfOptions, load_bounded as load_gltf, shutter_seconds};
 use super::limits::{MAX_SCENE_FILE_BYTES, MAX_SCENE_TRIANGLES, MAX_SUBDIVISIONS};
 use super::name::{name_from_file_stem, scene_name_problem};
-use super::gltf::{AnimationRef, GltfOptions, load_bounded as load_gltf, shutter_seconds};
 use super::obj::load_obj_triangles;
 use super::pretty::pretty_json;
 use super::primitives::{RigidTransform, box_mesh, plane_mesh};
@@ -157,9 +157,11 @@ impl GltfSpec {
                     .into());
             }
             _ => {
-                return Err("gltf: give either \"shutter\" or both \"shutter_angle_deg\" \
+                return Err(
+                    "gltf: give either \"shutter\" or both \"shutter_angle_deg\" \
                             and \"fps\""
-                    .into());
+                        .into(),
+                );
             }
         };
         Ok(GltfOptions {
@@ -651,6 +653,51 @@ mod tests {
             "\"rotation_deg\": 90, \"scale\": [1, -1, 1]",
         ));
         assert!(m.contains("blade") && m.contains("t1.scale"), "{m}");
+    }
+
+    #[test]
+    fn gltf_objects_load_relative_to_the_scene_file() {
+        let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/models");
+        let scene = |spec: &str| {
+            EXAMPLE.replace(
+                "{ \"triangles\": { \"t0\": [[-4, 0, 3], [4, 0, 3], [0, 0, -4]] } }",
+                &format!("{{ \"gltf\": {spec} }}"),
+            )
+        };
+        let load = |spec: &str| parse_scene_json(&scene(spec), &models, "test.json");
+        let seconds = load(
+            r#"{ "path": "CesiumMan.gltf", "animation": 0, "time": 0.5, "shutter": 0.0208333333 }"#,
+        )
+        .unwrap();
+        assert_eq!(seconds.meshes[0].triangle_count(), 4672);
+        assert_ne!(seconds.meshes[0].t0, seconds.meshes[0].t1);
+        // 180 degrees at 24 fps is the same 1/48 s.
+        let angle = load(
+            r#"{ "path": "CesiumMan.gltf", "animation": 0, "time": 0.5, "shutter_angle_deg": 180, "fps": 24 }"#,
+        )
+        .unwrap();
+        let (a, b) = (&seconds.meshes[0], &angle.meshes[0]);
+        assert!(
+            a.t1.iter()
+                .zip(&b.t1)
+                .all(|(p, q)| (*p - *q).length() < 1e-6)
+        );
+        let fox =
+            load(r#"{ "path": "Fox.glb", "animation": "Walk", "shutter": 0.02, "subdivide": 1 }"#)
+                .unwrap();
+        assert_eq!(fox.meshes[0].triangle_count(), 4 * 576);
+
+        let m = invalid_message(&scene(r#"{ "path": "Fox.glb", "animation": "Walk" }"#));
+        assert!(m.contains("floor") && m.contains("shutter"), "{m}");
+        let m = json_message(&scene(r#"{ "path": "Fox.glb", "shuter": 0.1 }"#));
+        assert!(m.contains("shuter"), "{m}");
+        match load(r#"{ "path": "Fox.glb", "animation": "Trot", "shutter": 0.1 }"#) {
+            Err(e @ SceneError::Gltf { .. }) => {
+                let m = e.to_string();
+                assert!(m.contains("floor") && m.contains("Survey"), "{m}");
+            }
+            other => panic!("expected a glTF error, got {other:?}"),
+        }
     }
 
     #[test]

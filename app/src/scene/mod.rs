@@ -38,6 +38,6 @@ pub use file::{
 };
 pub use hard::HARD_NAMES;
 pub use name::{name_from_file_stem, scene_name_problem};
-pub use subdivide::subdivide;
 pub use primitives::{RigidTransform, box_mesh, plane_mesh};
+pub use subdivide::subdivide;
 pub use types::{Camera, DirectionalLight, Light, Mesh, Scene, SpotLight};

@@ -18,7 +18,11 @@ fn component(bytes: &[u8], ty: DataType, normalized: bool) -> f32 {
         }
         DataType::I16 => {
             let v = f32::from(i16::from_le_bytes([bytes[0], bytes[1]]));
-            if normalized { (v / 32767.0).max(-1.0) } else { v }
+            if normalized {
+                (v / 32767.0).max(-1.0)
+            } else {
+                v
+            }
         }
         DataType::U8 => {
             let v = f32::from(bytes[0]);
@@ -106,7 +110,10 @@ pub(super) fn read_integers(
     allowed: &[Dimensions],
 ) -> Result<Vec<u32>, String> {
     if accessor.normalized() {
-        return Err(format!("{what}: accessor {} is normalized", accessor.index()));
+        return Err(format!(
+            "{what}: accessor {} is normalized",
+            accessor.index()
+        ));
     }
     read(accessor, buffers, what, allowed, |bytes, ty, _| {
         integer(bytes, ty).ok_or_else(|| format!("component type {ty:?} is not unsigned"))
@@ -123,7 +130,9 @@ fn read<T: Copy + Default>(
     let context = |m: String| format!("{what} (accessor {}): {m}", accessor.index());
     let dims = accessor.dimensions();
     if !allowed.contains(&dims) {
-        return Err(context(format!("type {dims:?}, expected one of {allowed:?}")));
+        return Err(context(format!(
+            "type {dims:?}, expected one of {allowed:?}"
+        )));
     }
     // Matrices of 1- and 2-byte components carry column padding; no role read here uses
     // them (inverse bind matrices are float MAT4).
@@ -150,10 +159,12 @@ fn read<T: Copy + Default>(
     if let Some(view) = accessor.view() {
         let stride = view.stride().unwrap_or(element);
         if stride < element {
-            return Err(context(format!("byteStride {stride} < element size {element}")));
+            return Err(context(format!(
+                "byteStride {stride} < element size {element}"
+            )));
         }
-        let bytes = strided(&view, buffers, accessor.offset(), count, element, stride)
-            .map_err(&context)?;
+        let bytes =
+            strided(&view, buffers, accessor.offset(), count, element, stride).map_err(&context)?;
         for (i, chunk) in out.chunks_exact_mut(n).enumerate() {
             let start = i * stride;
             decode_into(chunk, &bytes[start..start + element])?;
@@ -163,9 +174,15 @@ fn read<T: Copy + Default>(
         let k = sparse.count();
         let ind = sparse.indices();
         let index_size = ind.index_type().size();
-        let index_bytes =
-            strided(&ind.view(), buffers, ind.offset(), k, index_size, index_size)
-                .map_err(&context)?;
+        let index_bytes = strided(
+            &ind.view(),
+            buffers,
+            ind.offset(),
+            k,
+            index_size,
+            index_size,
+        )
+        .map_err(&context)?;
         let vals = sparse.values();
         let value_bytes =
             strided(&vals.view(), buffers, vals.offset(), k, element, element).map_err(&context)?;
@@ -182,7 +199,10 @@ fn read<T: Copy + Default>(
                 )));
             }
             let at = j * element;
-            decode_into(&mut out[index * n..(index + 1) * n], &value_bytes[at..at + element])?;
+            decode_into(
+                &mut out[index * n..(index + 1) * n],
+                &value_bytes[at..at + element],
+            )?;
         }
     }
     Ok(out)

@@ -1,8 +1,8 @@
 //! Choosing an animation and reading its channels into keyframes once, so the two shutter
 //! times are sampled from the same data.
 
-use gltf::animation::Property;
 use glam::{Quat, Vec3};
+use gltf::animation::Property;
 
 use super::accessor::read_floats;
 use super::options::AnimationRef;
@@ -35,7 +35,12 @@ pub(super) fn channels(
             gltf::animation::Interpolation::Linear => Interpolation::Linear,
             gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
         };
-        let times = read_floats(&sampler.input(), buffers, "animation input", &[Dimensions::Scalar])?;
+        let times = read_floats(
+            &sampler.input(),
+            buffers,
+            "animation input",
+            &[Dimensions::Scalar],
+        )?;
         let (shape, width) = match property {
             Property::Translation | Property::Scale => (Dimensions::Vec3, Some(3)),
             Property::Rotation => (Dimensions::Vec4, Some(4)),
@@ -139,7 +144,9 @@ impl Pose {
             match c.property {
                 Property::Translation => pose.translation[c.node] = Vec3::new(v[0], v[1], v[2]),
                 Property::Scale => pose.scale[c.node] = Vec3::new(v[0], v[1], v[2]),
-                Property::Rotation => pose.rotation[c.node] = Quat::from_xyzw(v[0], v[1], v[2], v[3]),
+                Property::Rotation => {
+                    pose.rotation[c.node] = Quat::from_xyzw(v[0], v[1], v[2], v[3])
+                }
                 Property::MorphTargetWeights => pose.weights[c.node] = Some(v),
             }
         }

@@ -1,9 +1,9 @@
 //! A primitive's rest geometry: positions, triangles (strips and fans converted), morph
 //! target deltas and skin influences, all checked against the vertex count.
 
+use glam::Vec3;
 use gltf::accessor::Dimensions;
 use gltf::mesh::Mode;
-use glam::Vec3;
 
 use super::accessor::{read_floats, read_integers};
 
@@ -18,7 +18,9 @@ pub(super) struct Geometry {
 }
 
 fn vec3s(flat: Vec<f32>) -> Vec<Vec3> {
-    flat.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect()
+    flat.chunks_exact(3)
+        .map(|c| Vec3::new(c[0], c[1], c[2]))
+        .collect()
 }
 
 /// Triangles of the primitive, without reading anything but the index accessor: used to
@@ -44,7 +46,12 @@ pub(super) fn read(primitive: &gltf::Primitive, buffers: &[Vec<u8>]) -> Result<G
     let position = primitive
         .get(&gltf::Semantic::Positions)
         .ok_or("primitive has no POSITION attribute")?;
-    let positions = vec3s(read_floats(&position, buffers, "POSITION", &[Dimensions::Vec3])?);
+    let positions = vec3s(read_floats(
+        &position,
+        buffers,
+        "POSITION",
+        &[Dimensions::Vec3],
+    )?);
     let n = positions.len();
     let order: Vec<u32> = match primitive.indices() {
         Some(a) => read_integers(&a, buffers, "indices", &[Dimensions::Scalar])?,
@@ -71,12 +78,20 @@ pub(super) fn read(primitive: &gltf::Primitive, buffers: &[Vec<u8>]) -> Result<G
     let mut targets = Vec::new();
     for (k, target) in primitive.morph_targets().enumerate() {
         let deltas = match target.positions() {
-            Some(a) => vec3s(read_floats(&a, buffers, "morph target POSITION", &[Dimensions::Vec3])?),
+            Some(a) => vec3s(read_floats(
+                &a,
+                buffers,
+                "morph target POSITION",
+                &[Dimensions::Vec3],
+            )?),
             // A target that moves only normals or colours leaves positions alone.
             None => vec![Vec3::ZERO; n],
         };
         if deltas.len() != n {
-            return Err(format!("morph target {k} has {} positions, not {n}", deltas.len()));
+            return Err(format!(
+                "morph target {k} has {} positions, not {n}",
+                deltas.len()
+            ));
         }
         targets.push(deltas);
     }
@@ -105,7 +120,9 @@ fn influences(
         let j = read_integers(&joints, buffers, "JOINTS", &[Dimensions::Vec4])?;
         let w = read_floats(&weights, buffers, "WEIGHTS", &[Dimensions::Vec4])?;
         if j.len() != 4 * n || w.len() != 4 * n {
-            return Err(format!("JOINTS_{set}/WEIGHTS_{set} do not have {n} elements"));
+            return Err(format!(
+                "JOINTS_{set}/WEIGHTS_{set} do not have {n} elements"
+            ));
         }
         let all = out.get_or_insert_with(|| vec![Vec::new(); n]);
         for (v, list) in all.iter_mut().enumerate() {

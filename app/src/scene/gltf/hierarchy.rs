@@ -48,22 +48,37 @@ pub(super) fn world_matrices(pose: &Pose, parents: &[Option<usize>]) -> Vec<Mat4
             }
         }
     }
-    world.into_iter().map(|m| m.unwrap_or(Mat4::IDENTITY)).collect()
+    world
+        .into_iter()
+        .map(|m| m.unwrap_or(Mat4::IDENTITY))
+        .collect()
 }
 
 /// The nodes the model draws: those of its default scene (or its first), or, in a file with
 /// no scenes, every root node. Depth first, in file order.
 pub(super) fn drawn_nodes(document: &gltf::Document, parents: &[Option<usize>]) -> Vec<usize> {
-    let roots: Vec<usize> = match document.default_scene().or_else(|| document.scenes().next()) {
+    let roots: Vec<usize> = match document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    {
         Some(scene) => scene.nodes().map(|n| n.index()).collect(),
-        None => (0..parents.len()).filter(|&n| parents[n].is_none()).collect(),
+        None => (0..parents.len())
+            .filter(|&n| parents[n].is_none())
+            .collect(),
     };
     let nodes: Vec<gltf::Node> = document.nodes().collect();
     let mut out = Vec::new();
     let mut stack: Vec<usize> = roots.into_iter().rev().collect();
     while let Some(n) = stack.pop() {
         out.push(n);
-        stack.extend(nodes[n].children().map(|c| c.index()).collect::<Vec<_>>().into_iter().rev());
+        stack.extend(
+            nodes[n]
+                .children()
+                .map(|c| c.index())
+                .collect::<Vec<_>>()
+                .into_iter()
+                .rev(),
+        );
     }
     out
 }

@@ -36,7 +36,11 @@ impl Keyframes {
         if times.iter().any(|t| !t.is_finite()) || times.windows(2).any(|w| w[1] < w[0]) {
             return Err("animation sampler key times are not finite and increasing".into());
         }
-        let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 };
+        let per_key = if interpolation == Interpolation::CubicSpline {
+            3
+        } else {
+            1
+        };
         let groups = times.len() * per_key;
         let width = width.unwrap_or(values.len() / groups);
         if width == 0 || values.len() != groups * width {
@@ -58,7 +62,11 @@ impl Keyframes {
 
     /// Group `g` of key `k` (for CUBICSPLINE: 0 in-tangent, 1 value, 2 out-tangent).
     fn group(&self, k: usize, g: usize) -> &[f32] {
-        let per_key = if self.interpolation == Interpolation::CubicSpline { 3 } else { 1 };
+        let per_key = if self.interpolation == Interpolation::CubicSpline {
+            3
+        } else {
+            1
+        };
         let start = (k * per_key + g) * self.width;
         &self.values[start..start + self.width]
     }
@@ -80,7 +88,11 @@ impl Keyframes {
         } else {
             let k = k - 1;
             let dt = self.times[k + 1] - self.times[k];
-            let s = if dt > 0.0 { (t - self.times[k]) / dt } else { 1.0 };
+            let s = if dt > 0.0 {
+                (t - self.times[k]) / dt
+            } else {
+                1.0
+            };
             self.between(k, s, dt, rotation)
         };
         if rotation { normalized(&out) } else { out }
@@ -179,8 +191,20 @@ mod tests {
     #[test]
     fn malformed_samplers_are_refused() {
         assert!(Keyframes::new(vec![], vec![], Interpolation::Linear, Some(1)).is_err());
-        assert!(Keyframes::new(vec![1.0, 0.0], vec![0.0; 2], Interpolation::Linear, Some(1)).is_err());
-        assert!(Keyframes::new(vec![0.0, 1.0], vec![0.0; 3], Interpolation::Linear, Some(1)).is_err());
-        assert!(Keyframes::new(vec![0.0, 1.0], vec![0.0; 4], Interpolation::CubicSpline, Some(1)).is_err());
+        assert!(
+            Keyframes::new(vec![1.0, 0.0], vec![0.0; 2], Interpolation::Linear, Some(1)).is_err()
+        );
+        assert!(
+            Keyframes::new(vec![0.0, 1.0], vec![0.0; 3], Interpolation::Linear, Some(1)).is_err()
+        );
+        assert!(
+            Keyframes::new(
+                vec![0.0, 1.0],
+                vec![0.0; 4],
+                Interpolation::CubicSpline,
+                Some(1)
+            )
+            .is_err()
+        );
     }
 }

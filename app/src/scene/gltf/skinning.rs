@@ -1,8 +1,8 @@
 //! Linear blend skinning: each vertex is the weighted sum of its joints' matrices
 //! (joint world matrix times inverse bind matrix) applied to its morphed rest position.
 
-use gltf::accessor::Dimensions;
 use glam::{Mat4, Vec3};
+use gltf::accessor::Dimensions;
 
 use super::accessor::read_floats;
 

@@ -44,11 +44,15 @@ pub(super) fn load(path: &Path) -> Result<Source, String> {
     let mut buffers = Vec::new();
     for buffer in document.buffers() {
         let data = match buffer.source() {
-            gltf::buffer::Source::Bin => blob
-                .take()
-                .ok_or_else(|| format!("buffer {} refers to a missing GLB BIN chunk", buffer.index()))?,
-            gltf::buffer::Source::Uri(uri) => read_uri(uri, base_dir)
-                .map_err(|e| format!("buffer {}: {e}", buffer.index()))?,
+            gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
+                format!(
+                    "buffer {} refers to a missing GLB BIN chunk",
+                    buffer.index()
+                )
+            })?,
+            gltf::buffer::Source::Uri(uri) => {
+                read_uri(uri, base_dir).map_err(|e| format!("buffer {}: {e}", buffer.index()))?
+            }
         };
         // The BIN chunk may be padded to 4 bytes; anything shorter than declared is broken.
         if data.len() < buffer.length() {
@@ -78,7 +82,9 @@ fn read_uri(uri: &str, base_dir: &Path) -> Result<Vec<u8>, String> {
             .map_err(|e| format!("bad base64 in data: URI: {e}"));
     }
     if uri.contains("://") {
-        return Err(format!("{uri:?}: only data: URIs and relative file paths are read"));
+        return Err(format!(
+            "{uri:?}: only data: URIs and relative file paths are read"
+        ));
     }
     let relative = percent_decode(uri);
     read_bounded(&base_dir.join(&relative), MAX_GLTF_BYTES, false)
