@@ -14,8 +14,11 @@ pub(super) struct Geometry {
     /// One list of POSITION deltas per morph target.
     pub targets: Vec<Vec<Vec3>>,
     /// Per vertex, every (joint slot, weight) of all JOINTS_n/WEIGHTS_n sets.
-    pub influences: Option<Vec<Vec<(u32, f32)>>>,
+    pub influences: Option<Vec<Influences>>,
 }
+
+/// One vertex's (joint slot, weight) pairs.
+pub(super) type Influences = Vec<(u32, f32)>;
 
 fn vec3s(flat: Vec<f32>) -> Vec<Vec3> {
     flat.chunks_exact(3)
@@ -107,8 +110,8 @@ fn influences(
     primitive: &gltf::Primitive,
     buffers: &[Vec<u8>],
     n: usize,
-) -> Result<Option<Vec<Vec<(u32, f32)>>>, String> {
-    let mut out: Option<Vec<Vec<(u32, f32)>>> = None;
+) -> Result<Option<Vec<Influences>>, String> {
+    let mut out: Option<Vec<Influences>> = None;
     for set in 0.. {
         let joints = primitive.get(&gltf::Semantic::Joints(set));
         let weights = primitive.get(&gltf::Semantic::Weights(set));

@@ -58,7 +58,7 @@ pub(crate) fn load_bounded(
             format!("{context}: {message}")
         },
     };
-    if !options.time.is_finite() || !(options.shutter.is_finite() && options.shutter >= 0.0) {
+    if !(options.time.is_finite() && options.shutter.is_finite() && options.shutter >= 0.0) {
         return Err(error(format!(
             "time must be finite and shutter finite and >= 0, got time {} and shutter {}",
             options.time, options.shutter
