@@ -22,6 +22,8 @@ pub enum SceneError {
     },
     #[error("cannot load OBJ {}: {}", quoted_path(path), clip(message, 500))]
     Obj { path: PathBuf, message: String },
+    #[error("cannot load glTF {}: {}", quoted_path(path), clip(message, 500))]
+    Gltf { path: PathBuf, message: String },
     #[error("invalid scene: {}", clip(.0, 960))]
     Invalid(String),
     #[error("unknown built-in scene {:?} (available: {})", quoted(name), available.join(", "))]

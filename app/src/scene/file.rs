@@ -9,6 +9,7 @@ use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
 use super::clip::quoted;
+use super::gltf::{AnimationRef, GltfOptions, load_bounded as load_gltf, shutter_seconds};
 use super::limits::{MAX_SCENE_FILE_BYTES, MAX_SCENE_TRIANGLES, MAX_SUBDIVISIONS};
 use super::name::{name_from_file_stem, scene_name_problem};
 use super::obj::load_obj_triangles;
@@ -98,6 +99,78 @@ pub enum MeshSpec {
     /// than a PathBuf so that serialising can never fail on a non-UTF-8 path.
     Obj(String),
     Triangles(TrianglesSpec),
+    /// A glTF 2.0 model posed at shutter open and close (docs/scene-format.md).
+    Gltf(GltfSpec),
+}
+
+/// `"gltf"` mesh: the model at `time` (t0) and at `time` plus the shutter (t1), in the
+/// model's world space; the object's transforms apply on top. The shutter is given either
+/// in seconds (`shutter`) or as a film camera's `shutter_angle_deg` at `fps`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GltfSpec {
+    /// Relative to the scene file's directory, like an OBJ path.
+    pub path: String,
+    /// Index or name; omitted: the rest pose.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub animation: Option<AnimationRef>,
+    /// Seconds into the animation at shutter open.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub time: f32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shutter: Option<f32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shutter_angle_deg: Option<f32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fps: Option<f32>,
+    /// Levels of midpoint subdivision (each multiplies the triangles by 4).
+    #[serde(default, skip_serializing_if = "is_zero_u32")]
+    pub subdivide: u32,
+}
+
+fn is_zero(v: &f32) -> bool {
+    *v == 0.0
+}
+
+fn is_zero_u32(v: &u32) -> bool {
+    *v == 0
+}
+
+impl GltfSpec {
+    /// The loader's options; the shutter must be given one way exactly when an animation
+    /// is chosen (without one there is no motion, and a shutter would mean nothing).
+    fn options(&self) -> Result<GltfOptions, String> {
+        let shutter = match (self.shutter, self.shutter_angle_deg, self.fps) {
+            (Some(s), None, None) => s,
+            (None, Some(angle), Some(fps)) => {
+                if !(angle.is_finite() && angle >= 0.0 && fps.is_finite() && fps > 0.0) {
+                    return Err(format!(
+                        "gltf: shutter_angle_deg must be >= 0 and fps > 0, got {angle} and {fps}"
+                    ));
+                }
+                shutter_seconds(angle, fps)
+            }
+            (None, None, None) if self.animation.is_none() => 0.0,
+            (None, None, None) => {
+                return Err("gltf: an animation needs \"shutter\" (seconds) or \
+                            \"shutter_angle_deg\" and \"fps\""
+                    .into());
+            }
+            _ => {
+                return Err(
+                    "gltf: give either \"shutter\" or both \"shutter_angle_deg\" \
+                            and \"fps\""
+                        .into(),
+                );
+            }
+        };
+        Ok(GltfOptions {
+            animation: self.animation.clone(),
+            time: self.time,
+            shutter,
+            subdivide: self.subdivide,
+        })
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -271,7 +344,7 @@ impl SceneFile {
             near: c.near,
             far: c.far,
         };
-        // OBJ models are counted as they load: each may use what the others left.
+        // OBJ and glTF models are counted as they load: each may use what the others left.
         let mut budget = MAX_SCENE_TRIANGLES - self.known_triangles().unwrap_or(0);
         let meshes = self
             .objects
@@ -292,7 +365,7 @@ impl SceneFile {
 }
 
 impl SceneFile {
-    /// Triangles of every object whose count is known without building it (all but OBJ
+    /// Triangles of every object whose count is known without building it (all but OBJ and glTF
     /// models); `None` when the sum overflows. Subdivisions are checked first, so each term
     /// is small.
     fn known_triangles(&self) -> Option<u64> {
@@ -301,7 +374,7 @@ impl SceneFile {
                 MeshSpec::Box(b) => 12 * u64::from(b.subdivisions.max(1)).pow(2),
                 MeshSpec::Plane(p) => 2 * u64::from(p.subdivisions.max(1)).pow(2),
                 MeshSpec::Triangles(t) => t.t0.len() as u64 / 3,
-                MeshSpec::Obj(_) => 0,
+                MeshSpec::Obj(_) | MeshSpec::Gltf(_) => 0,
             };
             sum.checked_add(n)
         })
@@ -385,7 +458,8 @@ impl LightFile {
 }
 
 impl ObjectFile {
-    /// `budget`: triangles OBJ models may still add to the scene; an OBJ takes its share.
+    /// `budget`: triangles OBJ and glTF models may still add to the scene; each takes its
+    /// share.
     fn to_mesh(&self, index: usize, base_dir: &Path, budget: &mut u64) -> Result<Mesh, SceneError> {
         let name = if self.name.is_empty() {
             format!("object-{index}")
@@ -422,6 +496,15 @@ impl ObjectFile {
                 let tris = load_obj_triangles(&path, &context, *budget)?;
                 *budget -= tris.len() as u64 / 3;
                 (tris.clone(), tris)
+            }
+            MeshSpec::Gltf(g) => {
+                let options = g.options().map_err(&invalid)?;
+                let path: PathBuf = base_dir.join(&g.path);
+                let meshes = load_gltf(&path, &options, &context, *budget)?;
+                let t0: Vec<Vec3> = meshes.iter().flat_map(|m| m.t0.iter().copied()).collect();
+                let t1: Vec<Vec3> = meshes.iter().flat_map(|m| m.t1.iter().copied()).collect();
+                *budget -= t0.len() as u64 / 3;
+                (t0, t1)
             }
             MeshSpec::Triangles(t) => {
                 let t1 = t.t1.clone().unwrap_or_else(|| t.t0.clone());
@@ -570,6 +653,51 @@ mod tests {
             "\"rotation_deg\": 90, \"scale\": [1, -1, 1]",
         ));
         assert!(m.contains("blade") && m.contains("t1.scale"), "{m}");
+    }
+
+    #[test]
+    fn gltf_objects_load_relative_to_the_scene_file() {
+        let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/models");
+        let scene = |spec: &str| {
+            EXAMPLE.replace(
+                "{ \"triangles\": { \"t0\": [[-4, 0, 3], [4, 0, 3], [0, 0, -4]] } }",
+                &format!("{{ \"gltf\": {spec} }}"),
+            )
+        };
+        let load = |spec: &str| parse_scene_json(&scene(spec), &models, "test.json");
+        let seconds = load(
+            r#"{ "path": "CesiumMan.gltf", "animation": 0, "time": 0.5, "shutter": 0.0208333333 }"#,
+        )
+        .unwrap();
+        assert_eq!(seconds.meshes[0].triangle_count(), 4672);
+        assert_ne!(seconds.meshes[0].t0, seconds.meshes[0].t1);
+        // 180 degrees at 24 fps is the same 1/48 s.
+        let angle = load(
+            r#"{ "path": "CesiumMan.gltf", "animation": 0, "time": 0.5, "shutter_angle_deg": 180, "fps": 24 }"#,
+        )
+        .unwrap();
+        let (a, b) = (&seconds.meshes[0], &angle.meshes[0]);
+        assert!(
+            a.t1.iter()
+                .zip(&b.t1)
+                .all(|(p, q)| (*p - *q).length() < 1e-6)
+        );
+        let fox =
+            load(r#"{ "path": "Fox.glb", "animation": "Walk", "shutter": 0.02, "subdivide": 1 }"#)
+                .unwrap();
+        assert_eq!(fox.meshes[0].triangle_count(), 4 * 576);
+
+        let m = invalid_message(&scene(r#"{ "path": "Fox.glb", "animation": "Walk" }"#));
+        assert!(m.contains("floor") && m.contains("shutter"), "{m}");
+        let m = json_message(&scene(r#"{ "path": "Fox.glb", "shuter": 0.1 }"#));
+        assert!(m.contains("shuter"), "{m}");
+        match load(r#"{ "path": "Fox.glb", "animation": "Trot", "shutter": 0.1 }"#) {
+            Err(e @ SceneError::Gltf { .. }) => {
+                let m = e.to_string();
+                assert!(m.contains("floor") && m.contains("Survey"), "{m}");
+            }
+            other => panic!("expected a glTF error, got {other:?}"),
+        }
     }
 
     #[test]

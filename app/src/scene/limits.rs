@@ -13,6 +13,18 @@ pub const MAX_SCENE_FILE_BYTES: u64 = 256 << 20;
 /// See [`MAX_SCENE_FILE_BYTES`]; OBJ text of 256 MiB holds ~10 million triangles.
 pub const MAX_OBJ_BYTES: u64 = 256 << 20;
 
+/// Largest glTF model (JSON or GLB) and largest buffer it refers to, for the reason given
+/// at [`MAX_SCENE_FILE_BYTES`].
+pub const MAX_GLTF_BYTES: u64 = 256 << 20;
+/// Most values (elements x components) one glTF accessor may hold: an accessor without a
+/// buffer view (all zeros, possibly sparse) has no data bounding its count, so this bounds
+/// the memory it takes (2^27 f32 = 512 MiB).
+pub const MAX_GLTF_ACCESSOR_VALUES: u64 = 1 << 27;
+/// Most levels of midpoint subdivision of a glTF model: each multiplies the triangles by 4,
+/// and 8 levels turn even a single triangle into 65,536; the scene's triangle limit still
+/// applies to the result.
+pub const MAX_GLTF_SUBDIVIDE: u32 = 8;
+
 /// Most triangles one scene may have: 2^25 = 33,554,432, whose vertex buffer takes
 /// 2^25 x 3 x 32 B = 3 GiB. No Vulkan device can go much further: a shader reaches the vertex
 /// buffer through a storage-buffer descriptor, whose range (`maxStorageBufferRange`) is a

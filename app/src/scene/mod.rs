@@ -11,6 +11,7 @@ mod clip;
 mod culling;
 mod error;
 mod file;
+pub mod gltf;
 mod hard;
 mod leg;
 pub mod limits;
@@ -21,6 +22,7 @@ mod pretty;
 mod primitives;
 mod read;
 pub(crate) mod rng;
+mod subdivide;
 mod types;
 mod validate;
 
@@ -37,4 +39,5 @@ pub use file::{
 pub use hard::HARD_NAMES;
 pub use name::{name_from_file_stem, scene_name_problem};
 pub use primitives::{RigidTransform, box_mesh, plane_mesh};
+pub use subdivide::subdivide;
 pub use types::{Camera, DirectionalLight, Light, Mesh, Scene, SpotLight};
