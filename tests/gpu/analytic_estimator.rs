@@ -203,8 +203,9 @@ fn analytic_at_one_spp_beats_sampled_at_sixteen_on_static_receivers() {
     assert_no_validation_messages(&ctx);
 }
 
-/// The built-in scenes seen from cameras that show static receivers only: the default
-/// scene's camera lowered to look at the ground under the left cube, and the leg scene's
+/// The built-in scenes seen from cameras that show static receivers only
+/// (docs/examples/cubes-ground-view.json, leg-wall-view.json): the default scene's camera
+/// lowered to look at the ground under the left cube, and the leg scene's
 /// looking at the wall behind the figure, where the kicking leg's shadow falls (the wall
 /// only: where two surfaces meet, one sample per pixel shows one of them, whatever the
 /// shadow estimator). Against the
@@ -215,33 +216,15 @@ fn analytic_at_one_spp_beats_sampled_at_sixteen_on_static_receivers() {
 #[test]
 fn analytic_at_one_spp_beats_sampled_at_sixteen_on_builtin_static_views() {
     let ctx = context();
-    let options = motion_shadows_app::scene::BuiltinOptions::default();
-    let view = |name: &str, position: Vec3, target: Vec3, fov_y_deg: f32| {
-        let mut s = motion_shadows_app::scene::builtin(name, &options).unwrap();
-        s.camera = Camera {
-            position,
-            target,
-            up: Vec3::Y,
-            fov_y_deg,
-            near: 0.05,
-            far: 50.0,
-        };
-        s
+    // docs/examples holds both views as scene files (the built-in scenes exported, cameras
+    // moved), so that `compare --scene-file` reproduces the README's images of them.
+    let view = |file: &str| {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("docs/examples")
+            .join(file);
+        motion_shadows_app::scene::load_scene_file(&path).unwrap()
     };
-    let views = [
-        view(
-            "cubes-toward-light",
-            Vec3::new(-1.0, 2.0, 2.0),
-            Vec3::new(-3.0, 0.0, -0.25),
-            45.0,
-        ),
-        view(
-            "leg-toward-light",
-            Vec3::new(-0.3, 0.35, -1.0),
-            Vec3::new(-0.4, 0.35, -1.8),
-            40.0,
-        ),
-    ];
+    let views = [view("cubes-ground-view.json"), view("leg-wall-view.json")];
     const IMAGE: (u32, u32) = (96, 72);
     let settings = |method, spp, estimator, filter| RenderSettings {
         width: IMAGE.0,
