@@ -438,57 +438,6 @@ float ms_lit_fraction(MsShadowMap header, vec3 p, vec3 n, uint own) {
     return ms_lit_fraction(ms_load(header), p, n, own);
 }
 
-// ---- filtered (see ms_receiver_footprint): smooth in space as well ----
-
-// The share of the 2x2 footprint around p that sees the light at time t: 1 lit, 0 shadowed,
-// in between on a shadow edge (percentage-closer filtering of the ranges at time t).
-float ms_visibility_filtered(MsMap map, vec3 p, vec3 n, float t, uint own) {
-    vec3 q;
-    float depth;
-    ivec2 base;
-    vec2 f;
-    if (!ms_receiver_footprint(map.light, map.size, p, n, q, depth, base, f)) return 1.0;
-    float lit = 0.0;
-    for (int k = 0; k < 4; ++k) {
-        uint texel;
-        float texel_depth, weight;
-        bool inside = ms_footprint_texel(map.light, map.size, base, f, k, q, n, depth, texel,
-                                         texel_depth, weight);
-        if (weight == 0.0) continue;
-        if (!inside || !ms_texel_shadowed(map, texel, texel_depth, t, own)) lit += weight;
-    }
-    return lit;
-}
-
-float ms_visibility_filtered(MsShadowMap header, vec3 p, vec3 n, float t, uint own) {
-    return ms_visibility_filtered(ms_load(header), p, n, t, own);
-}
-
-// ms_lit_fraction over the 2x2 footprint around p: the weighted mean of the four texels'
-// exact lit fractions of the shutter. For a receiver that does not move during the shutter:
-// no time noise, and shadow edges ramp over a texel.
-float ms_lit_fraction_filtered(MsMap map, vec3 p, vec3 n, uint own) {
-    vec3 q;
-    float depth;
-    ivec2 base;
-    vec2 f;
-    if (!ms_receiver_footprint(map.light, map.size, p, n, q, depth, base, f)) return 1.0;
-    float lit = 0.0;
-    for (int k = 0; k < 4; ++k) {
-        uint texel;
-        float texel_depth, weight;
-        bool inside = ms_footprint_texel(map.light, map.size, base, f, k, q, n, depth, texel,
-                                         texel_depth, weight);
-        if (weight == 0.0) continue;
-        lit += weight * (inside ? ms_texel_lit_fraction(map, texel, texel_depth, own) : 1.0);
-    }
-    return lit;
-}
-
-float ms_lit_fraction_filtered(MsShadowMap header, vec3 p, vec3 n, uint own) {
-    return ms_lit_fraction_filtered(ms_load(header), p, n, own);
-}
-
 // The footprint lookups' common part: the taps' bilinear weights summed per texel first, so
 // that a texel several taps share is evaluated once (its depth there is the receiver
 // plane's, the same for every tap; without the plane test, the first tap's own depth), then
@@ -540,6 +489,30 @@ float ms_footprint_lookup(MsMap map, vec3 p, vec3 n, float t, uint own, vec3 dpd
         lit += weights[j] * v;
     }
     return lit / float(tap_count);
+}
+
+// ---- filtered (see ms_receiver_footprint): smooth in space as well ----
+// (Both are the footprint lookups below with a footprint of one point.)
+
+// The share of the 2x2 footprint around p that sees the light at time t: 1 lit, 0 shadowed,
+// in between on a shadow edge (percentage-closer filtering of the ranges at time t).
+float ms_visibility_filtered(MsMap map, vec3 p, vec3 n, float t, uint own) {
+    return ms_footprint_lookup(map, p, n, max(t, 0.0), own, vec3(0.0), vec3(0.0));
+}
+
+float ms_visibility_filtered(MsShadowMap header, vec3 p, vec3 n, float t, uint own) {
+    return ms_visibility_filtered(ms_load(header), p, n, t, own);
+}
+
+// ms_lit_fraction over the 2x2 footprint around p: the weighted mean of the four texels'
+// exact lit fractions of the shutter. For a receiver that does not move during the shutter:
+// no time noise, and shadow edges ramp over a texel.
+float ms_lit_fraction_filtered(MsMap map, vec3 p, vec3 n, uint own) {
+    return ms_footprint_lookup(map, p, n, -1.0, own, vec3(0.0), vec3(0.0));
+}
+
+float ms_lit_fraction_filtered(MsShadowMap header, vec3 p, vec3 n, uint own) {
+    return ms_lit_fraction_filtered(ms_load(header), p, n, own);
 }
 
 // ms_visibility_filtered averaged over a pixel's footprint (see ms_footprint_taps).
