@@ -18,6 +18,7 @@ pub fn builtin_options(random: &RandomCubesArgs) -> BuiltinOptions {
         speed_max: random.speed_max,
         cube_size: random.cube_size,
         seed: random.scene_seed,
+        frame_time: None,
     }
 }
 
