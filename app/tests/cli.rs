@@ -356,3 +356,90 @@ fn raytrace_renders_without_a_device_and_compare_measures_against_it() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `animate`: one PNG per frame and a GIF with as many frames of the same size, the walker
+/// moving between them, and the `--json` summary's counts and times.
+#[test]
+fn animate_writes_each_frame_and_a_gif_of_them() {
+    use image::AnimationDecoder as _;
+    let dir = temp_dir("animate");
+    let out = motion_shadows(
+        &[
+            "animate", "--frames", "3", "--width", "64", "--height", "48", "--spp", "1", "--json",
+        ],
+        &dir,
+    );
+    let json: serde_json::Value =
+        serde_json::from_slice(&out.stdout).expect("stdout is one JSON object");
+    assert_eq!(json["scene"], "walker-toward-light");
+    assert_eq!(json["frames"], 3);
+    // Frame i's shutter opens i / 24 s after frame 0's (f32 printed in shortest form).
+    let offsets: Vec<f32> = json["frame_offsets_s"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap() as f32)
+        .collect();
+    assert_eq!(offsets, [0.0, 1.0 / 24.0, 2.0 / 24.0]);
+    let gpu_ms = json["frame_gpu_ms"].as_array().unwrap();
+    assert_eq!(gpu_ms.len(), 3);
+    assert!(gpu_ms.iter().all(|ms| ms.as_f64().unwrap() > 0.0));
+    let names: Vec<String> = (0..3)
+        .map(|i| format!("walker-toward-light-frame-000{i}.png"))
+        .chain(["walker-toward-light.gif".to_owned()])
+        .collect();
+    let files: Vec<String> = names
+        .iter()
+        .map(|n| dir.join(n).display().to_string())
+        .collect();
+    assert_eq!(json["files"], serde_json::json!(files));
+    assert_eq!(json["gif"], serde_json::json!(files[3]));
+
+    let pngs: Vec<image::RgbImage> = files[..3]
+        .iter()
+        .map(|f| image::open(f).unwrap().to_rgb8())
+        .collect();
+    for png in &pngs {
+        assert_eq!(png.dimensions(), (64, 48));
+    }
+    // The walker moves between consecutive frames (everything else is static).
+    assert_ne!(pngs[0], pngs[1]);
+    assert_ne!(pngs[1], pngs[2]);
+    let gif = std::io::BufReader::new(std::fs::File::open(&files[3]).unwrap());
+    let frames = image::codecs::gif::GifDecoder::new(gif)
+        .unwrap()
+        .into_frames()
+        .collect_frames()
+        .unwrap();
+    assert_eq!(frames.len(), 3);
+    for f in &frames {
+        assert_eq!(f.buffer().dimensions(), (64, 48));
+    }
+    assert_ne!(frames[0].buffer(), frames[1].buffer());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `animate` refuses, before rendering or writing anything, a scene in which nothing is
+/// animated and a frame count of 0.
+#[test]
+fn animate_refuses_still_scenes_and_zero_frames() {
+    let dir = temp_dir("animate-errors");
+    let out = dir.join("out");
+    for (args, needle) in [
+        (&["--scene", "leg-toward-light"][..], "has no animation"),
+        (&["--frames", "0"][..], "--frames"),
+    ] {
+        let output = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+            .arg("animate")
+            .args(args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{args:?}");
+        assert!(stderr.contains(needle), "{args:?}: {stderr}");
+        assert!(!out.exists(), "{args:?} created the output directory");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
