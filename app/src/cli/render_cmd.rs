@@ -19,6 +19,7 @@ pub fn builtin_options(random: &RandomCubesArgs) -> BuiltinOptions {
         cube_size: random.cube_size,
         seed: random.scene_seed,
         frame_time: None,
+        subdivide: random.subdivide,
     }
 }
 

@@ -50,6 +50,9 @@ pub struct BuiltinOptions {
     /// Scenes with an animated character: animation time at shutter open, seconds; `None`:
     /// the scene's own (`builtin_animation_time`). Other scenes ignore it.
     pub frame_time: Option<f32>,
+    /// Scenes with an animated character: levels of midpoint subdivision of the character
+    /// (each multiplies its triangles by 4).
+    pub subdivide: u32,
 }
 
 impl Default for BuiltinOptions {
@@ -61,6 +64,7 @@ impl Default for BuiltinOptions {
             cube_size: 1.0,
             seed: 1,
             frame_time: None,
+            subdivide: 0,
         }
     }
 }
@@ -84,8 +88,10 @@ pub fn builtin_file(name: &str, opts: &BuiltinOptions) -> Result<SceneFile, Scen
         "cubes-toward-light" => Ok(cubes_toward_light()),
         "random-cubes" => random_cubes(opts),
         "leg-toward-light" => Ok(leg_toward_light()),
-        "walker-toward-light" => walker_toward_light(opts.frame_time.unwrap_or(WALKER_TIME)),
-        "fox-run" => fox_run(opts.frame_time.unwrap_or(FOX_TIME)),
+        "walker-toward-light" => {
+            walker_toward_light(opts.frame_time.unwrap_or(WALKER_TIME), opts.subdivide)
+        }
+        "fox-run" => fox_run(opts.frame_time.unwrap_or(FOX_TIME), opts.subdivide),
         _ => hard_scene(name).ok_or_else(|| SceneError::UnknownBuiltin {
             name: name.to_owned(),
             available: BUILTIN_NAMES.iter().map(|s| s.to_string()).collect(),
@@ -264,6 +270,7 @@ fn random_cubes(opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
         cube_size,
         seed,
         frame_time: _,
+        subdivide: _,
     } = *opts;
     // Every size is checked before a cube is placed: the count against the scene's triangle
     // limit (12 per cube, 128 for the ground), the lengths against ranges the framing below
@@ -458,6 +465,7 @@ mod tests {
                 cube_size,
                 seed: 9,
                 frame_time: None,
+                subdivide: 0,
             };
             let s = builtin("random-cubes", &opts).unwrap();
             let Light::Spot(light) = &s.light else {
@@ -501,6 +509,7 @@ mod tests {
                         cube_size,
                         seed: 3,
                         frame_time: None,
+                        subdivide: 0,
                     };
                     let s =
                         builtin("random-cubes", &opts).unwrap_or_else(|e| panic!("{opts:?}: {e}"));

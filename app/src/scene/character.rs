@@ -28,9 +28,9 @@ pub(super) const FOX: (&str, &[u8]) = (
 /// A film camera's half-open shutter, 180 degrees at 24 fps, in seconds.
 pub(crate) const SHUTTER_180_AT_24: f32 = 1.0 / 48.0;
 
-/// `model` (name, bytes) at animation time `time`, shutter `shutter` seconds, as one object
-/// of explicit moving triangles placed by `transform` (the same at both ends of the shutter:
-/// the motion is the animation's).
+/// `model` (name, bytes) at animation time `time`, shutter `shutter` seconds, subdivided
+/// `subdivide` times, as one object of explicit moving triangles placed by `transform` (the
+/// same at both ends of the shutter: the motion is the animation's).
 pub(super) fn animated_object(
     name: &str,
     albedo: Vec3,
@@ -38,13 +38,14 @@ pub(super) fn animated_object(
     animation: AnimationRef,
     time: f32,
     shutter: f32,
+    subdivide: u32,
     transform: TransformFile,
 ) -> Result<ObjectFile, SceneError> {
     let options = GltfOptions {
         animation: Some(animation),
         time,
         shutter,
-        subdivide: 0,
+        subdivide,
     };
     let meshes = load_gltf_motion_from_bytes(model.0, model.1, &options)?;
     let t0 = meshes.iter().flat_map(|m| m.t0.iter().copied()).collect();

@@ -17,7 +17,7 @@ pub(super) const FOX_TIME: f32 = 12.0 / 24.0;
 /// The model is about 79 units tall (assets/models/README.md); this makes it ~1.
 pub(super) const FOX_SCALE: f32 = 1.0 / 79.0;
 
-pub(super) fn fox_run(time: f32) -> Result<SceneFile, SceneError> {
+pub(super) fn fox_run(time: f32, subdivide: u32) -> Result<SceneFile, SceneError> {
     let fox = animated_object(
         "fox",
         Vec3::new(0.85, 0.45, 0.2),
@@ -25,6 +25,7 @@ pub(super) fn fox_run(time: f32) -> Result<SceneFile, SceneError> {
         AnimationRef::Name("Run".into()),
         time,
         SHUTTER_180_AT_24,
+        subdivide,
         TransformFile {
             scale: Some(Vec3::splat(FOX_SCALE)),
             ..Default::default()
@@ -90,7 +91,7 @@ mod tests {
         let (moved, at) = fastest(fox(&s));
         assert!(moved > 0.1 && at.y < 0.1, "{moved} at {at}");
         for frame in 0..28 {
-            let other = fox_run(frame as f32 / 24.0)
+            let other = fox_run(frame as f32 / 24.0, 0)
                 .unwrap()
                 .to_scene(std::path::Path::new("."), "f")
                 .unwrap();

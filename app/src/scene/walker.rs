@@ -18,7 +18,7 @@ pub(super) const WALKER_TIME: f32 = 13.0 / 24.0;
 /// The model faces +x; turned this far about +y it faces +z, the light.
 const FACING_DEG: f32 = -90.0;
 
-pub(super) fn walker_toward_light(time: f32) -> Result<SceneFile, SceneError> {
+pub(super) fn walker_toward_light(time: f32, subdivide: u32) -> Result<SceneFile, SceneError> {
     let walker = animated_object(
         "walker",
         Vec3::new(0.3, 0.45, 0.7),
@@ -26,6 +26,7 @@ pub(super) fn walker_toward_light(time: f32) -> Result<SceneFile, SceneError> {
         AnimationRef::Index(0),
         time,
         SHUTTER_180_AT_24,
+        subdivide,
         TransformFile {
             translation: None,
             rotation_axis: Some(Vec3::Y),
@@ -89,6 +90,22 @@ mod tests {
         }
     }
 
+    /// Each level of subdivision splits every triangle in four, the papers' way to their
+    /// sizes; past the loader's limit of 8 levels the scene is refused by name.
+    #[test]
+    fn subdivide_multiplies_the_walkers_triangles() {
+        let options = |subdivide| BuiltinOptions {
+            subdivide,
+            ..Default::default()
+        };
+        let s = builtin("walker-toward-light", &options(2)).unwrap();
+        assert_eq!(walker(&s).triangle_count(), 4672 * 16);
+        match builtin("walker-toward-light", &options(9)) {
+            Err(e) => assert!(e.to_string().contains("subdivide must be at most 8"), "{e}"),
+            Ok(_) => panic!("9 levels accepted"),
+        }
+    }
+
     /// A walker's swinging foot outruns every other part: the fastest vertex is in the
     /// lowest tenth of the 1.5 m figure, it moves toward the light, and no time of the cycle
     /// (every 1/24 s) moves a vertex farther than the chosen one.
@@ -101,7 +118,7 @@ mod tests {
         let i = m.t0.iter().position(|&p| p == at).unwrap();
         assert!((LIGHT - m.t1[i]).length() < (LIGHT - at).length() - 0.5 * moved);
         for frame in 0..48 {
-            let other = walker_toward_light(frame as f32 / 24.0)
+            let other = walker_toward_light(frame as f32 / 24.0, 0)
                 .unwrap()
                 .to_scene(std::path::Path::new("."), "w")
                 .unwrap();
