@@ -7,7 +7,7 @@ use glam::Vec3;
 use super::SceneError;
 use super::character::{FOX, SHUTTER_180_AT_24, animated_object};
 use super::file::{SCENE_FORMAT, SceneFile, TransformFile};
-use super::gltf::AnimationRef;
+use super::gltf::{AnimationRef, GltfOptions};
 use super::leg::{backdrop, front_spot, side_camera};
 
 /// Shutter open, seconds into the 1.16 s run cycle: frame 12 at 24 fps, the one whose
@@ -22,10 +22,12 @@ pub(super) fn fox_run(time: f32, subdivide: u32) -> Result<SceneFile, SceneError
         "fox",
         Vec3::new(0.85, 0.45, 0.2),
         FOX,
-        AnimationRef::Name("Run".into()),
-        time,
-        SHUTTER_180_AT_24,
-        subdivide,
+        &GltfOptions {
+            animation: Some(AnimationRef::Name("Run".into())),
+            time,
+            shutter: SHUTTER_180_AT_24,
+            subdivide,
+        },
         TransformFile {
             scale: Some(Vec3::splat(FOX_SCALE)),
             ..Default::default()

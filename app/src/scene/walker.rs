@@ -8,7 +8,7 @@ use glam::Vec3;
 use super::SceneError;
 use super::character::{CESIUM_MAN, SHUTTER_180_AT_24, animated_object};
 use super::file::{SCENE_FORMAT, SceneFile, TransformFile};
-use super::gltf::AnimationRef;
+use super::gltf::{AnimationRef, GltfOptions};
 use super::leg::{backdrop, front_spot, side_camera};
 
 /// Shutter open, seconds into the walk cycle: frame 13 of the 48 over the 2 s cycle at
@@ -23,10 +23,12 @@ pub(super) fn walker_toward_light(time: f32, subdivide: u32) -> Result<SceneFile
         "walker",
         Vec3::new(0.3, 0.45, 0.7),
         CESIUM_MAN,
-        AnimationRef::Index(0),
-        time,
-        SHUTTER_180_AT_24,
-        subdivide,
+        &GltfOptions {
+            animation: Some(AnimationRef::Index(0)),
+            time,
+            shutter: SHUTTER_180_AT_24,
+            subdivide,
+        },
         TransformFile {
             translation: None,
             rotation_axis: Some(Vec3::Y),
