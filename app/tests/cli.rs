@@ -426,14 +426,19 @@ fn animate_writes_each_frame_and_a_gif_of_them() {
 }
 
 /// `animate` refuses, before rendering or writing anything, a scene in which nothing is
-/// animated and a frame count of 0.
+/// animated, frame counts and rates out of range, and heat maps.
 #[test]
-fn animate_refuses_still_scenes_and_zero_frames() {
+fn animate_refuses_bad_requests_before_rendering() {
     let dir = temp_dir("animate-errors");
     let out = dir.join("out");
     for (args, needle) in [
         (&["--scene", "leg-toward-light"][..], "has no animation"),
         (&["--frames", "0"][..], "--frames"),
+        (&["--frames", "601"][..], "--frames"),
+        (&["--fps", "0"][..], "--fps"),
+        (&["--fps", "NaN"][..], "--fps"),
+        (&["--start", "inf"][..], "--start"),
+        (&["--heatmaps"][..], "--heatmaps"),
     ] {
         let output = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
             .arg("animate")
@@ -447,5 +452,27 @@ fn animate_refuses_still_scenes_and_zero_frames() {
         assert!(stderr.contains(needle), "{args:?}: {stderr}");
         assert!(!out.exists(), "{args:?} created the output directory");
     }
+    // A frame's path is a directory: refused before rendering, the old GIF kept, and no
+    // temporary file left.
+    std::fs::create_dir_all(out.join("walker-toward-light-frame-0001.png")).unwrap();
+    std::fs::write(out.join("walker-toward-light.gif"), "old").unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args([
+            "animate", "--frames", "2", "--width", "16", "--height", "16",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(stderr.contains("is a directory"), "{stderr}");
+    assert!(
+        !stderr.contains("lighting pass"),
+        "rendered first: {stderr}"
+    );
+    let gif = std::fs::read_to_string(out.join("walker-toward-light.gif")).unwrap();
+    assert_eq!(gif, "old");
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 2);
     std::fs::remove_dir_all(&dir).ok();
 }
