@@ -10,6 +10,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         None => motion_shadows_app::cli::render_cmd::run(&RenderArgs::default()),
         Some(Command::Render(args)) => motion_shadows_app::cli::render_cmd::run(&args),
+        Some(Command::Animate(args)) => motion_shadows_app::cli::animate_cmd::run(&args),
         Some(Command::Compare(args)) => motion_shadows_app::cli::compare_cmd::run(&args),
         Some(Command::Bench(args)) => motion_shadows_app::cli::bench_cmd::run(&args),
         Some(Command::Scene(SceneCommand::List)) => {

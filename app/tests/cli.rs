@@ -72,28 +72,34 @@ fn render_json_reports_the_frame_and_writes_the_files() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// A built-in scene exported as a file renders to the same bytes as the built-in.
+/// A built-in scene exported as a file renders to the same bytes as the built-in; for
+/// `walker-toward-light` the file holds the posed model as triangles and needs no asset.
 #[test]
 fn exported_scene_file_renders_like_the_builtin() {
     let dir = temp_dir("export");
-    let scene_file = dir.join("scene.json");
-    let status = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
-        .args(["scene", "export", "cubes-toward-light", "--out"])
-        .arg(&scene_file)
-        .status()
-        .unwrap();
-    assert!(status.success());
-    let small = ["--width", "48", "--height", "36", "--spp", "2"];
-    let a = dir.join("builtin");
-    let b = dir.join("file");
-    motion_shadows(&[&["render"][..], &small].concat(), &a);
-    let file_arg = scene_file.to_str().unwrap();
-    motion_shadows(
-        &[&["render", "--scene-file", file_arg][..], &small].concat(),
-        &b,
-    );
-    let exr = |d: &Path| std::fs::read(d.join("cubes-toward-light-temporal.exr")).unwrap();
-    assert!(exr(&a) == exr(&b), "the exported scene renders differently");
+    for name in ["cubes-toward-light", "walker-toward-light"] {
+        let scene_file = dir.join(format!("{name}.json"));
+        let status = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+            .args(["scene", "export", name, "--out"])
+            .arg(&scene_file)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        let small = ["--width", "48", "--height", "36", "--spp", "2"];
+        let a = dir.join(format!("{name}-builtin"));
+        let b = dir.join(format!("{name}-file"));
+        motion_shadows(&[&["render", "--scene", name][..], &small].concat(), &a);
+        let file_arg = scene_file.to_str().unwrap();
+        motion_shadows(
+            &[&["render", "--scene-file", file_arg][..], &small].concat(),
+            &b,
+        );
+        let exr = |d: &Path| std::fs::read(d.join(format!("{name}-temporal.exr"))).unwrap();
+        assert!(
+            exr(&a) == exr(&b),
+            "the exported {name} renders differently"
+        );
+    }
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -354,5 +360,119 @@ fn raytrace_renders_without_a_device_and_compare_measures_against_it() {
             "{name} not in {files:?}"
         );
     }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `animate`: one PNG per frame and a GIF with as many frames of the same size, the walker
+/// moving between them, and the `--json` summary's counts and times.
+#[test]
+fn animate_writes_each_frame_and_a_gif_of_them() {
+    use image::AnimationDecoder as _;
+    let dir = temp_dir("animate");
+    let out = motion_shadows(
+        &[
+            "animate", "--frames", "3", "--width", "64", "--height", "48", "--spp", "1", "--json",
+        ],
+        &dir,
+    );
+    let json: serde_json::Value =
+        serde_json::from_slice(&out.stdout).expect("stdout is one JSON object");
+    assert_eq!(json["scene"], "walker-toward-light");
+    assert_eq!(json["frames"], 3);
+    // Frame i's shutter opens i / 24 s after frame 0's (f32 printed in shortest form).
+    let offsets: Vec<f32> = json["frame_offsets_s"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap() as f32)
+        .collect();
+    assert_eq!(offsets, [0.0, 1.0 / 24.0, 2.0 / 24.0]);
+    let gpu_ms = json["frame_gpu_ms"].as_array().unwrap();
+    assert_eq!(gpu_ms.len(), 3);
+    assert!(gpu_ms.iter().all(|ms| ms.as_f64().unwrap() > 0.0));
+    let names: Vec<String> = (0..3)
+        .map(|i| format!("walker-toward-light-frame-000{i}.png"))
+        .chain(["walker-toward-light.gif".to_owned()])
+        .collect();
+    let files: Vec<String> = names
+        .iter()
+        .map(|n| dir.join(n).display().to_string())
+        .collect();
+    assert_eq!(json["files"], serde_json::json!(files));
+    assert_eq!(json["gif"], serde_json::json!(files[3]));
+
+    let pngs: Vec<image::RgbImage> = files[..3]
+        .iter()
+        .map(|f| image::open(f).unwrap().to_rgb8())
+        .collect();
+    for png in &pngs {
+        assert_eq!(png.dimensions(), (64, 48));
+    }
+    // The walker moves between consecutive frames (everything else is static).
+    assert_ne!(pngs[0], pngs[1]);
+    assert_ne!(pngs[1], pngs[2]);
+    let gif = std::io::BufReader::new(std::fs::File::open(&files[3]).unwrap());
+    let frames = image::codecs::gif::GifDecoder::new(gif)
+        .unwrap()
+        .into_frames()
+        .collect_frames()
+        .unwrap();
+    assert_eq!(frames.len(), 3);
+    for f in &frames {
+        assert_eq!(f.buffer().dimensions(), (64, 48));
+    }
+    assert_ne!(frames[0].buffer(), frames[1].buffer());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `animate` refuses, before rendering or writing anything, a scene in which nothing is
+/// animated, frame counts and rates out of range, and heat maps.
+#[test]
+fn animate_refuses_bad_requests_before_rendering() {
+    let dir = temp_dir("animate-errors");
+    let out = dir.join("out");
+    for (args, needle) in [
+        (&["--scene", "leg-toward-light"][..], "has no animation"),
+        (&["--frames", "0"][..], "--frames"),
+        (&["--frames", "601"][..], "--frames"),
+        (&["--fps", "0"][..], "--fps"),
+        (&["--fps", "NaN"][..], "--fps"),
+        (&["--start", "inf"][..], "--start"),
+        (&["--heatmaps"][..], "--heatmaps"),
+    ] {
+        let output = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+            .arg("animate")
+            .args(args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{args:?}");
+        assert!(stderr.contains(needle), "{args:?}: {stderr}");
+        assert!(!out.exists(), "{args:?} created the output directory");
+    }
+    // A frame's path is a directory: refused before rendering, the old GIF kept, and no
+    // temporary file left.
+    std::fs::create_dir_all(out.join("walker-toward-light-frame-0001.png")).unwrap();
+    std::fs::write(out.join("walker-toward-light.gif"), "old").unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args([
+            "animate", "--frames", "2", "--width", "16", "--height", "16",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(stderr.contains("is a directory"), "{stderr}");
+    assert!(
+        !stderr.contains("lighting pass"),
+        "rendered first: {stderr}"
+    );
+    let gif = std::fs::read_to_string(out.join("walker-toward-light.gif")).unwrap();
+    assert_eq!(gif, "old");
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 2);
     std::fs::remove_dir_all(&dir).ok();
 }

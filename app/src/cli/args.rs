@@ -27,6 +27,9 @@ pub enum Command {
     /// Measure like the papers: per-pass GPU time and memory sweeps, written as CSV and PNG
     /// charts, with the key ratios printed.
     Bench(BenchArgs),
+    /// Render consecutive frames of an animated scene: `DIR/<scene>-frame-NNNN.png` and an
+    /// animated `DIR/<scene>.gif`.
+    Animate(AnimateArgs),
     /// Render reference, temporal and TSM images of one scene; write a side-by-side PNG,
     /// false-colour error images, and a table of errors, times and memory.
     Compare(CompareArgs),
@@ -126,6 +129,49 @@ pub struct CompareArgs {
     pub json: bool,
     #[command(flatten)]
     pub random: RandomCubesArgs,
+}
+
+/// Most frames `animate` renders in one run (25 s at 24 fps).
+pub const MAX_ANIMATE_FRAMES: u32 = 600;
+
+/// Highest `animate --fps`: a GIF's frame delays are in hundredths of a second.
+pub const MAX_ANIMATE_FPS: f32 = 100.0;
+
+#[derive(Debug, Args, Clone)]
+#[command(mut_arg("scene", |a| a.default_value("walker-toward-light")))]
+pub struct AnimateArgs {
+    /// Number of frames, 1 to 600.
+    #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u32).range(1..=MAX_ANIMATE_FRAMES as i64))]
+    pub frames: u32,
+    /// Frames per second: frame i's shutter opens at START + i / FPS; more than 0, at most 100.
+    #[arg(long, default_value_t = 24.0, value_parser = parse_fps)]
+    pub fps: f32,
+    /// Animation time of frame 0's shutter opening, seconds (default: the scene's own time,
+    /// for a scene file each glTF model's `time`).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_start)]
+    pub start: Option<f32>,
+    #[command(flatten)]
+    pub render: RenderArgs,
+}
+
+/// Parses `animate --fps`: a number in (0, 100].
+pub fn parse_fps(text: &str) -> Result<f32, String> {
+    let fps: f32 = text.trim().parse().map_err(|e| format!("{e}"))?;
+    if fps > 0.0 && fps <= MAX_ANIMATE_FPS {
+        Ok(fps)
+    } else {
+        Err(format!("must be more than 0 and at most {MAX_ANIMATE_FPS}"))
+    }
+}
+
+/// Parses `animate --start`: a finite number of seconds.
+pub fn parse_start(text: &str) -> Result<f32, String> {
+    let start: f32 = text.trim().parse().map_err(|e| format!("{e}"))?;
+    if start.is_finite() {
+        Ok(start)
+    } else {
+        Err("must be a finite number of seconds".into())
+    }
 }
 
 #[derive(Debug, Subcommand)]
@@ -271,6 +317,10 @@ pub struct RandomCubesArgs {
     /// random-cubes: seed of the placement.
     #[arg(long, default_value_t = 1)]
     pub scene_seed: u64,
+    /// walker-toward-light, fox-run: levels of midpoint subdivision of the character, 0 to
+    /// 8 (each multiplies its triangles by 4).
+    #[arg(long, default_value_t = 0)]
+    pub subdivide: u32,
 }
 
 #[derive(Debug, Args, Clone)]

@@ -1,5 +1,6 @@
 //! The `motion-shadows` binary's commands.
 
+pub mod animate_cmd;
 pub mod args;
 pub mod bench_cmd;
 pub mod compare_cmd;

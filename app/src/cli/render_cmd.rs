@@ -3,7 +3,7 @@
 use super::args::{MethodArg, RandomCubesArgs, RenderArgs};
 use super::summary::summary_text;
 use crate::output::{StagedFiles, auto_exposure, write_exr, write_png};
-use crate::render::{Method, RenderSettings, Renderer};
+use crate::render::{Method, RenderResult, RenderSettings, Renderer};
 use crate::scene::{BuiltinOptions, Scene, builtin, load_scene_file};
 use anyhow::Context as _;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -18,6 +18,8 @@ pub fn builtin_options(random: &RandomCubesArgs) -> BuiltinOptions {
         speed_max: random.speed_max,
         cube_size: random.cube_size,
         seed: random.scene_seed,
+        frame_time: None,
+        subdivide: random.subdivide,
     }
 }
 
@@ -75,6 +77,33 @@ pub fn render_settings(args: &RenderArgs) -> RenderSettings {
     }
 }
 
+/// The Vulkan device `settings`' method renders on; none for the ray tracer, which needs
+/// no device (nor a Vulkan installation).
+pub fn device_for(
+    settings: &RenderSettings,
+    report: &mut dyn FnMut(&str),
+) -> anyhow::Result<Option<Context>> {
+    if settings.method == Method::Raytrace {
+        return Ok(None);
+    }
+    report("creating the Vulkan device");
+    Ok(Some(Context::headless(&ContextOptions::from_env())?))
+}
+
+/// One frame, on `renderer` (made on `device_for`'s device), or without one on the ray
+/// tracer.
+pub fn render_frame(
+    renderer: Option<&mut Renderer>,
+    scene: &Scene,
+    settings: &RenderSettings,
+    report: &mut dyn FnMut(&str),
+) -> anyhow::Result<RenderResult> {
+    Ok(match renderer {
+        Some(renderer) => renderer.render(scene, settings, report)?,
+        None => crate::raytrace::render(scene, settings, report)?,
+    })
+}
+
 /// The heat maps `--heatmaps` writes for a frame of `method` named `stem`.
 fn heat_map_names(method: MethodArg, stem: &str) -> Vec<String> {
     let mut names = vec![format!("{stem}-ranges.png")];
@@ -107,18 +136,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let staged = StagedFiles::prepare(&args.out, &names)
         .with_context(|| format!("preparing the output directory {}", args.out.display()))?;
 
-    // The ray tracer needs no device (nor a Vulkan installation).
-    let (ctx, result) = if settings.method == Method::Raytrace {
-        (
-            None,
-            crate::raytrace::render(&scene, &settings, &mut report)?,
-        )
-    } else {
-        report("creating the Vulkan device");
-        let ctx = Context::headless(&ContextOptions::from_env())?;
-        let result = Renderer::new(&ctx)?.render(&scene, &settings, &mut report)?;
-        (Some(ctx), result)
-    };
+    let ctx = device_for(&settings, &mut report)?;
+    let mut renderer = ctx.as_ref().map(Renderer::new).transpose()?;
+    let result = render_frame(renderer.as_mut(), &scene, &settings, &mut report)?;
+    // Its resources are released before the validation layer's messages are counted.
+    drop(renderer);
 
     report("writing images");
     let exposure = args
@@ -155,7 +177,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
 /// [`heat_map_names`], staged in `staged`.
 fn write_heat_maps(
     ctx: &Context,
-    result: &crate::render::RenderResult,
+    result: &RenderResult,
     staged: &StagedFiles,
     names: &[String],
 ) -> anyhow::Result<()> {

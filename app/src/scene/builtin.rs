@@ -9,10 +9,12 @@ use super::file::{
     BoxSpec, CameraFile, LightFile, MeshSpec, ObjectFile, PlaneSpec, SCENE_FORMAT, SceneFile,
     TransformFile,
 };
+use super::fox::{FOX_TIME, fox_run};
 use super::hard::hard_scene;
 use super::leg::leg_toward_light;
 use super::limits::{CUBE_SIZE_RANGE, MAX_CUBE_SPEED, MAX_SCENE_TRIANGLES};
 use super::rng::SplitMix64;
+use super::walker::{WALKER_TIME, walker_toward_light};
 use super::{Scene, SceneError};
 
 /// The first name is the default scene; the `hard-` scenes are also in `HARD_NAMES`.
@@ -20,6 +22,8 @@ pub const BUILTIN_NAMES: &[&str] = &[
     "cubes-toward-light",
     "random-cubes",
     "leg-toward-light",
+    "walker-toward-light",
+    "fox-run",
     "hard-rotating-triangle",
     "hard-hinged-limb",
     "hard-propeller",
@@ -43,6 +47,12 @@ pub struct BuiltinOptions {
     /// what the coverage map saves depends on it (a face must stay over a texel all frame).
     pub cube_size: f32,
     pub seed: u64,
+    /// Scenes with an animated character: animation time at shutter open, seconds; `None`:
+    /// the scene's own (`builtin_animation_time`). Other scenes ignore it.
+    pub frame_time: Option<f32>,
+    /// Scenes with an animated character: levels of midpoint subdivision of the character
+    /// (each multiplies its triangles by 4).
+    pub subdivide: u32,
 }
 
 impl Default for BuiltinOptions {
@@ -53,7 +63,19 @@ impl Default for BuiltinOptions {
             speed_max: 8.0,
             cube_size: 1.0,
             seed: 1,
+            frame_time: None,
+            subdivide: 0,
         }
+    }
+}
+
+/// Shutter-open time of a built-in scene with an animated character; `None` for the others
+/// (nothing in them moves from frame to frame).
+pub fn builtin_animation_time(name: &str) -> Option<f32> {
+    match name {
+        "walker-toward-light" => Some(WALKER_TIME),
+        "fox-run" => Some(FOX_TIME),
+        _ => None,
     }
 }
 
@@ -66,6 +88,10 @@ pub fn builtin_file(name: &str, opts: &BuiltinOptions) -> Result<SceneFile, Scen
         "cubes-toward-light" => Ok(cubes_toward_light()),
         "random-cubes" => random_cubes(opts),
         "leg-toward-light" => Ok(leg_toward_light()),
+        "walker-toward-light" => {
+            walker_toward_light(opts.frame_time.unwrap_or(WALKER_TIME), opts.subdivide)
+        }
+        "fox-run" => fox_run(opts.frame_time.unwrap_or(FOX_TIME), opts.subdivide),
         _ => hard_scene(name).ok_or_else(|| SceneError::UnknownBuiltin {
             name: name.to_owned(),
             available: BUILTIN_NAMES.iter().map(|s| s.to_string()).collect(),
@@ -243,6 +269,8 @@ fn random_cubes(opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
         speed_max,
         cube_size,
         seed,
+        frame_time: _,
+        subdivide: _,
     } = *opts;
     // Every size is checked before a cube is placed: the count against the scene's triangle
     // limit (12 per cube, 128 for the ground), the lengths against ranges the framing below
@@ -436,6 +464,8 @@ mod tests {
                 speed_max: 3.0,
                 cube_size,
                 seed: 9,
+                frame_time: None,
+                subdivide: 0,
             };
             let s = builtin("random-cubes", &opts).unwrap();
             let Light::Spot(light) = &s.light else {
@@ -478,6 +508,8 @@ mod tests {
                         speed_max,
                         cube_size,
                         seed: 3,
+                        frame_time: None,
+                        subdivide: 0,
                     };
                     let s =
                         builtin("random-cubes", &opts).unwrap_or_else(|e| panic!("{opts:?}: {e}"));

@@ -248,6 +248,28 @@ struct FormatProbe {
 /// Reads and converts a scene file; OBJ paths are resolved against its directory. The file
 /// may be a pipe; either way at most `MAX_SCENE_FILE_BYTES` are read.
 pub fn load_scene_file(path: &Path) -> Result<Scene, SceneError> {
+    read_scene_file(path)?.to_scene()
+}
+
+/// A scene file read and parsed but not yet converted, so it can be changed first
+/// (`animate` poses its glTF models at each frame's time).
+#[derive(Debug, Clone)]
+pub struct SceneSource {
+    pub file: SceneFile,
+    /// Where relative model paths are resolved.
+    pub base_dir: PathBuf,
+    /// The scene's name when the file has no `"name"`.
+    pub fallback_name: String,
+}
+
+impl SceneSource {
+    pub fn to_scene(&self) -> Result<Scene, SceneError> {
+        self.file.to_scene(&self.base_dir, &self.fallback_name)
+    }
+}
+
+/// `load_scene_file` without the conversion.
+pub fn read_scene_file(path: &Path) -> Result<SceneSource, SceneError> {
     let io_error = |source| SceneError::Io {
         path: path.to_owned(),
         source,
@@ -269,7 +291,12 @@ pub fn load_scene_file(path: &Path) -> Result<Scene, SceneError> {
         Some(dir) if !dir.as_os_str().is_empty() => dir,
         _ => Path::new("."),
     };
-    parse(&text, base_dir, path)
+    let (file, fallback_name) = parse_file(&text, path)?;
+    Ok(SceneSource {
+        file,
+        base_dir: base_dir.to_owned(),
+        fallback_name,
+    })
 }
 
 /// Parses scene JSON. `name` labels the source in error messages (e.g. a file name) and,
@@ -280,6 +307,12 @@ pub fn parse_scene_json(text: &str, base_dir: &Path, name: &str) -> Result<Scene
 }
 
 fn parse(text: &str, base_dir: &Path, source: &Path) -> Result<Scene, SceneError> {
+    let (file, fallback_name) = parse_file(text, source)?;
+    file.to_scene(base_dir, &fallback_name)
+}
+
+/// The file's contents and the name its source gives a scene without `"name"`.
+fn parse_file(text: &str, source: &Path) -> Result<(SceneFile, String), SceneError> {
     let json_error = |e| SceneError::Json {
         path: source.to_owned(),
         source: e,
@@ -304,7 +337,7 @@ fn parse(text: &str, base_dir: &Path, source: &Path) -> Result<Scene, SceneError
     let stem = source
         .file_stem()
         .map_or_else(|| source.to_string_lossy(), |s| s.to_string_lossy());
-    file.to_scene(base_dir, &name_from_file_stem(&stem))
+    Ok((file, name_from_file_stem(&stem)))
 }
 
 /// Pretty JSON that `parse_scene_json` reads back to an equal scene (f32 values are

@@ -38,9 +38,9 @@ const KICK_SUBDIVISIONS: [u32; 3] = [14, 14, 8];
 const POSE_T0: [f32; 3] = [0.0, -30.0, -10.0];
 const POSE_T1: [f32; 3] = [65.0, 45.0, 25.0];
 
-const LIGHT: Vec3 = Vec3::new(0.8, 1.25, 3.0);
+pub(super) const LIGHT: Vec3 = Vec3::new(0.8, 1.25, 3.0);
 const LIGHT_AIM: Vec3 = Vec3::new(-0.2, 0.6, -0.8);
-const WALL_Z: f32 = -1.8;
+pub(super) const WALL_Z: f32 = -1.8;
 
 pub(super) fn hip() -> Vec3 {
     Vec3::new(-HIP_X, HIP_Y, 0.0)
@@ -113,30 +113,8 @@ pub(super) fn leg_toward_light() -> SceneFile {
     let standing_x = HIP_X;
     let knee_y = HIP_Y - THIGH.y;
     let ankle_y = knee_y - SHIN.y;
-    let mut objects = vec![
-        // Ground from the wall forward past the light, and the wall itself (the plane turned
-        // +90 degrees about x: its normal +y becomes +z, toward the figure and the light).
-        object(
-            "ground",
-            Vec3::splat(0.8),
-            false,
-            plane(Vec2::new(8.0, 7.0), 16),
-            translate(Vec3::new(0.0, 0.0, WALL_Z + 3.5)),
-            None,
-        ),
-        object(
-            "wall",
-            Vec3::new(0.78, 0.75, 0.7),
-            false,
-            plane(Vec2::new(8.0, 4.0), 16),
-            TransformFile {
-                translation: Some(Vec3::new(0.0, 2.0, WALL_Z)),
-                rotation_axis: Some(Vec3::X),
-                rotation_deg: Some(90.0),
-                scale: None,
-            },
-            None,
-        ),
+    let mut objects = backdrop();
+    objects.extend([
         part(
             "pelvis",
             body,
@@ -197,7 +175,7 @@ pub(super) fn leg_toward_light() -> SceneFile {
                 ANKLE_BEHIND_FOOT_CENTRE,
             ),
         ),
-    ];
+    ]);
     let names = ["thigh-right", "shin-right", "foot-right"];
     let sizes = [THIGH, SHIN, FOOT];
     for (((name, size), n), (t0, t1)) in names
@@ -212,31 +190,66 @@ pub(super) fn leg_toward_light() -> SceneFile {
     SceneFile {
         format: SCENE_FORMAT.to_owned(),
         name: Some("leg-toward-light".to_owned()),
-        // From the kicking leg's side and in front, a little above hip height, so the leg,
-        // its shadow on the ground behind the figure and on the wall are all in view.
-        camera: CameraFile {
-            position: Vec3::new(-2.6, 1.0, 2.8),
-            target: Vec3::new(-0.2, 0.55, -0.6),
-            up: Vec3::Y,
-            fov_y_deg: 45.0,
-            near: 0.1,
-            far: 30.0,
-        },
-        // In front of the figure, a little above hip height, off to the standing leg's side
-        // so the shadows fall beside the figure as the camera sees it. Radiance
-        // 0.8/pi * 25 * cos / d^2: up to ~0.7 on the kicking leg (d ~ 3.1), 0.1-0.3 on
-        // the wall behind it (d ~ 5); the ground right behind the figure, lit at a grazing
-        // angle, ~0.1.
-        light: LightFile::Spot {
-            position: LIGHT,
-            direction: LIGHT_AIM - LIGHT,
-            cone_angle_deg: 40.0,
-            intensity: 25.0,
-            near: 0.5,
-            far: 20.0,
-        },
+        camera: side_camera(),
+        light: front_spot(),
         ambient: 0.0,
         objects,
+    }
+}
+
+/// Ground from the wall forward past the light, and the wall itself (the plane turned +90
+/// degrees about x: its normal +y becomes +z, toward the figure and the light).
+pub(super) fn backdrop() -> Vec<ObjectFile> {
+    vec![
+        object(
+            "ground",
+            Vec3::splat(0.8),
+            false,
+            plane(Vec2::new(8.0, 7.0), 16),
+            translate(Vec3::new(0.0, 0.0, WALL_Z + 3.5)),
+            None,
+        ),
+        object(
+            "wall",
+            Vec3::new(0.78, 0.75, 0.7),
+            false,
+            plane(Vec2::new(8.0, 4.0), 16),
+            TransformFile {
+                translation: Some(Vec3::new(0.0, 2.0, WALL_Z)),
+                rotation_axis: Some(Vec3::X),
+                rotation_deg: Some(90.0),
+                scale: None,
+            },
+            None,
+        ),
+    ]
+}
+
+/// From the figure's right (-x) and in front, a little above hip height, so a figure at
+/// the origin facing +z, its shadow on the ground behind it and on the wall are all in view.
+pub(super) fn side_camera() -> CameraFile {
+    CameraFile {
+        position: Vec3::new(-2.6, 1.0, 2.8),
+        target: Vec3::new(-0.2, 0.55, -0.6),
+        up: Vec3::Y,
+        fov_y_deg: 45.0,
+        near: 0.1,
+        far: 30.0,
+    }
+}
+
+/// In front of the figure, a little above hip height, off to its left (+x) so the shadows
+/// fall beside it as `side_camera` sees it. Radiance 0.8/pi * 25 * cos / d^2: up to ~0.7 on
+/// a leg (d ~ 3.1), 0.1-0.3 on the wall behind it (d ~ 5); the ground right behind the
+/// figure, lit at a grazing angle, ~0.1.
+pub(super) fn front_spot() -> LightFile {
+    LightFile::Spot {
+        position: LIGHT,
+        direction: LIGHT_AIM - LIGHT,
+        cone_angle_deg: 40.0,
+        intensity: 25.0,
+        near: 0.5,
+        far: 20.0,
     }
 }
 

@@ -7,10 +7,13 @@
 //! converts it exactly like a loaded file, so there is a single path to a `Scene`.
 
 mod builtin;
+mod character;
 mod clip;
 mod culling;
 mod error;
 mod file;
+mod fox;
+mod frames;
 pub mod gltf;
 mod hard;
 mod leg;
@@ -25,8 +28,9 @@ pub(crate) mod rng;
 mod subdivide;
 mod types;
 mod validate;
+mod walker;
 
-pub use builtin::{BUILTIN_NAMES, BuiltinOptions, builtin, builtin_file};
+pub use builtin::{BUILTIN_NAMES, BuiltinOptions, builtin, builtin_animation_time, builtin_file};
 pub use clip::{clip, quoted};
 pub use culling::{
     CullingException, contains_during_shutter, culling_exceptions, effective_closed,
@@ -34,8 +38,10 @@ pub use culling::{
 pub use error::SceneError;
 pub use file::{
     BoxSpec, CameraFile, LightFile, MeshSpec, ObjectFile, PlaneSpec, SCENE_FORMAT, SceneFile,
-    TransformFile, TrianglesSpec, load_scene_file, parse_scene_json, scene_to_json,
+    SceneSource, TransformFile, TrianglesSpec, load_scene_file, parse_scene_json, read_scene_file,
+    scene_to_json,
 };
+pub use frames::AnimatedScene;
 pub use hard::HARD_NAMES;
 pub use name::{name_from_file_stem, scene_name_problem};
 pub use primitives::{RigidTransform, box_mesh, plane_mesh};

@@ -42,10 +42,38 @@ pub fn load_gltf_motion(path: &Path, options: &GltfOptions) -> Result<Vec<Mesh>,
     load_bounded(path, options, "", MAX_SCENE_TRIANGLES)
 }
 
+/// `load_gltf_motion` for a model in memory (a built-in scene's, compiled into the
+/// binary); `name` stands for its path in error messages. Only the GLB chunk and `data:`
+/// URIs can hold its buffers.
+pub fn load_gltf_motion_from_bytes(
+    name: &str,
+    bytes: &[u8],
+    options: &GltfOptions,
+) -> Result<Vec<Mesh>, SceneError> {
+    load_from(
+        Path::new(name),
+        || source::parse(bytes.to_vec(), None),
+        options,
+        "",
+        MAX_SCENE_TRIANGLES,
+    )
+}
+
 /// `load_gltf_motion` adding at most `budget` triangles; `context` (e.g. `object #2
 /// ("man")`) prefixes error messages.
 pub(crate) fn load_bounded(
     path: &Path,
+    options: &GltfOptions,
+    context: &str,
+    budget: u64,
+) -> Result<Vec<Mesh>, SceneError> {
+    load_from(path, || source::load(path), options, context, budget)
+}
+
+/// The loader proper; `read` gives the parsed model once the options are known to be valid.
+fn load_from(
+    path: &Path,
+    read: impl FnOnce() -> Result<source::Source, String>,
     options: &GltfOptions,
     context: &str,
     budget: u64,
@@ -70,7 +98,7 @@ pub(crate) fn load_bounded(
             options.subdivide
         )));
     }
-    let source = source::load(path).map_err(error)?;
+    let source = read().map_err(error)?;
     // Counted from the accessors' sizes before any vertex is read.
     let triangles = evaluate::count_triangles(&source)
         .map_err(error)?

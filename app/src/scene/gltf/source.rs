@@ -22,6 +22,18 @@ const SUPPORTED_REQUIRED_EXTENSIONS: &[&str] = &[];
 
 pub(super) fn load(path: &Path) -> Result<Source, String> {
     let bytes = read_bounded(path, MAX_GLTF_BYTES, false).map_err(|e| e.to_string())?;
+    parse(bytes, Some(path.parent().unwrap_or(Path::new("."))))
+}
+
+/// A model already in memory (e.g. compiled into the binary). External buffers are read
+/// relative to `base_dir`; without one only the GLB chunk and `data:` URIs can be used.
+pub(super) fn parse(bytes: Vec<u8>, base_dir: Option<&Path>) -> Result<Source, String> {
+    if bytes.len() as u64 > MAX_GLTF_BYTES {
+        return Err(format!(
+            "model of {} bytes is over the size limit",
+            bytes.len()
+        ));
+    }
     // Unvalidated first so a required extension is reported by name rather than as one of
     // the validator's messages.
     let gltf = gltf::Gltf::from_slice_without_validation(&bytes)
@@ -40,7 +52,6 @@ pub(super) fn load(path: &Path) -> Result<Source, String> {
     let mut blob = gltf.blob;
     let document = gltf::Document::from_json(gltf.document.into_json())
         .map_err(|e| format!("invalid glTF: {e}"))?;
-    let base_dir = path.parent().unwrap_or(Path::new("."));
     let mut buffers = Vec::new();
     for buffer in document.buffers() {
         let data = match buffer.source() {
@@ -68,7 +79,7 @@ pub(super) fn load(path: &Path) -> Result<Source, String> {
     Ok(Source { document, buffers })
 }
 
-fn read_uri(uri: &str, base_dir: &Path) -> Result<Vec<u8>, String> {
+fn read_uri(uri: &str, base_dir: Option<&Path>) -> Result<Vec<u8>, String> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let (_mime, payload) = rest
             .split_once(";base64,")
@@ -86,6 +97,11 @@ fn read_uri(uri: &str, base_dir: &Path) -> Result<Vec<u8>, String> {
             "{uri:?}: only data: URIs and relative file paths are read"
         ));
     }
+    let Some(base_dir) = base_dir else {
+        return Err(format!(
+            "{uri:?}: a model read from memory can only use data: URIs"
+        ));
+    };
     let relative = percent_decode(uri);
     read_bounded(&base_dir.join(&relative), MAX_GLTF_BYTES, false)
         .map_err(|e| format!("{relative:?}: {e}"))

@@ -1,0 +1,173 @@
+//! `motion-shadows animate`: consecutive frames of an animated scene, each with its own
+//! shutter interval, written as PNGs and one animated GIF at one exposure.
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::time::Duration;
+
+use anyhow::Context as _;
+use image::codecs::gif::{GifEncoder, Repeat};
+use image::{Delay, Frame, RgbaImage};
+use serde::Serialize;
+
+use super::args::AnimateArgs;
+use super::render_cmd::{
+    builtin_options, device_for, progress_reporter, render_frame, render_settings,
+};
+use crate::output::{RadianceImage, StagedFiles, auto_exposure, encode_srgb8, write_png};
+use crate::render::Renderer;
+use crate::scene::AnimatedScene;
+
+/// GIF colour quantisation speed (1 best, 30 fastest): 10 is the encoder's recommended
+/// trade-off, seconds per frame faster than 1 at 1024x768.
+const GIF_SPEED: i32 = 10;
+
+/// The `--json` summary.
+#[derive(Debug, Serialize)]
+struct AnimateSummary {
+    scene: String,
+    method: String,
+    frames: u32,
+    fps: f32,
+    /// `--start`; null: the scene's own time (a file's models: each its own `time`).
+    start: Option<f32>,
+    /// Seconds from frame 0's shutter opening to each frame's: i / fps.
+    frame_offsets_s: Vec<f32>,
+    width: u32,
+    height: u32,
+    spp: u32,
+    exposure: f32,
+    /// Sum of each frame's GPU pass times (CPU times for the ray tracer).
+    frame_gpu_ms: Vec<f64>,
+    frame_wall_ms: Vec<f64>,
+    files: Vec<String>,
+    gif: String,
+}
+
+pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
+    let render = &args.render;
+    // Everything that can be checked before a frame is rendered is, as `render` does.
+    let settings = render_settings(render);
+    settings.validate()?;
+    anyhow::ensure!(
+        !render.heatmaps,
+        "--heatmaps is not available with animate (one set per frame would be mostly noise)"
+    );
+    let (bar, mut report) = progress_reporter();
+    report("loading the scene");
+    let animated = match &render.scene_file {
+        Some(path) => AnimatedScene::file(path)?,
+        None => AnimatedScene::builtin(&render.scene, &builtin_options(&render.random))?,
+    };
+    let offset = |i: u32| i as f32 / args.fps;
+    // Frame 0 checks the scene itself; the others differ from it only in the poses.
+    let first = animated.at(args.start, 0.0)?;
+    let name = first.name.clone();
+    let pngs: Vec<String> = (0..args.frames)
+        .map(|i| format!("{name}-frame-{i:04}.png"))
+        .collect();
+    let gif_name = format!("{name}.gif");
+    let mut names = pngs.clone();
+    names.push(gif_name.clone());
+    let staged = StagedFiles::prepare(&render.out, &names)
+        .with_context(|| format!("preparing the output directory {}", render.out.display()))?;
+
+    let ctx = device_for(&settings, &mut report)?;
+    let mut renderer = ctx.as_ref().map(Renderer::new).transpose()?;
+    let gif_file = File::create(staged.temp_path(&gif_name)?)
+        .with_context(|| format!("creating {gif_name}"))?;
+    let mut gif = GifEncoder::new_with_speed(BufWriter::new(gif_file), GIF_SPEED);
+    gif.set_repeat(Repeat::Infinite)?;
+    let delay = Delay::from_saturating_duration(Duration::from_secs_f32(1.0 / args.fps));
+
+    let mut exposure = render.exposure;
+    let (mut gpu_ms, mut wall_ms) = (Vec::new(), Vec::new());
+    for (i, png) in (0..args.frames).zip(&pngs) {
+        let scene = if i == 0 {
+            first.clone()
+        } else {
+            animated.at(args.start, offset(i))?
+        };
+        let n = args.frames;
+        let mut frame_report = |m: &str| {
+            if m.starts_with("warning:") || m.starts_with("note:") {
+                report(m)
+            } else {
+                report(&format!("frame {}/{n}: {m}", i + 1))
+            }
+        };
+        let result = render_frame(renderer.as_mut(), &scene, &settings, &mut frame_report)?;
+        // One exposure for all frames (the first's unless given), so the animation does not
+        // flicker as the automatic one follows each frame's highlights.
+        let exposure = *exposure.get_or_insert_with(|| auto_exposure(&result.image));
+        write_png(staged.temp_path(png)?, &result.image, exposure)?;
+        gif.encode_frame(Frame::from_parts(
+            rgba(&result.image, exposure),
+            0,
+            0,
+            delay,
+        ))
+        .with_context(|| format!("encoding frame {i} of {gif_name}"))?;
+        gpu_ms.push(result.stats.passes.iter().map(|p| p.gpu_ms).sum());
+        wall_ms.push(result.stats.wall_ms);
+    }
+    drop(renderer);
+    drop(gif);
+
+    let files: Vec<String> = staged
+        .commit()?
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect();
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    let summary = AnimateSummary {
+        scene: name,
+        method: settings.method.name().to_owned(),
+        frames: args.frames,
+        fps: args.fps,
+        start: args.start,
+        frame_offsets_s: (0..args.frames).map(offset).collect(),
+        width: settings.width,
+        height: settings.height,
+        spp: settings.spp,
+        exposure: exposure.unwrap_or(0.0),
+        frame_gpu_ms: gpu_ms,
+        frame_wall_ms: wall_ms,
+        gif: files.last().cloned().unwrap_or_default(),
+        files,
+    };
+    if render.json {
+        println!("{}", serde_json::to_string(&summary)?);
+    } else {
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
+        println!(
+            "{} frames of {} ({}), {} x {} at {} spp: {:.2} ms GPU, {:.0} ms wall per frame",
+            summary.frames,
+            summary.scene,
+            summary.method,
+            summary.width,
+            summary.height,
+            summary.spp,
+            mean(&summary.frame_gpu_ms),
+            mean(&summary.frame_wall_ms)
+        );
+        for f in &summary.files {
+            println!("wrote {f}");
+        }
+        println!("PNG exposure: {:+.2} stops", summary.exposure);
+    }
+    ctx.as_ref().map_or(Ok(()), super::validation_clean)
+}
+
+/// The frame as the PNG shows it, with an opaque alpha channel for the GIF encoder.
+fn rgba(image: &RadianceImage, exposure: f32) -> RgbaImage {
+    let rgb = encode_srgb8(image, exposure);
+    let data = rgb
+        .chunks_exact(3)
+        .flat_map(|p| [p[0], p[1], p[2], 255])
+        .collect();
+    RgbaImage::from_raw(image.width, image.height, data)
+        .expect("encode_srgb8 gives 3 bytes per pixel")
+}
