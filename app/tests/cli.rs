@@ -133,6 +133,46 @@ fn quick_bench_preset_writes_csv_and_png() {
     std::fs::remove_dir_all(&out).ok();
 }
 
+/// `bench --quick --preset characters`: the walker at its own size and subdivided once (each
+/// triangle into four), both methods, under the validation layer; the triangle counts are the
+/// model's (4,672 x 4^n) plus the stage's 1,024.
+#[test]
+fn quick_characters_preset_measures_the_walker_at_two_sizes() {
+    let out = std::env::temp_dir().join(format!("motion-shadows-chars-{}", std::process::id()));
+    let status = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args(["bench", "--quick", "--preset", "characters", "--out"])
+        .arg(&out)
+        .env("MOTION_SHADOWS_VALIDATION", "1")
+        .status()
+        .expect("run the binary");
+    assert!(status.success());
+    let csv = std::fs::read_to_string(out.join("characters-results.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    let got: Vec<(&str, &str)> = rows.iter().map(|r| (r[1], r[2])).collect();
+    assert_eq!(
+        got,
+        [
+            ("5696", "temporal"),
+            ("5696", "tsm"),
+            ("19712", "temporal"),
+            ("19712", "tsm")
+        ],
+        "{csv}"
+    );
+    for r in &rows {
+        let ms: f64 = r[3].parse().unwrap();
+        assert!(ms.is_finite() && ms > 0.0, "{csv}");
+    }
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("bench-summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["reports"][0]["ratios"].as_array().unwrap().len(), 2);
+    std::fs::remove_dir_all(&out).ok();
+}
+
 /// `bench --quick --preset hard`: every hard scene, each method's RMSE against the truth in
 /// the CSV (finite, and zero for no method: each differs from the truth somewhere), one
 /// side-by-side image per scene, and the temporal method's RMSE per scene as a ratio.

@@ -70,7 +70,8 @@ pub struct BenchArgs {
 pub enum Preset {
     /// 2018 paper, Fig. 9: cubes-toward-light at 8 spp.
     Fig9,
-    /// 2018 paper, Fig. 10: a leg moving toward the light (leg-toward-light) at 20 spp.
+    /// 2018 paper, Fig. 10: a character's leg moving toward the light (walker-toward-light,
+    /// the animated CesiumMan) at 20 spp.
     Fig10,
 }
 

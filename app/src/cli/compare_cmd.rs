@@ -48,7 +48,7 @@ struct Report {
 
 fn preset_defaults(preset: Option<Preset>) -> (&'static str, u32) {
     match preset {
-        Some(Preset::Fig10) => ("leg-toward-light", 20),
+        Some(Preset::Fig10) => ("walker-toward-light", 20),
         Some(Preset::Fig9) | None => ("cubes-toward-light", 8),
     }
 }

@@ -1,5 +1,6 @@
 //! The presets: what each sweeps, what it writes, which ratios it reports (one file each).
 
+mod characters;
 mod cubes;
 mod equal_quality;
 mod hard;
@@ -35,6 +36,9 @@ pub enum Preset {
     Scaling,
     /// Each hard scene (issue 11), every method's RMSE against a truth image.
     Hard,
+    /// The animated character at its size and subdivided to the papers' (75k, 300k):
+    /// temporal vs TSM time and memory.
+    Characters,
 }
 
 /// Every preset, in the order a run without `--preset` takes them (those of
@@ -47,6 +51,7 @@ pub const PRESETS: &[Preset] = &[
     Preset::EqualQuality,
     Preset::ShadowPass,
     Preset::Scaling,
+    Preset::Characters,
     Preset::Hard,
 ];
 
@@ -61,6 +66,7 @@ impl Preset {
             Preset::ShadowPass => "shadow-pass",
             Preset::Scaling => "scaling",
             Preset::Hard => "hard",
+            Preset::Characters => "characters",
         }
     }
 
@@ -258,6 +264,7 @@ pub fn run_preset(
         Preset::EqualQuality => equal_quality::equal_quality(&mut bench)?,
         Preset::ShadowPass => shadow_pass::shadow_pass(&mut bench)?,
         Preset::Scaling => scaling::scaling(&mut bench)?,
+        Preset::Characters => characters::characters(&mut bench)?,
         Preset::Hard => hard::hard(&mut bench)?,
     }
     Ok(bench.report)
