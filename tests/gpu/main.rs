@@ -8,6 +8,7 @@ mod analytic;
 mod analytic_estimator;
 mod baselines;
 mod bench;
+mod character;
 mod coverage;
 mod deferred_host;
 mod embedding;
