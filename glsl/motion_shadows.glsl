@@ -82,17 +82,29 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ms
     uint64_t reserved;
 };
 
-// The texel of the map and the linear light depth of a world point; false outside the
-// light's view (then nothing in the map can shadow the point).
-bool ms_project(MsLight light, uvec2 size, vec3 p, out uint texel_index, out float depth) {
+// Where a world point falls in the light's image, in texels from the map's corner
+// (continuous: texel (i, j) spans [i, i + 1) x [j, j + 1)), and its linear light depth;
+// false outside the light's view.
+bool ms_light_texel_coords(MsLight light, uvec2 size, vec3 p, out vec2 coords,
+                           out float depth) {
     vec4 view = light.view * vec4(p, 1.0);
     vec4 clip = light.proj * view;
     depth = -view.z;
-    texel_index = 0u;
+    coords = vec2(0.0);
     if (clip.w <= 0.0) return false;
     vec2 ndc = clip.xy / clip.w;
     if (any(lessThan(ndc, vec2(-1.0))) || any(greaterThanEqual(ndc, vec2(1.0)))) return false;
-    uvec2 texel = min(uvec2((ndc * 0.5 + 0.5) * vec2(size)), size - 1u);
+    coords = (ndc * 0.5 + 0.5) * vec2(size);
+    return true;
+}
+
+// The texel of the map and the linear light depth of a world point; false outside the
+// light's view (then nothing in the map can shadow the point).
+bool ms_project(MsLight light, uvec2 size, vec3 p, out uint texel_index, out float depth) {
+    vec2 coords;
+    texel_index = 0u;
+    if (!ms_light_texel_coords(light, size, p, coords, depth)) return false;
+    uvec2 texel = min(uvec2(coords), size - 1u);
     texel_index = texel.y * size.x + texel.x;
     return true;
 }
@@ -165,15 +177,11 @@ bool ms_receiver_texel(MsLight light, uvec2 size, vec3 p, vec3 n, out uint texel
 bool ms_receiver_footprint(MsLight light, uvec2 size, vec3 p, vec3 n, out vec3 q,
                            out float depth, out ivec2 base, out vec2 f) {
     q = ms_offset_receiver(light, p, n);
-    vec4 view = light.view * vec4(q, 1.0);
-    vec4 clip = light.proj * view;
-    depth = -view.z;
+    vec2 coords;
     base = ivec2(0);
     f = vec2(0.0);
-    if (clip.w <= 0.0) return false;
-    vec2 ndc = clip.xy / clip.w;
-    if (any(lessThan(ndc, vec2(-1.0))) || any(greaterThanEqual(ndc, vec2(1.0)))) return false;
-    vec2 u = (ndc * 0.5 + 0.5) * vec2(size) - 0.5;
+    if (!ms_light_texel_coords(light, size, q, coords, depth)) return false;
+    vec2 u = coords - 0.5;    // in texel centres
     vec2 lower = floor(u);
     base = ivec2(lower);
     f = u - lower;

@@ -12,7 +12,7 @@ use serde::Serialize;
 
 use super::args::AnimateArgs;
 use super::render_cmd::{
-    builtin_options, device_for, progress_reporter, render_frame, render_settings,
+    builtin_options, commit_outputs, device_for, progress_reporter, render_frame, render_settings,
 };
 use crate::output::{RadianceImage, StagedFiles, auto_exposure, encode_srgb8, write_png};
 use crate::render::Renderer;
@@ -114,14 +114,7 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
     drop(renderer);
     drop(gif);
 
-    let files: Vec<String> = staged
-        .commit()?
-        .iter()
-        .map(|p| p.display().to_string())
-        .collect();
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
-    }
+    let files = commit_outputs(staged, bar)?;
     let summary = AnimateSummary {
         scene: name,
         method: settings.method.name().to_owned(),

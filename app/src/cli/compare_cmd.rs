@@ -3,7 +3,7 @@
 //! the moving-object mask.
 
 use super::args::{CompareArgs, Preset, TruthArg};
-use super::render_cmd::{builtin_options, progress_reporter};
+use super::render_cmd::{builtin_options, commit_outputs, progress_reporter};
 use crate::compare::{ErrorStats, Rgb8Image, error_image, error_stats, side_by_side};
 use crate::output::{
     RadianceImage, StagedFiles, auto_exposure, write_exr, write_png, write_rgb8_png,
@@ -236,14 +236,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let errors = side_by_side(&refs, [24, 24, 24]);
     let errors_path = staged.temp_path(&format!("{}-compare-error.png", scene.name))?;
     write_rgb8_png(errors_path, errors.width, errors.height, &errors.data)?;
-    let files: Vec<String> = staged
-        .commit()?
-        .iter()
-        .map(|p| p.display().to_string())
-        .collect();
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
-    }
+    let files = commit_outputs(staged, bar)?;
 
     let report_data = Report {
         scene: scene.name.clone(),

@@ -31,6 +31,23 @@ pub fn load_scene(args: &RenderArgs) -> anyhow::Result<Scene> {
 }
 
 /// Progress on stderr: a spinner on a terminal, plain lines otherwise (logs, CI).
+/// Renames a run's staged files into place and clears the progress bar: the end of every
+/// command that writes files. Returns the files' paths as the summaries print them.
+pub fn commit_outputs(
+    staged: crate::output::StagedFiles,
+    bar: Option<ProgressBar>,
+) -> anyhow::Result<Vec<String>> {
+    let files = staged
+        .commit()?
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect();
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    Ok(files)
+}
+
 pub fn progress_reporter() -> (Option<ProgressBar>, impl FnMut(&str)) {
     let bar = std::io::stderr().is_terminal().then(|| {
         let bar = ProgressBar::new_spinner();
@@ -152,14 +169,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         report("writing heat maps");
         write_heat_maps(ctx, &result, &staged, &names[2..])?;
     }
-    let files: Vec<String> = staged
-        .commit()?
-        .iter()
-        .map(|p| p.display().to_string())
-        .collect();
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
-    }
+    let files = commit_outputs(staged, bar)?;
     if args.json {
         let mut value = serde_json::to_value(&result.stats)?;
         value["files"] = serde_json::json!(files);

@@ -6,7 +6,7 @@ use glam::Vec3;
 
 use super::SceneError;
 use super::builtin::object;
-use super::file::{MeshSpec, ObjectFile, TransformFile, TrianglesSpec};
+use super::file::{MeshSpec, ObjectFile, SCENE_FORMAT, SceneFile, TransformFile, TrianglesSpec};
 use super::gltf::{GltfOptions, load_gltf_motion_from_bytes};
 
 pub(super) const CESIUM_MAN: (&str, &[u8]) = (
@@ -43,4 +43,56 @@ pub(super) fn animated_object(
     let t1 = meshes.iter().flat_map(|m| m.t1.iter().copied()).collect();
     let mesh = MeshSpec::Triangles(TrianglesSpec { t0, t1: Some(t1) });
     Ok(object(name, albedo, false, mesh, transform, None))
+}
+
+/// A character on `leg-toward-light`'s stage (ground, back wall, side camera, front spot
+/// light): the scene file of every character built-in.
+pub(super) fn staged_scene(name: &str, character: ObjectFile) -> SceneFile {
+    let mut objects = super::leg::backdrop();
+    objects.push(character);
+    SceneFile {
+        format: SCENE_FORMAT.to_owned(),
+        name: Some(name.to_owned()),
+        camera: super::leg::side_camera(),
+        light: super::leg::front_spot(),
+        ambient: 0.0,
+        objects,
+    }
+}
+
+/// What the tests of the scenes on `leg-toward-light`'s stage share.
+#[cfg(test)]
+pub(super) mod test_support {
+    use super::super::{Light, Mesh, Scene};
+    use glam::Vec3;
+
+    /// The fastest vertex over the shutter: (displacement, position at shutter open).
+    pub fn fastest(m: &Mesh) -> (f32, Vec3) {
+        m.t0.iter()
+            .zip(&m.t1)
+            .map(|(a, b)| ((*b - *a).length(), *a))
+            .fold(
+                (0.0, Vec3::ZERO),
+                |best, x| if x.0 > best.0 { x } else { best },
+            )
+    }
+
+    /// Every vertex of `m`, at both ends of the shutter (so at every time: the cone is
+    /// convex and vertices move on straight lines), is inside the scene's spot light cone
+    /// and between its near and far distances.
+    pub fn assert_inside_spot_cone(s: &Scene, m: &Mesh) {
+        let Light::Spot(light) = &s.light else {
+            panic!("spot expected")
+        };
+        let cos_cone = light.cone_angle_deg.to_radians().cos();
+        for &p in m.t0.iter().chain(&m.t1) {
+            let d = p - light.position;
+            assert!(
+                d.normalize().dot(light.direction) > cos_cone + 0.02,
+                "{} outside the cone at {p}",
+                m.name
+            );
+            assert!(d.length() > light.near * 2.0 && d.length() < light.far);
+        }
+    }
 }

@@ -5,10 +5,9 @@
 use glam::Vec3;
 
 use super::SceneError;
-use super::character::{FOX, SHUTTER_180_AT_24, animated_object};
-use super::file::{SCENE_FORMAT, SceneFile, TransformFile};
+use super::character::{FOX, SHUTTER_180_AT_24, animated_object, staged_scene};
+use super::file::{SceneFile, TransformFile};
 use super::gltf::{AnimationRef, GltfOptions};
-use super::leg::{backdrop, front_spot, side_camera};
 
 /// Shutter open, seconds into the 1.16 s run cycle: frame 12 at 24 fps, the one whose
 /// 180-degree shutter moves a vertex farthest (a foot, 10.5 model units).
@@ -33,22 +32,14 @@ pub(super) fn fox_run(time: f32, subdivide: u32) -> Result<SceneFile, SceneError
             ..Default::default()
         },
     )?;
-    let mut objects = backdrop();
-    objects.push(fox);
-    Ok(SceneFile {
-        format: SCENE_FORMAT.to_owned(),
-        name: Some("fox-run".to_owned()),
-        camera: side_camera(),
-        light: front_spot(),
-        ambient: 0.0,
-        objects,
-    })
+    Ok(staged_scene("fox-run", fox))
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::character::test_support::{assert_inside_spot_cone, fastest};
     use super::super::leg::WALL_Z;
-    use super::super::{BuiltinOptions, Light, Mesh, Scene, builtin};
+    use super::super::{BuiltinOptions, Mesh, Scene, builtin};
     use super::*;
 
     fn scene() -> Scene {
@@ -57,16 +48,6 @@ mod tests {
 
     fn fox(s: &Scene) -> &Mesh {
         s.meshes.iter().find(|m| m.name == "fox").unwrap()
-    }
-
-    fn fastest(m: &Mesh) -> (f32, Vec3) {
-        m.t0.iter()
-            .zip(&m.t1)
-            .map(|(a, b)| ((*b - *a).length(), *a))
-            .fold(
-                (0.0, Vec3::ZERO),
-                |best, x| if x.0 > best.0 { x } else { best },
-            )
     }
 
     /// 576 triangles (assets/models/README.md) plus the backdrop's two 16 x 16 planes; the
@@ -108,16 +89,6 @@ mod tests {
     #[test]
     fn fox_inside_light_cone() {
         let s = scene();
-        let Light::Spot(light) = &s.light else {
-            panic!("spot expected")
-        };
-        let cos_cone = light.cone_angle_deg.to_radians().cos();
-        for &p in fox(&s).t0.iter().chain(&fox(&s).t1) {
-            let d = p - light.position;
-            assert!(
-                d.normalize().dot(light.direction) > cos_cone + 0.02,
-                "outside the cone at {p}"
-            );
-        }
+        assert_inside_spot_cone(&s, fox(&s));
     }
 }

@@ -371,20 +371,8 @@ mod tests {
     #[test]
     fn leg_inside_light_cone() {
         let s = scene();
-        let Light::Spot(light) = &s.light else {
-            panic!("spot expected")
-        };
-        let cos_cone = light.cone_angle_deg.to_radians().cos();
         for m in s.meshes.iter().filter(|m| m.closed) {
-            for &p in m.t0.iter().chain(&m.t1) {
-                let d = p - light.position;
-                assert!(
-                    d.normalize().dot(light.direction) > cos_cone + 0.02,
-                    "{} outside the cone at {p}",
-                    m.name
-                );
-                assert!(d.length() > light.near * 2.0 && d.length() < light.far);
-            }
+            super::super::character::test_support::assert_inside_spot_cone(&s, m);
         }
     }
 

@@ -6,10 +6,9 @@
 use glam::Vec3;
 
 use super::SceneError;
-use super::character::{CESIUM_MAN, SHUTTER_180_AT_24, animated_object};
-use super::file::{SCENE_FORMAT, SceneFile, TransformFile};
+use super::character::{CESIUM_MAN, SHUTTER_180_AT_24, animated_object, staged_scene};
+use super::file::{SceneFile, TransformFile};
 use super::gltf::{AnimationRef, GltfOptions};
-use super::leg::{backdrop, front_spot, side_camera};
 
 /// Shutter open, seconds into the walk cycle: frame 13 of the 48 over the 2 s cycle at
 /// 24 fps, the one whose 180-degree shutter moves a vertex farthest (a foot, 5.6 cm).
@@ -36,22 +35,14 @@ pub(super) fn walker_toward_light(time: f32, subdivide: u32) -> Result<SceneFile
             scale: None,
         },
     )?;
-    let mut objects = backdrop();
-    objects.push(walker);
-    Ok(SceneFile {
-        format: SCENE_FORMAT.to_owned(),
-        name: Some("walker-toward-light".to_owned()),
-        camera: side_camera(),
-        light: front_spot(),
-        ambient: 0.0,
-        objects,
-    })
+    Ok(staged_scene("walker-toward-light", walker))
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::character::test_support::{assert_inside_spot_cone, fastest};
     use super::super::leg::{LIGHT, WALL_Z};
-    use super::super::{BuiltinOptions, Light, Mesh, Scene, builtin};
+    use super::super::{BuiltinOptions, Mesh, Scene, builtin};
     use super::*;
 
     fn scene() -> Scene {
@@ -60,17 +51,6 @@ mod tests {
 
     fn walker(s: &Scene) -> &Mesh {
         s.meshes.iter().find(|m| m.name == "walker").unwrap()
-    }
-
-    /// The fastest vertex over the shutter: (displacement, position at shutter open).
-    fn fastest(m: &Mesh) -> (f32, Vec3) {
-        m.t0.iter()
-            .zip(&m.t1)
-            .map(|(a, b)| ((*b - *a).length(), *a))
-            .fold(
-                (0.0, Vec3::ZERO),
-                |best, x| if x.0 > best.0 { x } else { best },
-            )
     }
 
     /// 4,672 triangles (assets/models/README.md) plus the backdrop's two 16 x 16 planes.
@@ -134,18 +114,6 @@ mod tests {
     #[test]
     fn walker_inside_light_cone() {
         let s = scene();
-        let Light::Spot(light) = &s.light else {
-            panic!("spot expected")
-        };
-        let cos_cone = light.cone_angle_deg.to_radians().cos();
-        let m = walker(&s);
-        for &p in m.t0.iter().chain(&m.t1) {
-            let d = p - light.position;
-            assert!(
-                d.normalize().dot(light.direction) > cos_cone + 0.02,
-                "outside the cone at {p}"
-            );
-            assert!(d.length() > light.near * 2.0 && d.length() < light.far);
-        }
+        assert_inside_spot_cone(&s, walker(&s));
     }
 }
