@@ -47,10 +47,10 @@ void main() {
     MsShadowMap m = MsShadowMap(table.shadow_header);
     put(m.light); put(m.size); put(m.range_heads); put(m.ranges); put(m.coverage);
     put(m.cover_depth); put(m.heads); put(m.nodes); put(m.counters); put(m.long_pixels);
-    put(m.nearest); put(m.reserved);
+    put(m.nearest); put(m.static_nearest);
 
     PlainHeader p = PlainHeader(table.plain_header);
-    put(p.light); put(p.size); put(p.depths); put(p.reserved);
+    put(p.light); put(p.size); put(p.depths); put(p.ids);
 
     DrawRecord d = DrawOne(table.draw).d;
     put(d.positions0); put(d.positions1); put(d.indices); put(d.stride0); put(d.stride1);

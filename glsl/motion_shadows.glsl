@@ -63,6 +63,9 @@ layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer MsR
 layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer MsVec2s {
     vec2 v[];
 };
+layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer MsUint64s {
+    uint64_t v[];
+};
 
 // The header of a temporal shadow map (written by the collection pass each frame).
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer MsShadowMap {
@@ -79,7 +82,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ms
     uint64_t counters;
     uint64_t long_pixels;
     uint64_t nearest;
-    uint64_t reserved;
+    uint64_t static_nearest;  // 0, or MsUint64s: per texel, the nearest triangle that does not
+                              // move, as ms_static_key(depth) << 32 | id (all ones: none)
 };
 
 // Where a world point falls in the light's image, in texels from the map's corner
@@ -246,11 +250,34 @@ struct MsMap {
     uint64_t ranges;
     uint64_t coverage;
     uint64_t cover_depth;
+    uint64_t static_nearest;
 };
 
 MsMap ms_load(MsShadowMap header) {
     return MsMap(header.light, header.size.xy, header.range_heads, header.ranges,
-                 header.coverage, header.cover_depth);
+                 header.coverage, header.cover_depth, header.static_nearest);
+}
+
+// The bits of a depth as an unsigned key in the depth's order (negative depths too: a
+// directional light's map may hold points behind its origin), and back.
+uint ms_static_key(float depth) {
+    uint bits = floatBitsToUint(depth);
+    return (bits & 0x80000000u) != 0u ? ~bits : bits | 0x80000000u;
+}
+
+float ms_static_depth(uint key) {
+    return uintBitsToFloat((key & 0x80000000u) != 0u ? key & 0x7fffffffu : ~key);
+}
+
+// Does the texel's nearest static triangle shadow a receiver at `depth` on triangle `own`?
+// A static triangle's range would be [0, 1] at one depth, so only the nearest one per texel
+// matters: if it is the receiver's own, every other static triangle there is at least as far
+// as the receiver's own surface at the texel centre, which no receiver test puts behind.
+bool ms_static_shadow(MsMap map, uint texel, float depth, uint own) {
+    if (map.static_nearest == 0UL) return false;
+    uint64_t nearest = MsUint64s(map.static_nearest).v[texel];
+    uint id = uint(nearest & 0xffffffffUL);
+    return id != MS_NO_TRIANGLE && id != own && ms_static_depth(uint(nearest >> 32)) < depth;
 }
 
 // Is a receiver at light depth `depth`, on triangle `own`, in shadow at time t, given the
@@ -284,6 +311,7 @@ bool ms_covered_shadow(MsMap map, uint texel, uint cover, float depth, float t, 
 // Is a receiver at light depth `depth` on triangle `own` in shadow at time t in `texel`
 // (whose coverage mark, if the map has a coverage map, decides first)?
 bool ms_texel_shadowed(MsMap map, uint texel, float depth, float t, uint own) {
+    if (ms_static_shadow(map, texel, depth, own)) return true;
     if (map.coverage != 0UL) {
         uint cover = MsUints(map.coverage).v[texel];
         if (cover != MS_NO_TRIANGLE) return ms_covered_shadow(map, texel, cover, depth, t, own);
@@ -354,6 +382,7 @@ const uint MS_DISJOINT_INTERVALS = 32u;
 // The lit fraction of the shutter for a receiver at light depth `depth` on triangle `own`
 // in `texel` (see ms_lit_fraction).
 float ms_texel_lit_fraction(MsMap map, uint texel, float depth, uint own) {
+    if (ms_static_shadow(map, texel, depth, own)) return 0.0;
     if (map.coverage != 0UL) {
         uint cover = MsUints(map.coverage).v[texel];
         if (cover != MS_NO_TRIANGLE) {

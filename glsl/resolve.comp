@@ -20,7 +20,8 @@ CameraParams camera;
 MsLight light;          // the light of either kind of map (both headers start with it)
 MsMap temporal;         // SHADOW_TEMPORAL
 uvec4 plain_size;       // ordinary maps: x, y = texels, z = layers
-uint64_t plain_depths;
+uint64_t plain_depths;   // FloatArray
+uint64_t plain_ids;      // UintArray (plain maps with ids)
 
 // The triangle the previous sample of the pixel hit: most samples of a pixel hit the same
 // one, and fetching it (its draw, indices, positions, transforms) is the costly part.
@@ -41,18 +42,27 @@ void fetch_hit(uint id) {
     cached_id = id;
 }
 
+// The light-view depth of an ordinary map's texel from the z/w its depth attachment kept
+// (+inf where nothing was drawn: the attachment's clear value 1 is never written, the test
+// being LESS). Inverts z/w = (P22 z + P32) / (P23 z + P33) for the view-space z.
+float ordinary_depth(float stored) {
+    if (stored >= 1.0) return 1.0 / 0.0;
+    float z = (light.proj[3][2] - stored * light.proj[3][3])
+            / (stored * light.proj[2][3] - light.proj[2][2]);
+    return -z;
+}
+
 bool shadowed_plain(uint index, float depth, uint own) {
-    uint64_t nearest = Uint64Array(plain_depths).v[index];
-    uint id = uint(nearest & 0xffffffffUL);
+    uint id = UintArray(plain_ids).v[index];
     if (id == NO_TRIANGLE || id == own) return false;
-    return uintBitsToFloat(uint(nearest >> 32)) < depth;
+    return ordinary_depth(FloatArray(plain_depths).v[index]) < depth;
 }
 
 // Time-dependent shadow maps: the map of the sample's time stratum, depth only, no id (the
 // time mismatch between that map and the sample is the method's self-shadow artifact).
 bool shadowed_tsm(uint index, float depth, uint stratum) {
     uint layer_size = plain_size.x * plain_size.y;
-    return uintBitsToFloat(UintArray(plain_depths).v[stratum * layer_size + index]) < depth;
+    return ordinary_depth(FloatArray(plain_depths).v[stratum * layer_size + index]) < depth;
 }
 
 // Shadow test of the ordinary maps (plain, TSM) in texel `index` at `depth`.
@@ -189,6 +199,7 @@ void main() {
         light = header.light;
         plain_size = header.size;
         plain_depths = header.depths;
+        plain_ids = header.ids;
     }
     uvec2 pixel = gl_GlobalInvocationID.xy;
     if (pixel.x >= camera.image.x || pixel.y >= camera.image.y) return;

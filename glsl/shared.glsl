@@ -48,7 +48,7 @@ const uint MAX_LIST_NODES = 512u;
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer NodeArray { Node nodes[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer RangeArray { MsRange ranges[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer UintArray { uint v[]; };
-layout(buffer_reference, std430, buffer_reference_align = 4) buffer IntArray { int v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer FloatArray { float v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer Uint64Array { uint64_t v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer Vec2Array { vec2 v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer Vec4Array { vec4 v[]; };
@@ -183,14 +183,15 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ta
 
 // ---- ordinary shadow maps ----
 
-const uint DEPTH_AND_ID = 0u;       // 64 bits: depth bits << 32 | triangle id
-const uint DEPTH_ONLY = 1u;         // 32 bits: depth bits (as the papers' TSM stores)
+// Drawn with a depth attachment (LESS) and copied out for the lookups, layer after layer.
+const uint DEPTH_AND_ID = 0u;       // depth + triangle id (R32_UINT colour attachment)
+const uint DEPTH_ONLY = 1u;         // depth alone (as the papers' TSM stores it)
 
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer PlainHeader {
     MsLight light;
     uvec4 size;             // x, y = texels; z = layers; w = DEPTH_*
-    uint64_t depths;        // layer after layer
-    uint64_t reserved;
+    uint64_t depths;        // floats: the attachment's z/w in [0, 1]; 1 = nothing drawn
+    uint64_t ids;           // DEPTH_AND_ID: uints, NO_TRIANGLE = nothing drawn
 };
 
 // ---- push constants ----
@@ -354,4 +355,27 @@ float intersect_triangle(vec3 origin, vec3 dir, vec3 a, vec3 b, vec3 c) {
 // view depth, comparable across triangles and directly testable against near and far.
 vec3 camera_ray(CameraParams camera, vec2 pixel_pos) {
     return camera.ray00.xyz + pixel_pos.x * camera.ray_dx.xyz + pixel_pos.y * camera.ray_dy.xyz;
+}
+
+// ---- the ordinary maps' vertices ----
+
+// Corner vertex % 3 of triangle vertex / 3 of the draw, at time pc.time, seen
+// from `light`: its clip position, its light-view depth and its triangle's global id. An
+// invalid triangle (an index out of range) lands every corner on one point outside the view,
+// so nothing is rasterized (the lighting pass counts such triangles).
+void ordinary_map_vertex(PassConstants pc, MsLight light, uint vertex, out vec4 position,
+                         out float depth, out uint id) {
+    DrawRecord d = DrawTable(pc.draws).draws[pc.draw_index];
+    uint prim = vertex / 3u;
+    id = d.first_id + prim;
+    if (!triangle_valid(d, prim)) {
+        position = vec4(2.0, 2.0, 2.0, 1.0);
+        depth = 0.0;
+        return;
+    }
+    vec3 p0, p1;
+    fetch_corner(d, prim, vertex % 3u, p0, p1);
+    vec3 view = (light.view * vec4(mix(p0, p1, pc.time), 1.0)).xyz;
+    position = light.proj * vec4(view, 1.0);
+    depth = -view.z;
 }

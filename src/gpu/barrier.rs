@@ -1,5 +1,6 @@
-//! Global memory barriers (synchronization2). The passes only ever need buffer hazards, so a
-//! global barrier names exactly the stages and accesses that matter, nothing more.
+//! Barriers (synchronization2). Buffer hazards take a global memory barrier, which names
+//! exactly the stages and accesses that matter, nothing more; images changing layout (the
+//! depth-tested shadow maps' attachments) take an image barrier.
 
 use ash::vk;
 
@@ -60,6 +61,27 @@ impl Access {
                 | vk::AccessFlags2::UNIFORM_READ.as_raw(),
         ),
     };
+    /// Depth tests reading and writing a depth attachment.
+    pub const DEPTH_ATTACHMENT: Self = Self {
+        stages: vk::PipelineStageFlags2::from_raw(
+            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw()
+                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
+        ),
+        access: vk::AccessFlags2::from_raw(
+            vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ.as_raw()
+                | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw(),
+        ),
+    };
+    /// Colour attachments written (and cleared by their load op).
+    pub const COLOR_ATTACHMENT_WRITE: Self = Self {
+        stages: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+        access: vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+    };
+    /// Nothing: the first use of a resource, or a wait on execution alone.
+    pub const NONE: Self = Self {
+        stages: vk::PipelineStageFlags2::NONE,
+        access: vk::AccessFlags2::NONE,
+    };
     /// Indirect dispatch arguments read.
     pub const INDIRECT_READ: Self = Self {
         stages: vk::PipelineStageFlags2::DRAW_INDIRECT,
@@ -88,5 +110,31 @@ pub fn memory_barrier(device: &ash::Device, cmd: vk::CommandBuffer, before: Acce
         .dst_stage_mask(after.stages)
         .dst_access_mask(after.access)];
     let dependency = vk::DependencyInfo::default().memory_barriers(&barrier);
+    unsafe { device.cmd_pipeline_barrier2(cmd, &dependency) };
+}
+
+/// Moves `range` of `image` from layout `old` to `new`, ordering the accesses `before` ahead of
+/// `after`. `old` = UNDEFINED discards the contents (a pass that clears them anyway).
+pub fn image_barrier(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    range: vk::ImageSubresourceRange,
+    (old, new): (vk::ImageLayout, vk::ImageLayout),
+    before: Access,
+    after: Access,
+) {
+    let barrier = [vk::ImageMemoryBarrier2::default()
+        .src_stage_mask(before.stages)
+        .src_access_mask(before.access)
+        .dst_stage_mask(after.stages)
+        .dst_access_mask(after.access)
+        .old_layout(old)
+        .new_layout(new)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .image(image)
+        .subresource_range(range)];
+    let dependency = vk::DependencyInfo::default().image_memory_barriers(&barrier);
     unsafe { device.cmd_pipeline_barrier2(cmd, &dependency) };
 }

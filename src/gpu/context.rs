@@ -60,6 +60,9 @@ pub struct DeviceInfo {
     /// (silently): 65,535 on lavapipe (llvmpipe's loop limiter, shared by every loop of an
     /// invocation, counted per SIMD group); `None` where the driver has no such limit.
     pub shader_loop_limit: Option<u32>,
+    /// Optimal-tiling features of the attachment formats the ordinary shadow maps are drawn
+    /// into (D32_SFLOAT, R32_UINT), in that order.
+    pub attachment_format_features: [vk::FormatFeatureFlags; 2],
 }
 
 /// Objects that must outlive every buffer and pipeline: freed last, in the right order
@@ -144,6 +147,9 @@ fn device_info(instance: &ash::Instance, pd: vk::PhysicalDevice, family: u32) ->
         storage_image_write_without_format: device_select::supports_storage_write_without_format(
             instance, pd,
         ),
+        attachment_format_features: [vk::Format::D32_SFLOAT, vk::Format::R32_UINT].map(|f| {
+            unsafe { instance.get_physical_device_format_properties(pd, f) }.optimal_tiling_features
+        }),
     }
 }
 
@@ -353,6 +359,16 @@ impl Context {
     /// and always empty for a [`Context::from_raw`] context (the host's own messenger gets them).
     pub fn validation_messages(&self) -> Vec<String> {
         self.messages.lock().map(|m| m.clone()).unwrap_or_default()
+    }
+
+    /// Optimal-tiling features of `format`, for the formats the library draws into
+    /// ([`DeviceInfo::attachment_format_features`]); empty for any other.
+    pub fn optimal_tiling_features(&self, format: vk::Format) -> vk::FormatFeatureFlags {
+        match format {
+            vk::Format::D32_SFLOAT => self.info.attachment_format_features[0],
+            vk::Format::R32_UINT => self.info.attachment_format_features[1],
+            _ => vk::FormatFeatureFlags::empty(),
+        }
     }
 
     /// The largest buffer the shaders reach through its device address (the fragment and

@@ -10,17 +10,20 @@ mod commands;
 mod context;
 mod debug;
 mod device_select;
+mod image;
 mod image_bindings;
 mod pipeline;
 mod timestamps;
 
-pub use barrier::{Access, memory_barrier};
+pub use barrier::{Access, image_barrier, memory_barrier};
 pub use buffer::{Buffer, BufferUsage};
 pub use commands::OneShot;
 pub use context::{Context, ContextOptions, DeviceInfo, OptionalFeatures};
+pub use image::Image;
 pub use image_bindings::{ImageBindingLayout, ImageBindings};
 pub use pipeline::{
-    Pipeline, ShaderModule, attachmentless_pipeline, begin_attachmentless, compute_pipeline,
-    compute_pipeline_with_sets, pipeline_layout, pipeline_layout_with_sets,
+    Attachments, Pipeline, ShaderModule, attachmentless_pipeline, begin_attachmentless,
+    begin_rendering, compute_pipeline, compute_pipeline_with_sets, graphics_pipeline,
+    pipeline_layout, pipeline_layout_with_sets,
 };
 pub use timestamps::TimestampQueries;

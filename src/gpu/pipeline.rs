@@ -1,5 +1,6 @@
-//! Shader modules and pipelines. The technique's pipelines are all either compute or
-//! attachment-less graphics (fragment shaders write storage buffers), so that is all there is.
+//! Shader modules and pipelines. The technique's own pipelines are compute or attachment-less
+//! graphics (fragment shaders write storage buffers); the ordinary shadow maps are drawn as
+//! anyone would draw them, depth-tested into attachments.
 //! They take no descriptor sets: shaders reach every buffer by device address through their
 //! push constants, so a pipeline never needs anything rewritten between frames.
 
@@ -149,12 +150,32 @@ pub fn compute_pipeline_with_sets(
     }
 }
 
+/// The attachments a graphics pipeline renders to (none: fragment shaders write storage).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Attachments<'a> {
+    /// A depth attachment of this format, tested LESS and written.
+    pub depth: Option<vk::Format>,
+    /// Colour attachments of these formats, written without blending.
+    pub colors: &'a [vk::Format],
+}
+
 /// A graphics pipeline with no attachments: triangles in, fragment shader side effects out.
 /// Viewport and scissor are dynamic; no culling, no depth test (the shaders do their own).
 pub fn attachmentless_pipeline(
     ctx: &Context,
     push_bytes: u32,
     stages: &[(vk::ShaderStageFlags, &str, &[u8])],
+) -> Result<Pipeline> {
+    graphics_pipeline(ctx, push_bytes, stages, Attachments::default())
+}
+
+/// A graphics pipeline drawing triangle lists into `attachments`, viewport and scissor
+/// dynamic, no culling; `stages` may omit the fragment shader (depth-only rendering).
+pub fn graphics_pipeline(
+    ctx: &Context,
+    push_bytes: u32,
+    stages: &[(vk::ShaderStageFlags, &str, &[u8])],
+    attachments: Attachments<'_>,
 ) -> Result<Pipeline> {
     let modules = stages
         .iter()
@@ -183,10 +204,25 @@ pub fn attachmentless_pipeline(
         .line_width(1.0);
     let multisample = vk::PipelineMultisampleStateCreateInfo::default()
         .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-    let blend = vk::PipelineColorBlendStateCreateInfo::default();
+    let blend_states: Vec<_> = attachments
+        .colors
+        .iter()
+        .map(|_| {
+            vk::PipelineColorBlendAttachmentState::default()
+                .color_write_mask(vk::ColorComponentFlags::RGBA)
+        })
+        .collect();
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_states);
+    let depth_test = attachments.depth.is_some();
+    let depth_stencil = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(depth_test)
+        .depth_write_enable(depth_test)
+        .depth_compare_op(vk::CompareOp::LESS);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-    let mut rendering = vk::PipelineRenderingCreateInfo::default();
+    let mut rendering = vk::PipelineRenderingCreateInfo::default()
+        .color_attachment_formats(attachments.colors)
+        .depth_attachment_format(attachments.depth.unwrap_or(vk::Format::UNDEFINED));
     let info = [vk::GraphicsPipelineCreateInfo::default()
         .stages(&stage_infos)
         .vertex_input_state(&vertex_input)
@@ -194,6 +230,7 @@ pub fn attachmentless_pipeline(
         .viewport_state(&viewport)
         .rasterization_state(&raster)
         .multisample_state(&multisample)
+        .depth_stencil_state(&depth_stencil)
         .color_blend_state(&blend)
         .dynamic_state(&dynamic)
         .layout(layout)
@@ -221,13 +258,58 @@ pub fn attachmentless_pipeline(
 
 /// Begins attachment-less dynamic rendering over `width` x `height` with matching viewport.
 pub fn begin_attachmentless(device: &ash::Device, cmd: vk::CommandBuffer, width: u32, height: u32) {
+    begin_rendering(device, cmd, width, height, None, None);
+}
+
+/// Begins dynamic rendering over `width` x `height` with matching viewport, into `depth` (a
+/// view in DEPTH_ATTACHMENT_OPTIMAL, cleared to the given depth) and `color` (a view of an
+/// unsigned-integer format in COLOR_ATTACHMENT_OPTIMAL, cleared to the given value), each
+/// stored at the end.
+pub fn begin_rendering(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    width: u32,
+    height: u32,
+    depth: Option<(vk::ImageView, f32)>,
+    color: Option<(vk::ImageView, u32)>,
+) {
     let area = vk::Rect2D {
         offset: vk::Offset2D { x: 0, y: 0 },
         extent: vk::Extent2D { width, height },
     };
-    let info = vk::RenderingInfo::default()
+    let depth_attachment = depth.map(|(view, clear)| {
+        vk::RenderingAttachmentInfo::default()
+            .image_view(view)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: clear,
+                    stencil: 0,
+                },
+            })
+    });
+    let color_attachments: Vec<_> = color
+        .map(|(view, clear)| {
+            vk::RenderingAttachmentInfo::default()
+                .image_view(view)
+                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(vk::ClearValue {
+                    color: vk::ClearColorValue { uint32: [clear; 4] },
+                })
+        })
+        .into_iter()
+        .collect();
+    let mut info = vk::RenderingInfo::default()
         .render_area(area)
-        .layer_count(1);
+        .layer_count(1)
+        .color_attachments(&color_attachments);
+    if let Some(attachment) = depth_attachment.as_ref() {
+        info = info.depth_attachment(attachment);
+    }
     let viewport = vk::Viewport {
         x: 0.0,
         y: 0.0,

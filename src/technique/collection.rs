@@ -240,6 +240,10 @@ impl CollectionPass {
         };
         unsafe {
             device.cmd_fill_buffer(cmd, map.heads.raw(), 0, vk::WHOLE_SIZE, 0);
+            if map.uses_static_layer(light, coverage) {
+                let empty = u32::MAX;
+                device.cmd_fill_buffer(cmd, map.static_nearest.raw(), 0, vk::WHOLE_SIZE, empty);
+            }
             map.counters.record_write(device, cmd, &[counters]);
             if let Some(c) = coverage {
                 device.cmd_fill_buffer(cmd, c.nearest.raw(), 0, vk::WHOLE_SIZE, u32::MAX);

@@ -95,8 +95,8 @@ impl CoveragePass {
             &[
                 (
                     vk::ShaderStageFlags::VERTEX,
-                    "shadow_depth.vert",
-                    shaders::SHADOW_DEPTH_VERT,
+                    "coverage_caps.vert",
+                    shaders::COVERAGE_CAPS_VERT,
                 ),
                 (
                     vk::ShaderStageFlags::FRAGMENT,

@@ -115,8 +115,9 @@ pub struct ShadowMapHeader {
     pub long_pixels: u64,
     /// The coverage map's nearest map (u64 per texel), 0 without one.
     pub nearest: u64,
-    /// Unused (0).
-    pub reserved: u64,
+    /// The static layer (u64 per texel: the nearest static triangle, depth key << 32 | id),
+    /// 0 where static triangles are in the lists (the papers' prisms, the coverage map).
+    pub static_nearest: u64,
 }
 
 /// The header of ordinary shadow maps (224 bytes); starts like [`ShadowMapHeader`].
@@ -127,10 +128,12 @@ pub struct PlainMapHeader {
     pub light: GpuLight,
     /// x, y = texels, z = layers, w = a [`DepthFormat`].
     pub size: UVec4,
-    /// The layers' texels, layer after layer.
+    /// The layers' depths as the depth attachment held them (post-projection z/w in [0, 1],
+    /// 1 where no triangle was drawn: floats), layer after layer.
     pub depths: u64,
-    /// Unused (0).
-    pub reserved: u64,
+    /// [`DepthFormat::DepthAndId`]: the layers' triangle ids, layer after layer
+    /// ([`NO_TRIANGLE`] where none was drawn); 0 for depth-only maps.
+    pub ids: u64,
 }
 
 /// `DrawRecord::index_kind`: no index stream.
@@ -257,10 +260,11 @@ pub const COUNT_INVALID: u32 = 4;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u32)]
 pub enum DepthFormat {
-    /// 8 bytes: depth bits << 32 | triangle id (lets the shadow test skip the receiver's own
-    /// triangle).
+    /// 8 bytes: a depth (D32) and a triangle id (R32_UINT colour attachment, written by a
+    /// fragment shader): lets the shadow test skip the receiver's own triangle.
     DepthAndId = 0,
-    /// 4 bytes: depth alone, as the papers' time-dependent shadow maps store it.
+    /// 4 bytes: depth alone (D32, no fragment shader), as the papers' time-dependent shadow
+    /// maps store it.
     DepthOnly = 1,
 }
 

@@ -37,8 +37,8 @@ pub use coverage::{CoverageMap, CoveragePass, MAX_COVERAGE_TRIANGLES};
 pub use draws::{Draw, DrawList, IndexStream, Indices, PositionStream};
 pub use generation::GenerationPass;
 pub use gpu_types::{
-    CameraParams, Counters, DepthFormat, DrawRecord, FIXED_TIME, GpuLight, MAX_LIST_NODES, Node,
-    PassConstants, PlainMapHeader, Range, ShadowMapHeader, ShadowMode,
+    CameraParams, Counters, DepthFormat, DrawRecord, FIXED_TIME, GpuLight, MAX_LIST_NODES,
+    NO_TRIANGLE, Node, PassConstants, PlainMapHeader, Range, ShadowMapHeader, ShadowMode,
 };
 pub use image_output::LightingImageOutput;
 pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, Samples, ShadowSource};

@@ -1,30 +1,50 @@
-//! Ordinary shadow maps at given times: the nearest depth (and triangle id) per pixel, one
+//! Ordinary shadow maps at given times: the nearest depth (and triangle id) per texel, one
 //! layer per time. The baseline for static scenes, the brute-force reference's per-slice map,
 //! and time-dependent shadow maps (one depth-only layer per time stratum).
+//!
+//! Drawn as anyone who picks these methods would draw them: into a D32 depth attachment,
+//! LESS test, so that the device's early and hierarchical depth rejection work; depth-only
+//! maps without a fragment shader; maps with ids write them to an R32_UINT colour attachment
+//! after an early depth test. No depth bias in the pipeline: every method gets the same
+//! receiver test in the lighting pass (the normal offset or the receiver plane), which costs
+//! the shadow pass nothing. The lookups read buffers by address, so the attachments are then
+//! copied into buffers ([`PlainShadowPass::record_copy_out`], timed apart by the renderer).
 
 use super::collection::{PUSH_BYTES, draw_each};
 use super::draws::DrawList;
-use super::gpu_types::{DepthFormat, PassConstants, PlainMapHeader};
+use super::gpu_types::{DepthFormat, NO_TRIANGLE, PassConstants, PlainMapHeader};
 use super::shaders;
 use super::view::LightView;
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Buffer, BufferUsage, Context, Pipeline, attachmentless_pipeline, begin_attachmentless,
-    memory_barrier,
+    Access, Attachments, Buffer, BufferUsage, Context, Image, Pipeline, begin_rendering,
+    graphics_pipeline, image_barrier, memory_barrier,
 };
 use ash::vk;
 use glam::UVec4;
 
-/// `layers` shadow maps of `width` x `height` in one buffer, layer after layer.
+/// The depth attachment's format: 32-bit float, as precise as the ranges' linear depths where
+/// it matters (near the light).
+pub const SHADOW_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+/// The triangle ids' attachment.
+const ID_FORMAT: vk::Format = vk::Format::R32_UINT;
+
+/// `layers` shadow maps of `width` x `height`: the attachments they are drawn into and the
+/// buffers the lookups read.
 pub struct PlainShadowMap {
     width: u32,
     height: u32,
     layers: u32,
     format: DepthFormat,
-    /// The header (`PlainHeader` in shared.glsl): light, size and the depths' address.
+    depth_image: Image,
+    /// [`DepthFormat::DepthAndId`]: the triangle ids' attachment.
+    id_image: Option<Image>,
+    /// The header (`PlainHeader` in shared.glsl): light, size and the planes' addresses.
     pub header: Buffer,
-    /// The layers' texels.
+    /// The layers' depths (z/w floats), copied out of the depth attachment.
     pub depths: Buffer,
+    /// [`DepthFormat::DepthAndId`]: the layers' triangle ids, copied out of their attachment.
+    pub ids: Option<Buffer>,
 }
 
 impl PlainShadowMap {
@@ -36,35 +56,64 @@ impl PlainShadowMap {
         layers: u32,
         format: DepthFormat,
     ) -> Result<Self> {
-        let count = width as u64 * height as u64 * layers.max(1) as u64;
-        let bytes = count * format.bytes();
+        let layers = layers.max(1);
+        let texels = width as u64 * height as u64 * layers as u64;
         let limit = ctx.max_addressed_buffer_bytes();
         if width == 0 || height == 0 {
             return Err(Error::InvalidArgument(format!(
                 "shadow map size {width}x{height}"
             )));
         }
-        if bytes > limit {
+        if texels * 4 > limit {
             return Err(Error::DeviceLimit {
                 what: "the ordinary shadow maps",
-                count,
-                element_bytes: format.bytes(),
-                needed_bytes: bytes,
+                count: texels,
+                element_bytes: 4,
+                needed_bytes: texels * 4,
                 limit_bytes: limit,
             });
         }
+        let size = (width, height, layers);
+        let attachment = |name: &str, format: vk::Format, usage: vk::ImageUsageFlags| {
+            Image::new(
+                ctx,
+                name,
+                size,
+                format,
+                usage | vk::ImageUsageFlags::TRANSFER_SRC,
+            )
+        };
+        let planes = |name: &str| Buffer::new(ctx, name, texels * 4, BufferUsage::Storage);
+        let with_ids = format == DepthFormat::DepthAndId;
         Ok(Self {
             width,
             height,
-            layers: layers.max(1),
+            layers,
             format,
+            depth_image: attachment(
+                "ordinary shadow maps' depth attachment",
+                SHADOW_DEPTH_FORMAT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            )?,
+            id_image: with_ids
+                .then(|| {
+                    attachment(
+                        "ordinary shadow maps' id attachment",
+                        ID_FORMAT,
+                        vk::ImageUsageFlags::COLOR_ATTACHMENT,
+                    )
+                })
+                .transpose()?,
             header: Buffer::new(
                 ctx,
                 "ordinary shadow map header",
                 std::mem::size_of::<PlainMapHeader>() as u64,
                 BufferUsage::Storage,
             )?,
-            depths: Buffer::new(ctx, "ordinary shadow maps", bytes, BufferUsage::Storage)?,
+            depths: planes("ordinary shadow maps' depths")?,
+            ids: with_ids
+                .then(|| planes("ordinary shadow maps' ids"))
+                .transpose()?,
         })
     }
     /// Maps in the buffer.
@@ -79,48 +128,109 @@ impl PlainShadowMap {
     pub fn header_address(&self) -> u64 {
         self.header.device_address()
     }
-    /// Bytes of the maps' texels (the papers' figure for TSM: layers x 4 x pixels).
+    /// Bytes of the maps' texels (the papers' figure for TSM: layers x 4 x pixels; 8 with
+    /// ids). The buffers the lookups read hold a copy of as many again.
     pub fn bytes(&self) -> u64 {
-        self.depths.size()
+        self.width as u64 * self.height as u64 * self.layers as u64 * self.format.bytes()
+    }
+    fn attachments(&self) -> impl Iterator<Item = &Image> {
+        std::iter::once(&self.depth_image).chain(self.id_image.as_ref())
     }
 }
 
 /// Renders ordinary shadow maps. Immutable after creation.
 pub struct PlainShadowPass {
-    pipeline: Pipeline,
+    /// Depth-only maps: vertex shader alone.
+    depth_only: Pipeline,
+    /// Maps with ids: the fragment shader writes the id after the early depth test.
+    depth_and_id: Pipeline,
 }
 
 impl PlainShadowPass {
-    /// Creates the pipeline (vertex and fragment shader, no attachments).
+    /// Creates the pipelines; fails with [`Error::MissingFeature`] on a device that cannot
+    /// render to the D32 depth format or the R32_UINT colour format.
     pub fn new(ctx: &Context) -> Result<Self> {
-        let pipeline = attachmentless_pipeline(
-            ctx,
-            PUSH_BYTES,
-            &[
-                (
-                    vk::ShaderStageFlags::VERTEX,
-                    "shadow_depth.vert",
-                    shaders::SHADOW_DEPTH_VERT,
-                ),
-                (
-                    vk::ShaderStageFlags::FRAGMENT,
-                    "shadow_depth.frag",
-                    shaders::SHADOW_DEPTH_FRAG,
-                ),
-            ],
-        )?;
-        Ok(Self { pipeline })
+        for (format, usage, what) in [
+            (
+                SHADOW_DEPTH_FORMAT,
+                vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT,
+                "D32_SFLOAT depth attachments (ordinary shadow maps)",
+            ),
+            (
+                ID_FORMAT,
+                vk::FormatFeatureFlags::COLOR_ATTACHMENT,
+                "R32_UINT colour attachments (ordinary shadow maps' ids)",
+            ),
+        ] {
+            if !ctx.optimal_tiling_features(format).contains(usage) {
+                return Err(Error::MissingFeatures(format!(
+                    "the device cannot render to {what}"
+                )));
+            }
+        }
+        let vertex = (
+            vk::ShaderStageFlags::VERTEX,
+            "shadow_depth.vert",
+            shaders::SHADOW_DEPTH_VERT,
+        );
+        let fragment = (
+            vk::ShaderStageFlags::FRAGMENT,
+            "shadow_depth.frag",
+            shaders::SHADOW_DEPTH_FRAG,
+        );
+        let depth = Some(SHADOW_DEPTH_FORMAT);
+        Ok(Self {
+            depth_only: graphics_pipeline(
+                ctx,
+                PUSH_BYTES,
+                &[vertex],
+                Attachments { depth, colors: &[] },
+            )?,
+            depth_and_id: graphics_pipeline(
+                ctx,
+                PUSH_BYTES,
+                &[vertex, fragment],
+                Attachments {
+                    depth,
+                    colors: &[ID_FORMAT],
+                },
+            )?,
+        })
     }
 
-    /// Renders layer i of `map` with the scene at `times[i]`, seen from `light`.
+    /// Renders layer i of `map` with the scene at `times[i]`, seen from `light`, and copies
+    /// the maps out for the lookups ([`Self::record_render`] then [`Self::record_copy_out`]).
     ///
     /// # Safety
     /// As [`super::CollectionPass::record`] (for `map` instead of a temporal map).
     ///
-    /// Synchronization: waits for earlier shader reads and fragment writes of the map;
-    /// leaves its texels written by the fragment stage and visible to shader reads in every
-    /// stage. State changed: the bound graphics pipeline, push constants, viewport, scissor.
+    /// Synchronization and state: as the two halves.
     pub unsafe fn record(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        draws: &DrawList,
+        light: &LightView,
+        map: &PlainShadowMap,
+        times: &[f32],
+    ) {
+        unsafe {
+            self.record_render(device, cmd, draws, light, map, times);
+            self.record_copy_out(device, cmd, map);
+        }
+    }
+
+    /// Renders layer i of `map` with the scene at `times[i]` into the map's attachments
+    /// (cleared first: depth 1, ids [`NO_TRIANGLE`]), and writes its header for `light`.
+    ///
+    /// # Safety
+    /// As [`super::CollectionPass::record`] (for `map` instead of a temporal map); must be
+    /// followed by [`Self::record_copy_out`] before the lookups read `map`.
+    ///
+    /// Synchronization: waits for earlier shader reads of the header and transfer reads of
+    /// the attachments (their contents are discarded); leaves the attachments written.
+    /// State changed: the bound graphics pipeline, push constants, viewport, scissor.
+    pub unsafe fn record_render(
         &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
@@ -133,43 +243,96 @@ impl PlainShadowPass {
             light: light.gpu(),
             size: UVec4::new(map.width, map.height, map.layers, map.format as u32),
             depths: map.depths.device_address(),
-            reserved: 0,
+            ids: map.ids.as_ref().map_or(0, |b| b.device_address()),
         };
-        memory_barrier(
-            device,
-            cmd,
-            Access::ANY_SHADER_READ.and(Access::FRAGMENT_RW),
-            Access::TRANSFER_WRITE,
-        );
-        unsafe {
-            map.header.record_write(device, cmd, &[header]);
-            // Empty texels: a NaN depth (and, with ids, no triangle). Depth-only maps keep the
-            // signed minimum (see shadow_depth.frag), so their empty value is the largest int.
-            let empty = match map.format {
-                DepthFormat::DepthOnly => 0x7fff_ffff,
-                DepthFormat::DepthAndId => u32::MAX,
-            };
-            device.cmd_fill_buffer(cmd, map.depths.raw(), 0, vk::WHOLE_SIZE, empty);
+        memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE);
+        unsafe { map.header.record_write(device, cmd, &[header]) };
+        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ);
+        for image in map.attachments() {
+            let (layout, access) = attachment_state(image);
+            image_barrier(
+                device,
+                cmd,
+                image.raw(),
+                image.layers_range(0, map.layers),
+                (vk::ImageLayout::UNDEFINED, layout),
+                Access::TRANSFER_READ,
+                access,
+            );
         }
-        memory_barrier(
-            device,
-            cmd,
-            Access::TRANSFER_WRITE,
-            Access::ANY_SHADER_READ.and(Access::FRAGMENT_RW),
-        );
-        begin_attachmentless(device, cmd, map.width, map.height);
-        self.pipeline.bind(device, cmd);
+        let pipeline = match map.format {
+            DepthFormat::DepthOnly => &self.depth_only,
+            DepthFormat::DepthAndId => &self.depth_and_id,
+        };
         for (layer, &t) in times.iter().enumerate().take(map.layers as usize) {
+            let layer = layer as u32;
+            begin_rendering(
+                device,
+                cmd,
+                map.width,
+                map.height,
+                Some((map.depth_image.layer_view(layer), 1.0)),
+                map.id_image
+                    .as_ref()
+                    .map(|ids| (ids.layer_view(layer), NO_TRIANGLE)),
+            );
+            pipeline.bind(device, cmd);
             let constants = PassConstants {
                 map: map.header_address(),
-                first_sample: layer as u32,
+                first_sample: layer,
                 mode: map.format as u32,
                 time: t,
                 ..PassConstants::default()
             };
-            draw_each(device, cmd, &self.pipeline, draws, constants);
+            draw_each(device, cmd, pipeline, draws, constants);
+            unsafe { device.cmd_end_rendering(cmd) };
         }
-        unsafe { device.cmd_end_rendering(cmd) };
-        memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::ANY_SHADER_READ);
+    }
+
+    /// Copies the attachments that [`Self::record_render`] drew into the buffers the lookups
+    /// read.
+    ///
+    /// # Safety
+    /// As [`Self::record_render`], which it follows.
+    ///
+    /// Synchronization: waits for the attachments' writes and earlier shader reads of the
+    /// buffers; leaves the buffers written and visible to shader reads in every stage.
+    pub unsafe fn record_copy_out(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        map: &PlainShadowMap,
+    ) {
+        memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE);
+        let planes = [Some(&map.depths), map.ids.as_ref()];
+        for (image, buffer) in map.attachments().zip(planes.into_iter().flatten()) {
+            let (layout, access) = attachment_state(image);
+            image_barrier(
+                device,
+                cmd,
+                image.raw(),
+                image.layers_range(0, map.layers),
+                (layout, vk::ImageLayout::TRANSFER_SRC_OPTIMAL),
+                access,
+                Access::TRANSFER_READ,
+            );
+            unsafe { image.record_copy_to_buffer(device, cmd, buffer.raw(), 0) };
+        }
+        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ);
+    }
+}
+
+/// The layout an attachment is drawn in and the accesses drawing makes to it.
+fn attachment_state(image: &Image) -> (vk::ImageLayout, Access) {
+    if image.aspect() == vk::ImageAspectFlags::DEPTH {
+        (
+            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+            Access::DEPTH_ATTACHMENT,
+        )
+    } else {
+        (
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            Access::COLOR_ATTACHMENT_WRITE,
+        )
     }
 }

@@ -36,6 +36,8 @@ pub const SHADOW_DEPTH_VERT: &[u8] = spirv!("shadow_depth.vert");
 pub const SHADOW_DEPTH_FRAG: &[u8] = spirv!("shadow_depth.frag");
 /// SPIR-V of `glsl/layout_probe.comp`.
 pub const LAYOUT_PROBE_COMP: &[u8] = spirv!("layout_probe.comp");
+/// SPIR-V of `glsl/coverage_caps.vert`.
+pub const COVERAGE_CAPS_VERT: &[u8] = spirv!("coverage_caps.vert");
 /// SPIR-V of `glsl/coverage.frag`.
 pub const COVERAGE_FRAG: &[u8] = spirv!("coverage.frag");
 /// SPIR-V of `glsl/coverage_reset.frag`.

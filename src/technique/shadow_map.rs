@@ -6,7 +6,7 @@
 
 use super::coverage::CoverageMap;
 use super::gpu_types::{Counters, MAX_LIST_NODES, Node, Range, ShadowMapHeader};
-use super::view::LightView;
+use super::view::{LightView, PrismConstruction};
 use crate::error::{Error, Result};
 use crate::gpu::{Access, Buffer, BufferUsage, Context, OneShot, memory_barrier};
 use ash::vk;
@@ -40,6 +40,9 @@ pub struct TemporalShadowMap {
     /// The generation pass's list of pixels with long fragment lists (a count, indirect
     /// dispatch arguments, then up to one index per pixel).
     pub long_pixels: Buffer,
+    /// The static layer: per pixel, the nearest triangle of a static draw (depth key << 32 |
+    /// id), in place of their fragments in the lists (see [`Self::uses_static_layer`]).
+    pub static_nearest: Buffer,
     counters_readback: Buffer,
 }
 
@@ -111,6 +114,7 @@ impl TemporalShadowMap {
                 16 + head_bytes,
                 BufferUsage::Storage,
             )?,
+            static_nearest: Buffer::new(ctx, "static layer", 2 * head_bytes, BufferUsage::Storage)?,
             counters_readback: Buffer::new(
                 ctx,
                 "counters readback",
@@ -144,6 +148,14 @@ impl TemporalShadowMap {
         self.header.device_address()
     }
 
+    /// Whether a frame lit by `light` (with or without a coverage map) keeps static draws'
+    /// triangles in the static layer rather than in the lists: with the exact construction
+    /// (static draws skip the geometry shader there) and no coverage map (its passes need
+    /// every fragment).
+    pub fn uses_static_layer(&self, light: &LightView, coverage: Option<&CoverageMap>) -> bool {
+        light.prisms == PrismConstruction::Exact && coverage.is_none()
+    }
+
     /// Records the header's update for a frame lit by `light` (with or without a coverage
     /// map), between the barriers that order it after earlier readers and before later ones.
     pub(crate) fn record_header(
@@ -165,7 +177,11 @@ impl TemporalShadowMap {
             counters: self.counters.device_address(),
             long_pixels: self.long_pixels.device_address(),
             nearest: coverage.map_or(0, |c| c.nearest.device_address()),
-            reserved: 0,
+            static_nearest: if self.uses_static_layer(light, coverage) {
+                self.static_nearest.device_address()
+            } else {
+                0
+            },
         };
         memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE);
         // SAFETY: plain data of the header's size; recording outside a render pass (the
@@ -183,6 +199,7 @@ impl TemporalShadowMap {
             &self.range_heads,
             &self.ranges,
             &self.long_pixels,
+            &self.static_nearest,
         ]
         .iter()
         .map(|b| b.size())
@@ -305,6 +322,7 @@ impl TemporalShadowMap {
             nodes: download(ctx, &self.nodes, nodes)?,
             range_heads: download(ctx, &self.range_heads, pixels)?,
             ranges: download(ctx, &self.ranges, ranges)?,
+            static_layer: download(ctx, &self.static_nearest, pixels)?,
         })
     }
 }
@@ -357,9 +375,20 @@ pub struct ShadowMapContents {
     pub range_heads: Vec<u32>,
     /// The ranges.
     pub ranges: Vec<Range>,
+    /// Per texel: the static layer's nearest static triangle (depth key << 32 | id, all ones
+    /// for none). Meaningful when the frame used the static layer
+    /// ([`TemporalShadowMap::uses_static_layer`]); static triangles are in the lists otherwise.
+    pub static_layer: Vec<u64>,
 }
 
 impl ShadowMapContents {
+    /// The static layer's triangle in texel (x, y) and its depth there, if any.
+    pub fn static_at(&self, x: u32, y: u32) -> Option<(u32, f32)> {
+        let key = self.static_layer[(y * self.width + x) as usize];
+        let id = key as u32;
+        (id != super::gpu_types::NO_TRIANGLE).then(|| (id, static_depth((key >> 32) as u32)))
+    }
+
     fn walk<T: Copy>(items: &[T], first: u32, next: impl Fn(&T) -> u32) -> Vec<T> {
         let mut out = Vec::new();
         let mut link = first;
@@ -405,4 +434,13 @@ impl ShadowMapContents {
         let first = self.range_heads[(y * self.width + x) as usize];
         Self::walk(&self.ranges, first, |r| r.next)
     }
+}
+
+/// The depth a static-layer key holds (the inverse of `ms_static_key` in motion_shadows.glsl).
+fn static_depth(key: u32) -> f32 {
+    f32::from_bits(if key & 0x8000_0000 != 0 {
+        key & 0x7fff_ffff
+    } else {
+        !key
+    })
 }

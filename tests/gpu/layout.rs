@@ -108,13 +108,13 @@ fn shared_structs_match_glsl() {
         counters: val.a(),
         long_pixels: val.a(),
         nearest: val.a(),
-        reserved: val.a(),
+        static_nearest: val.a(),
     };
     let plain = PlainMapHeader {
         light: val.light(),
         size: val.uv(),
         depths: val.a(),
-        reserved: val.a(),
+        ids: val.a(),
     };
     let draw = DrawRecord {
         positions0: val.a(),
@@ -209,14 +209,14 @@ fn shared_structs_match_glsl() {
         shadow.counters,
         shadow.long_pixels,
         shadow.nearest,
-        shadow.reserved,
+        shadow.static_nearest,
     ] {
         expected.a(a);
     }
     expected.light(&plain.light);
     expected.uv(plain.size);
     expected.a(plain.depths);
-    expected.a(plain.reserved);
+    expected.a(plain.ids);
     expected.a(draw.positions0);
     expected.a(draw.positions1);
     expected.a(draw.indices);

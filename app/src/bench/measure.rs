@@ -3,7 +3,7 @@
 
 use crate::error::Result;
 use crate::output::RadianceImage;
-use crate::render::{FrameStats, RenderSettings, Renderer};
+use crate::render::{FrameStats, RenderSettings, Renderer, counted_ms};
 use crate::scene::Scene;
 
 /// A render's figures, from its fastest of `runs` repetitions (GPU time per pass summed).
@@ -16,32 +16,28 @@ pub struct Measurement {
 impl Measurement {
     /// GPU milliseconds of the passes whose names `keep` accepts.
     pub fn gpu_ms_where(&self, keep: impl Fn(&str) -> bool) -> f64 {
-        self.stats
-            .passes
-            .iter()
-            .filter(|p| keep(&p.pass))
-            .fold(0.0, |total, p| total + p.gpu_ms)
+        counted_ms(&self.stats.passes, keep)
     }
 
-    /// GPU milliseconds of the whole frame.
+    /// GPU milliseconds of the whole frame (the render's `frame_ms`).
     pub fn frame_ms(&self) -> f64 {
-        self.gpu_ms_where(|_| true)
+        self.stats.frame_ms
     }
 
     /// GPU milliseconds of the shadow side: everything before the lighting pass.
     pub fn shadow_ms(&self) -> f64 {
-        self.gpu_ms_where(|p| !p.starts_with("lighting"))
+        self.stats.shadow_pass_ms
     }
 
     pub fn lighting_ms(&self) -> f64 {
-        self.gpu_ms_where(|p| p.starts_with("lighting"))
+        self.stats.lighting_pass_ms
     }
 
-    /// Shadow-map bytes as the papers count them: equation (2) for the temporal methods,
-    /// the maps themselves for the others.
+    /// Shadow-map bytes as the papers count them: equation (2) for the temporal methods (plus
+    /// the static layer, where the frame had one), the maps themselves for the others.
     pub fn shadow_bytes(&self) -> u64 {
         if self.stats.shadow_map_bytes_eq2 > 0 {
-            self.stats.shadow_map_bytes_eq2
+            self.stats.shadow_map_bytes_eq2 + self.stats.static_layer_bytes
         } else {
             self.stats.shadow_map_bytes_allocated
         }

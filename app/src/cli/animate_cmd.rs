@@ -108,7 +108,7 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
             delay,
         ))
         .with_context(|| format!("encoding frame {i} of {gif_name}"))?;
-        gpu_ms.push(result.stats.passes.iter().map(|p| p.gpu_ms).sum());
+        gpu_ms.push(result.stats.frame_ms);
         wall_ms.push(result.stats.wall_ms);
     }
     drop(renderer);

@@ -63,7 +63,7 @@ fn split_times(stats: &FrameStats) -> (f64, f64) {
         stats
             .passes
             .iter()
-            .filter(|p| keep(&p.pass))
+            .filter(|p| p.counted() && keep(&p.pass))
             .fold(0.0, |total, p| total + p.gpu_ms)
     };
     (sum(&|p| !lighting(p)), sum(&lighting))
@@ -221,7 +221,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             shadow_ms,
             lighting_ms,
             shadow_map_bytes: if result.stats.shadow_map_bytes_eq2 > 0 {
-                result.stats.shadow_map_bytes_eq2
+                result.stats.shadow_map_bytes_eq2 + result.stats.static_layer_bytes
             } else {
                 result.stats.shadow_map_bytes_allocated
             },

@@ -46,6 +46,13 @@ pub fn summary_text(stats: &FrameStats, files: &[String]) -> String {
             stats.shadow_map_bytes_eq2,
             mib(stats.shadow_map_bytes_allocated)
         );
+        if stats.static_layer_bytes > 0 {
+            let _ = writeln!(
+                s,
+                "static layer (nearest static triangle per texel): {}",
+                mib(stats.static_layer_bytes)
+            );
+        }
         if stats.shadow_pass_attempts > 1 {
             let _ = writeln!(
                 s,
@@ -62,10 +69,10 @@ pub fn summary_text(stats: &FrameStats, files: &[String]) -> String {
     }
     let _ = writeln!(s, "GPU time per pass:");
     for p in &stats.passes {
-        let _ = writeln!(s, "  {:<18} {:>10.2} ms", p.pass, p.gpu_ms);
+        let note = if p.counted() { "" } else { "  (not counted)" };
+        let _ = writeln!(s, "  {:<18} {:>10.2} ms{note}", p.pass, p.gpu_ms);
     }
-    let total: f64 = stats.passes.iter().map(|p| p.gpu_ms).sum();
-    let _ = writeln!(s, "  {:<18} {:>10.2} ms", "total", total);
+    let _ = writeln!(s, "  {:<18} {:>10.2} ms", "total", stats.frame_ms);
     let _ = writeln!(s, "wall time: {:.1} ms", stats.wall_ms);
     for f in files {
         let _ = writeln!(s, "wrote {f}");

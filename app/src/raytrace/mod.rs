@@ -120,12 +120,18 @@ pub fn render(
         ranges: 0,
         ranges_without_coverage: 0,
         shadow_map_bytes_eq2: 0,
+        static_layer_bytes: 0,
         shadow_map_bytes_eq2_without_coverage: 0,
         coverage_map_bytes: 0,
         shadow_map_bytes_allocated: 0,
         longest_fragment_list: 0,
         shadow_pass_attempts: 1,
         samples_per_chunk: settings.spp,
+        // The BVH stands in for the shadow side, the trace for the lighting (as `compare`
+        // splits them).
+        shadow_pass_ms: build_ms,
+        lighting_pass_ms: trace_ms,
+        frame_ms: build_ms + trace_ms,
         passes: vec![
             PassTime {
                 pass: "bvh build".to_owned(),

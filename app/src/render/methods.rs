@@ -2,11 +2,12 @@
 //! instead of) the lighting pass.
 
 use super::times::{REFERENCE_SALT, TSM_SALT, stratified_times};
-use super::{FrameInputs, PassTime, RenderSettings, Renderer};
+use super::{FrameInputs, MAP_COPY_PASS, PassTime, RenderSettings, Renderer};
 use crate::error::{Error, Result};
+use motion_shadows::gpu::Context;
 use motion_shadows::technique::{
-    Counters, CoverageMap, DepthFormat, LightingTarget, LightingView, MAX_COVERAGE_TRIANGLES,
-    PlainShadowMap, Samples, ShadowSource, TemporalShadowMap,
+    Counters, CoverageMap, DepthFormat, LightView, LightingTarget, LightingView,
+    MAX_COVERAGE_TRIANGLES, NO_TRIANGLE, PlainShadowMap, Samples, ShadowSource, TemporalShadowMap,
 };
 
 /// Reference slices recorded per submission: bounds the command buffer, paces progress.
@@ -58,6 +59,35 @@ impl ShadowOutcome {
             Self::Temporal {
                 coverage: Some(c), ..
             } => c.allocated_bytes(),
+            _ => 0,
+        }
+    }
+
+    /// Whether any static triangle reached the temporal map's static layer (a download of
+    /// the map: ask only when no fragment reached the lists).
+    pub(super) fn static_layer_drawn(&self, ctx: &Context, light: &LightView) -> Result<bool> {
+        match self {
+            Self::Temporal { map, coverage, .. }
+                if map.uses_static_layer(light, coverage.as_deref()) =>
+            {
+                let contents = map.download(ctx)?;
+                Ok(contents
+                    .static_layer
+                    .iter()
+                    .any(|&k| k as u32 != NO_TRIANGLE))
+            }
+            _ => Ok(false),
+        }
+    }
+
+    /// Bytes of the static layer, if the frame used one (8 per texel).
+    pub(super) fn static_layer_bytes(&self, light: &LightView, pixels: u64) -> u64 {
+        match self {
+            Self::Temporal { map, coverage, .. }
+                if map.uses_static_layer(light, coverage.as_deref()) =>
+            {
+                8 * pixels
+            }
             _ => 0,
         }
     }
@@ -202,13 +232,16 @@ impl Renderer<'_> {
             DepthFormat::DepthAndId => "plain shadow map",
         };
         self.run_timed(passes, |this, cmd, ts| {
+            let device = this.ctx.device();
             // SAFETY: as in `temporal_shadow`.
             unsafe {
-                let device = this.ctx.device();
                 this.plain
-                    .record(device, cmd, inputs.draws, inputs.light, &maps, times)
+                    .record_render(device, cmd, inputs.draws, inputs.light, &maps, times)
             };
             ts.mark(cmd, label);
+            // SAFETY: the same command buffer, after the maps' rendering.
+            unsafe { this.plain.record_copy_out(device, cmd, &maps) };
+            ts.mark(cmd, MAP_COPY_PASS);
             Ok(())
         })?;
         Ok(maps)

@@ -23,7 +23,7 @@ use motion_shadows::technique::{
     ShadowEstimator, ShadowFilter, TemporalShadowMap,
 };
 pub use receiver::ReceiverTest;
-pub use stats::{FrameStats, PassTime, equation_2_bytes};
+pub use stats::{FrameStats, MAP_COPY_PASS, PassTime, counted_ms, equation_2_bytes};
 use std::time::Instant;
 use upload::SceneGeometry;
 
@@ -334,6 +334,7 @@ impl<'a> Renderer<'a> {
         if matches!(outcome, ShadowOutcome::Temporal { .. })
             && counts.node_count == 0
             && geometry.triangle_count > 0
+            && !outcome.static_layer_drawn(ctx, inputs.light)?
         {
             // The exact construction is not clipped by the light's near and far planes.
             let outside = match settings.prisms {
@@ -376,6 +377,7 @@ impl<'a> Renderer<'a> {
             } else {
                 0
             },
+            static_layer_bytes: outcome.static_layer_bytes(inputs.light, shadow_pixels),
             shadow_map_bytes_eq2_without_coverage: if temporal {
                 equation_2_bytes(
                     fragments,
@@ -390,6 +392,9 @@ impl<'a> Renderer<'a> {
             shadow_pass_attempts: outcome.attempts(),
             longest_fragment_list: counts.longest_list,
             samples_per_chunk: target.samples_per_chunk(),
+            shadow_pass_ms: stats::counted_ms(&passes, |p| !stats::is_lighting_pass(p)),
+            lighting_pass_ms: stats::counted_ms(&passes, stats::is_lighting_pass),
+            frame_ms: stats::counted_ms(&passes, |_| true),
             passes,
             warnings,
             wall_ms: start.elapsed().as_secs_f64() * 1e3,

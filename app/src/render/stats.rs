@@ -30,6 +30,32 @@ pub struct PassTime {
     pub gpu_ms: f64,
 }
 
+/// The pass that copies the ordinary maps' attachments (plain, TSM) into the buffers the
+/// lighting pass reads by address. It is this project's plumbing, not part of drawing those
+/// maps (an engine samples the depth image directly), so the frame and shadow-pass times
+/// leave it out; it is listed with the passes all the same.
+pub const MAP_COPY_PASS: &str = "map copy-out";
+
+/// Passes that belong to the lighting side of a frame (everything else is the shadow side).
+pub fn is_lighting_pass(name: &str) -> bool {
+    name.starts_with("lighting")
+}
+
+impl PassTime {
+    /// Whether it counts toward the frame's time (all but [`MAP_COPY_PASS`]).
+    pub fn counted(&self) -> bool {
+        self.pass != MAP_COPY_PASS
+    }
+}
+
+/// GPU milliseconds of the counted passes that `keep` accepts.
+pub fn counted_ms(passes: &[PassTime], keep: impl Fn(&str) -> bool) -> f64 {
+    passes
+        .iter()
+        .filter(|p| p.counted() && keep(&p.pass))
+        .fold(0.0, |total, p| total + p.gpu_ms)
+}
+
 #[derive(Debug, Clone, Serialize)]
 pub struct FrameStats {
     pub scene: String,
@@ -60,6 +86,9 @@ pub struct FrameStats {
     pub ranges_without_coverage: u64,
     /// Equation (2): N_f * 16 + N_r * 24 + 2 * shadow pixels * 4 bytes.
     pub shadow_map_bytes_eq2: u64,
+    /// The static layer (8 bytes per shadow-map texel: the nearest static triangle, in place
+    /// of static triangles' fragments and ranges); 0 where the frame did not use one.
+    pub static_layer_bytes: u64,
     /// Equation (2) with the ranges stored without the coverage map.
     pub shadow_map_bytes_eq2_without_coverage: u64,
     /// The nearest, coverage and cover-depth maps (coverage method; 0 otherwise).
@@ -73,6 +102,13 @@ pub struct FrameStats {
     pub shadow_pass_attempts: u32,
     pub samples_per_chunk: u32,
     pub passes: Vec<PassTime>,
+    /// GPU milliseconds of the shadow side: every counted pass before the lighting pass (the
+    /// figure `bench` compares between methods).
+    pub shadow_pass_ms: f64,
+    /// GPU milliseconds of the lighting pass (raster and shade).
+    pub lighting_pass_ms: f64,
+    /// GPU milliseconds of the frame: every counted pass ([`MAP_COPY_PASS`] is not).
+    pub frame_ms: f64,
     /// Things the frame did that are legal but probably not what was meant (e.g. no
     /// triangle reaching the shadow map); also printed on stderr.
     pub warnings: Vec<String>,

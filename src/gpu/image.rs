@@ -1,0 +1,191 @@
+//! Device-local 2D array images that free their memory, handle and views when dropped: the
+//! attachments of depth-tested passes.
+
+use super::context::{Context, Shared};
+use crate::error::{Error, Result, VkContext};
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use std::sync::Arc;
+
+/// A 2D array image with one view per layer (for rendering into a layer).
+pub struct Image {
+    shared: Arc<Shared>,
+    raw: vk::Image,
+    allocation: Option<Allocation>,
+    layer_views: Vec<vk::ImageView>,
+    format: vk::Format,
+    aspect: vk::ImageAspectFlags,
+    width: u32,
+    height: u32,
+    layers: u32,
+}
+
+impl Image {
+    /// `layers` layers of `width` x `height` texels of `format` (a depth format gets the depth
+    /// aspect, any other the colour aspect), for `usage`.
+    pub fn new(
+        ctx: &Context,
+        name: &str,
+        (width, height, layers): (u32, u32, u32),
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+    ) -> Result<Self> {
+        let aspect = match format {
+            vk::Format::D32_SFLOAT | vk::Format::D16_UNORM | vk::Format::X8_D24_UNORM_PACK32 => {
+                vk::ImageAspectFlags::DEPTH
+            }
+            _ => vk::ImageAspectFlags::COLOR,
+        };
+        let device = &ctx.shared.device;
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(format)
+            .extent(vk::Extent3D {
+                width,
+                height,
+                depth: 1,
+            })
+            .mip_levels(1)
+            .array_layers(layers)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        let raw = unsafe { device.create_image(&info, None) }.vk("vkCreateImage")?;
+        let mut image = Self {
+            shared: ctx.shared.clone(),
+            raw,
+            allocation: None,
+            layer_views: Vec::new(),
+            format,
+            aspect,
+            width,
+            height,
+            layers,
+        };
+        let requirements = unsafe { device.get_image_memory_requirements(raw) };
+        let allocation = ctx
+            .shared
+            .allocator
+            .lock()
+            .map_err(|_| Error::InvalidArgument("allocator mutex poisoned".into()))?
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location: MemoryLocation::GpuOnly,
+                linear: false,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })
+            .map_err(|source| Error::Allocation {
+                what: format!("{name} ({width}x{height}x{layers} {format:?})"),
+                source,
+            })?;
+        let bound =
+            unsafe { device.bind_image_memory(raw, allocation.memory(), allocation.offset()) };
+        image.allocation = Some(allocation);
+        bound.vk("vkBindImageMemory")?;
+        for layer in 0..layers {
+            let view_info = vk::ImageViewCreateInfo::default()
+                .image(raw)
+                .view_type(vk::ImageViewType::TYPE_2D)
+                .format(format)
+                .subresource_range(image.layers_range(layer, 1));
+            let view =
+                unsafe { device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+            image.layer_views.push(view);
+        }
+        Ok(image)
+    }
+
+    /// The image handle.
+    pub fn raw(&self) -> vk::Image {
+        self.raw
+    }
+    /// A 2D view of `layer`.
+    pub fn layer_view(&self, layer: u32) -> vk::ImageView {
+        self.layer_views[layer as usize]
+    }
+    /// Its format.
+    pub fn format(&self) -> vk::Format {
+        self.format
+    }
+    /// Depth or colour.
+    pub fn aspect(&self) -> vk::ImageAspectFlags {
+        self.aspect
+    }
+    /// Texels along x and y, and layers.
+    pub fn size(&self) -> (u32, u32, u32) {
+        (self.width, self.height, self.layers)
+    }
+    /// Layers `first..first + count` of the only mip level.
+    pub fn layers_range(&self, first: u32, count: u32) -> vk::ImageSubresourceRange {
+        vk::ImageSubresourceRange {
+            aspect_mask: self.aspect,
+            base_mip_level: 0,
+            level_count: 1,
+            base_array_layer: first,
+            layer_count: count,
+        }
+    }
+
+    /// Records a copy of every layer, tightly packed layer after layer, to `buffer` at
+    /// `offset`. The image must be in `TRANSFER_SRC_OPTIMAL`; the caller puts the barriers
+    /// around it.
+    ///
+    /// # Safety
+    /// `cmd` is recording, outside rendering; `buffer` was made with transfer-destination
+    /// usage and holds `offset` + width x height x layers texels.
+    pub unsafe fn record_copy_to_buffer(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        buffer: vk::Buffer,
+        offset: u64,
+    ) {
+        let region = [vk::BufferImageCopy {
+            buffer_offset: offset,
+            buffer_row_length: 0,
+            buffer_image_height: 0,
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: self.aspect,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: self.layers,
+            },
+            image_offset: vk::Offset3D::default(),
+            image_extent: vk::Extent3D {
+                width: self.width,
+                height: self.height,
+                depth: 1,
+            },
+        }];
+        unsafe {
+            device.cmd_copy_image_to_buffer(
+                cmd,
+                self.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                buffer,
+                &region,
+            )
+        };
+    }
+}
+
+impl Drop for Image {
+    fn drop(&mut self) {
+        let device = &self.shared.device;
+        unsafe {
+            for &view in &self.layer_views {
+                device.destroy_image_view(view, None);
+            }
+            device.destroy_image(self.raw, None);
+        }
+        if let Some(allocation) = self.allocation.take() {
+            if let Ok(mut allocator) = self.shared.allocator.lock() {
+                let _ = allocator.free(allocation);
+            }
+        }
+    }
+}
