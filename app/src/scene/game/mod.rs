@@ -1,7 +1,8 @@
 //! `game-level`: a scene shaped like a game's, where most triangles are static and few move.
 //! A room of ~50,000 static triangles (`level.rs`) and ~6,000 moving ones, about a tenth
 //! (`movers.rs`: the walking CesiumMan, a spinning trap, two thrown crates), lit by one spot
-//! light high on the right and seen by a third-person camera that follows the walker.
+//! light high over the front of the room and seen by a third-person camera that follows the
+//! walker.
 //! Motion is a game's at 30 fps with a 180-degree shutter (1/60 s).
 
 mod cylinder;

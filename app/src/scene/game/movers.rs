@@ -5,8 +5,8 @@
 //!
 //! Each motion repeats (the walk along its path, the throws) so any time gives a scene with
 //! everything in the room. Vertices move linearly over the shutter: the spinner's arms and
-//! the crates' tumble are chord blends of two rigid poses (12 and 9 degrees apart, so the
-//! arms shrink at most 0.6% mid-shutter).
+//! the crates' tumble are chord blends of two rigid poses (12 degrees apart for the arms, 9
+//! at most for the crates, so the arms shrink at most 0.6% mid-shutter).
 
 use glam::Vec3;
 
