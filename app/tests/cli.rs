@@ -173,6 +173,49 @@ fn quick_characters_preset_measures_the_walker_at_two_sizes() {
     std::fs::remove_dir_all(&out).ok();
 }
 
+/// `bench --quick --preset game`: game-level measured by temporal, TSM and plain, each row
+/// with the whole scene's triangles and a positive time, and the two ratios (the shadow
+/// pass against the plain map, with its target; the frame against TSM's).
+#[test]
+fn quick_game_preset_measures_three_methods_on_the_game_level() {
+    let out = temp_dir("bench-game");
+    let status = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args(["bench", "--quick", "--preset", "game", "--out"])
+        .arg(&out)
+        .env("MOTION_SHADOWS_VALIDATION", "1")
+        .status()
+        .expect("run the binary");
+    assert!(status.success());
+    let csv = std::fs::read_to_string(out.join("game-results.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(
+        lines[0],
+        "method,shadow_ms,lighting_ms,frame_ms,shadow_map_mib,triangles"
+    );
+    let methods: Vec<&str> = lines[1..]
+        .iter()
+        .map(|l| l.split(',').next().unwrap())
+        .collect();
+    assert_eq!(methods, ["temporal", "tsm", "plain"], "{csv}");
+    let triangles = lines[1].rsplit(',').next().unwrap();
+    for line in &lines[1..] {
+        let cells: Vec<&str> = line.split(',').collect();
+        assert_eq!(cells[5], triangles, "{csv}");
+        for ms in &cells[1..4] {
+            let ms: f64 = ms.parse().unwrap();
+            assert!(ms.is_finite() && ms > 0.0, "{line}");
+        }
+    }
+    image::open(out.join("game-time.png")).expect("the chart");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("bench-summary.json")).unwrap()).unwrap();
+    let ratios = summary["reports"][0]["ratios"].as_array().unwrap();
+    assert_eq!(ratios.len(), 2);
+    assert_eq!(ratios[0]["target"], "<= 3");
+    assert!(ratios[1]["target"].is_null());
+    std::fs::remove_dir_all(&out).ok();
+}
+
 /// `bench --quick --preset hard`: every hard scene, each method's RMSE against the truth in
 /// the CSV (finite, and zero for no method: each differs from the truth somewhere), one
 /// side-by-side image per scene, and the temporal method's RMSE per scene as a ratio.

@@ -318,8 +318,8 @@ pub struct RandomCubesArgs {
     /// random-cubes: seed of the placement.
     #[arg(long, default_value_t = 1)]
     pub scene_seed: u64,
-    /// walker-toward-light, fox-run: levels of midpoint subdivision of the character, 0 to
-    /// 8 (each multiplies its triangles by 4).
+    /// walker-toward-light, fox-run, game-level: levels of midpoint subdivision of the
+    /// character, 0 to 8 (each multiplies its triangles by 4).
     #[arg(long, default_value_t = 0)]
     pub subdivide: u32,
 }

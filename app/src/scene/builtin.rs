@@ -10,6 +10,7 @@ use super::file::{
     TransformFile,
 };
 use super::fox::{FOX_TIME, fox_run};
+use super::game::{GAME_TIME, game_level};
 use super::hard::hard_scene;
 use super::leg::leg_toward_light;
 use super::limits::{CUBE_SIZE_RANGE, MAX_CUBE_SPEED, MAX_SCENE_TRIANGLES};
@@ -24,6 +25,7 @@ pub const BUILTIN_NAMES: &[&str] = &[
     "leg-toward-light",
     "walker-toward-light",
     "fox-run",
+    "game-level",
     "hard-rotating-triangle",
     "hard-hinged-limb",
     "hard-propeller",
@@ -75,6 +77,7 @@ pub fn builtin_animation_time(name: &str) -> Option<f32> {
     match name {
         "walker-toward-light" => Some(WALKER_TIME),
         "fox-run" => Some(FOX_TIME),
+        "game-level" => Some(GAME_TIME),
         _ => None,
     }
 }
@@ -92,6 +95,7 @@ pub fn builtin_file(name: &str, opts: &BuiltinOptions) -> Result<SceneFile, Scen
             walker_toward_light(opts.frame_time.unwrap_or(WALKER_TIME), opts.subdivide)
         }
         "fox-run" => fox_run(opts.frame_time.unwrap_or(FOX_TIME), opts.subdivide),
+        "game-level" => game_level(opts.frame_time.unwrap_or(GAME_TIME), opts.subdivide),
         _ => hard_scene(name).ok_or_else(|| SceneError::UnknownBuiltin {
             name: name.to_owned(),
             available: BUILTIN_NAMES.iter().map(|s| s.to_string()).collect(),

@@ -14,6 +14,7 @@ mod error;
 mod file;
 mod fox;
 mod frames;
+mod game;
 pub mod gltf;
 mod hard;
 mod leg;

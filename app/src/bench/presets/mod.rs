@@ -3,6 +3,7 @@
 mod characters;
 mod cubes;
 mod equal_quality;
+mod game;
 mod hard;
 mod scaling;
 mod shadow_pass;
@@ -39,6 +40,9 @@ pub enum Preset {
     /// The animated character at its size and subdivided to the papers' (75k, 300k):
     /// temporal vs TSM time and memory.
     Characters,
+    /// `game-level` (static level, a tenth of it moving) at 1080p: the temporal shadow pass
+    /// against an ordinary map, the temporal frame against TSM's.
+    Game,
 }
 
 /// Every preset, in the order a run without `--preset` takes them (those of
@@ -52,6 +56,7 @@ pub const PRESETS: &[Preset] = &[
     Preset::ShadowPass,
     Preset::Scaling,
     Preset::Characters,
+    Preset::Game,
     Preset::Hard,
 ];
 
@@ -67,6 +72,7 @@ impl Preset {
             Preset::Scaling => "scaling",
             Preset::Hard => "hard",
             Preset::Characters => "characters",
+            Preset::Game => "game",
         }
     }
 
@@ -265,6 +271,7 @@ pub fn run_preset(
         Preset::ShadowPass => shadow_pass::shadow_pass(&mut bench)?,
         Preset::Scaling => scaling::scaling(&mut bench)?,
         Preset::Characters => characters::characters(&mut bench)?,
+        Preset::Game => game::game(&mut bench)?,
         Preset::Hard => hard::hard(&mut bench)?,
     }
     Ok(bench.report)

@@ -1,0 +1,96 @@
+//! `game-level` at a game's frame size: a static level of ~50k triangles with a tenth of
+//! them moving. The temporal shadow pass against one ordinary shadow map of the same scene
+//! (method plain, the floor any shadow pass is measured against), and the temporal frame
+//! against TSM's, all at 8 spp.
+
+use super::{Bench, MIB, bench_error, builtin_scene, chart, ratio, series, target};
+use crate::chart::{Table, fmt_num};
+use crate::error::Result;
+use crate::render::{Method, RenderSettings};
+use crate::scene::BuiltinOptions;
+
+const SPP: u32 = 8;
+/// The plain map's scene is frozen at mid-shutter.
+const PLAIN: Method = Method::Plain { time: 0.5 };
+
+pub(super) fn game(b: &mut Bench) -> Result<()> {
+    // Full: a 1080p frame with a 2048^2 map, as a game would render; quick: a sixteenth of
+    // the pixels and a quarter of the map's texels.
+    let ((width, height), map) = b.scale.pick(((480, 270), 1024), ((1920, 1080), 2048));
+    let scene = builtin_scene("game-level", &BuiltinOptions::default())?;
+    let mut table = Table::new(
+        [
+            "method",
+            "shadow_ms",
+            "lighting_ms",
+            "frame_ms",
+            "shadow_map_mib",
+            "triangles",
+        ]
+        .map(String::from)
+        .to_vec(),
+    );
+    // (chart position, method, shadow pass, frame) of each method measured.
+    let mut measured = Vec::new();
+    for (i, method) in [Method::Temporal, Method::Tsm, PLAIN]
+        .into_iter()
+        .enumerate()
+    {
+        let settings = RenderSettings {
+            width,
+            height,
+            shadow_size: Some((map, map)),
+            ..b.settings(method, SPP)
+        };
+        let what = format!("game-level {width}x{height}, {}", method.name());
+        let Some(m) = b.measure(&what, &scene, &settings) else {
+            continue;
+        };
+        table
+            .push(vec![
+                method.name().to_owned(),
+                fmt_num(m.shadow_ms()),
+                fmt_num(m.lighting_ms()),
+                fmt_num(m.frame_ms()),
+                fmt_num(m.shadow_bytes() as f64 / MIB),
+                m.stats.triangles.to_string(),
+            ])
+            .map_err(bench_error)?;
+        measured.push((i as f64 + 1.0, method, m.shadow_ms(), m.frame_ms()));
+    }
+    let of = |wanted: Method| measured.iter().find(|(_, m, ..)| *m == wanted);
+    if let (Some(t), Some(p)) = (of(Method::Temporal), of(PLAIN)) {
+        b.report.ratios.push(target(
+            "shadow pass temporal / plain depth map, game-level",
+            t.2 / p.2,
+            3.0,
+            true,
+        ));
+    }
+    if let (Some(t), Some(s)) = (of(Method::Temporal), of(Method::Tsm)) {
+        b.report
+            .ratios
+            .push(ratio("frame temporal / TSM, game-level", t.3 / s.3));
+    }
+    b.write_table("results", &table)?;
+    let points = |pick: fn(&(f64, Method, f64, f64)) -> f64| {
+        measured.iter().map(|m| (m.0, pick(m))).collect()
+    };
+    b.write_chart(
+        "time",
+        &chart(
+            &format!("game-level, {width}x{height}, {SPP} spp (1 = temporal, 2 = TSM, 3 = plain)"),
+            "method",
+            "GPU ms",
+            vec![
+                series("shadow pass", points(|m| m.2)),
+                series("frame", points(|m| m.3)),
+            ],
+        ),
+    )?;
+    b.report.notes.push(format!(
+        "game-level: {width}x{height} image, {map}x{map} shadow maps, {SPP} spp; plain is one \
+         ordinary map of the scene at mid-shutter"
+    ));
+    Ok(())
+}
