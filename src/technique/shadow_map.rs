@@ -149,11 +149,11 @@ impl TemporalShadowMap {
     }
 
     /// Whether a frame lit by `light` (with or without a coverage map) keeps static draws'
-    /// triangles in the static layer rather than in the lists: with the exact construction
-    /// (static draws skip the geometry shader there) and no coverage map (its passes need
-    /// every fragment).
+    /// triangles in the static layer rather than in the lists: when `light` asks for it,
+    /// with the exact construction (static draws skip the geometry shader there) and no
+    /// coverage map (its passes need every fragment).
     pub fn uses_static_layer(&self, light: &LightView, coverage: Option<&CoverageMap>) -> bool {
-        light.prisms == PrismConstruction::Exact && coverage.is_none()
+        light.static_layer && light.prisms == PrismConstruction::Exact && coverage.is_none()
     }
 
     /// Records the header's update for a frame lit by `light` (with or without a coverage

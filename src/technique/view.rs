@@ -92,6 +92,11 @@ pub struct LightView {
     /// without a normal offset, which keeps contact shadows at grazing light. Default off;
     /// with it on, `normal_offset_texels` is usually 0. Applies to every map's lookup.
     pub receiver_plane: bool,
+    /// Keep static draws' triangles in the temporal map's static layer (the nearest one per
+    /// texel) rather than as fragments and ranges in the lists (default on; used with the
+    /// exact construction and no coverage map, see
+    /// [`super::TemporalShadowMap::uses_static_layer`]). Off reproduces the papers' lists.
+    pub static_layer: bool,
 }
 
 /// How the collection pass finds, per shadow-map texel, when a moving triangle covers it.
@@ -149,6 +154,7 @@ impl LightView {
             normal_offset_texels: DEFAULT_NORMAL_OFFSET_TEXELS,
             depth_bias: DEFAULT_DEPTH_BIAS,
             prisms: PrismConstruction::default(),
+            static_layer: true,
             receiver_plane: false,
         }
     }
@@ -180,6 +186,7 @@ impl LightView {
             normal_offset_texels: DEFAULT_NORMAL_OFFSET_TEXELS,
             depth_bias: DEFAULT_DEPTH_BIAS,
             prisms: PrismConstruction::default(),
+            static_layer: true,
             receiver_plane: false,
         }
     }

@@ -22,5 +22,6 @@ mod lighting;
 mod loop_limit;
 mod prism;
 mod receiver_plane;
+mod static_layer;
 mod validation;
 mod visibility;

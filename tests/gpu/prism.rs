@@ -27,7 +27,7 @@ fn compare_with_model(p0: [Vec3; 3], p1: [Vec3; 3], want: EdgeCase) {
         "the test motion must exercise {want:?}"
     );
     let model = prism_triangles(&setup, p0, p1, false);
-    let map = temporal_map_with(&ctx, &s, SIZE, PrismConstruction::Paper);
+    let map = temporal_map_with(&ctx, &s, SIZE, PrismConstruction::Paper, true);
 
     // A rasterizer snaps each vertex to its sub-pixel grid (up to half a step in x and in y),
     // which moves an interpolated attribute by up to its screen gradient times that shift:

@@ -36,15 +36,17 @@ pub fn render(ctx: &Context, scene: &Scene, settings: &RenderSettings) -> Render
 /// The temporal shadow map of `scene` at `shadow_size` (the camera image is a token 8x8),
 /// built with the default (exact) prisms.
 pub fn temporal_map(ctx: &Context, scene: &Scene, shadow_size: (u32, u32)) -> ShadowMapContents {
-    temporal_map_with(ctx, scene, shadow_size, PrismConstruction::default())
+    temporal_map_with(ctx, scene, shadow_size, PrismConstruction::default(), true)
 }
 
-/// [`temporal_map`] with the prisms built as `prisms` says.
+/// [`temporal_map`] with the prisms built as `prisms` says, and static draws in the static
+/// layer or (`static_layer` false) in the lists.
 pub fn temporal_map_with(
     ctx: &Context,
     scene: &Scene,
     shadow_size: (u32, u32),
     prisms: PrismConstruction,
+    static_layer: bool,
 ) -> ShadowMapContents {
     let settings = RenderSettings {
         width: 8,
@@ -53,6 +55,7 @@ pub fn temporal_map_with(
         shadow_size: Some(shadow_size),
         method: Method::Temporal,
         prisms,
+        static_layer,
         ..RenderSettings::default()
     };
     let result = render(ctx, scene, &settings);

@@ -101,6 +101,9 @@ pub struct RenderSettings {
     /// How receivers are tested against the maps: at their plane's depth at the texel centre
     /// without normal offset (`LightView::receiver_plane`), or offset along their normal.
     pub receiver: ReceiverTest,
+    /// Keep static triangles in the temporal map's static layer (`LightView::static_layer`;
+    /// off: in the lists, as the papers do).
+    pub static_layer: bool,
 }
 
 impl Default for RenderSettings {
@@ -119,6 +122,7 @@ impl Default for RenderSettings {
             shadow_filter: ShadowFilter::None,
             prisms: PrismConstruction::Exact,
             receiver: ReceiverTest::Auto,
+            static_layer: true,
         }
     }
 }
@@ -243,6 +247,7 @@ impl<'a> Renderer<'a> {
         })?;
         let mut light = LightView {
             prisms: settings.prisms,
+            static_layer: settings.static_layer,
             ..upload::light_view(scene, shadow_size)
         };
         if settings.receiver_plane() {
