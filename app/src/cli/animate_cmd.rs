@@ -53,6 +53,10 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
         !render.heatmaps,
         "--heatmaps is not available with animate (one set per frame would be mostly noise)"
     );
+    anyhow::ensure!(
+        render.runs == 1,
+        "--runs is not available with animate (it renders each frame once)"
+    );
     let (bar, mut report) = progress_reporter();
     report("loading the scene");
     let animated = match &render.scene_file {

@@ -216,6 +216,19 @@ pub enum TruthArg {
     Raytrace,
 }
 
+/// A switch given as `on` or `off`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum OnOff {
+    On,
+    Off,
+}
+
+impl OnOff {
+    pub fn is_on(self) -> bool {
+        self == Self::On
+    }
+}
+
 /// `--prisms`: how the temporal shadow map's collection pass builds each moving triangle's
 /// fragments.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -372,6 +385,15 @@ pub struct RenderArgs {
     /// The same as `--receiver plane` (kept for scripts written before `--receiver`).
     #[arg(long, conflicts_with = "receiver")]
     pub receiver_plane: bool,
+    /// Temporal: keep static triangles in the static layer (`on`, the nearest one per texel)
+    /// or in the lists as the papers do (`off`).
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub static_layer: OnOff,
+    /// Render the frame this many times (1 to 100) and report the fastest, as `bench` does:
+    /// the first frame's GPU times include first-use costs (lavapipe compiles shader variants
+    /// at the first draw).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100))]
+    pub runs: u32,
     /// Reference: number of time slices averaged (the papers use 3000).
     #[arg(long, default_value_t = 1024)]
     pub slices: u32,

@@ -132,6 +132,7 @@ pub fn render(
         shadow_pass_ms: build_ms,
         lighting_pass_ms: trace_ms,
         frame_ms: build_ms + trace_ms,
+        runs: 1,
         passes: vec![
             PassTime {
                 pass: "bvh build".to_owned(),

@@ -400,6 +400,7 @@ impl<'a> Renderer<'a> {
             shadow_pass_ms: stats::counted_ms(&passes, |p| !stats::is_lighting_pass(p)),
             lighting_pass_ms: stats::counted_ms(&passes, stats::is_lighting_pass),
             frame_ms: stats::counted_ms(&passes, |_| true),
+            runs: 1,
             passes,
             warnings,
             wall_ms: start.elapsed().as_secs_f64() * 1e3,

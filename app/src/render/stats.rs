@@ -109,6 +109,8 @@ pub struct FrameStats {
     pub lighting_pass_ms: f64,
     /// GPU milliseconds of the frame: every counted pass ([`MAP_COPY_PASS`] is not).
     pub frame_ms: f64,
+    /// Frames rendered (`render --runs`); the figures are the fastest one's.
+    pub runs: u32,
     /// Things the frame did that are legal but probably not what was meant (e.g. no
     /// triangle reaching the shadow map); also printed on stderr.
     pub warnings: Vec<String>,

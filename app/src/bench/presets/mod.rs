@@ -200,6 +200,25 @@ impl Bench<'_, '_> {
         }
     }
 
+    /// The floor any shadow pass is measured against: one depth-only shadow map of `scene` at
+    /// `shadow_size` (TSM with one map: a D32 attachment, LESS test, no fragment shader),
+    /// GPU ms, fastest of the runs. The frame around it is 1 spp of a small image: only its
+    /// shadow pass is read.
+    pub(super) fn depth_only_map_ms(
+        &mut self,
+        scene: &Scene,
+        shadow_size: (u32, u32),
+    ) -> Option<f64> {
+        let settings = RenderSettings {
+            width: 64,
+            height: 48,
+            shadow_size: Some(shadow_size),
+            ..self.settings(Method::Tsm, 1)
+        };
+        let what = format!("{}, one depth-only map", scene.name);
+        self.measure(&what, scene, &settings).map(|m| m.shadow_ms())
+    }
+
     pub(super) fn write_table(&mut self, name: &str, table: &Table) -> Result<()> {
         let path = self
             .scale
