@@ -115,7 +115,7 @@ fn quick_bench_preset_writes_csv_and_png() {
     assert!(status.success());
     let csv = std::fs::read_to_string(out.join("shadow-pass-results.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
-    assert_eq!(lines.len(), 3, "header and two scenes: {csv}");
+    assert_eq!(lines.len(), 4, "header and three scenes: {csv}");
     let columns = lines[0].split(',').count();
     assert!(
         lines.iter().all(|l| l.split(',').count() == columns),
@@ -130,6 +130,11 @@ fn quick_bench_preset_writes_csv_and_png() {
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("bench-summary.json")).unwrap()).unwrap();
     assert_eq!(summary["reports"][0]["preset"], "shadow-pass");
+    // Per scene: the shadow pass against one depth-only map (with its target), and the
+    // lists against the static layer.
+    let ratios = summary["reports"][0]["ratios"].as_array().unwrap();
+    assert_eq!(ratios.len(), 6, "{ratios:?}");
+    assert!(ratios.iter().step_by(2).all(|r| r["target"].is_string()));
     std::fs::remove_dir_all(&out).ok();
 }
 
@@ -174,8 +179,9 @@ fn quick_characters_preset_measures_the_walker_at_two_sizes() {
 }
 
 /// `bench --quick --preset game`: game-level measured by temporal, TSM and plain, each row
-/// with the whole scene's triangles and a positive time, and the two ratios (the shadow
-/// pass against the plain map, with its target; the frame against TSM's).
+/// with the whole scene's triangles and a positive time, then one depth-only map (its
+/// shadow pass alone), and the two ratios (the shadow pass against the depth-only map, with
+/// its target; the frame against TSM's).
 #[test]
 fn quick_game_preset_measures_three_methods_on_the_game_level() {
     let out = temp_dir("bench-game");
@@ -196,12 +202,17 @@ fn quick_game_preset_measures_three_methods_on_the_game_level() {
         .iter()
         .map(|l| l.split(',').next().unwrap())
         .collect();
-    assert_eq!(methods, ["temporal", "tsm", "plain"], "{csv}");
+    assert_eq!(
+        methods,
+        ["temporal", "tsm", "plain", "one depth-only map"],
+        "{csv}"
+    );
     let triangles = lines[1].rsplit(',').next().unwrap();
-    for line in &lines[1..] {
+    for (i, line) in lines[1..].iter().enumerate() {
         let cells: Vec<&str> = line.split(',').collect();
         assert_eq!(cells[5], triangles, "{csv}");
-        for ms in &cells[1..4] {
+        let timed = if i < 3 { &cells[1..4] } else { &cells[1..2] };
+        for ms in timed {
             let ms: f64 = ms.parse().unwrap();
             assert!(ms.is_finite() && ms > 0.0, "{line}");
         }
