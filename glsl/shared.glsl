@@ -252,7 +252,8 @@ uint pixel_key(uvec2 pixel, uint seed) {
 // is computed once per pixel: a CPU device divides integers lane by lane, and two divisions
 // per sample were a large share of the lighting pass on lavapipe.
 uint stratum_rotation(uint key, uint spp) {
-    return key % spp;
+    // A power of two (the usual spp) takes a mask: the same value, no division per lane.
+    return (spp & (spp - 1u)) == 0u ? key & (spp - 1u) : key % spp;
 }
 
 uint time_stratum(uint rotation, uint k, uint spp) {

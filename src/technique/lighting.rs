@@ -10,6 +10,7 @@ use super::collection::{PUSH_BYTES, draw_each};
 use super::draws::DrawList;
 use super::gpu_types::{COUNT_INVALID, CameraParams, FIXED_TIME, PassConstants, ShadowMode};
 use super::plain_shadow::PlainShadowMap;
+use super::raster_camera::{RASTER_PUSH_BYTES, RasterCamera, RasterConstants};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
 use super::view::LightingView;
@@ -249,7 +250,7 @@ impl LightingPass {
     pub fn new(ctx: &Context) -> Result<Self> {
         let raster = attachmentless_pipeline(
             ctx,
-            PUSH_BYTES,
+            RASTER_PUSH_BYTES,
             &[
                 (
                     vk::ShaderStageFlags::VERTEX,
@@ -318,6 +319,7 @@ impl LightingPass {
                     device,
                     cmd,
                     draws,
+                    view,
                     shadow,
                     target,
                     samples,
@@ -372,8 +374,10 @@ impl LightingPass {
     }
 
     /// Renders one chunk of samples (at most the target's samples per chunk) and adds their
-    /// share (1/spp each) to the target's radiance. The chunk starting at sample 0 counts
-    /// the triangles dropped for an invalid index.
+    /// share (1/spp each) to the target's radiance, seen from `view` (the frame's
+    /// [`Self::record_clear`] view: the raster pushes its camera rather than reading the
+    /// header). The chunk starting at sample 0 counts the triangles dropped for an invalid
+    /// index.
     ///
     /// # Safety
     /// As [`Self::record`], after [`Self::record_clear`] of the same frame.
@@ -383,6 +387,7 @@ impl LightingPass {
         device: &ash::Device,
         cmd: vk::CommandBuffer,
         draws: &DrawList,
+        view: &LightingView,
         shadow: ShadowSource<'_>,
         target: &LightingTarget,
         samples: Samples,
@@ -423,7 +428,21 @@ impl LightingPass {
         );
         begin_attachmentless(device, cmd, target.width, target.height);
         self.raster.bind(device, cmd);
-        draw_each(device, cmd, &self.raster, draws, constants);
+        let raster = RasterConstants {
+            pass: PassConstants {
+                map: target.visibility.device_address(),
+                ..constants
+            },
+            camera: RasterCamera::new(&CameraParams::new(
+                view,
+                (target.width, target.height),
+                target.spp,
+            )),
+        };
+        // The camera stays pushed while each draw pushes its own PassConstants over the first
+        // bytes.
+        self.raster.push(device, cmd, &raster);
+        draw_each(device, cmd, &self.raster, draws, raster.pass);
         unsafe { device.cmd_end_rendering(cmd) };
         if let Some(ts) = timestamps.as_deref_mut() {
             ts.mark(cmd, "lighting raster");

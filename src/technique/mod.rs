@@ -27,6 +27,7 @@ mod image_pass;
 mod lighting;
 mod mask;
 mod plain_shadow;
+mod raster_camera;
 pub mod sampling;
 pub mod shaders;
 mod shadow_map;

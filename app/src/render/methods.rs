@@ -255,6 +255,7 @@ impl Renderer<'_> {
                             device,
                             cmd,
                             draws,
+                            view,
                             ShadowSource::Plain(&map),
                             target,
                             samples,
