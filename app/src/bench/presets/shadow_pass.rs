@@ -98,12 +98,12 @@ pub(super) fn shadow_pass(b: &mut Bench) -> Result<()> {
     b.write_chart(
         "time",
         &chart(
-            "Shadow pass vs one depth-only map (1 = cubes-toward-light, 2 = random cubes, 3 = game-level)",
+            "Shadow pass (1 cubes, 2 random cubes, 3 game-level)",
             "scene",
             "GPU ms",
             vec![
-                series("temporal: collection + generation", points(&|v| v.0)),
-                series("one depth-only map (D32, LESS)", points(&|v| v.1)),
+                series("temporal", points(&|v| v.0)),
+                series("depth-only map", points(&|v| v.1)),
             ],
         ),
     )?;
