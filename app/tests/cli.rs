@@ -72,6 +72,69 @@ fn render_json_reports_the_frame_and_writes_the_files() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// `--runs 2`: the JSON says so and its frame figures are the sums of its counted passes
+/// (every pass: a temporal frame has no copy-out); `--static-layer off`: no static layer,
+/// the ground's fragments back in the lists, and the same image bytes.
+#[test]
+fn render_runs_and_static_layer_are_reported() {
+    let dir = temp_dir("runs");
+    let small = [
+        "render", "--width", "48", "--height", "36", "--spp", "2", "--json",
+    ];
+    let render = |extra: &[&str], sub: &str| -> (serde_json::Value, Vec<u8>) {
+        let out = dir.join(sub);
+        let output = motion_shadows(&[&small[..], extra].concat(), &out);
+        let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+        let png = std::fs::read(out.join("cubes-toward-light-temporal.png")).unwrap();
+        (json, png)
+    };
+    let (layer, layer_png) = render(&["--runs", "2"], "layer");
+    assert_eq!(layer["runs"], 2);
+    let passes = layer["passes"].as_array().unwrap();
+    let sum = |keep: &dyn Fn(&str) -> bool| -> f64 {
+        passes
+            .iter()
+            .filter(|p| keep(p["pass"].as_str().unwrap()))
+            .map(|p| p["gpu_ms"].as_f64().unwrap())
+            .sum()
+    };
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(1.0);
+    assert!(close(layer["frame_ms"].as_f64().unwrap(), sum(&|_| true)));
+    assert!(close(
+        layer["lighting_pass_ms"].as_f64().unwrap(),
+        sum(&|p| p.starts_with("lighting"))
+    ));
+    assert_eq!(layer["static_layer_bytes"], 48 * 36 * 8);
+    let (lists, lists_png) = render(&["--static-layer", "off"], "lists");
+    assert_eq!(lists["runs"], 1);
+    assert_eq!(lists["static_layer_bytes"], 0);
+    assert!(lists["fragments"].as_u64() > layer["fragments"].as_u64());
+    assert!(lists_png == layer_png, "the static layer changed the image");
+    // TSM: its maps' copy into the lookups' buffers is listed but not counted.
+    let out = dir.join("tsm");
+    let output = motion_shadows(&[&small[..], &["--method", "tsm"]].concat(), &out);
+    let tsm: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let passes = tsm["passes"].as_array().unwrap();
+    let ms = |name: &str| {
+        passes
+            .iter()
+            .filter(|p| p["pass"] == name)
+            .map(|p| p["gpu_ms"].as_f64().unwrap())
+            .sum::<f64>()
+    };
+    let all: f64 = passes.iter().map(|p| p["gpu_ms"].as_f64().unwrap()).sum();
+    assert!(ms("map copy-out") > 0.0, "{passes:?}");
+    assert!(close(
+        tsm["frame_ms"].as_f64().unwrap(),
+        all - ms("map copy-out")
+    ));
+    assert!(close(
+        tsm["shadow_pass_ms"].as_f64().unwrap(),
+        ms("tsm shadow maps")
+    ));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// A built-in scene exported as a file renders to the same bytes as the built-in; for
 /// `walker-toward-light` the file holds the posed model as triangles and needs no asset.
 #[test]
@@ -533,6 +596,7 @@ fn animate_refuses_bad_requests_before_rendering() {
         (&["--fps", "NaN"][..], "--fps"),
         (&["--start", "inf"][..], "--start"),
         (&["--heatmaps"][..], "--heatmaps"),
+        (&["--runs", "2"][..], "--runs"),
     ] {
         let output = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
             .arg("animate")
