@@ -4,7 +4,7 @@ use super::context::{Context, Shared};
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::vulkan::Allocation;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -81,26 +81,12 @@ impl Buffer {
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
         let raw = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
         let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
-        let allocation = ctx
-            .shared
-            .allocator
-            .lock()
-            .map_err(|_| Error::InvalidArgument("allocator mutex poisoned".into()))?
-            .allocate(&AllocationCreateDesc {
-                name,
-                requirements,
-                location: usage.location(),
-                linear: true,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            });
-        let allocation = match allocation {
+        let what = || format!("{name} ({size} bytes)");
+        let allocation = match ctx.allocate(name, what, requirements, usage.location(), true) {
             Ok(a) => a,
-            Err(source) => {
+            Err(e) => {
                 unsafe { device.destroy_buffer(raw, None) };
-                return Err(Error::Allocation {
-                    what: format!("{name} ({size} bytes)"),
-                    source,
-                });
+                return Err(e);
             }
         };
         let bound =

@@ -377,6 +377,33 @@ impl Context {
         self.info.max_allocation_size
     }
 
+    /// Memory for a buffer or image (`linear`: a buffer or linear image) from the context's
+    /// allocator; `what` names it in the error.
+    pub(crate) fn allocate(
+        &self,
+        name: &str,
+        what: impl FnOnce() -> String,
+        requirements: vk::MemoryRequirements,
+        location: gpu_allocator::MemoryLocation,
+        linear: bool,
+    ) -> Result<gpu_allocator::vulkan::Allocation> {
+        self.shared
+            .allocator
+            .lock()
+            .map_err(|_| Error::InvalidArgument("allocator mutex poisoned".into()))?
+            .allocate(&gpu_allocator::vulkan::AllocationCreateDesc {
+                name,
+                requirements,
+                location,
+                linear,
+                allocation_scheme: gpu_allocator::vulkan::AllocationScheme::GpuAllocatorManaged,
+            })
+            .map_err(|source| Error::Allocation {
+                what: what(),
+                source,
+            })
+    }
+
     /// The largest storage buffer a shader can address through a descriptor, in bytes.
     pub fn max_buffer_bytes(&self) -> u64 {
         self.info

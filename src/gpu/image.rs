@@ -2,10 +2,10 @@
 //! attachments of depth-tested passes.
 
 use super::context::{Context, Shared};
-use crate::error::{Error, Result, VkContext};
+use crate::error::{Result, VkContext};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::vulkan::Allocation;
 use std::sync::Arc;
 
 /// A 2D array image with one view per layer (for rendering into a layer).
@@ -66,22 +66,8 @@ impl Image {
             layers,
         };
         let requirements = unsafe { device.get_image_memory_requirements(raw) };
-        let allocation = ctx
-            .shared
-            .allocator
-            .lock()
-            .map_err(|_| Error::InvalidArgument("allocator mutex poisoned".into()))?
-            .allocate(&AllocationCreateDesc {
-                name,
-                requirements,
-                location: MemoryLocation::GpuOnly,
-                linear: false,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            })
-            .map_err(|source| Error::Allocation {
-                what: format!("{name} ({width}x{height}x{layers} {format:?})"),
-                source,
-            })?;
+        let what = || format!("{name} ({width}x{height}x{layers} {format:?})");
+        let allocation = ctx.allocate(name, what, requirements, MemoryLocation::GpuOnly, false)?;
         let bound =
             unsafe { device.bind_image_memory(raw, allocation.memory(), allocation.offset()) };
         image.allocation = Some(allocation);
