@@ -491,20 +491,38 @@ fn a_shadow_map_that_receives_nothing_is_warned_about() {
         run.stderr()
     );
 
-    // The exact prisms are not clipped by the far plane: the same scene has fragments.
-    let run = render_file(&scene, &out, &["--json"]);
+    // The exact prisms are not clipped by the far plane: the same scene has fragments in
+    // the lists (static layer off), or the floor in the static layer (on, the default: no
+    // fragment, and no warning either, since the layer is read when the lists are empty).
+    let run = render_file(&scene, &out, &["--json", "--static-layer", "off"]);
     assert!(run.succeeded(), "stderr: {}", run.stderr());
     let json: serde_json::Value = serde_json::from_slice(&run.output.stdout).unwrap();
     assert!(json["fragments"].as_u64().unwrap() > 0, "{json}");
+    assert_eq!(json["warnings"].as_array().map(Vec::len), Some(0), "{json}");
+    let run = render_file(&scene, &out, &["--json"]);
+    assert!(run.succeeded(), "stderr: {}", run.stderr());
+    let json: serde_json::Value = serde_json::from_slice(&run.output.stdout).unwrap();
+    assert_eq!(json["fragments"], 0, "{json}");
     assert_eq!(json["warnings"].as_array().map(Vec::len), Some(0), "{json}");
 
     // Within the depth range: fragments, no warning.
     let json = scene_json("within-far", 0.1, "[0, 10, 0]", &[floor(4.0)]);
     let scene = write_scene(&dir, "within.json", &json);
-    let run = render_file(&scene, &out, &["--json"]);
+    let run = render_file(&scene, &out, &["--json", "--static-layer", "off"]);
     assert!(run.succeeded(), "stderr: {}", run.stderr());
     let json: serde_json::Value = serde_json::from_slice(&run.output.stdout).unwrap();
     assert!(json["fragments"].as_u64().unwrap() > 0);
     assert_eq!(json["warnings"].as_array().map(Vec::len), Some(0));
+
+    // Outside the light's cone, static: an empty static layer and empty lists are warned
+    // about.
+    let json = scene_json("outside-cone", 0.1, "[100, 10, 0]", &[floor(4.0)]);
+    let scene = write_scene(&dir, "outside.json", &json);
+    let run = render_file(&scene, &out, &["--json"]);
+    assert!(run.succeeded(), "stderr: {}", run.stderr());
+    let json: serde_json::Value = serde_json::from_slice(&run.output.stdout).unwrap();
+    assert_eq!(json["fragments"], 0, "{json}");
+    let warnings = json["warnings"].as_array().expect("a warnings array");
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
     std::fs::remove_dir_all(&dir).ok();
 }
