@@ -309,6 +309,15 @@ impl TemporalShadowMap {
         Ok(self.counters_readback.read::<Counters>(1)?[0])
     }
 
+    /// Copies the static layer back to the host (see [`ShadowMapContents::static_layer`]).
+    pub fn download_static_layer(&self, ctx: &Context) -> Result<Vec<u64>> {
+        download(
+            ctx,
+            &self.static_nearest,
+            (self.width * self.height) as usize,
+        )
+    }
+
     /// Copies the whole map back to the host (for tests, heat maps and debugging).
     pub fn download(&self, ctx: &Context) -> Result<ShadowMapContents> {
         let counts = self.read_counters()?;
@@ -322,7 +331,7 @@ impl TemporalShadowMap {
             nodes: download(ctx, &self.nodes, nodes)?,
             range_heads: download(ctx, &self.range_heads, pixels)?,
             ranges: download(ctx, &self.ranges, ranges)?,
-            static_layer: download(ctx, &self.static_nearest, pixels)?,
+            static_layer: self.download_static_layer(ctx)?,
         })
     }
 }

@@ -64,17 +64,14 @@ impl ShadowOutcome {
     }
 
     /// Whether any static triangle reached the temporal map's static layer (a download of
-    /// the map: ask only when no fragment reached the lists).
+    /// the layer: ask only when no fragment reached the lists).
     pub(super) fn static_layer_drawn(&self, ctx: &Context, light: &LightView) -> Result<bool> {
         match self {
             Self::Temporal { map, coverage, .. }
                 if map.uses_static_layer(light, coverage.as_deref()) =>
             {
-                let contents = map.download(ctx)?;
-                Ok(contents
-                    .static_layer
-                    .iter()
-                    .any(|&k| k as u32 != NO_TRIANGLE))
+                let layer = map.download_static_layer(ctx)?;
+                Ok(layer.iter().any(|&k| k as u32 != NO_TRIANGLE))
             }
             _ => Ok(false),
         }

@@ -66,6 +66,15 @@ pub(super) mod test_support {
     use super::super::{Light, Mesh, Scene};
     use glam::Vec3;
 
+    /// The names of the meshes that move during the shutter, in scene order.
+    pub fn moving_meshes(s: &Scene) -> Vec<&str> {
+        s.meshes
+            .iter()
+            .filter(|m| m.t0 != m.t1)
+            .map(|m| m.name.as_str())
+            .collect()
+    }
+
     /// The fastest vertex over the shutter: (displacement, position at shutter open).
     pub fn fastest(m: &Mesh) -> (f32, Vec3) {
         m.t0.iter()

@@ -296,12 +296,7 @@ mod tests {
         let s = scene();
         let n = s.triangle_count();
         assert!((8_000..14_000).contains(&n), "{n} triangles");
-        let moving: Vec<&str> = s
-            .meshes
-            .iter()
-            .filter(|m| m.t0 != m.t1)
-            .map(|m| m.name.as_str())
-            .collect();
+        let moving = super::super::character::test_support::moving_meshes(&s);
         assert_eq!(moving, KICK, "only the kicking leg moves");
         for m in &s.meshes {
             // Every part above the ground (the planes are at or behind it).

@@ -59,12 +59,7 @@ mod tests {
         let s = scene();
         assert_eq!(walker(&s).triangle_count(), 4672);
         assert_eq!(s.triangle_count(), 4672 + 2 * 2 * 16 * 16);
-        let moving: Vec<&str> = s
-            .meshes
-            .iter()
-            .filter(|m| m.t0 != m.t1)
-            .map(|m| m.name.as_str())
-            .collect();
+        let moving = super::super::character::test_support::moving_meshes(&s);
         assert_eq!(moving, ["walker"]);
         for &p in walker(&s).t0.iter().chain(&walker(&s).t1) {
             // The model stands on y = 0 (its lowest key pose dips 2.6 cm below).

@@ -118,12 +118,7 @@ mod tests {
         let moving: usize = s.meshes.iter().map(moving_triangles).sum();
         let share = moving as f64 / total as f64;
         assert!((0.05..=0.15).contains(&share), "{moving} of {total} move");
-        let movers: Vec<&str> = s
-            .meshes
-            .iter()
-            .filter(|m| m.t0 != m.t1)
-            .map(|m| m.name.as_str())
-            .collect();
+        let movers = super::super::character::test_support::moving_meshes(&s);
         assert_eq!(movers, MOVERS);
         assert_eq!(mesh(&s, "walker").triangle_count(), 4672);
         let static_triangles = total
