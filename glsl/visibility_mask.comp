@@ -23,7 +23,11 @@ layout(push_constant) uniform Push {
     uvec2 size;             // pixels
     float background_depth; // the depth buffer's clear value: no surface there
     uint flags;             // MASK_*
+    uint64_t over_budget;   // u32: pixels whose lookups ran past loop_budget iterations
+    uint loop_budget;       // 0: the device does not limit loops
 } pc;
+
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer Counter { uint count; };
 
 vec3 world_at(ivec2 pixel, float depth) {
     vec2 ndc = (vec2(pixel) + 0.5) / vec2(pc.size) * 2.0 - 1.0;
@@ -77,4 +81,9 @@ void main() {
     vec3 to_light = light.position.w > 0.5 ? light.position.xyz - p : -light.direction.xyz;
     if (dot(n, to_light) < 0.0) n = -n;
     imageStore(mask, pixel, vec4(ms_lit_fraction(map, p, n, MS_NO_TRIANGLE)));
+    // The device leaves loops past a fixed count: say so when this pixel's lookup may have
+    // come near it (the value above may then be cut short).
+    if (pc.loop_budget > 0u && ms_loop_iterations > pc.loop_budget) {
+        atomicAdd(Counter(pc.over_budget).count, 1u);
+    }
 }

@@ -19,6 +19,9 @@ pub enum BufferUsage {
     HostToDevice,
     /// Destination of copies that the host reads back.
     Readback,
+    /// Small results that shaders write (by address: rare counters) and the host reads,
+    /// without a copy; host-visible.
+    DeviceToHost,
 }
 
 impl BufferUsage {
@@ -44,13 +47,18 @@ impl BufferUsage {
             }
             Self::Uniform => vk::BufferUsageFlags::UNIFORM_BUFFER,
             Self::Readback => vk::BufferUsageFlags::TRANSFER_DST,
+            Self::DeviceToHost => {
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS
+                    | vk::BufferUsageFlags::TRANSFER_DST
+            }
         }
     }
     fn location(self) -> MemoryLocation {
         match self {
             Self::Storage => MemoryLocation::GpuOnly,
             Self::Uniform | Self::HostToDevice => MemoryLocation::CpuToGpu,
-            Self::Readback => MemoryLocation::GpuToCpu,
+            Self::Readback | Self::DeviceToHost => MemoryLocation::GpuToCpu,
         }
     }
 }
@@ -185,8 +193,8 @@ impl Buffer {
     }
 
     /// The buffer's device address, for shaders that reach it through a buffer reference
-    /// ([`BufferUsage::Storage`] and [`BufferUsage::HostToDevice`] buffers have one; 0 for
-    /// the others).
+    /// ([`BufferUsage::Storage`], [`BufferUsage::HostToDevice`] and
+    /// [`BufferUsage::DeviceToHost`] buffers have one; 0 for the others).
     pub fn device_address(&self) -> u64 {
         if self.address_usage {
             let info = vk::BufferDeviceAddressInfo::default().buffer(self.raw);

@@ -65,6 +65,24 @@ pub struct DeviceInfo {
     pub attachment_format_features: [vk::FormatFeatureFlags; 2],
 }
 
+/// Invocations that share one loop counter on a loop-limited device (llvmpipe runs 8 lanes
+/// per SIMD group).
+const LOOP_LIMIT_LANES: u32 = 8;
+/// Iterations left to a shader's own loops (outside the shadow lookups).
+const LOOP_LIMIT_RESERVE: u32 = 256;
+
+impl DeviceInfo {
+    /// The most loop iterations one invocation's shadow lookups (`ms_loop_iterations`) may
+    /// run and still be sure to finish on this device: its share of
+    /// [`Self::shader_loop_limit`], less a reserve for the shader's other loops. 0 where the
+    /// device has no limit.
+    pub fn shader_loop_budget(&self) -> u32 {
+        self.shader_loop_limit.map_or(0, |limit| {
+            (limit / LOOP_LIMIT_LANES).saturating_sub(LOOP_LIMIT_RESERVE)
+        })
+    }
+}
+
 /// Objects that must outlive every buffer and pipeline: freed last, in the right order
 /// (allocator before device, device before instance).
 pub(crate) struct Shared {

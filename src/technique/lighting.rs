@@ -238,12 +238,6 @@ pub struct LightingPass {
     loop_budget: u32,
 }
 
-/// Invocations that share one loop counter on a loop-limited device (llvmpipe runs 8 lanes
-/// per SIMD group): a pixel may use its share of the limit, less what the shading's own
-/// loops take.
-const LOOP_LIMIT_LANES: u32 = 8;
-const LOOP_LIMIT_RESERVE: u32 = 256;
-
 impl LightingPass {
     /// Creates the raster pipeline (vertex, geometry, fragment shader) and the resolve
     /// compute pipeline.
@@ -270,9 +264,7 @@ impl LightingPass {
             ],
         )?;
         let resolve = compute_pipeline(ctx, PUSH_BYTES, "resolve.comp", shaders::RESOLVE_COMP)?;
-        let loop_budget = ctx.info().shader_loop_limit.map_or(0, |limit| {
-            (limit / LOOP_LIMIT_LANES).saturating_sub(LOOP_LIMIT_RESERVE)
-        });
+        let loop_budget = ctx.info().shader_loop_budget();
         Ok(Self {
             raster,
             resolve,

@@ -7,18 +7,36 @@
 //! Host images cannot be reached by device address, so this pass, unlike the others, binds a
 //! descriptor set: one [`MaskBindings`] per use in flight (per frame in flight and light).
 
-/// The descriptor set one mask dispatch binds (the host's depth, normal and output views):
-/// one per dispatch that may be pending at the same time (per frame in flight and light),
-/// used once per command buffer. Made by [`VisibilityMaskPass::bindings`].
-pub type MaskBindings = ImageBindings;
-
 use super::image_pass::ImagePass;
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
 use crate::error::Result;
-use crate::gpu::{Context, ImageBindings};
+use crate::gpu::{Access, Buffer, BufferUsage, Context, ImageBindings, memory_barrier};
 use ash::vk;
 use glam::Mat4;
+
+/// What one mask dispatch binds and reports: the descriptor set of the host's depth, normal
+/// and output views, and the count of pixels whose lookups may have been cut short. One per
+/// dispatch that may be pending at the same time (per frame in flight and light), used once
+/// per command buffer. Made by [`VisibilityMaskPass::bindings`].
+pub struct MaskBindings {
+    images: ImageBindings,
+    /// One u32: pixels past the device's loop budget (written by the shader, read by the host).
+    over_budget: Buffer,
+}
+
+impl MaskBindings {
+    /// Pixels of the last dispatch recorded with these bindings whose lookups ran so many
+    /// loop iterations that a device with a loop limit
+    /// ([`crate::gpu::DeviceInfo::shader_loop_limit`], lavapipe) may have cut them short:
+    /// their mask values may be wrong. Read after that command buffer completed. Always 0 on
+    /// devices without such a limit; where it is not 0, the map's lists are too long for this
+    /// device at those pixels (the texel's shadow comes and goes more than 32 times in the
+    /// shutter over hundreds of ranges) and the host should not trust the mask.
+    pub fn read_over_budget_pixels(&self) -> Result<u32> {
+        Ok(self.over_budget.read::<u32>(1)?[0])
+    }
+}
 
 /// How the host's normal image stores a world-space normal in its rgb channels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -63,7 +81,7 @@ pub struct MaskInputs {
     pub background_depth: f32,
 }
 
-/// The mask shader's push constants (96 bytes).
+/// The mask shader's push constants (104 bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 struct MaskConstants {
@@ -72,7 +90,11 @@ struct MaskConstants {
     size: [u32; 2],
     background_depth: f32,
     flags: u32,
-    reserved: [u32; 2],
+    /// The u32 counting pixels past `loop_budget`.
+    over_budget: u64,
+    /// `ms_loop_iterations` a pixel may reach (0: no limit).
+    loop_budget: u32,
+    reserved: u32,
 }
 
 const HAS_NORMALS: u32 = 1;
@@ -81,6 +103,7 @@ const NORMALS_UNORM: u32 = 2;
 /// The visibility-mask pass. Immutable after creation.
 pub struct VisibilityMaskPass {
     pass: ImagePass,
+    loop_budget: u32,
 }
 
 impl VisibilityMaskPass {
@@ -97,12 +120,23 @@ impl VisibilityMaskPass {
             "visibility_mask.comp",
             shaders::VISIBILITY_MASK_COMP,
         )?;
-        Ok(Self { pass })
+        Ok(Self {
+            pass,
+            loop_budget: ctx.info().shader_loop_budget(),
+        })
     }
 
-    /// A descriptor set for one dispatch in flight.
-    pub fn bindings(&self) -> Result<MaskBindings> {
-        self.pass.layout.allocate()
+    /// The bindings for one dispatch in flight.
+    pub fn bindings(&self, ctx: &Context) -> Result<MaskBindings> {
+        Ok(MaskBindings {
+            images: self.pass.layout.allocate()?,
+            over_budget: Buffer::new(
+                ctx,
+                "visibility-mask over-budget pixels",
+                4,
+                BufferUsage::DeviceToHost,
+            )?,
+        })
     }
 
     /// Records the mask of `map` (after its generation pass) for the host's images.
@@ -123,8 +157,10 @@ impl VisibilityMaskPass {
     ///
     /// Synchronization: leaves the output written by `COMPUTE_SHADER` with
     /// `SHADER_STORAGE_WRITE`, in `GENERAL` layout; the host's barrier makes it visible to
-    /// its lighting. State changed: the bound compute pipeline, descriptor set 0 of the
-    /// compute bind point, push constants.
+    /// its lighting. Records its own barriers around the bindings' counter (a transfer fill
+    /// before the dispatch, a compute-to-host barrier after it: after `cmd` completes,
+    /// [`MaskBindings::read_over_budget_pixels`] reads it). State changed: the bound compute
+    /// pipeline, descriptor set 0 of the compute bind point, push constants.
     pub unsafe fn record(
         &self,
         device: &ash::Device,
@@ -137,7 +173,11 @@ impl VisibilityMaskPass {
         // Without a normal image the depth view stands in (never read: the flag says so).
         let normals = inputs.normals.map_or(depth, |n| (n.view, n.layout));
         // SAFETY: the caller's contract (the set is not in use; the views are valid).
-        unsafe { bindings.write(&[depth, normals, (inputs.output, vk::ImageLayout::GENERAL)]) };
+        unsafe {
+            bindings
+                .images
+                .write(&[depth, normals, (inputs.output, vk::ImageLayout::GENERAL)])
+        };
         let flags = match inputs.normals {
             Some(NormalImage {
                 encoding: NormalEncoding::Unorm,
@@ -152,12 +192,19 @@ impl VisibilityMaskPass {
             size: [inputs.size.0, inputs.size.1],
             background_depth: inputs.background_depth,
             flags,
-            reserved: [0; 2],
+            over_budget: bindings.over_budget.device_address(),
+            loop_budget: self.loop_budget,
+            reserved: 0,
         };
-        // SAFETY: the caller's contract; the set was just written.
+        let counter = bindings.over_budget.raw();
+        // SAFETY: the caller's contract; the set was just written; the counter is the
+        // bindings' own, not in use by a pending command buffer (the caller's contract).
         unsafe {
+            device.cmd_fill_buffer(cmd, counter, 0, vk::WHOLE_SIZE, 0);
+            memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_RW);
             self.pass
-                .record(device, cmd, bindings, &constants, inputs.size)
-        };
+                .record(device, cmd, &bindings.images, &constants, inputs.size);
+            memory_barrier(device, cmd, Access::COMPUTE_RW, Access::HOST_READ);
+        }
     }
 }

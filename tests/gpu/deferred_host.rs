@@ -1108,3 +1108,103 @@ fn write_side_by_side(
     write_rgb8_png(&path, image.width, image.height, &image.data).unwrap();
     eprintln!("wrote {}", path.display());
 }
+
+/// A comb of `slats` slats of width `COMB_WIDTH`, one every `COMB_PERIOD` in x, at height 1
+/// over z in [-COMB_HALF_Z, COMB_HALF_Z], travelling twice its length in +x over frame 1's
+/// shutter under a directional light straight down. Every ground point of the middle stretch
+/// (from the comb's end at t = 0 to its start at t = 1) is passed by every slat, in disjoint
+/// intervals of width / travel each, so it is lit for 1 - width / (2 period) of the shutter.
+fn comb_world(slats: usize) -> World {
+    let (mut world, _, _) = square_world();
+    let travel = 2.0 * slats as f64 * f64::from(COMB_PERIOD);
+    let start = -0.5 * travel - 0.5 * slats as f64 * f64::from(COMB_PERIOD);
+    let mut vertices = Vec::new();
+    let mut indices = Vec::new();
+    for k in 0..slats {
+        let x0 = k as f32 * COMB_PERIOD;
+        let first = vertices.len() as u16;
+        for [x, z] in [
+            [x0, -COMB_HALF_Z],
+            [x0, COMB_HALF_Z],
+            [x0 + COMB_WIDTH, COMB_HALF_Z],
+            [x0 + COMB_WIDTH, -COMB_HALF_Z],
+        ] {
+            vertices.push(Vertex {
+                position: [x, 0.0, z],
+                normal: [0.0, 1.0, 0.0],
+            });
+        }
+        indices.extend([0, 1, 2, 0, 2, 3].map(|i| first + i));
+    }
+    world.meshes[1] = Mesh {
+        name: "comb".into(),
+        vertices,
+        indices: MeshIndices::U16(indices),
+        albedo: Vec3::splat(0.5),
+        closed: false,
+        motion: Motion::Rigid(Box::new(move |f| {
+            DMat4::from_translation(DVec3::new(start + travel * f, 1.0, 0.0))
+        })),
+    };
+    world
+}
+
+const COMB_WIDTH: f32 = 0.025;
+const COMB_PERIOD: f32 = 0.05;
+const COMB_HALF_Z: f32 = 1.5;
+
+/// On a device that leaves long loops (lavapipe), the mask pass says which pixels' lookups
+/// may have been cut short instead of writing wrong values silently: a comb of 28 slats
+/// (28 disjoint shadow intervals per point, kept in private memory) renders and matches its
+/// closed form; one of 72 slats (more than 32 intervals: the long path, about 2 x 72^2 loop
+/// iterations per pixel) is refused there with the count, and matches the closed form on
+/// devices without the limit.
+#[test]
+fn the_mask_reports_pixels_past_the_device_loop_limit() {
+    let host = new_host();
+    for slats in [28usize, 72] {
+        let world = comb_world(slats);
+        let mut engine =
+            Engine::new(&host, &world, settings((1_000_000, 1_000_000))).expect("engine");
+        let limited = engine.context().info().shader_loop_limit.is_some();
+        let result = engine.render(&world, 0..2, &|f| f == 1);
+        if limited && slats == 72 {
+            let error = result
+                .expect_err("refused on a loop-limited device")
+                .to_string();
+            eprintln!("{slats} slats: {error}");
+            assert!(
+                error.contains("mask pixel(s) need more loop iterations"),
+                "{error}"
+            );
+            continue;
+        }
+        let frame = result.expect("frames").pop().expect("frame 1 kept");
+        let scene = app_scene(&world, 1, 0);
+        let rays = camera_rays(&scene);
+        let half_stretch = 0.5 * slats as f64 * f64::from(COMB_PERIOD);
+        let expected = 1.0 - f64::from(COMB_WIDTH) / (2.0 * f64::from(COMB_PERIOD));
+        let (mut compared, mut worst) = (0, 0.0f64);
+        for y in 0..SIZE.1 {
+            for x in 0..SIZE.0 {
+                let Some(p) = ground_point(&rays, x as f32 + 0.5, y as f32 + 0.5, 6.0) else {
+                    continue;
+                };
+                if p.x.abs() > half_stretch - 0.2 || p.z.abs() > f64::from(COMB_HALF_Z) - 0.2 {
+                    continue;
+                }
+                let got = f64::from(frame.masks[0][(y * SIZE.0 + x) as usize]);
+                worst = worst.max((got - expected).abs());
+                compared += 1;
+            }
+        }
+        eprintln!(
+            "{slats} slats: {compared} ground pixels, lit fraction {expected}, max error \
+             {worst:.2e}"
+        );
+        assert!(compared > 200, "{compared} pixels compared");
+        assert!(worst < 2e-3, "max error {worst}");
+        drop(engine);
+    }
+    host.assert_clean_teardown();
+}

@@ -757,7 +757,7 @@ impl<'h> Engine<'h> {
                     .map(|_| TemporalShadowMap::new(&self.ctx, sw, sh, nodes, ranges))
                     .collect::<motion_shadows::Result<_>>()?,
                 mask_bindings: (0..lights)
-                    .map(|_| self.passes.mask.bindings())
+                    .map(|_| self.passes.mask.bindings(&self.ctx))
                     .collect::<motion_shadows::Result<_>>()?,
             };
             self.write_descriptors(&slot);
@@ -915,6 +915,18 @@ impl<'h> Engine<'h> {
                     // Errors that growing cannot fix: invalid indices, or a texel with more
                     // fragments than the generation pass can pair.
                     map.check_complete(&counts)?;
+                }
+            }
+            // As the mask pass asks: a device that leaves long loops may have cut some
+            // pixels' lookups short; their mask values cannot be trusted.
+            for (light, bindings) in s.mask_bindings.iter().enumerate() {
+                let over = bindings.read_over_budget_pixels()?;
+                if complete && over > 0 {
+                    return Err(format!(
+                        "frame {frame}, light {light}: {over} mask pixel(s) need more loop \
+                         iterations than this device runs"
+                    )
+                    .into());
                 }
             }
             if !keep(frame) {
