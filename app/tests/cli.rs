@@ -110,6 +110,35 @@ fn render_runs_and_static_layer_are_reported() {
     assert_eq!(lists["static_layer_bytes"], 0);
     assert!(lists["fragments"].as_u64() > layer["fragments"].as_u64());
     assert!(lists_png == layer_png, "the static layer changed the image");
+    // compare takes the same switch for its temporal row, and its errors do not change.
+    let compare = |layer: &str| -> serde_json::Value {
+        let args = [
+            "compare",
+            "--width",
+            "48",
+            "--height",
+            "36",
+            "--spp",
+            "2",
+            "--slices",
+            "8",
+            "--json",
+            "--static-layer",
+            layer,
+        ];
+        let output = motion_shadows(&args, &dir.join(format!("compare-{layer}")));
+        let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+        let methods = json["methods"].as_array().unwrap();
+        methods
+            .iter()
+            .find(|m| m["method"] == "temporal")
+            .unwrap()
+            .clone()
+    };
+    let (on, off) = (compare("on"), compare("off"));
+    assert_eq!(on["stats"]["static_layer_bytes"], 48 * 36 * 8);
+    assert_eq!(off["stats"]["static_layer_bytes"], 0);
+    assert_eq!(on["errors"]["rmse"], off["errors"]["rmse"]);
     // TSM: its maps' copy into the lookups' buffers is listed but not counted.
     let out = dir.join("tsm");
     let output = motion_shadows(&[&small[..], &["--method", "tsm"]].concat(), &out);

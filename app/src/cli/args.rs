@@ -119,6 +119,10 @@ pub struct CompareArgs {
     /// The same as `--receiver plane` (kept for scripts written before `--receiver`).
     #[arg(long, conflicts_with = "receiver")]
     pub receiver_plane: bool,
+    /// Temporal: keep static triangles in the static layer (`on`, the nearest one per texel)
+    /// or in the lists as the papers do (`off`).
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub static_layer: OnOff,
     /// What the other methods are measured against: the brute-force reference, or the ray
     /// tracer (then the reference is one more method measured against it).
     #[arg(long, value_enum, default_value_t = TruthArg::Reference)]

@@ -124,6 +124,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             Method::Reference { .. } => ShadowFilter::None,
             _ => args.shadow_filter.filter(),
         },
+        static_layer: args.static_layer.is_on(),
         ..RenderSettings::default()
     };
     // Checked before anything is loaded or rendered.
