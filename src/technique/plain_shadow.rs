@@ -138,6 +138,30 @@ impl PlainShadowMap {
     }
 }
 
+/// Whether a device whose optimal-tiling format features are `features` can draw the
+/// ordinary maps: a D32_SFLOAT depth attachment and an R32_UINT colour attachment.
+fn check_attachment_formats(features: impl Fn(vk::Format) -> vk::FormatFeatureFlags) -> Result<()> {
+    for (format, usage, what) in [
+        (
+            SHADOW_DEPTH_FORMAT,
+            vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT,
+            "D32_SFLOAT depth attachments (ordinary shadow maps)",
+        ),
+        (
+            ID_FORMAT,
+            vk::FormatFeatureFlags::COLOR_ATTACHMENT,
+            "R32_UINT colour attachments (ordinary shadow maps' ids)",
+        ),
+    ] {
+        if !features(format).contains(usage) {
+            return Err(Error::MissingFeatures(format!(
+                "the device cannot render to {what}"
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Renders ordinary shadow maps. Immutable after creation.
 pub struct PlainShadowPass {
     /// Depth-only maps: vertex shader alone.
@@ -147,27 +171,10 @@ pub struct PlainShadowPass {
 }
 
 impl PlainShadowPass {
-    /// Creates the pipelines; fails with [`Error::MissingFeature`] on a device that cannot
+    /// Creates the pipelines; fails with [`Error::MissingFeatures`] on a device that cannot
     /// render to the D32 depth format or the R32_UINT colour format.
     pub fn new(ctx: &Context) -> Result<Self> {
-        for (format, usage, what) in [
-            (
-                SHADOW_DEPTH_FORMAT,
-                vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT,
-                "D32_SFLOAT depth attachments (ordinary shadow maps)",
-            ),
-            (
-                ID_FORMAT,
-                vk::FormatFeatureFlags::COLOR_ATTACHMENT,
-                "R32_UINT colour attachments (ordinary shadow maps' ids)",
-            ),
-        ] {
-            if !ctx.optimal_tiling_features(format).contains(usage) {
-                return Err(Error::MissingFeatures(format!(
-                    "the device cannot render to {what}"
-                )));
-            }
-        }
+        check_attachment_formats(|format| ctx.optimal_tiling_features(format))?;
         let vertex = (
             vk::ShaderStageFlags::VERTEX,
             "shadow_depth.vert",
@@ -334,5 +341,39 @@ fn attachment_state(image: &Image) -> (vk::ImageLayout, Access) {
             vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
             Access::COLOR_ATTACHMENT_WRITE,
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each format the ordinary maps draw into, when the device cannot render to it, gives
+    /// an error naming it; with both, none.
+    #[test]
+    fn a_device_without_the_attachment_formats_is_refused_by_name() {
+        let depth = vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT;
+        let colour = vk::FormatFeatureFlags::COLOR_ATTACHMENT;
+        let device = |d: vk::FormatFeatureFlags, c: vk::FormatFeatureFlags| {
+            move |format| match format {
+                vk::Format::D32_SFLOAT => d,
+                vk::Format::R32_UINT => c,
+                _ => depth | colour,
+            }
+        };
+        assert!(check_attachment_formats(device(depth, colour)).is_ok());
+        for (d, c, named) in [
+            (vk::FormatFeatureFlags::empty(), colour, "D32_SFLOAT"),
+            (colour, colour, "D32_SFLOAT"),
+            (depth, vk::FormatFeatureFlags::empty(), "R32_UINT"),
+            (depth, depth, "R32_UINT"),
+        ] {
+            match check_attachment_formats(device(d, c)) {
+                Err(Error::MissingFeatures(message)) => {
+                    assert!(message.contains(named), "{message}")
+                }
+                other => panic!("{d:?} / {c:?}: {other:?}"),
+            }
+        }
     }
 }
