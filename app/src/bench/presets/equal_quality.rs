@@ -5,7 +5,8 @@ use crate::chart::{LineChart, Table, fmt_num};
 use crate::compare::rmse;
 use crate::error::Result;
 use crate::render::{Method, RenderSettings};
-use crate::scene::BuiltinOptions;
+use crate::scene::{BuiltinOptions, Scene};
+use glam::Vec3;
 use motion_shadows::technique::ShadowEstimator::{self, Analytic, Sampled};
 use motion_shadows::technique::ShadowFilter;
 
@@ -14,6 +15,20 @@ type Curve = Vec<(f64, f64, u32)>;
 
 pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
     let scene = builtin_scene("cubes-toward-light", &BuiltinOptions::default())?;
+    sweep(b, &scene, "")?;
+    // The same scene seen from the ground under the left cube (docs/examples/
+    // cubes-ground-view.json): static receivers only, what the analytic estimator is for.
+    let mut ground = scene.clone();
+    ground.name = "cubes-ground-view".into();
+    ground.camera.position = Vec3::new(-1.0, 2.0, 2.0);
+    ground.camera.target = Vec3::new(-3.0, 0.0, -0.25);
+    sweep(b, &ground, "ground view: ")
+}
+
+/// The sweep on one scene; `label` prefixes its ratios and notes, and names its files
+/// (`results`, `rmse-vs-time`, or `ground-...` for the ground view).
+fn sweep(b: &mut Bench, scene: &Scene, label: &str) -> Result<()> {
+    let files = if label.is_empty() { "" } else { "ground-" };
     let (width, height) = b.scale.pick((128, 96), (320, 240));
     let (prisms, receiver) = (b.scale.prisms, b.scale.receiver);
     let at = |method, spp, seed, shadow_estimator, shadow_filter| RenderSettings {
@@ -32,8 +47,8 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
     // Another seed than the measured renders, so the reference's noise is independent.
     let reference = b
         .measure(
-            &format!("reference, {reference_slices} slices"),
-            &scene,
+            &format!("{label}reference, {reference_slices} slices"),
+            scene,
             &at(
                 Method::Reference {
                     slices: reference_slices,
@@ -98,7 +113,7 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
                 ),
             };
             let settings = at(method, spp, 1, estimator, filter);
-            let Some(m) = b.measure(&format!("{name} {n}"), &scene, &settings) else {
+            let Some(m) = b.measure(&format!("{label}{name} {n}"), scene, &settings) else {
                 continue;
             };
             let e = rmse(&m.image, &reference.image, None).map_err(bench_error)?;
@@ -114,21 +129,25 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
         }
         curves.push((name, curve));
     }
-    b.write_table("results", &table)?;
+    b.write_table(&format!("{files}results"), &table)?;
     let as_series = |(name, curve): &(&str, Curve)| {
+        // Short: the legend gets at most half the plot's width.
         let label = match *name {
-            "reference" => "brute force (slices)".to_string(),
-            n => format!("{n} (spp)"),
+            "reference" => "brute force (slices)",
+            "temporal" => "sampled (spp)",
+            "temporal analytic" => "analytic (spp)",
+            "temporal analytic footprint" => "analytic+footpr. (spp)",
+            _ => "TSM (spp)",
         };
-        series(&label, curve.iter().map(|(t, e, _)| (*t, *e)).collect())
+        series(label, curve.iter().map(|(t, e, _)| (*t, *e)).collect())
     };
     b.write_chart(
-        "rmse-vs-time",
+        &format!("{files}rmse-vs-time"),
         &LineChart {
             log_x: true,
             log_y: true,
             ..chart(
-                "RMSE against the reference vs GPU time",
+                &format!("{label}RMSE against the reference vs GPU time"),
                 "GPU ms per frame",
                 "RMSE",
                 curves.iter().map(as_series).collect(),
@@ -139,9 +158,9 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
     // configuration that is at least as good.
     let temporal = &curves[0].1;
     let Some(&(_, goal, _)) = temporal.iter().find(|(_, _, n)| *n == 16) else {
-        b.report
-            .notes
-            .push("no temporal 16 spp measurement: no equal-quality ratio".into());
+        b.report.notes.push(format!(
+            "{label}no temporal 16 spp measurement: no equal-quality ratio"
+        ));
         return Ok(());
     };
     let time_to = |curve: &[(f64, f64, u32)]| {
@@ -152,12 +171,13 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
             .fold(f64::INFINITY, f64::min)
     };
     let t_temporal = time_to(temporal);
-    b.report
-        .ratios
-        .push(ratio("equal-quality RMSE (temporal at 16 spp)", goal));
+    b.report.ratios.push(ratio(
+        format!("{label}equal-quality RMSE (temporal at 16 spp)"),
+        goal,
+    ));
     for (name, curve) in &curves[1..] {
         let t = time_to(curve);
-        let what = format!("equal-quality time {name} / temporal");
+        let what = format!("{label}equal-quality time {name} / temporal");
         if t.is_finite() {
             b.report.ratios.push(if *name == "reference" {
                 target(what, t / t_temporal, 20.0, false)
@@ -166,7 +186,7 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
             });
         } else {
             b.report.notes.push(format!(
-                "{name} never reached RMSE {} in the sweep",
+                "{label}{name} never reached RMSE {} in the sweep",
                 fmt_num(goal)
             ));
         }
@@ -184,7 +204,7 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
         let t = curve(name);
         if t.is_finite() && t_reference.is_finite() {
             b.report.ratios.push(target(
-                format!("equal-quality time reference / {name}"),
+                format!("{label}equal-quality time reference / {name}"),
                 t_reference / t,
                 20.0,
                 false,
