@@ -40,6 +40,8 @@ fn main() -> Result<(), deferred::Error> {
         // 0.75). Too small would only cost a re-render of the kept frame.
         initial_capacity: (2 * 512 * 512, 512 * 512),
         lookup: ShadowLookup::MaskImages,
+        // The static meshes never change in place and the lights stay put.
+        keep_static_layer: true,
     };
     let (last, include_path) = {
         let mut engine = Engine::new(&host, &world, settings)?;

@@ -74,7 +74,8 @@ fn render_json_reports_the_frame_and_writes_the_files() {
 
 /// `--runs 2`: the JSON says so and its frame figures are the sums of its counted passes
 /// (every pass: a temporal frame has no copy-out); `--static-layer off`: no static layer,
-/// the ground's fragments back in the lists, and the same image bytes.
+/// the ground's fragments back in the lists, and the same image bytes; `--static-layer kept`:
+/// said so, and the same image bytes; `compare --static-layer`: the same errors.
 #[test]
 fn render_runs_and_static_layer_are_reported() {
     let dir = temp_dir("runs");
@@ -110,6 +111,17 @@ fn render_runs_and_static_layer_are_reported() {
     assert_eq!(lists["static_layer_bytes"], 0);
     assert!(lists["fragments"].as_u64() > layer["fragments"].as_u64());
     assert!(lists_png == layer_png, "the static layer changed the image");
+    assert_eq!(layer["static_layer_kept"], false);
+    // Kept from a pass before the timed one: the same image, and the timed collection draws
+    // only what moves.
+    let (kept, kept_png) = render(&["--static-layer", "kept"], "kept");
+    assert_eq!(kept["static_layer_kept"], true);
+    assert_eq!(kept["static_layer_bytes"], 48 * 36 * 8);
+    assert_eq!(kept["fragments"], layer["fragments"]);
+    assert!(
+        kept_png == layer_png,
+        "keeping the static layer changed the image"
+    );
     // compare takes the same switch for its temporal row, and its errors do not change.
     let compare = |layer: &str| -> serde_json::Value {
         let args = [
@@ -222,11 +234,14 @@ fn quick_bench_preset_writes_csv_and_png() {
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("bench-summary.json")).unwrap()).unwrap();
     assert_eq!(summary["reports"][0]["preset"], "shadow-pass");
-    // Per scene: the shadow pass against one depth-only map (with its target), and the
-    // lists against the static layer.
+    // Per scene: the shadow pass against one depth-only map, the same with the static layer
+    // kept (both with the scene's target), and the lists against the static layer.
     let ratios = summary["reports"][0]["ratios"].as_array().unwrap();
-    assert_eq!(ratios.len(), 6, "{ratios:?}");
-    assert!(ratios.iter().step_by(2).all(|r| r["target"].is_string()));
+    assert_eq!(ratios.len(), 9, "{ratios:?}");
+    for scene in ratios.chunks(3) {
+        assert!(scene[0]["target"].is_string() && scene[1]["target"].is_string());
+        assert!(scene[2]["target"].is_null(), "{scene:?}");
+    }
     std::fs::remove_dir_all(&out).ok();
 }
 
@@ -270,10 +285,11 @@ fn quick_characters_preset_measures_the_walker_at_two_sizes() {
     std::fs::remove_dir_all(&out).ok();
 }
 
-/// `bench --quick --preset game`: game-level measured by temporal, TSM and plain, each row
-/// with the whole scene's triangles and a positive time, then one depth-only map (its
-/// shadow pass alone), and the two ratios (the shadow pass against the depth-only map, with
-/// its target; the frame against TSM's).
+/// `bench --quick --preset game`: game-level measured by temporal, TSM, plain and temporal
+/// with the static layer kept, each row with the whole scene's triangles and a positive time,
+/// then one depth-only map (its shadow pass alone), and the four ratios (the two temporal
+/// shadow passes against the depth-only map, with their targets; the two temporal frames
+/// against TSM's).
 #[test]
 fn quick_game_preset_measures_three_methods_on_the_game_level() {
     let out = temp_dir("bench-game");
@@ -296,14 +312,20 @@ fn quick_game_preset_measures_three_methods_on_the_game_level() {
         .collect();
     assert_eq!(
         methods,
-        ["temporal", "tsm", "plain", "one depth-only map"],
+        [
+            "temporal",
+            "tsm",
+            "plain",
+            "temporal (static layer kept)",
+            "one depth-only map"
+        ],
         "{csv}"
     );
     let triangles = lines[1].rsplit(',').next().unwrap();
     for (i, line) in lines[1..].iter().enumerate() {
         let cells: Vec<&str> = line.split(',').collect();
         assert_eq!(cells[5], triangles, "{csv}");
-        let timed = if i < 3 { &cells[1..4] } else { &cells[1..2] };
+        let timed = if i < 4 { &cells[1..4] } else { &cells[1..2] };
         for ms in timed {
             let ms: f64 = ms.parse().unwrap();
             assert!(ms.is_finite() && ms > 0.0, "{line}");
@@ -313,9 +335,10 @@ fn quick_game_preset_measures_three_methods_on_the_game_level() {
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("bench-summary.json")).unwrap()).unwrap();
     let ratios = summary["reports"][0]["ratios"].as_array().unwrap();
-    assert_eq!(ratios.len(), 2);
+    assert_eq!(ratios.len(), 4);
     assert_eq!(ratios[0]["target"], "<= 3");
-    assert!(ratios[1]["target"].is_null());
+    assert_eq!(ratios[1]["target"], "<= 3");
+    assert!(ratios[2]["target"].is_null() && ratios[3]["target"].is_null());
     std::fs::remove_dir_all(&out).ok();
 }
 

@@ -5,7 +5,7 @@ use super::coverage::{CoverageMap, MAX_COVERAGE_TRIANGLES};
 use super::draws::DrawList;
 use super::gpu_types::{COUNT_INVALID, Counters, DRAW_STATIC, DrawRecord, PassConstants};
 use super::shaders;
-use super::shadow_map::TemporalShadowMap;
+use super::shadow_map::{StaticLayerSource, TemporalShadowMap};
 use super::view::{LightView, PrismConstruction};
 use crate::error::{Error, Result};
 use crate::gpu::{
@@ -73,7 +73,8 @@ impl PrismPipelines {
     }
 
     /// Records every draw's prisms with `construction`'s pipelines (binding them), pushing
-    /// `constants` with each draw's index. Inside dynamic rendering.
+    /// `constants` with each draw's index; static draws only if `with_static`. Inside
+    /// dynamic rendering.
     pub(crate) fn draw(
         &self,
         device: &ash::Device,
@@ -81,6 +82,7 @@ impl PrismPipelines {
         construction: PrismConstruction,
         draws: &DrawList,
         constants: PassConstants,
+        with_static: bool,
     ) {
         let pipeline_of = |record: &DrawRecord| match construction {
             PrismConstruction::Paper => &self.paper,
@@ -89,7 +91,7 @@ impl PrismPipelines {
         };
         let mut bound: Option<vk::Pipeline> = None;
         for (i, record) in draws.records().iter().enumerate() {
-            if record.triangle_count == 0 {
+            if record.triangle_count == 0 || (!with_static && record.flags() & DRAW_STATIC != 0) {
                 continue;
             }
             let pipeline = pipeline_of(record);
@@ -174,7 +176,10 @@ impl CollectionPass {
 
     /// Records the collection sub-pass of `map` for the frame lit by `light`: writes the map's
     /// header (light and buffer addresses), clears its lists and counters, and draws every
-    /// triangle's prism, built as `light.prisms` says. The map's counters say afterwards whether it had room (see
+    /// triangle's prism, built as `light.prisms` says. Static draws go to the static layer
+    /// ([`TemporalShadowMap::uses_static_layer`]); with [`LightView::keep_static_layer`] a
+    /// layer drawn for the same light view and static draws is kept, and only the other draws
+    /// are drawn. The map's counters say afterwards whether it had room (see
     /// [`TemporalShadowMap::needs_more_room`]). With `coverage`, also fills its nearest map
     /// (the 2017 extension's first pass; [`super::CoveragePass`] follows).
     ///
@@ -222,6 +227,27 @@ impl CollectionPass {
                 )));
             }
         }
+        // A kept static layer (LightView::keep_static_layer) is neither cleared nor redrawn.
+        let static_layer = map
+            .uses_static_layer(light, coverage)
+            .then(|| StaticLayerSource {
+                view: light.view,
+                proj: light.proj,
+                draws: draws
+                    .records()
+                    .iter()
+                    .copied()
+                    .enumerate()
+                    .filter(|(_, r)| r.flags() & DRAW_STATIC != 0 && r.triangle_count > 0)
+                    .collect(),
+            });
+        // Only the exact construction's geometry shader marks the tiles it draws into, and
+        // only static triangles in the static layer add no fragment of their own.
+        let marked = static_layer.is_some();
+        let keep = light.keep_static_layer
+            && static_layer
+                .as_ref()
+                .is_some_and(|source| map.static_layer_is(source));
         // Earlier frames may still read these lists.
         memory_barrier(
             device,
@@ -229,7 +255,8 @@ impl CollectionPass {
             Access::ANY_SHADER_READ
                 .and(Access::COMPUTE_RW)
                 .and(Access::FRAGMENT_RW)
-                .and(Access::TRANSFER_READ),
+                .and(Access::TRANSFER_READ)
+                .and(Access::INDIRECT_READ),
             Access::TRANSFER_WRITE,
         );
         map.record_header(device, cmd, light, coverage);
@@ -240,7 +267,8 @@ impl CollectionPass {
         };
         unsafe {
             device.cmd_fill_buffer(cmd, map.heads.raw(), 0, vk::WHOLE_SIZE, 0);
-            if map.uses_static_layer(light, coverage) {
+            map.record_clear_tiles(device, cmd, marked);
+            if static_layer.is_some() && !keep {
                 let empty = u32::MAX;
                 device.cmd_fill_buffer(cmd, map.static_nearest.raw(), 0, vk::WHOLE_SIZE, empty);
             }
@@ -260,12 +288,21 @@ impl CollectionPass {
         begin_attachmentless(device, cmd, map.width(), map.height());
         let constants = PassConstants {
             map: map.header_address(),
+            // The geometry shader marks the footprints' tiles.
+            target: if marked {
+                map.tiles.device_address()
+            } else {
+                0
+            },
             flags: COUNT_INVALID,
             ..PassConstants::default()
         };
         self.pipelines
-            .draw(device, cmd, light.prisms, draws, constants);
+            .draw(device, cmd, light.prisms, draws, constants, !keep);
         unsafe { device.cmd_end_rendering(cmd) };
+        if let (Some(source), false) = (static_layer, keep) {
+            map.static_layer_drawn(light.keep_static_layer.then_some(source));
+        }
         memory_barrier(
             device,
             cmd,

@@ -174,7 +174,8 @@ impl CoveragePass {
             map: map.header_address(),
             ..PassConstants::default()
         };
-        self.reset.draw(device, cmd, light.prisms, draws, constants);
+        self.reset
+            .draw(device, cmd, light.prisms, draws, constants, true);
         unsafe { device.cmd_end_rendering(cmd) };
         memory_barrier(
             device,

@@ -1,6 +1,8 @@
-//! Generation sub-pass (paper 4.3): fragments to depth-time ranges, once per shadow-map pixel.
-//! Two tiers: every pixel with a short list (nearly all) is paired with small private arrays;
-//! the few long lists go to a second, indirect dispatch with room for `MAX_LIST_NODES`.
+//! Generation sub-pass (paper 4.3): fragments to depth-time ranges, once per shadow-map pixel
+//! that holds fragments. It visits only the 8x8-texel tiles the collection marked (an
+//! indirect dispatch over its tile list; the collection cleared every range head). Two tiers:
+//! every pixel with a short list (nearly all) is paired with small private arrays; the few
+//! long lists go to a second, indirect dispatch with room for `MAX_LIST_NODES`.
 
 use super::collection::PUSH_BYTES;
 use super::gpu_types::PassConstants;
@@ -66,14 +68,20 @@ impl GenerationPass {
             Access::TRANSFER_WRITE,
         );
         unsafe { map.long_pixels.record_write(device, cmd, &header) };
-        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_RW);
+        // The collection's tile list is the first tier's indirect dispatch.
+        memory_barrier(
+            device,
+            cmd,
+            Access::TRANSFER_WRITE.and(Access::FRAGMENT_RW),
+            Access::COMPUTE_RW.and(Access::INDIRECT_READ),
+        );
         let constants = PassConstants {
             map: map.header_address(),
             ..PassConstants::default()
         };
         self.pipeline.bind(device, cmd);
         self.pipeline.push(device, cmd, &constants);
-        unsafe { device.cmd_dispatch(cmd, map.width().div_ceil(8), map.height().div_ceil(8), 1) };
+        unsafe { device.cmd_dispatch_indirect(cmd, map.tiles.raw(), 0) };
         memory_barrier(
             device,
             cmd,

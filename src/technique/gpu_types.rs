@@ -118,6 +118,9 @@ pub struct ShadowMapHeader {
     /// The static layer (u64 per texel: the nearest static triangle, depth key << 32 | id),
     /// 0 where static triangles are in the lists (the papers' prisms, the coverage map).
     pub static_nearest: u64,
+    /// The 8x8-texel tiles holding fragments (a [`TileList`]), which the generation pass
+    /// visits instead of every texel.
+    pub tiles: u64,
 }
 
 /// The header of ordinary shadow maps (224 bytes); starts like [`ShadowMapHeader`].
@@ -230,7 +233,7 @@ pub struct PassConstants {
     pub map: u64,
     /// The [`DrawRecord`] table.
     pub draws: u64,
-    /// The lighting target's [`CameraParams`].
+    /// The lighting target's [`CameraParams`]; the collection's tile list.
     pub target: u64,
     /// The draw being drawn.
     pub draw_index: u32,
@@ -301,7 +304,7 @@ const _: () = {
     assert!(std::mem::size_of::<Range>() == 24);
     assert!(std::mem::size_of::<Counters>() == 48);
     assert!(std::mem::size_of::<GpuLight>() == 192);
-    assert!(std::mem::size_of::<ShadowMapHeader>() == 288);
+    assert!(std::mem::size_of::<ShadowMapHeader>() == 304);
     assert!(std::mem::size_of::<PlainMapHeader>() == 224);
     assert!(std::mem::size_of::<DrawRecord>() == 160);
     assert!(std::mem::size_of::<CameraParams>() == 208);

@@ -5,12 +5,14 @@
 //! address to test shadows.
 
 use super::coverage::CoverageMap;
-use super::gpu_types::{Counters, MAX_LIST_NODES, Node, Range, ShadowMapHeader};
+use super::gpu_types::{Counters, DrawRecord, MAX_LIST_NODES, Node, Range, ShadowMapHeader};
 use super::view::{LightView, PrismConstruction};
 use crate::error::{Error, Result};
 use crate::gpu::{Access, Buffer, BufferUsage, Context, OneShot, memory_barrier};
 use ash::vk;
-use glam::UVec4;
+use glam::{Mat4, UVec4};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 const COUNTER_BYTES: u64 = std::mem::size_of::<Counters>() as u64;
 
@@ -43,7 +45,35 @@ pub struct TemporalShadowMap {
     /// The static layer: per pixel, the nearest triangle of a static draw (depth key << 32 |
     /// id), in place of their fragments in the lists (see [`Self::uses_static_layer`]).
     pub static_nearest: Buffer,
+    /// The 8x8-texel tiles that may hold fragments (`TileList` in `glsl/shared.glsl`: a count
+    /// that is also the x group count of the generation's indirect dispatch, whether it is
+    /// every tile, a mark per tile, then the marked tiles' indices), set by the collection.
+    pub tiles: Buffer,
     counters_readback: Buffer,
+    /// What the static layer was last drawn for, when it may be kept
+    /// ([`LightView::keep_static_layer`]).
+    static_layer_source: Mutex<Option<StaticLayerSource>>,
+    /// Times the collection pass has drawn the static layer into this map.
+    static_layer_builds: AtomicU32,
+}
+
+/// What a static layer's contents follow from: the light's view and projection and the
+/// static draws (with their places in the draw list).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct StaticLayerSource {
+    pub view: Mat4,
+    pub proj: Mat4,
+    pub draws: Vec<(usize, DrawRecord)>,
+}
+
+/// Texels on a side of the tiles the generation pass visits (`TILE_TEXELS` in shared.glsl).
+const TILE_TEXELS: u32 = 8;
+/// Bytes before the marks in the tile list: the count, two group counts, the every-tile flag.
+const TILE_LIST_HEADER: u64 = 16;
+
+/// Tiles of `TILE_TEXELS` x `TILE_TEXELS` texels covering a map of `width` x `height`.
+fn tile_count(width: u32, height: u32) -> u32 {
+    width.div_ceil(TILE_TEXELS) * height.div_ceil(TILE_TEXELS)
 }
 
 /// Bytes of a buffer of `count` elements, if the device can hold it: `limit` is what one
@@ -115,12 +145,20 @@ impl TemporalShadowMap {
                 BufferUsage::Storage,
             )?,
             static_nearest: Buffer::new(ctx, "static layer", 2 * head_bytes, BufferUsage::Storage)?,
+            tiles: Buffer::new(
+                ctx,
+                "tile list",
+                TILE_LIST_HEADER + 8 * tile_count(width, height) as u64,
+                BufferUsage::Storage,
+            )?,
             counters_readback: Buffer::new(
                 ctx,
                 "counters readback",
                 COUNTER_BYTES,
                 BufferUsage::Readback,
             )?,
+            static_layer_source: Mutex::new(None),
+            static_layer_builds: AtomicU32::new(0),
         })
     }
 
@@ -182,11 +220,85 @@ impl TemporalShadowMap {
             } else {
                 0
             },
+            tiles: self.tiles.device_address(),
         };
         memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE);
         // SAFETY: plain data of the header's size; recording outside a render pass (the
         // collection pass's contract).
         unsafe { self.header.record_write(device, cmd, &[header]) };
+    }
+
+    /// How many times a collection pass has drawn this map's static layer (with
+    /// [`LightView::keep_static_layer`], once per change of light or static draws; new
+    /// buffers from [`Self::grow_to_fit`] or [`Self::reserve`] start again from 0).
+    pub fn static_layer_builds(&self) -> u32 {
+        self.static_layer_builds.load(Ordering::Relaxed)
+    }
+
+    /// Makes the next collection pass redraw the static layer, kept or not: call it when a
+    /// recorded collection pass was not submitted, or when a static draw's buffer contents
+    /// changed in place.
+    pub fn forget_static_layer(&self) {
+        *self
+            .static_layer_source
+            .lock()
+            .unwrap_or_else(|e| e.into_inner()) = None;
+    }
+
+    /// Whether the static layer holds what `source` would draw (a kept layer).
+    pub(crate) fn static_layer_is(&self, source: &StaticLayerSource) -> bool {
+        let kept = self
+            .static_layer_source
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        kept.as_ref() == Some(source)
+    }
+
+    /// Notes that the static layer was just drawn for `source` (`None`: not to be kept).
+    pub(crate) fn static_layer_drawn(&self, source: Option<StaticLayerSource>) {
+        self.static_layer_builds.fetch_add(1, Ordering::Relaxed);
+        *self
+            .static_layer_source
+            .lock()
+            .unwrap_or_else(|e| e.into_inner()) = source;
+    }
+
+    /// Records the clearing of what the collection pass starts from empty besides the lists'
+    /// heads: the range heads (texels the generation pass does not visit keep none) and the
+    /// tile list, either empty for the collection to mark (`marked`) or listing every tile.
+    /// Transfer writes; the caller orders them with its barriers.
+    pub(crate) fn record_clear_tiles(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        marked: bool,
+    ) {
+        let tiles = tile_count(self.width, self.height);
+        let header: [u32; 4] = if marked {
+            [0, 1, 1, 0]
+        } else {
+            [
+                self.width.div_ceil(TILE_TEXELS),
+                self.height.div_ceil(TILE_TEXELS),
+                1,
+                1,
+            ]
+        };
+        // SAFETY: recording outside a render pass (the collection pass's contract); the
+        // header and the marks are disjoint ranges of the buffer.
+        unsafe {
+            device.cmd_fill_buffer(cmd, self.range_heads.raw(), 0, vk::WHOLE_SIZE, 0);
+            self.tiles.record_write(device, cmd, &header);
+            if marked {
+                device.cmd_fill_buffer(
+                    cmd,
+                    self.tiles.raw(),
+                    TILE_LIST_HEADER,
+                    4 * tiles as u64,
+                    0,
+                );
+            }
+        }
     }
 
     /// Bytes of GPU memory the map's buffers occupy.
@@ -200,6 +312,7 @@ impl TemporalShadowMap {
             &self.ranges,
             &self.long_pixels,
             &self.static_nearest,
+            &self.tiles,
         ]
         .iter()
         .map(|b| b.size())

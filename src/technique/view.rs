@@ -97,6 +97,14 @@ pub struct LightView {
     /// exact construction and no coverage map, see
     /// [`super::TemporalShadowMap::uses_static_layer`]). Off reproduces the papers' lists.
     pub static_layer: bool,
+    /// Keep the static layer from an earlier frame instead of redrawing it (default off).
+    /// With it on, the collection pass redraws the layer only when the map's last build was
+    /// for another light view (view and projection) or other static draws (their
+    /// [`super::Draw`] descriptions: streams, indices, transforms, counts, ids, in order),
+    /// and otherwise draws only what moves. Turn it on only if the contents of your static
+    /// draws' buffers do not change while their descriptions stay the same; otherwise call
+    /// [`super::TemporalShadowMap::forget_static_layer`] when they do.
+    pub keep_static_layer: bool,
 }
 
 /// How the collection pass finds, per shadow-map texel, when a moving triangle covers it.
@@ -155,6 +163,7 @@ impl LightView {
             depth_bias: DEFAULT_DEPTH_BIAS,
             prisms: PrismConstruction::default(),
             static_layer: true,
+            keep_static_layer: false,
             receiver_plane: false,
         }
     }
@@ -187,6 +196,7 @@ impl LightView {
             depth_bias: DEFAULT_DEPTH_BIAS,
             prisms: PrismConstruction::default(),
             static_layer: true,
+            keep_static_layer: false,
             receiver_plane: false,
         }
     }

@@ -109,6 +109,7 @@ fn shared_structs_match_glsl() {
         long_pixels: val.a(),
         nearest: val.a(),
         static_nearest: val.a(),
+        tiles: val.a(),
     };
     let plain = PlainMapHeader {
         light: val.light(),
@@ -210,6 +211,7 @@ fn shared_structs_match_glsl() {
         shadow.long_pixels,
         shadow.nearest,
         shadow.static_nearest,
+        shadow.tiles,
     ] {
         expected.a(a);
     }

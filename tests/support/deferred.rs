@@ -446,6 +446,9 @@ pub struct Settings {
     /// re-render of a kept frame (see `Engine::render`).
     pub initial_capacity: (u32, u32),
     pub lookup: ShadowLookup,
+    /// Keep each shadow map's static layer across frames (`LightView::keep_static_layer`):
+    /// the world's static meshes never change in place, and its lights do not move.
+    pub keep_static_layer: bool,
 }
 
 /// A frame's results, read back once its fence signalled.
@@ -977,7 +980,10 @@ impl<'h> Engine<'h> {
         let lights: Vec<LightView> = world
             .lights
             .iter()
-            .map(|l| l.view(self.settings.shadow_size))
+            .map(|l| LightView {
+                keep_static_layer: self.settings.keep_static_layer,
+                ..l.view(self.settings.shadow_size)
+            })
             .collect();
         let draws = self.shadow_draws(world, slot, f)?;
         let recorder = Recorder {

@@ -120,9 +120,10 @@ pub struct CompareArgs {
     #[arg(long, conflicts_with = "receiver")]
     pub receiver_plane: bool,
     /// Temporal: keep static triangles in the static layer (`on`, the nearest one per texel)
-    /// or in the lists as the papers do (`off`).
-    #[arg(long, value_enum, default_value_t = OnOff::On)]
-    pub static_layer: OnOff,
+    /// or in the lists as the papers do (`off`); `kept`: the layer drawn before the timed
+    /// shadow pass, which draws only what moves (an engine's frames after the first).
+    #[arg(long, value_enum, default_value_t = StaticLayerArg::On)]
+    pub static_layer: StaticLayerArg,
     /// What the other methods are measured against: the brute-force reference, or the ray
     /// tracer (then the reference is one more method measured against it).
     #[arg(long, value_enum, default_value_t = TruthArg::Reference)]
@@ -220,16 +221,23 @@ pub enum TruthArg {
     Raytrace,
 }
 
-/// A switch given as `on` or `off`.
+/// `--static-layer`: where static triangles go in the temporal map, and whether the timed
+/// pass keeps a layer drawn before it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum OnOff {
+pub enum StaticLayerArg {
     On,
     Off,
+    Kept,
 }
 
-impl OnOff {
-    pub fn is_on(self) -> bool {
-        self == Self::On
+impl StaticLayerArg {
+    /// `RenderSettings::static_layer` and `keep_static_layer`.
+    pub fn settings(self) -> (bool, bool) {
+        match self {
+            Self::On => (true, false),
+            Self::Off => (false, false),
+            Self::Kept => (true, true),
+        }
     }
 }
 
@@ -390,9 +398,10 @@ pub struct RenderArgs {
     #[arg(long, conflicts_with = "receiver")]
     pub receiver_plane: bool,
     /// Temporal: keep static triangles in the static layer (`on`, the nearest one per texel)
-    /// or in the lists as the papers do (`off`).
-    #[arg(long, value_enum, default_value_t = OnOff::On)]
-    pub static_layer: OnOff,
+    /// or in the lists as the papers do (`off`); `kept`: the layer drawn before the timed
+    /// shadow pass, which draws only what moves (an engine's frames after the first).
+    #[arg(long, value_enum, default_value_t = StaticLayerArg::On)]
+    pub static_layer: StaticLayerArg,
     /// Render the frame this many times (1 to 100) and report the fastest, as `bench` does:
     /// the first frame's GPU times include first-use costs (lavapipe compiles shader variants
     /// at the first draw).

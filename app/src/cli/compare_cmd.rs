@@ -124,7 +124,8 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             Method::Reference { .. } => ShadowFilter::None,
             _ => args.shadow_filter.filter(),
         },
-        static_layer: args.static_layer.is_on(),
+        static_layer: args.static_layer.settings().0,
+        keep_static_layer: args.static_layer.settings().1,
         ..RenderSettings::default()
     };
     // Checked before anything is loaded or rendered.

@@ -90,7 +90,8 @@ pub fn render_settings(args: &RenderArgs) -> RenderSettings {
         prisms: args.prisms.construction(),
         receiver: args.receiver.test(args.receiver_plane),
         shadow_filter: args.shadow_filter.filter(),
-        static_layer: args.static_layer.is_on(),
+        static_layer: args.static_layer.settings().0,
+        keep_static_layer: args.static_layer.settings().1,
         ..RenderSettings::default()
     }
 }

@@ -49,8 +49,13 @@ pub fn summary_text(stats: &FrameStats, files: &[String]) -> String {
         if stats.static_layer_bytes > 0 {
             let _ = writeln!(
                 s,
-                "static layer (nearest static triangle per texel): {}",
-                mib(stats.static_layer_bytes)
+                "static layer (nearest static triangle per texel): {}{}",
+                mib(stats.static_layer_bytes),
+                if stats.static_layer_kept {
+                    ", kept from a pass before the timed one"
+                } else {
+                    ""
+                }
             );
         }
         if stats.shadow_pass_attempts > 1 {

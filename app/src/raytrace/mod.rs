@@ -121,6 +121,7 @@ pub fn render(
         ranges_without_coverage: 0,
         shadow_map_bytes_eq2: 0,
         static_layer_bytes: 0,
+        static_layer_kept: false,
         shadow_map_bytes_eq2_without_coverage: 0,
         coverage_map_bytes: 0,
         shadow_map_bytes_allocated: 0,

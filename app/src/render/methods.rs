@@ -89,6 +89,11 @@ impl ShadowOutcome {
         }
     }
 
+    /// Whether the timed shadow pass kept a static layer drawn before it.
+    pub(super) fn static_layer_kept(&self, light: &LightView) -> bool {
+        light.keep_static_layer && self.static_layer_bytes(light, 1) > 0
+    }
+
     pub(super) fn attempts(&self) -> u32 {
         match self {
             Self::Temporal { attempts, .. } => *attempts,
@@ -140,6 +145,24 @@ impl Renderer<'_> {
         let mut attempts = 0;
         loop {
             attempts += 1;
+            if inputs.light.keep_static_layer && map.static_layer_builds() == 0 {
+                // The frame before: draws the static layer that the timed pass keeps.
+                progress("shadow pass: the static layer, drawn before the timed frame");
+                self.run_timed(&mut Vec::new(), |this, cmd, _| {
+                    let FrameInputs { draws, light } = inputs;
+                    // SAFETY: as below; the timed pass clears the lists again.
+                    unsafe {
+                        this.collection.record(
+                            this.ctx.device(),
+                            cmd,
+                            draws,
+                            light,
+                            &map,
+                            coverage.as_deref(),
+                        )
+                    }
+                })?;
+            }
             progress(&format!(
                 "shadow pass (attempt {attempts}): {} triangles, room for {} fragments and {} ranges",
                 inputs.draws.triangle_count(),

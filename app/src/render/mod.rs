@@ -104,6 +104,11 @@ pub struct RenderSettings {
     /// Keep static triangles in the temporal map's static layer (`LightView::static_layer`;
     /// off: in the lists, as the papers do).
     pub static_layer: bool,
+    /// With `static_layer`: render the frame as an engine renders every frame after its
+    /// first when it keeps the static layer (`LightView::keep_static_layer`): the layer is
+    /// drawn in a shadow pass before the timed one (not timed, not counted), and the timed
+    /// pass draws only what moves. The image is the same.
+    pub keep_static_layer: bool,
 }
 
 impl Default for RenderSettings {
@@ -123,6 +128,7 @@ impl Default for RenderSettings {
             prisms: PrismConstruction::Exact,
             receiver: ReceiverTest::Auto,
             static_layer: true,
+            keep_static_layer: false,
         }
     }
 }
@@ -248,6 +254,7 @@ impl<'a> Renderer<'a> {
         let mut light = LightView {
             prisms: settings.prisms,
             static_layer: settings.static_layer,
+            keep_static_layer: settings.static_layer && settings.keep_static_layer,
             ..upload::light_view(scene, shadow_size)
         };
         if settings.receiver_plane() {
@@ -383,6 +390,7 @@ impl<'a> Renderer<'a> {
                 0
             },
             static_layer_bytes: outcome.static_layer_bytes(inputs.light, shadow_pixels),
+            static_layer_kept: outcome.static_layer_kept(inputs.light),
             shadow_map_bytes_eq2_without_coverage: if temporal {
                 equation_2_bytes(
                     fragments,

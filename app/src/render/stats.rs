@@ -89,6 +89,8 @@ pub struct FrameStats {
     /// The static layer (8 bytes per shadow-map texel: the nearest static triangle, in place
     /// of static triangles' fragments and ranges); 0 where the frame did not use one.
     pub static_layer_bytes: u64,
+    /// The timed shadow pass kept a static layer drawn before it (`--static-layer kept`).
+    pub static_layer_kept: bool,
     /// Equation (2) with the ranges stored without the coverage map.
     pub shadow_map_bytes_eq2_without_coverage: u64,
     /// The nearest, coverage and cover-depth maps (coverage method; 0 otherwise).

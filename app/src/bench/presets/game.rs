@@ -3,7 +3,7 @@
 //! (the floor any shadow pass is measured against), and the temporal frame against TSM's and
 //! the plain map's, all at 8 spp.
 
-use super::{Bench, MIB, bench_error, builtin_scene, chart, ratio, series, target};
+use super::{Bench, MIB, Measurement, bench_error, builtin_scene, chart, ratio, series, target};
 use crate::chart::{Table, fmt_num};
 use crate::error::Result;
 use crate::render::{Method, RenderSettings};
@@ -46,17 +46,24 @@ pub(super) fn game(b: &mut Bench) -> Result<()> {
         let Some(m) = b.measure(&what, &scene, &settings) else {
             continue;
         };
-        table
-            .push(vec![
-                method.name().to_owned(),
-                fmt_num(m.shadow_ms()),
-                fmt_num(m.lighting_ms()),
-                fmt_num(m.frame_ms()),
-                fmt_num(m.shadow_bytes() as f64 / MIB),
-                m.stats.triangles.to_string(),
-            ])
-            .map_err(bench_error)?;
+        push_row(&mut table, method.name(), &m)?;
         measured.push((i as f64 + 1.0, method, m.shadow_ms(), m.frame_ms()));
+    }
+    // An engine keeps the level's static layer from frame to frame (the light stays put).
+    let kept_settings = RenderSettings {
+        width,
+        height,
+        shadow_size: Some((map, map)),
+        keep_static_layer: true,
+        ..b.settings(Method::Temporal, SPP)
+    };
+    let kept = b.measure(
+        &format!("game-level {width}x{height}, temporal, static layer kept"),
+        &scene,
+        &kept_settings,
+    );
+    if let Some(m) = &kept {
+        push_row(&mut table, "temporal (static layer kept)", m)?;
     }
     let depth_only = b.depth_only_map_ms(&scene, (map, map));
     if let Some(floor) = depth_only {
@@ -80,10 +87,24 @@ pub(super) fn game(b: &mut Bench) -> Result<()> {
             true,
         ));
     }
+    if let (Some(k), Some(floor)) = (&kept, depth_only) {
+        b.report.ratios.push(target(
+            "shadow pass temporal with the static layer kept / one depth-only map, game-level",
+            k.shadow_ms() / floor,
+            3.0,
+            true,
+        ));
+    }
     if let (Some(t), Some(s)) = (of(Method::Temporal), of(Method::Tsm)) {
         b.report
             .ratios
             .push(ratio("frame temporal / TSM, game-level", t.3 / s.3));
+        if let Some(k) = &kept {
+            b.report.ratios.push(ratio(
+                "frame temporal with the static layer kept / TSM, game-level",
+                k.frame_ms() / s.3,
+            ));
+        }
     }
     b.write_table("results", &table)?;
     let points = |pick: fn(&(f64, Method, f64, f64)) -> f64| {
@@ -107,4 +128,18 @@ pub(super) fn game(b: &mut Bench) -> Result<()> {
          map alone (one map, 1 spp)"
     ));
     Ok(())
+}
+
+/// One measured row of the results table.
+fn push_row(table: &mut Table, method: &str, m: &Measurement) -> Result<()> {
+    table
+        .push(vec![
+            method.to_owned(),
+            fmt_num(m.shadow_ms()),
+            fmt_num(m.lighting_ms()),
+            fmt_num(m.frame_ms()),
+            fmt_num(m.shadow_bytes() as f64 / MIB),
+            m.stats.triangles.to_string(),
+        ])
+        .map_err(bench_error)
 }

@@ -24,6 +24,7 @@ pub(super) fn shadow_pass(b: &mut Bench) -> Result<()> {
             "collection_ms",
             "generation_ms",
             "temporal_lists_shadow_ms",
+            "temporal_kept_shadow_ms",
             "depth_only_map_ms",
             "plain_map_ms",
             "ratio",
@@ -44,12 +45,21 @@ pub(super) fn shadow_pass(b: &mut Bench) -> Result<()> {
             static_layer: false,
             ..layered.clone()
         };
+        let kept_layer = RenderSettings {
+            keep_static_layer: true,
+            ..layered.clone()
+        };
         let plain = b.settings(Method::Plain { time: 0.5 }, 1);
         let temporal = b.measure(&format!("{name} temporal"), &scene, &layered);
         let lists = b.measure(
             &format!("{name} temporal, static triangles in the lists"),
             &scene,
             &in_lists,
+        );
+        let kept = b.measure(
+            &format!("{name} temporal, static layer kept from the frame before"),
+            &scene,
+            &kept_layer,
         );
         let plain = b.measure(&format!("{name} plain"), &scene, &plain);
         let floor = b.depth_only_map_ms(&scene, layered.shadow_size());
@@ -67,6 +77,7 @@ pub(super) fn shadow_pass(b: &mut Bench) -> Result<()> {
                 fmt_num(t.gpu_ms_where(|n| n == "collection")),
                 fmt_num(t.gpu_ms_where(|n| n == "generation")),
                 ms(&lists),
+                ms(&kept),
                 fmt_num(floor),
                 ms(&plain),
                 fmt_num(shadow / floor),
@@ -79,6 +90,16 @@ pub(super) fn shadow_pass(b: &mut Bench) -> Result<()> {
             bound,
             true,
         ));
+        if let Some(k) = &kept {
+            b.report.ratios.push(target(
+                format!(
+                    "{name}: shadow pass with the static layer kept from the frame before / one depth-only shadow map"
+                ),
+                k.shadow_ms() / floor,
+                bound,
+                true,
+            ));
+        }
         if let Some(l) = &lists {
             b.report.ratios.push(ratio(
                 format!(
