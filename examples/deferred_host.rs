@@ -43,7 +43,7 @@ fn main() -> Result<(), deferred::Error> {
         // The static meshes never change in place and the lights stay put.
         keep_static_layer: true,
     };
-    let (last, include_path) = {
+    let (last, include_path, layer_builds) = {
         let mut engine = Engine::new(&host, &world, settings)?;
         // The casters move between frames; only the last frame is kept (written to disk).
         let last = engine
@@ -57,7 +57,12 @@ fn main() -> Result<(), deferred::Error> {
             .render(&world, FRAMES - 1..FRAMES, &|_| true)?
             .pop()
             .ok_or("the frame was not kept")?;
-        (last, include_path)
+        // Each frame-in-flight slot's map per light: how often its static layer was drawn.
+        let layer_builds: Vec<u32> = (0..deferred::FRAMES_IN_FLIGHT)
+            .flat_map(|slot| (0..world.lights.len()).map(move |light| (slot, light)))
+            .map(|(slot, light)| engine.shadow_map(slot, light).static_layer_builds())
+            .collect();
+        (last, include_path, layer_builds)
     }; // The engine waits for its frames and frees everything (the library's objects too).
 
     let png = Path::new("out").join("deferred_host.png");
@@ -91,6 +96,12 @@ fn main() -> Result<(), deferred::Error> {
         .flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs()))
         .fold(0.0f32, f32::max);
     println!("masks vs ms_lit_fraction in the engine's shader: max difference {difference:.2e}");
+    println!(
+        "static layers drawn per map ({} slots x {} lights) over {} frames: {layer_builds:?}",
+        deferred::FRAMES_IN_FLIGHT,
+        world.lights.len(),
+        FRAMES + 1
+    );
     println!(
         "wrote {} in {:.2} s",
         png.display(),
