@@ -227,27 +227,16 @@ impl CollectionPass {
                 )));
             }
         }
-        // A kept static layer (LightView::keep_static_layer) is neither cleared nor redrawn.
-        let static_layer = map
-            .uses_static_layer(light, coverage)
-            .then(|| StaticLayerSource {
-                view: light.view,
-                proj: light.proj,
-                draws: draws
-                    .records()
-                    .iter()
-                    .copied()
-                    .enumerate()
-                    .filter(|(_, r)| r.flags() & DRAW_STATIC != 0 && r.triangle_count > 0)
-                    .collect(),
-            });
+        let static_layer = map.uses_static_layer(light, coverage);
+        // A kept static layer (LightView::keep_static_layer) is neither cleared nor redrawn;
+        // what it was drawn for is only tracked when it may be kept.
+        let source =
+            (static_layer && light.keep_static_layer).then(|| StaticLayerSource::of(light, draws));
+        let keep = source.as_ref().is_some_and(|s| map.static_layer_is(s));
+        let redraw_layer = static_layer && !keep;
         // Only the exact construction's geometry shader marks the tiles it draws into, and
-        // only static triangles in the static layer add no fragment of their own.
-        let marked = static_layer.is_some();
-        let keep = light.keep_static_layer
-            && static_layer
-                .as_ref()
-                .is_some_and(|source| map.static_layer_is(source));
+        // only with static triangles in the static layer do no other draws add fragments.
+        let marked = static_layer;
         // Earlier frames may still read these lists.
         memory_barrier(
             device,
@@ -268,7 +257,7 @@ impl CollectionPass {
         unsafe {
             device.cmd_fill_buffer(cmd, map.heads.raw(), 0, vk::WHOLE_SIZE, 0);
             map.record_clear_tiles(device, cmd, marked);
-            if static_layer.is_some() && !keep {
+            if redraw_layer {
                 let empty = u32::MAX;
                 device.cmd_fill_buffer(cmd, map.static_nearest.raw(), 0, vk::WHOLE_SIZE, empty);
             }
@@ -300,8 +289,8 @@ impl CollectionPass {
         self.pipelines
             .draw(device, cmd, light.prisms, draws, constants, !keep);
         unsafe { device.cmd_end_rendering(cmd) };
-        if let (Some(source), false) = (static_layer, keep) {
-            map.static_layer_drawn(light.keep_static_layer.then_some(source));
+        if redraw_layer {
+            map.static_layer_drawn(source);
         }
         memory_barrier(
             device,

@@ -118,8 +118,8 @@ pub struct ShadowMapHeader {
     /// The static layer (u64 per texel: the nearest static triangle, depth key << 32 | id),
     /// 0 where static triangles are in the lists (the papers' prisms, the coverage map).
     pub static_nearest: u64,
-    /// The 8x8-texel tiles holding fragments (a [`TileList`]), which the generation pass
-    /// visits instead of every texel.
+    /// The 8x8-texel tiles holding fragments (`TileList` in glsl/shared.glsl), which the
+    /// generation pass visits instead of every texel.
     pub tiles: u64,
 }
 

@@ -5,7 +5,10 @@
 //! address to test shadows.
 
 use super::coverage::CoverageMap;
-use super::gpu_types::{Counters, DrawRecord, MAX_LIST_NODES, Node, Range, ShadowMapHeader};
+use super::draws::DrawList;
+use super::gpu_types::{
+    Counters, DRAW_STATIC, DrawRecord, MAX_LIST_NODES, Node, Range, ShadowMapHeader,
+};
 use super::view::{LightView, PrismConstruction};
 use crate::error::{Error, Result};
 use crate::gpu::{Access, Buffer, BufferUsage, Context, OneShot, memory_barrier};
@@ -61,9 +64,26 @@ pub struct TemporalShadowMap {
 /// static draws (with their places in the draw list).
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct StaticLayerSource {
-    pub view: Mat4,
-    pub proj: Mat4,
-    pub draws: Vec<(usize, DrawRecord)>,
+    view: Mat4,
+    proj: Mat4,
+    draws: Vec<(usize, DrawRecord)>,
+}
+
+impl StaticLayerSource {
+    /// What a collection of `draws` lit by `light` would draw into the static layer.
+    pub fn of(light: &LightView, draws: &DrawList) -> Self {
+        Self {
+            view: light.view,
+            proj: light.proj,
+            draws: draws
+                .records()
+                .iter()
+                .copied()
+                .enumerate()
+                .filter(|(_, r)| r.flags() & DRAW_STATIC != 0 && r.triangle_count > 0)
+                .collect(),
+        }
+    }
 }
 
 /// Texels on a side of the tiles the generation pass visits (`TILE_TEXELS` in shared.glsl).

@@ -63,35 +63,38 @@ impl ShadowOutcome {
         }
     }
 
-    /// Whether any static triangle reached the temporal map's static layer (a download of
-    /// the layer: ask only when no fragment reached the lists).
-    pub(super) fn static_layer_drawn(&self, ctx: &Context, light: &LightView) -> Result<bool> {
+    /// The temporal map, if the frame kept static triangles in its static layer.
+    fn static_layer_map(&self, light: &LightView) -> Option<&TemporalShadowMap> {
         match self {
             Self::Temporal { map, coverage, .. }
                 if map.uses_static_layer(light, coverage.as_deref()) =>
             {
+                Some(map)
+            }
+            _ => None,
+        }
+    }
+
+    /// Whether any static triangle reached the temporal map's static layer (a download of
+    /// the layer: ask only when no fragment reached the lists).
+    pub(super) fn static_layer_drawn(&self, ctx: &Context, light: &LightView) -> Result<bool> {
+        match self.static_layer_map(light) {
+            Some(map) => {
                 let layer = map.download_static_layer(ctx)?;
                 Ok(layer.iter().any(|&k| k as u32 != NO_TRIANGLE))
             }
-            _ => Ok(false),
+            None => Ok(false),
         }
     }
 
     /// Bytes of the static layer, if the frame used one (8 per texel).
     pub(super) fn static_layer_bytes(&self, light: &LightView, pixels: u64) -> u64 {
-        match self {
-            Self::Temporal { map, coverage, .. }
-                if map.uses_static_layer(light, coverage.as_deref()) =>
-            {
-                8 * pixels
-            }
-            _ => 0,
-        }
+        self.static_layer_map(light).map_or(0, |_| 8 * pixels)
     }
 
     /// Whether the timed shadow pass kept a static layer drawn before it.
     pub(super) fn static_layer_kept(&self, light: &LightView) -> bool {
-        light.keep_static_layer && self.static_layer_bytes(light, 1) > 0
+        light.keep_static_layer && self.static_layer_map(light).is_some()
     }
 
     pub(super) fn attempts(&self) -> u32 {
@@ -145,7 +148,12 @@ impl Renderer<'_> {
         let mut attempts = 0;
         loop {
             attempts += 1;
-            if inputs.light.keep_static_layer && map.static_layer_builds() == 0 {
+            // Only where the frame has a static layer (not with the coverage map), and again
+            // after the map grew (new buffers).
+            if inputs.light.keep_static_layer
+                && map.uses_static_layer(inputs.light, coverage.as_deref())
+                && map.static_layer_builds() == 0
+            {
                 // The frame before: draws the static layer that the timed pass keeps.
                 progress("shadow pass: the static layer, drawn before the timed frame");
                 self.run_timed(&mut Vec::new(), |this, cmd, _| {

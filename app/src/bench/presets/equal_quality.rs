@@ -15,20 +15,19 @@ type Curve = Vec<(f64, f64, u32)>;
 
 pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
     let scene = builtin_scene("cubes-toward-light", &BuiltinOptions::default())?;
-    sweep(b, &scene, "")?;
+    sweep(b, &scene, "", "")?;
     // The same scene seen from the ground under the left cube (docs/examples/
     // cubes-ground-view.json): static receivers only, what the analytic estimator is for.
     let mut ground = scene.clone();
     ground.name = "cubes-ground-view".into();
     ground.camera.position = Vec3::new(-1.0, 2.0, 2.0);
     ground.camera.target = Vec3::new(-3.0, 0.0, -0.25);
-    sweep(b, &ground, "ground view: ")
+    sweep(b, &ground, "ground view: ", "ground-")
 }
 
-/// The sweep on one scene; `label` prefixes its ratios and notes, and names its files
-/// (`results`, `rmse-vs-time`, or `ground-...` for the ground view).
-fn sweep(b: &mut Bench, scene: &Scene, label: &str) -> Result<()> {
-    let files = if label.is_empty() { "" } else { "ground-" };
+/// The sweep on one scene; `label` prefixes its ratios and notes, `files` its files' names
+/// (`{files}results`, `{files}rmse-vs-time`).
+fn sweep(b: &mut Bench, scene: &Scene, label: &str, files: &str) -> Result<()> {
     let (width, height) = b.scale.pick((128, 96), (320, 240));
     let (prisms, receiver) = (b.scale.prisms, b.scale.receiver);
     let at = |method, spp, seed, shadow_estimator, shadow_filter| RenderSettings {
