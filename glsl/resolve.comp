@@ -12,6 +12,21 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(push_constant) uniform Push { PassConstants pc; };
 
+// The variant, fixed when the pipeline is made (one pipeline per shadow test, estimator and
+// filter): the compiler drops every other path. A CPU device such as lavapipe runs both sides
+// of a branch that its lanes may take differently, masked, so a variant chosen at run time
+// paid for every lookup in the shader on every sample.
+layout(constant_id = 0) const uint SHADE_SHADOW = SHADOW_TEMPORAL;  // SHADOW_*
+layout(constant_id = 1) const bool SHADE_ANALYTIC = false;  // temporal: the analytic estimator
+layout(constant_id = 2) const uint SHADE_FILTER = 0u;       // SHADE_FILTER_*
+// The most loop iterations a pixel's lookups may report before it is counted as possibly
+// cut short by the device's loop limit; 0: the device has no such limit (nothing counted).
+layout(constant_id = 3) const uint SHADE_LOOP_BUDGET = 0u;
+
+const uint SHADE_FILTER_NONE = 0u;        // the receiver's texel
+const uint SHADE_FILTER_BILINEAR = 1u;    // 2x2 texels, bilinear weights
+const uint SHADE_FILTER_FOOTPRINT = 2u;   // those over the pixel's footprint
+
 const float PI = 3.14159265358979323846;
 
 // Loaded once per invocation (per pixel), not per sample: reading a header costs a few
@@ -23,23 +38,22 @@ uvec4 plain_size;       // ordinary maps: x, y = texels, z = layers
 uint64_t plain_depths;   // FloatArray
 uint64_t plain_ids;      // UintArray (plain maps with ids)
 
-// The triangle the previous sample of the pixel hit: most samples of a pixel hit the same
-// one, and fetching it (its draw, indices, positions, transforms) is the costly part.
-uint cached_id = NO_TRIANGLE;
-Triangle cached_tri;
-vec3 cached_albedo;
-bool cached_moving;
+// What shading needs of a triangle a sample hit: its corners, albedo and whether it moves.
+struct HitTriangle {
+    Triangle tri;
+    vec3 albedo;
+    bool moving;
+};
 
-void fetch_hit(uint id) {
-    if (id == cached_id) return;
+HitTriangle fetch_hit(uint id) {
     DrawTable table = DrawTable(pc.draws);
     DrawRecord d = table.draws[find_draw(table, pc.draw_count, id)];
-    cached_tri = fetch_triangle(d, id - d.first_id);
-    cached_albedo = d.albedo_flags.rgb;
-    cached_moving = false;
-    for (int i = 0; i < 3; ++i)
-        cached_moving = cached_moving || cached_tri.p0[i] != cached_tri.p1[i];
-    cached_id = id;
+    HitTriangle hit;
+    hit.tri = fetch_triangle(d, id - d.first_id);
+    hit.albedo = d.albedo_flags.rgb;
+    hit.moving = false;
+    for (int i = 0; i < 3; ++i) hit.moving = hit.moving || hit.tri.p0[i] != hit.tri.p1[i];
+    return hit;
 }
 
 // The light-view depth of an ordinary map's texel from the z/w its depth attachment kept
@@ -67,7 +81,7 @@ bool shadowed_tsm(uint index, float depth, uint stratum) {
 
 // Shadow test of the ordinary maps (plain, TSM) in texel `index` at `depth`.
 bool shadowed_ordinary_texel(uint index, float depth, uint id, uint stratum) {
-    return pc.mode == SHADOW_TSM ? shadowed_tsm(index, depth, stratum)
+    return SHADE_SHADOW == SHADOW_TSM ? shadowed_tsm(index, depth, stratum)
                                  : shadowed_plain(index, depth, id);
 }
 
@@ -121,9 +135,8 @@ vec3 pixel_step(vec2 pixel_pos, vec2 axis, vec3 p, vec3 n) {
     return s > 0.0 ? camera.position.xyz + s * dir - p : vec3(0.0);
 }
 
-// Radiance of sample k; `moving` is set when the sample sees a moving triangle.
-vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, out bool moving) {
-    moving = false;
+// Radiance of sample k, which hit `triangle` (id and depth in `hit`).
+vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, HitTriangle triangle) {
     uint id = uint(hit & 0xffffffffUL);
     if (id == NO_TRIANGLE) return vec3(0.0);
     float view_depth = uintBitsToFloat(uint(hit >> 32));
@@ -134,9 +147,8 @@ vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, out bool 
     vec3 dir = camera_ray(camera, vec2(pixel) + offset);
     vec3 p = camera.position.xyz + view_depth * dir;
 
-    fetch_hit(id);
-    Triangle tri = cached_tri;
-    moving = cached_moving;
+    Triangle tri = triangle.tri;
+    bool moving = triangle.moving;
     // A static triangle is taken at t = 0 exactly (mix(a, a, t) may round differently for
     // another t), so its shading cannot depend on the sample's time.
     float s = moving ? t : 0.0;
@@ -144,7 +156,7 @@ vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, out bool 
     vec3 pc_ = mix(tri.p0[2], tri.p1[2], s);
     vec3 n = normalize(cross(pb - pa, pc_ - pa));
     if (dot(n, -dir) < 0.0) n = -n;  // two-sided: the face the camera sees
-    vec3 albedo = cached_albedo;
+    vec3 albedo = triangle.albedo;
 
     bool spot = light.position.w > 0.5;
     vec3 to_light = spot ? light.position.xyz - p : -light.direction.xyz;
@@ -156,10 +168,10 @@ vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, out bool 
     if (spot && dot(-l, light.direction.xyz) < light.direction.w) return ambient;
     vec3 direct = albedo / PI * light.emission.x * cos_theta / dist2;
 
-    // shading.z: 0 unfiltered, 1 bilinear, 2 the pixel's footprint (centred on the pixel's
-    // centre, not the sample, so that where the sample fell does not matter).
-    bool filtered = camera.shading.z > 0.5;
-    bool footprint = camera.shading.z > 1.5;
+    // The footprint is centred on the pixel's centre, not the sample, so that where the
+    // sample fell does not matter.
+    const bool filtered = SHADE_FILTER != SHADE_FILTER_NONE;
+    const bool footprint = SHADE_FILTER == SHADE_FILTER_FOOTPRINT;
     vec3 dpdx = vec3(0.0), dpdy = vec3(0.0), centre = p;
     if (footprint) {
         vec2 pos = vec2(pixel) + offset;
@@ -172,17 +184,17 @@ vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, out bool 
     // the per-sample path's answer instead.
     float lit = 1.0;
     uint stratum = time_stratum(rotation, k, camera.image.z);
-    if (pc.mode == SHADOW_TEMPORAL && camera.shading.y > 0.5 && !moving) {
+    if (SHADE_SHADOW == SHADOW_TEMPORAL && SHADE_ANALYTIC && !moving) {
         // The analytic estimator: a receiver that stays put all frame is lit for exactly
         // ms_lit_fraction of the shutter, whatever the sample's time.
         lit = footprint ? ms_lit_fraction_footprint(temporal, centre, n, id, dpdx, dpdy)
               : filtered ? ms_lit_fraction_filtered(temporal, p, n, id)
                          : ms_lit_fraction(temporal, p, n, id);
-    } else if (pc.mode == SHADOW_TEMPORAL) {
+    } else if (SHADE_SHADOW == SHADOW_TEMPORAL) {
         lit = footprint ? ms_visibility_footprint(temporal, centre, n, t, id, dpdx, dpdy)
               : filtered ? ms_visibility_filtered(temporal, p, n, t, id)
                          : ms_visibility(temporal, p, n, t, id);
-    } else if (pc.mode != SHADOW_NONE) {
+    } else if (SHADE_SHADOW != SHADOW_NONE) {
         lit = footprint ? visibility_ordinary_footprint(centre, n, id, stratum, dpdx, dpdy)
                         : visibility_ordinary(p, n, id, stratum, filtered);
     }
@@ -191,7 +203,7 @@ vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, out bool 
 
 void main() {
     camera = TargetHeader(pc.target).camera;
-    if (pc.mode == SHADOW_TEMPORAL) {
+    if (SHADE_SHADOW == SHADOW_TEMPORAL) {
         temporal = ms_load(MsShadowMap(pc.map));
         light = temporal.light;
     } else {
@@ -207,19 +219,45 @@ void main() {
     uint key = pixel_key(pixel, camera.image.w);
     uint rotation = stratum_rotation(key, camera.image.z);
     Uint64Array visibility = Uint64Array(camera.visibility);
+    uint count = pc.sample_count;
+    uint64_t hits[MAX_SAMPLES_PER_CHUNK];
+    for (uint j = 0u; j < count; ++j) hits[j] = visibility.v[p * count + j];
+
+    // The distinct triangles the samples hit (most pixels: one), each fetched once into a
+    // slot. Fetching a triangle through its draw is many loads, and a CPU device makes each
+    // load lane by lane for every lane of a branch, taken or not; this loop runs as often as
+    // the lanes' most distinct triangles.
+    HitTriangle slots[MAX_SAMPLES_PER_CHUNK];
+    uint slot_of[MAX_SAMPLES_PER_CHUNK];
+    uint pending = 0u;  // samples on a triangle not fetched yet
+    for (uint j = 0u; j < count; ++j) {
+        slot_of[j] = 0u;
+        if (uint(hits[j] & 0xffffffffUL) != NO_TRIANGLE) pending |= 1u << j;
+    }
+    for (uint slot = 0u; pending != 0u; ++slot) {
+        uint id = uint(hits[findLSB(pending)] & 0xffffffffUL);
+        slots[slot] = fetch_hit(id);
+        for (uint j = 0u; j < count; ++j) {
+            if (uint(hits[j] & 0xffffffffUL) == id) {
+                slot_of[j] = slot;
+                pending &= ~(1u << j);
+            }
+        }
+    }
+
     vec3 sum = vec3(0.0);
     float moving = 0.0;  // samples that see a moving triangle: the moving-object mask
-    for (uint j = 0u; j < pc.sample_count; ++j) {
-        bool sees_moving;
-        sum += shade(pixel, key, rotation, pc.first_sample + j,
-                     visibility.v[p * pc.sample_count + j], sees_moving);
-        if (sees_moving) moving += 1.0;
+    for (uint j = 0u; j < count; ++j) {
+        HitTriangle triangle = slots[slot_of[j]];
+        sum += shade(pixel, key, rotation, pc.first_sample + j, hits[j], triangle);
+        bool background = uint(hits[j] & 0xffffffffUL) == NO_TRIANGLE;
+        if (!background && triangle.moving) moving += 1.0;
     }
     Vec4Array radiance = Vec4Array(camera.radiance);
     radiance.v[p] += vec4(sum, moving) / float(camera.image.z);
     // The device leaves loops past a fixed count: say so when this pixel's lookups may have
     // come near it (the host re-runs with fewer samples per invocation, or fails).
-    if (camera.shading.w > 0.0 && float(ms_loop_iterations) > camera.shading.w) {
+    if (SHADE_LOOP_BUDGET > 0u && ms_loop_iterations > SHADE_LOOP_BUDGET) {
         atomicAdd(UintArray(camera.counters).v[1], 1u);
     }
 }

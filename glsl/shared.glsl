@@ -194,6 +194,10 @@ uint find_draw(DrawTable table, uint draw_count, uint id) {
 
 // ---- the camera of the lighting pass ----
 
+// The most samples of a pixel one lighting chunk renders (lighting.rs,
+// MAX_SAMPLES_PER_CHUNK): the shading keeps a chunk's hits in private arrays of this size.
+const uint MAX_SAMPLES_PER_CHUNK = 16u;
+
 struct CameraParams {
     mat4 view_proj;         // world -> camera clip
     vec4 position;          // xyz; w = near plane distance

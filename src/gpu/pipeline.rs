@@ -120,12 +120,40 @@ pub fn compute_pipeline_with_sets(
     name: &str,
     spirv: &[u8],
 ) -> Result<Pipeline> {
+    specialized_compute_pipeline(ctx, set_layouts, push_bytes, name, spirv, &[])
+}
+
+/// A compute pipeline whose specialization constants `constant_id = i` take `constants[i]`
+/// (each a 32-bit scalar: `uint`, `int`, `float` bits, or `bool` as 0 or 1). Variants fixed
+/// this way cost nothing at run time: the compiler folds them and drops the paths not taken.
+pub fn specialized_compute_pipeline(
+    ctx: &Context,
+    set_layouts: &[vk::DescriptorSetLayout],
+    push_bytes: u32,
+    name: &str,
+    spirv: &[u8],
+    constants: &[u32],
+) -> Result<Pipeline> {
     let module = ShaderModule::new(ctx, name, spirv)?;
+    let entries: Vec<vk::SpecializationMapEntry> = (0..constants.len() as u32)
+        .map(|i| vk::SpecializationMapEntry {
+            constant_id: i,
+            offset: 4 * i,
+            size: 4,
+        })
+        .collect();
+    let data: Vec<u8> = constants.iter().flat_map(|c| c.to_ne_bytes()).collect();
+    let specialization = vk::SpecializationInfo::default()
+        .map_entries(&entries)
+        .data(&data);
     let layout = pipeline_layout_with_sets(ctx, set_layouts, push_bytes)?;
-    let stage = vk::PipelineShaderStageCreateInfo::default()
+    let mut stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module.raw())
         .name(c"main");
+    if !constants.is_empty() {
+        stage = stage.specialization_info(&specialization);
+    }
     let info = [vk::ComputePipelineCreateInfo::default()
         .stage(stage)
         .layout(layout)];

@@ -13,11 +13,11 @@ use super::plain_shadow::PlainShadowMap;
 use super::raster_camera::{RASTER_PUSH_BYTES, RasterCamera, RasterConstants};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
-use super::view::LightingView;
+use super::view::{LightingView, ShadowEstimator, ShadowFilter};
 use crate::error::{Error, Result};
 use crate::gpu::{
     Access, Buffer, BufferUsage, Context, Pipeline, TimestampQueries, attachmentless_pipeline,
-    begin_attachmentless, compute_pipeline, memory_barrier,
+    begin_attachmentless, memory_barrier, specialized_compute_pipeline,
 };
 use ash::vk;
 
@@ -232,15 +232,82 @@ impl ShadowSource<'_> {
 /// The papers' lighting pass. Immutable after creation: one serves every frame in flight.
 pub struct LightingPass {
     raster: Pipeline,
-    resolve: Pipeline,
-    /// The most loop iterations one pixel's shadow lookups may report before the pass
-    /// counts it as possibly cut short (0: the device has no loop limit).
-    loop_budget: u32,
+    /// One shading pipeline per [`ShadeVariant`].
+    resolve: Vec<(ShadeVariant, Pipeline)>,
+}
+
+/// What one shading pipeline is specialized for (`resolve.comp`'s specialization
+/// constants): the shadow test, and for the tests that have them the estimator and the
+/// filter. Fixed per pipeline rather than read per pixel, so that the shading runs no path of
+/// another variant (a CPU device runs every side of a branch its lanes might take).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct ShadeVariant {
+    mode: ShadowMode,
+    analytic: bool,
+    filter: ShadowFilter,
+}
+
+impl ShadeVariant {
+    const FILTERS: [ShadowFilter; 3] = [
+        ShadowFilter::None,
+        ShadowFilter::Bilinear,
+        ShadowFilter::Footprint,
+    ];
+
+    /// Every variant a record may ask for: the temporal map with either estimator and any
+    /// filter, the ordinary maps with any filter (no estimator), and no shadows.
+    fn all() -> Vec<Self> {
+        let mut all = Vec::new();
+        for (mode, analytic) in [
+            (ShadowMode::Temporal, false),
+            (ShadowMode::Temporal, true),
+            (ShadowMode::Plain, false),
+            (ShadowMode::Tsm, false),
+        ] {
+            for filter in Self::FILTERS {
+                all.push(Self {
+                    mode,
+                    analytic,
+                    filter,
+                });
+            }
+        }
+        all.push(Self::of(
+            ShadowMode::None,
+            ShadowEstimator::Sampled,
+            ShadowFilter::None,
+        ));
+        all
+    }
+
+    /// The variant that renders `mode` with `estimator` and `filter` (choices a test does
+    /// not have are dropped: every request maps to one of [`Self::all`]).
+    fn of(mode: ShadowMode, estimator: ShadowEstimator, filter: ShadowFilter) -> Self {
+        Self {
+            mode,
+            analytic: mode == ShadowMode::Temporal && estimator == ShadowEstimator::Analytic,
+            filter: if mode == ShadowMode::None {
+                ShadowFilter::None
+            } else {
+                filter
+            },
+        }
+    }
+
+    /// The values of `resolve.comp`'s constants 0 to 3 (the last, the device's loop budget).
+    fn constants(self, loop_budget: u32) -> [u32; 4] {
+        let filter = match self.filter {
+            ShadowFilter::None => 0,
+            ShadowFilter::Bilinear => 1,
+            ShadowFilter::Footprint => 2,
+        };
+        [self.mode as u32, self.analytic as u32, filter, loop_budget]
+    }
 }
 
 impl LightingPass {
     /// Creates the raster pipeline (vertex, geometry, fragment shader) and the resolve
-    /// compute pipeline.
+    /// compute pipelines (one per shadow test, estimator and filter).
     pub fn new(ctx: &Context) -> Result<Self> {
         let raster = attachmentless_pipeline(
             ctx,
@@ -263,13 +330,33 @@ impl LightingPass {
                 ),
             ],
         )?;
-        let resolve = compute_pipeline(ctx, PUSH_BYTES, "resolve.comp", shaders::RESOLVE_COMP)?;
+        // The most loop iterations one pixel's shadow lookups may report before the pass
+        // counts it as possibly cut short (0: the device has no loop limit, nothing counted).
         let loop_budget = ctx.info().shader_loop_budget();
-        Ok(Self {
-            raster,
-            resolve,
-            loop_budget,
-        })
+        let resolve = ShadeVariant::all()
+            .into_iter()
+            .map(|variant| {
+                let pipeline = specialized_compute_pipeline(
+                    ctx,
+                    &[],
+                    PUSH_BYTES,
+                    "resolve.comp",
+                    shaders::RESOLVE_COMP,
+                    &variant.constants(loop_budget),
+                )?;
+                Ok((variant, pipeline))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Self { raster, resolve })
+    }
+
+    fn resolve_pipeline(&self, variant: ShadeVariant) -> &Pipeline {
+        let (_, pipeline) = self
+            .resolve
+            .iter()
+            .find(|(v, _)| *v == variant)
+            .expect("ShadeVariant::of maps every request to one of ShadeVariant::all");
+        pipeline
     }
 
     /// Records the whole lighting pass for the target's samples per pixel (as many chunks as
@@ -334,13 +421,12 @@ impl LightingPass {
         view: &LightingView,
         target: &LightingTarget,
     ) {
-        let mut header = CameraParams {
+        let header = CameraParams {
             visibility: target.visibility.device_address(),
             radiance: target.radiance.device_address(),
             counters: target.counters.device_address(),
             ..CameraParams::new(view, (target.width, target.height), target.spp)
         };
-        header.shading.w = self.loop_budget as f32;
         memory_barrier(
             device,
             cmd,
@@ -445,8 +531,9 @@ impl LightingPass {
             Access::FRAGMENT_RW.and(Access::GEOMETRY_RW),
             Access::COMPUTE_RW,
         );
-        self.resolve.bind(device, cmd);
-        self.resolve.push(device, cmd, &constants);
+        let resolve = self.resolve_pipeline(ShadeVariant::of(mode, view.estimator, view.filter));
+        resolve.bind(device, cmd);
+        resolve.push(device, cmd, &constants);
         unsafe { device.cmd_dispatch(cmd, target.width.div_ceil(8), target.height.div_ceil(8), 1) };
         if let Some(ts) = timestamps {
             ts.mark(cmd, "lighting shade");
