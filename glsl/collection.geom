@@ -82,7 +82,7 @@ void emit_side(PrismVertex p, PrismVertex q, PrismVertex p1, PrismVertex q1) {
 }
 
 void main() {
-    DrawRecord d = DrawTable(pc.draws).draws[pc.draw_index];
+    DrawRecord d = load_draw(pc.draws, pc.draw_index);
     MsShadowMap map = MsShadowMap(pc.map);
     if (in_valid[0] == 0.0 || in_valid[1] == 0.0 || in_valid[2] == 0.0) {
         // Coverage's reset pass draws the same prisms: count each bad triangle once.

@@ -15,5 +15,5 @@ void append_fragment(MsShadowMap map, uint p, float depth, float time, uint id, 
     if (index == 0xffffffffu) atomicOr(counters.c.wrapped, 1u);
     if (index >= counters.c.node_capacity || counters.c.wrapped != 0u) return;
     uint next = atomicExchange(UintArray(map.heads).v[p], index + 1u);
-    NodeArray(map.nodes).nodes[index] = Node(depth, clamp(time, 0.0, 1.0), id, next);
+    store_node(map.nodes, index, Node(depth, clamp(time, 0.0, 1.0), id, next));
 }

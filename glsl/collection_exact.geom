@@ -104,7 +104,7 @@ void dilate(inout vec2 hull[7], int h, float by) {
 }
 
 void main() {
-    DrawRecord d = DrawTable(pc.draws).draws[pc.draw_index];
+    DrawRecord d = load_draw(pc.draws, pc.draw_index);
     MsShadowMap map = MsShadowMap(pc.map);
     if (in_valid[0] == 0.0 || in_valid[1] == 0.0 || in_valid[2] == 0.0) {
         if ((pc.flags & COUNT_INVALID) != 0u)

@@ -12,7 +12,7 @@ layout(location = 1) flat out uint out_id;
 layout(location = 2) flat out uint out_closed;
 
 void main() {
-    DrawRecord d = DrawTable(pc.draws).draws[pc.draw_index];
+    DrawRecord d = load_draw(pc.draws, pc.draw_index);
     MsShadowMap map = MsShadowMap(pc.map);
     uint prim = uint(gl_VertexIndex) / 3u;
     uint corner = uint(gl_VertexIndex) % 3u;

@@ -19,9 +19,12 @@ void main() {
     vec2 ndc = gl_FragCoord.xy / vec2(map.size.xy) * 2.0 - 1.0;
     ExactCorner corners[3];
     for (int k = 0; k < 3; ++k) corners[k] = ExactCorner(in_at0[k], in_at1[k]);
-    ExactNodes nodes = exact_prism_nodes(corners, ndc);
-    for (int i = 0; i < nodes.count; ++i) {
-        reset_coverage(map, p, nodes.depth[i], nodes.time[i], in_id,
-                       exact_surface(nodes.time[i]));
+    vec2 a[3], d[3];
+    ExactRuns runs = exact_prism_runs(corners, ndc, a, d);
+    for (int i = 0; i < runs.count; ++i) {
+        vec2 times, depths;
+        exact_run_nodes(a, d, corners, runs, i, times, depths);
+        reset_coverage(map, p, depths.x, times.x, in_id, exact_surface(times.x));
+        reset_coverage(map, p, depths.y, times.y, in_id, exact_surface(times.y));
     }
 }

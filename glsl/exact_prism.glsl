@@ -33,12 +33,15 @@ struct ExactCorner {
 };
 
 // At most 6 roots cut [0, 1] into 7 pieces, so at most 4 covered runs: 8 nodes.
-const int EXACT_MAX_NODES = 8;
+const int EXACT_MAX_RUNS = 4;
 
-struct ExactNodes {
+// The covered runs of a texel: run i from start[i] to end[i] (covered throughout), `inner`
+// a time inside it (where the triangle is not seen edge-on, for the depths at its ends).
+struct ExactRuns {
     int count;
-    float time[EXACT_MAX_NODES];
-    float depth[EXACT_MAX_NODES];
+    float start[EXACT_MAX_RUNS];
+    float end[EXACT_MAX_RUNS];
+    float inner[EXACT_MAX_RUNS];
 };
 
 precise float exact_cross(vec2 p, vec2 q) {
@@ -46,25 +49,38 @@ precise float exact_cross(vec2 p, vec2 q) {
     return r;
 }
 
-// Roots of c + b t + a t^2 in the open interval (0, 1), appended to `roots`.
-void exact_roots01(float a, float b, float c, inout float roots[6], inout int n) {
+// A root slot with nothing in it: sorts after every root in (0, 1).
+const float EXACT_NO_ROOT = 2.0;
+
+// The roots of c + b t + a t^2 in the open interval (0, 1), or EXACT_NO_ROOT.
+vec2 exact_roots01(float a, float b, float c) {
+    vec2 roots = vec2(EXACT_NO_ROOT);
     if (a == 0.0) {
-        if (b != 0.0) {
-            float r = -c / b;
-            if (r > 0.0 && r < 1.0) roots[n++] = r;
-        }
-        return;
+        float r = b != 0.0 ? -c / b : EXACT_NO_ROOT;
+        roots.x = r > 0.0 && r < 1.0 ? r : EXACT_NO_ROOT;
+        return roots;
     }
     float disc = b * b - 4.0 * a * c;
-    if (disc < 0.0) return;
+    if (disc < 0.0) return roots;
     // The stable form: no cancellation between b and the square root.
     float q = -0.5 * (b + (b >= 0.0 ? sqrt(disc) : -sqrt(disc)));
     float r0 = q / a;
-    if (r0 > 0.0 && r0 < 1.0) roots[n++] = r0;
+    if (r0 > 0.0 && r0 < 1.0) roots.x = r0;
     if (q != 0.0) {
         float r1 = c / q;
-        if (r1 > 0.0 && r1 < 1.0 && r1 != r0) roots[n++] = r1;
+        if (r1 > 0.0 && r1 < 1.0 && r1 != r0) roots.y = r1;
     }
+    return roots;
+}
+
+// Sorts six values in place with a fixed network of compare-exchanges: no indexing by
+// run-time values (which a CPU device turns into per-lane gathers).
+void exact_sort6(inout float r[6]) {
+#define EXACT_SWAP(i, j) { float lo = min(r[i], r[j]); r[j] = max(r[i], r[j]); r[i] = lo; }
+    EXACT_SWAP(1, 2) EXACT_SWAP(4, 5) EXACT_SWAP(0, 2) EXACT_SWAP(3, 5)
+    EXACT_SWAP(0, 1) EXACT_SWAP(3, 4) EXACT_SWAP(1, 4) EXACT_SWAP(0, 3)
+    EXACT_SWAP(2, 5) EXACT_SWAP(1, 3) EXACT_SWAP(2, 4) EXACT_SWAP(2, 3)
+#undef EXACT_SWAP
 }
 
 struct ExactState {
@@ -112,21 +128,18 @@ bool exact_covered(ExactState s) {
     return inside && area != 0.0 && (area > 0.0 ? s.w > 0.0 : s.w < 0.0);
 }
 
-// Depth of the triangle along the texel's ray at a run's end `t`, where one weight may be
-// zero; `inner` is a time inside the run, used when the triangle is seen edge-on at `t`.
-float exact_depth_at(vec2 a[3], vec2 d[3], ExactCorner c[3], float t, float inner) {
-    ExactState s = exact_state_at(a, d, c, t);
-    float area = s.e.x + s.e.y + s.e.z;
-    if (abs(area) <= 1e-6 * (abs(s.e.x) + abs(s.e.y) + abs(s.e.z))) {
-        s = exact_state_at(a, d, c, inner);
-        area = s.e.x + s.e.y + s.e.z;
+// Depth of the triangle along the texel's ray at a run's end, from the state there, or
+// from the state at a time inside the run where the triangle is seen edge-on at the end.
+float exact_depth_at(ExactState at_end, ExactState inside) {
+    float area = at_end.e.x + at_end.e.y + at_end.e.z;
+    if (abs(area) <= 1e-6 * (abs(at_end.e.x) + abs(at_end.e.y) + abs(at_end.e.z))) {
+        return inside.depth / (inside.e.x + inside.e.y + inside.e.z);
     }
-    return s.depth / area;
+    return at_end.depth / area;
 }
 
-// The covered runs of the texel whose centre is `ndc`, as nodes (start, end, start, end, ...).
-ExactNodes exact_prism_nodes(ExactCorner c[3], vec2 ndc) {
-    vec2 a[3], d[3];
+// The covered runs of the texel whose centre is `ndc`.
+ExactRuns exact_prism_runs(ExactCorner c[3], vec2 ndc, out vec2 a[3], out vec2 d[3]) {
     bool moving = false;
     for (int k = 0; k < 3; ++k) {
         precise vec2 u0 = c[k].at0.xy - ndc * c[k].at0.z;
@@ -136,37 +149,24 @@ ExactNodes exact_prism_nodes(ExactCorner c[3], vec2 ndc) {
         d[k] = dk;
         moving = moving || c[k].at0 != c[k].at1;
     }
-    ExactNodes out_nodes;
-    out_nodes.count = 0;
-    if (!moving) {
-        // Most triangles of a scene do not move: one test, [0, 1] or nothing. (Same
-        // arithmetic as the general path at t = 0.5: d is zero, so u = a exactly.)
-        ExactState s = exact_state_at(a, d, c, 0.5);
-        if (exact_covered(s)) {
-            float depth = s.depth / (s.e.x + s.e.y + s.e.z);
-            out_nodes.count = 2;
-            out_nodes.time[0] = 0.0;
-            out_nodes.depth[0] = depth;
-            out_nodes.time[1] = 1.0;
-            out_nodes.depth[1] = depth;
-        }
-        return out_nodes;
-    }
+    // A triangle that does not move has no roots: one piece, tested at t = 0.5 (d is zero,
+    // so u = a exactly), [0, 1] or nothing.
     float roots[6];
-    int n = 0;
     for (int k = 0; k < 3; ++k) {
         int i = (k + 1) % 3, j = (k + 2) % 3;
         precise float qa = exact_cross(d[i], d[j]);
         precise float qb = exact_cross(a[i], d[j]) + exact_cross(d[i], a[j]);
         precise float qc = exact_cross(a[i], a[j]);
-        exact_roots01(qa, qb, qc, roots, n);
+        vec2 r = moving ? exact_roots01(qa, qb, qc) : vec2(EXACT_NO_ROOT);
+        roots[2 * k] = r.x;
+        roots[2 * k + 1] = r.y;
     }
-    for (int i = 1; i < n; ++i) {
-        float r = roots[i];
-        int j = i;
-        for (; j > 0 && roots[j - 1] > r; --j) roots[j] = roots[j - 1];
-        roots[j] = r;
-    }
+    exact_sort6(roots);
+    int n = 0;
+    for (int k = 0; k < 6; ++k) n += roots[k] < EXACT_NO_ROOT ? 1 : 0;
+
+    ExactRuns runs;
+    runs.count = 0;
     float run_start = -1.0;
     for (int piece = 0; piece <= n; ++piece) {
         float from = piece == 0 ? 0.0 : roots[piece - 1];
@@ -174,20 +174,25 @@ ExactNodes exact_prism_nodes(ExactCorner c[3], vec2 ndc) {
         if (to <= from) continue;
         bool covered = exact_covered(exact_state_at(a, d, c, 0.5 * (from + to)));
         if (covered && run_start < 0.0) run_start = from;
-        bool run_ends = run_start >= 0.0 && (!covered || piece == n);
-        if (run_ends) {
+        if (run_start >= 0.0 && (!covered || piece == n)) {
             float end = covered ? to : from;
-            float inner = 0.5 * (run_start + end);
-            int m = out_nodes.count;
-            out_nodes.time[m] = run_start;
-            out_nodes.depth[m] = exact_depth_at(a, d, c, run_start, inner);
-            out_nodes.time[m + 1] = end;
-            out_nodes.depth[m + 1] = exact_depth_at(a, d, c, end, inner);
-            out_nodes.count = m + 2;
+            runs.start[runs.count] = run_start;
+            runs.end[runs.count] = end;
+            runs.inner[runs.count] = 0.5 * (run_start + end);
+            ++runs.count;
             run_start = -1.0;
         }
     }
-    return out_nodes;
+    return runs;
+}
+
+// The two nodes of run i (its start and end): their times and depths.
+void exact_run_nodes(vec2 a[3], vec2 d[3], ExactCorner c[3], ExactRuns runs, int i,
+                     out vec2 times, out vec2 depths) {
+    times = vec2(runs.start[i], runs.end[i]);
+    ExactState inside = exact_state_at(a, d, c, runs.inner[i]);
+    depths = vec2(exact_depth_at(exact_state_at(a, d, c, times.x), inside),
+                  exact_depth_at(exact_state_at(a, d, c, times.y), inside));
 }
 
 // The surface a node lies on, for the coverage map's nearest map (SURFACE_* of shared.glsl):

@@ -26,8 +26,8 @@ const uint LONG_TIER_GROUP = 64u;
 
 // Every buffer of the map, from its header (set once per invocation by `open_map`).
 MsShadowMap map;
-NodeArray node_array;
-RangeArray range_array;
+uint64_t nodes;
+uint64_t ranges;
 UintArray heads;
 UintArray range_heads;
 CounterRef counters_ref;
@@ -35,8 +35,8 @@ LongPixels long_list;
 
 void open_map() {
     map = MsShadowMap(pc.map);
-    node_array = NodeArray(map.nodes);
-    range_array = RangeArray(map.ranges);
+    nodes = map.nodes;
+    ranges = map.ranges;
     heads = UintArray(map.heads);
     range_heads = UintArray(map.range_heads);
     counters_ref = CounterRef(map.counters);
@@ -61,7 +61,7 @@ void emit(Node a, Node b, uint index) {
     r.id = a.id;
     if (index >= counters_ref.c.range_capacity) return;
     r.next = out_head;
-    range_array.ranges[index] = r;
+    store_range(ranges, index, r);
     out_head = index + 1u;
 }
 
@@ -119,9 +119,10 @@ void sort_and_pair(uint n, uint cover) {
 uint load_list(uint p) {
     uint n = 0u;
     uint a = heads.v[p];
-    for (; a != END_OF_LIST && n < LIST_CAPACITY; a = node_array.nodes[a - 1u].next) {
-        local_nodes[n] = node_array.nodes[a - 1u];
+    while (a != END_OF_LIST && n < LIST_CAPACITY) {
+        local_nodes[n] = load_node(nodes, a - 1u);
         local_index[n] = a;
+        a = local_nodes[n].next;
         ++n;
     }
     return a == END_OF_LIST ? n : LIST_CAPACITY + 1u;
@@ -136,9 +137,9 @@ bool pair_two(uint p) {
         range_heads.v[p] = END_OF_LIST;
         return true;
     }
-    Node first = node_array.nodes[a - 1u];
+    Node first = load_node(nodes, a - 1u);
     if (first.next == END_OF_LIST) return false;
-    Node second = node_array.nodes[first.next - 1u];
+    Node second = load_node(nodes, first.next - 1u);
     if (second.next != END_OF_LIST || second.id != first.id) return false;
     // The counting of pair_list / sort_and_pair for one range, written out: a helper shared
     // by both made generation about 10% slower on lavapipe.

@@ -21,8 +21,8 @@ void main() {
     // Count the rest only to report it; cheap, and bounded by the node capacity.
     n = MAX_LIST_NODES;
     uint a = local_index[MAX_LIST_NODES - 1u];
-    for (a = node_array.nodes[a - 1u].next; a != END_OF_LIST && n < 8u * MAX_LIST_NODES;
-         a = node_array.nodes[a - 1u].next) {
+    for (a = load_node(nodes, a - 1u).next; a != END_OF_LIST && n < 8u * MAX_LIST_NODES;
+         a = load_node(nodes, a - 1u).next) {
         ++n;
     }
     atomicAdd(counters_ref.c.overlong_pixels, 1u);

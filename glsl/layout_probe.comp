@@ -40,6 +40,20 @@ void put(MsLight l) {
     put(l.view); put(l.proj); put(l.position); put(l.direction); put(l.emission); put(l.bias);
 }
 
+void put(DrawRecord d) {
+    put(d.positions0); put(d.positions1); put(d.indices); put(d.stride0); put(d.stride1);
+    put(d.index_kind); put(d.vertex_count); put(d.first_id); put(d.triangle_count);
+    put(d.albedo_flags);
+    for (int i = 0; i < 3; ++i) put(d.model0[i]);
+    for (int i = 0; i < 3; ++i) put(d.model1[i]);
+}
+
+void put(CameraParams c) {
+    put(c.view_proj); put(c.position); put(c.forward); put(c.ray00); put(c.ray_dx);
+    put(c.ray_dy); put(c.image); put(c.shading); put(c.visibility); put(c.radiance);
+    put(c.counters); put(c.reserved);
+}
+
 void main() {
     ProbeTable table = ProbeTable(pc.map);
     dump = Dump(table.dump);
@@ -52,24 +66,33 @@ void main() {
     PlainHeader p = PlainHeader(table.plain_header);
     put(p.light); put(p.size); put(p.depths); put(p.ids);
 
-    DrawRecord d = DrawOne(table.draw).d;
-    put(d.positions0); put(d.positions1); put(d.indices); put(d.stride0); put(d.stride1);
-    put(d.index_kind); put(d.vertex_count); put(d.first_id); put(d.triangle_count);
-    put(d.albedo_flags);
-    for (int i = 0; i < 3; ++i) put(d.model0[i]);
-    for (int i = 0; i < 3; ++i) put(d.model1[i]);
+    put(DrawOne(table.draw).d);
 
-    CameraParams c = TargetHeader(table.camera).camera;
-    put(c.view_proj); put(c.position); put(c.forward); put(c.ray00); put(c.ray_dx);
-    put(c.ray_dy); put(c.image); put(c.shading); put(c.visibility); put(c.radiance);
-    put(c.counters); put(c.reserved);
+    put(TargetHeader(table.camera).camera);
 
     put(pc.map); put(pc.draws); put(pc.target); put(pc.draw_index); put(pc.draw_count);
     put(pc.first_sample); put(pc.sample_count); put(pc.mode); put(pc.time); put(pc.flags);
     put(pc.reserved);
 
-    NodeArray(table.node).nodes[1] = Node(1.5, 0.25, 7u, 9u);
-    RangeArray(table.range).ranges[1] = MsRange(0.125, 0.75, 2.5, 3.5, 11u, 13u);
+    // The shaders read the header through ms_load's 64-bit words: the same fields again.
+    MsMap loaded = ms_load(m);
+    put(loaded.light); put(uvec4(loaded.size, 0u, 0u)); put(loaded.range_heads);
+    put(loaded.ranges); put(loaded.coverage); put(loaded.cover_depth);
+    put(loaded.static_nearest);
+    // And draws through load_draw's words.
+    put(load_draw(table.draw, 0u));
+    // And the camera through load_camera's.
+    put(load_camera(table.camera));
+
+    // Nodes and ranges go through the word helpers the shaders use: the host checks the
+    // bytes written, and reading them back must give the values written.
+    store_node(table.node, 1u, Node(1.5, 0.25, 7u, 9u));
+    store_range(table.range, 1u, MsRange(0.125, 0.75, 2.5, 3.5, 11u, 13u));
+    Node node = load_node(table.node, 1u);
+    put(node.depth); put(node.time); put(node.id); put(node.next);
+    MsRange range = ms_range(table.range, 2u);
+    put(range.t_s); put(range.t_e); put(range.d_s); put(range.d_e); put(range.id);
+    put(range.next);
     CounterRef(table.counters).c = Counters(21u, 22u, 23u, 24u, 31u, 32u, 33u, 34u, 35u, 36u,
                                                   37u, 38u);
 }

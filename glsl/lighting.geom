@@ -47,13 +47,13 @@ int quadrant(vec2 n) {
 }
 
 void main() {
-    camera = TargetHeader(pc.target).camera;
+    camera = load_camera(pc.target);
     if (in_valid[0] == 0.0 || in_valid[1] == 0.0 || in_valid[2] == 0.0) {
         // Counted once per frame: by the first chunk's geometry pass (flag set by the host).
         if ((pc.flags & COUNT_INVALID) != 0u) atomicAdd(UintArray(camera.counters).v[0], 1u);
         return;
     }
-    DrawRecord d = DrawTable(pc.draws).draws[pc.draw_index];
+    DrawRecord d = load_draw(pc.draws, pc.draw_index);
     uint prim = uint(gl_PrimitiveIDIn);
     vec4 c[6];
     vec3 w[6];

@@ -60,6 +60,11 @@ layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer MsU
 layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer MsRanges {
     MsRange v[];
 };
+// The same ranges as three 64-bit words each (t_s | t_e, d_s | d_e, id | next; the first
+// member in the low half, as on every little-endian device): see ms_range.
+layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer MsRangeWords {
+    uint64_t v[];
+};
 layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer MsVec2s {
     vec2 v[];
 };
@@ -103,15 +108,23 @@ bool ms_light_texel_coords(MsLight light, uvec2 size, vec3 p, out vec2 coords,
     return true;
 }
 
+// The texel (x, y) of the map and the linear light depth of a world point; false outside
+// the light's view.
+bool ms_project_texel(MsLight light, uvec2 size, vec3 p, out uvec2 texel, out float depth) {
+    vec2 coords;
+    texel = uvec2(0u);
+    if (!ms_light_texel_coords(light, size, p, coords, depth)) return false;
+    texel = min(uvec2(coords), size - 1u);
+    return true;
+}
+
 // The texel of the map and the linear light depth of a world point; false outside the
 // light's view (then nothing in the map can shadow the point).
 bool ms_project(MsLight light, uvec2 size, vec3 p, out uint texel_index, out float depth) {
-    vec2 coords;
-    texel_index = 0u;
-    if (!ms_light_texel_coords(light, size, p, coords, depth)) return false;
-    uvec2 texel = min(uvec2(coords), size - 1u);
+    uvec2 texel;
+    bool seen = ms_project_texel(light, size, p, texel, depth);
     texel_index = texel.y * size.x + texel.x;
-    return true;
+    return seen;
 }
 
 // The receiver point actually tested: moved by the light's normal offset (a fraction of a
@@ -156,11 +169,11 @@ float ms_receiver_plane_depth(MsLight light, uvec2 size, uvec2 texel, vec3 p, ve
 bool ms_receiver_texel(MsLight light, uvec2 size, vec3 p, vec3 n, out uint texel_index,
                        out float depth) {
     vec3 q = ms_offset_receiver(light, p, n);
-    if (!ms_project(light, size, q, texel_index, depth)) return false;
-    if (light.bias.w > 0.5) {
-        uvec2 texel = uvec2(texel_index % size.x, texel_index / size.x);
-        depth = ms_receiver_plane_depth(light, size, texel, q, n, depth);
-    }
+    uvec2 texel;
+    bool seen = ms_project_texel(light, size, q, texel, depth);
+    texel_index = texel.y * size.x + texel.x;
+    if (!seen) return false;
+    if (light.bias.w > 0.5) depth = ms_receiver_plane_depth(light, size, texel, q, n, depth);
     depth *= 1.0 - light.bias.y;
     return true;
 }
@@ -254,9 +267,44 @@ struct MsMap {
     uint64_t static_nearest;
 };
 
+// The same header as 64-bit words (ms_load reads it so: half the loads of its 32-bit
+// members; a CPU device makes each load lane by lane).
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer MsShadowMapWords {
+    uint64_t light[24];     // MsLight: view, proj (8 words each), position, direction,
+                            // emission, bias (2 each)
+    uint64_t size;          // size.xy
+    uint64_t size_zw;
+    uint64_t range_heads;
+    uint64_t ranges;
+    uint64_t coverage;
+    uint64_t cover_depth;
+    uint64_t heads;
+    uint64_t nodes;
+    uint64_t counters;
+    uint64_t long_pixels;
+    uint64_t nearest;
+    uint64_t static_nearest;
+};
+
+// The vec4 of two words (the first word's halves are x and y).
+vec4 ms_vec4_of(uint64_t xy, uint64_t zw) {
+    return vec4(uintBitsToFloat(unpackUint2x32(xy)), uintBitsToFloat(unpackUint2x32(zw)));
+}
+
+// The MsLight at `address` (the start of a map header), read as 64-bit words.
+MsLight ms_load_light(uint64_t address) {
+    MsShadowMapWords words = MsShadowMapWords(address);
+    vec4 v[12];
+    for (int i = 0; i < 12; ++i) v[i] = ms_vec4_of(words.light[2 * i], words.light[2 * i + 1]);
+    return MsLight(mat4(v[0], v[1], v[2], v[3]), mat4(v[4], v[5], v[6], v[7]), v[8], v[9],
+                   v[10], v[11]);
+}
+
 MsMap ms_load(MsShadowMap header) {
-    return MsMap(header.light, header.size.xy, header.range_heads, header.ranges,
-                 header.coverage, header.cover_depth, header.static_nearest);
+    MsShadowMapWords words = MsShadowMapWords(uint64_t(header));
+    MsLight light = ms_load_light(uint64_t(header));
+    return MsMap(light, unpackUint2x32(words.size), words.range_heads, words.ranges,
+                 words.coverage, words.cover_depth, words.static_nearest);
 }
 
 // The bits of a depth as an unsigned key in the depth's order (negative depths too: a
@@ -281,14 +329,30 @@ bool ms_static_shadow(MsMap map, uint texel, float depth, uint own) {
     return id != MS_NO_TRIANGLE && id != own && ms_static_depth(uint(nearest >> 32)) < depth;
 }
 
+// Range r of the map's list (r = index + 1), read as three 64-bit words: a CPU device makes
+// every load lane by lane, so three loads cost half of the struct's six.
+MsRange ms_range(uint64_t ranges, uint r) {
+    MsRangeWords words = MsRangeWords(ranges);
+    uint at = 3u * (r - 1u);
+    uvec2 times = unpackUint2x32(words.v[at]);
+    uvec2 depths = unpackUint2x32(words.v[at + 1u]);
+    uvec2 links = unpackUint2x32(words.v[at + 2u]);
+    return MsRange(uintBitsToFloat(times.x), uintBitsToFloat(times.y),
+                   uintBitsToFloat(depths.x), uintBitsToFloat(depths.y), links.x, links.y);
+}
+
+// The covering triangle's depths at t = 0 and 1 in `texel` (one 64-bit load, see ms_range).
+vec2 ms_cover_depth(MsMap map, uint texel) {
+    return uintBitsToFloat(unpackUint2x32(MsUint64s(map.cover_depth).v[texel]));
+}
+
 // Is a receiver at light depth `depth`, on triangle `own`, in shadow at time t, given the
 // ranges of its texel? Ranges of the receiver's own triangle are skipped.
 bool ms_ranges_shadow(MsMap map, uint texel, float depth, float t, uint own) {
-    MsRanges ranges = MsRanges(map.ranges);
-    for (uint r = MsUints(map.range_heads).v[texel]; r != MS_END_OF_LIST;
-         r = ranges.v[r - 1u].next) {
+    for (uint r = MsUints(map.range_heads).v[texel]; r != MS_END_OF_LIST;) {
         ++ms_loop_iterations;
-        MsRange range = ranges.v[r - 1u];
+        MsRange range = ms_range(map.ranges, r);
+        r = range.next;
         if (range.id == own || t < range.t_s || t > range.t_e) continue;
         float span = range.t_e - range.t_s;
         float occluder = span > 0.0 ? mix(range.d_s, range.d_e, (t - range.t_s) / span)
@@ -305,7 +369,7 @@ bool ms_ranges_shadow(MsMap map, uint texel, float depth, float t, uint own) {
 // range would say, so that neighbouring triangles of one surface do not shadow each other
 // where a texel straddles their shared edge.
 bool ms_covered_shadow(MsMap map, uint texel, uint cover, float depth, float t, uint own) {
-    vec2 d = MsVec2s(map.cover_depth).v[texel];
+    vec2 d = ms_cover_depth(map, texel);
     return cover != own && mix(d.x, d.y, t) < depth;
 }
 
@@ -388,20 +452,21 @@ float ms_texel_lit_fraction(MsMap map, uint texel, float depth, uint own) {
         uint cover = MsUints(map.coverage).v[texel];
         if (cover != MS_NO_TRIANGLE) {
             if (cover == own) return 1.0;
-            vec2 d = MsVec2s(map.cover_depth).v[texel];
+            vec2 d = ms_cover_depth(map, texel);
             vec2 iv = ms_nearer_interval(0.0, 1.0, d.x, d.y, depth);
             return 1.0 - max(iv.y - iv.x, 0.0);
         }
     }
-    MsRanges ranges = MsRanges(map.ranges);
     uint head = MsUints(map.range_heads).v[texel];
     // The union so far: m disjoint intervals in order. A zero-length interval shadows an
     // instant (measure zero) and is left out.
     vec2 set[MS_DISJOINT_INTERVALS];
     uint m = 0u;
     bool fits = true;
-    for (uint r = head; r != MS_END_OF_LIST && fits; r = ranges.v[r - 1u].next) {
-        vec2 iv = ms_range_nearer(ranges.v[r - 1u], depth, own);
+    for (uint r = head; r != MS_END_OF_LIST && fits;) {
+        MsRange range = ms_range(map.ranges, r);
+        r = range.next;
+        vec2 iv = ms_range_nearer(range, depth, own);
         ms_loop_iterations += 1u + 2u * m;   // the scans and shifts below, at most
         if (!(iv.y > iv.x)) continue;
         // set[first .. last] are the intervals iv overlaps or touches (none: first > last,
@@ -438,9 +503,11 @@ float ms_texel_lit_fraction(MsMap map, uint texel, float depth, uint own) {
         float next_start = 2.0, next_end = 0.0;
         uint next_index = 0xffffffffu;
         uint index = 0u;
-        for (uint r = head; r != MS_END_OF_LIST; r = ranges.v[r - 1u].next, ++index) {
+        for (uint r = head; r != MS_END_OF_LIST; ++index) {
             ++ms_loop_iterations;
-            vec2 iv = ms_range_nearer(ranges.v[r - 1u], depth, own);
+            MsRange range = ms_range(map.ranges, r);
+            r = range.next;
+            vec2 iv = ms_range_nearer(range, depth, own);
             if (!(iv.y > iv.x) || iv.y <= covered_to) continue;
             bool after_last = iv.x > last_start || (iv.x == last_start && index > last_index);
             bool before_next = iv.x < next_start || (iv.x == next_start && index < next_index);

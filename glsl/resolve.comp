@@ -46,8 +46,7 @@ struct HitTriangle {
 };
 
 HitTriangle fetch_hit(uint id) {
-    DrawTable table = DrawTable(pc.draws);
-    DrawRecord d = table.draws[find_draw(table, pc.draw_count, id)];
+    DrawRecord d = load_draw(pc.draws, find_draw(DrawTable(pc.draws), pc.draw_count, id));
     HitTriangle hit;
     hit.tri = fetch_triangle(d, id - d.first_id);
     hit.albedo = d.albedo_flags.rgb;
@@ -202,13 +201,13 @@ vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, HitTriang
 }
 
 void main() {
-    camera = TargetHeader(pc.target).camera;
+    camera = load_camera(pc.target);
     if (SHADE_SHADOW == SHADOW_TEMPORAL) {
         temporal = ms_load(MsShadowMap(pc.map));
         light = temporal.light;
     } else {
         PlainHeader header = PlainHeader(pc.map);
-        light = header.light;
+        light = ms_load_light(pc.map);
         plain_size = header.size;
         plain_depths = header.depths;
         plain_ids = header.ids;

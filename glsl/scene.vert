@@ -14,7 +14,7 @@ layout(location = 1) out vec3 out_p1;
 layout(location = 2) out float out_valid;
 
 void main() {
-    DrawRecord d = DrawTable(pc.draws).draws[pc.draw_index];
+    DrawRecord d = load_draw(pc.draws, pc.draw_index);
     uint prim = uint(gl_VertexIndex) / 3u;
     bool valid = triangle_valid(d, prim);
     out_valid = valid ? 1.0 : 0.0;

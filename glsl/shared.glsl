@@ -45,8 +45,31 @@ struct Counters {
 // 65535 loop iterations per invocation, past which it silently leaves loops.
 const uint MAX_LIST_NODES = 512u;
 
-layout(buffer_reference, std430, buffer_reference_align = 16) buffer NodeArray { Node nodes[]; };
-layout(buffer_reference, std430, buffer_reference_align = 8) buffer RangeArray { MsRange ranges[]; };
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer Words { uint64_t v[]; };
+
+// Nodes (2 words: depth | time, id | next) and ranges (3 words, see ms_range) are read and
+// written as 64-bit words, the first member in the low half: a CPU device makes every load
+// and store lane by lane, so a word costs what one 32-bit member would.
+Node load_node(uint64_t nodes, uint index) {
+    Words words = Words(nodes);
+    uvec2 depth_time = unpackUint2x32(words.v[2u * index]);
+    uvec2 id_next = unpackUint2x32(words.v[2u * index + 1u]);
+    return Node(uintBitsToFloat(depth_time.x), uintBitsToFloat(depth_time.y), id_next.x,
+                id_next.y);
+}
+
+void store_node(uint64_t nodes, uint index, Node node) {
+    Words words = Words(nodes);
+    words.v[2u * index] = packUint2x32(floatBitsToUint(vec2(node.depth, node.time)));
+    words.v[2u * index + 1u] = packUint2x32(uvec2(node.id, node.next));
+}
+
+void store_range(uint64_t ranges, uint index, MsRange range) {
+    Words words = Words(ranges);
+    words.v[3u * index] = packUint2x32(floatBitsToUint(vec2(range.t_s, range.t_e)));
+    words.v[3u * index + 1u] = packUint2x32(floatBitsToUint(vec2(range.d_s, range.d_e)));
+    words.v[3u * index + 2u] = packUint2x32(uvec2(range.id, range.next));
+}
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer UintArray { uint v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer FloatArray { float v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer Uint64Array { uint64_t v[]; };
@@ -122,6 +145,38 @@ struct DrawRecord {
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer DrawTable {
     DrawRecord draws[];
 };
+// The same table as 64-bit words, 20 per record (load_draw).
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer DrawWords {
+    uint64_t v[];
+};
+const uint DRAW_RECORD_WORDS = 20u;
+
+// Draw `index` of the table at `table`, read as 64-bit words: a CPU device makes every load
+// lane by lane, and a record's 40 scalars are 20 words.
+DrawRecord load_draw(uint64_t table, uint index) {
+    DrawWords words = DrawWords(table);
+    uint w = DRAW_RECORD_WORDS * index;
+    DrawRecord d;
+    d.positions0 = words.v[w];
+    d.positions1 = words.v[w + 1u];
+    d.indices = words.v[w + 2u];
+    uvec2 strides = unpackUint2x32(words.v[w + 3u]);
+    uvec2 kind_count = unpackUint2x32(words.v[w + 4u]);
+    uvec2 ids = unpackUint2x32(words.v[w + 5u]);
+    d.stride0 = strides.x;
+    d.stride1 = strides.y;
+    d.index_kind = kind_count.x;
+    d.vertex_count = kind_count.y;
+    d.first_id = ids.x;
+    d.triangle_count = ids.y;
+    d.albedo_flags = ms_vec4_of(words.v[w + 6u], words.v[w + 7u]);
+    for (uint k = 0u; k < 3u; ++k) {
+        d.model0[k] = ms_vec4_of(words.v[w + 8u + 2u * k], words.v[w + 9u + 2u * k]);
+        d.model1[k] = ms_vec4_of(words.v[w + 14u + 2u * k], words.v[w + 15u + 2u * k]);
+    }
+    return d;
+}
+
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Float3Ref {
     float v[3];
 };
@@ -134,10 +189,11 @@ bool has_flag(DrawRecord d, uint flag) {
 // the half of an aligned 32-bit word, so no 16-bit storage feature is needed.
 uint draw_index(DrawRecord d, uint i) {
     if (d.index_kind == INDEX_NONE) return i;
-    if (d.index_kind == INDEX_U32) return MsUints(d.indices + 4UL * uint64_t(i)).v[0];
-    uint64_t address = d.indices + 2UL * uint64_t(i);
+    // One load for either width (a CPU device makes every load it meets, taken or not).
+    bool wide = d.index_kind == INDEX_U32;
+    uint64_t address = d.indices + (wide ? 4UL : 2UL) * uint64_t(i);
     uint word = MsUints(address & ~3UL).v[0];
-    return (address & 2UL) != 0UL ? word >> 16 : word & 0xffffu;
+    return wide ? word : ((address & 2UL) != 0UL ? word >> 16 : word & 0xffffu);
 }
 
 vec3 transform(vec4 rows[3], vec3 p) {
@@ -206,16 +262,26 @@ struct CameraParams {
     vec4 ray_dx;            // the view axis; its change per pixel right
     vec4 ray_dy;            // and down
     uvec4 image;            // xy = image size, z = samples per pixel, w = seed
-    vec4 shading;           // x = ambient radiance factor, y = 1: analytic shadow estimator,
-                            // z = 1: filtered lookups (2x2 texels, bilinear weights),
-                            // 2: those over the pixel's footprint; w = the most loop
-                            // iterations a pixel's lookups may report (0: no limit)
+    vec4 shading;           // x = ambient radiance factor; y, z, w = 0 (the estimator, the
+                            // filter and the loop budget are the shading pipeline's
+                            // specialization constants)
     uint64_t visibility;    // Uint64Array: per pixel and sample of a chunk, depth bits | id
     uint64_t radiance;      // Vec4Array: per pixel, accumulated radiance and moving share
     uint64_t counters;      // UintArray: [0] = triangles dropped for an invalid index,
-                            // [1] = pixels whose lookups ran past shading.w iterations
+                            // [1] = pixels whose lookups ran past the loop budget
     uint64_t reserved;
 };
+
+// The camera header at `address`, read as 64-bit words (26; see load_draw).
+CameraParams load_camera(uint64_t address) {
+    Words words = Words(address);
+    vec4 v[9];
+    for (uint i = 0u; i < 9u; ++i) v[i] = ms_vec4_of(words.v[2u * i], words.v[2u * i + 1u]);
+    return CameraParams(mat4(v[0], v[1], v[2], v[3]), v[4], v[5], v[6], v[7], v[8],
+                        uvec4(unpackUint2x32(words.v[18]), unpackUint2x32(words.v[19])),
+                        ms_vec4_of(words.v[20], words.v[21]), words.v[22], words.v[23],
+                        words.v[24], words.v[25]);
+}
 
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TargetHeader {
     CameraParams camera;
@@ -406,7 +472,7 @@ vec3 camera_ray(CameraParams camera, vec2 pixel_pos) {
 // so nothing is rasterized (the lighting pass counts such triangles).
 void ordinary_map_vertex(PassConstants pc, MsLight light, uint vertex, out vec4 position,
                          out float depth, out uint id) {
-    DrawRecord d = DrawTable(pc.draws).draws[pc.draw_index];
+    DrawRecord d = load_draw(pc.draws, pc.draw_index);
     uint prim = vertex / 3u;
     id = d.first_id + prim;
     if (!triangle_valid(d, prim)) {

@@ -210,9 +210,8 @@ pub struct CameraParams {
     pub ray_dy: Vec4,
     /// xy = image size, z = samples per pixel, w = seed.
     pub image: UVec4,
-    /// x = ambient radiance factor, y = 1 for the analytic shadow estimator, z = the shadow
-    /// filter (0 none, 1 bilinear, 2 footprint), w = the loop budget of a pixel's lookups
-    /// (0: none; see [`super::LightingTarget::read_over_budget_pixels`]).
+    /// x = ambient radiance factor; y, z, w = 0. (The estimator, the filter and the loop
+    /// budget are specialization constants of the shading pipeline the pass picks.)
     pub shading: Vec4,
     /// The per-sample visibility buffer.
     pub visibility: u64,

@@ -309,19 +309,7 @@ impl CameraParams {
             ray_dx,
             ray_dy,
             image: UVec4::new(image_size.0, image_size.1, spp, view.seed),
-            shading: Vec4::new(
-                view.ambient,
-                match view.estimator {
-                    ShadowEstimator::Sampled => 0.0,
-                    ShadowEstimator::Analytic => 1.0,
-                },
-                match view.filter {
-                    ShadowFilter::None => 0.0,
-                    ShadowFilter::Bilinear => 1.0,
-                    ShadowFilter::Footprint => 2.0,
-                },
-                0.0,
-            ),
+            shading: Vec4::new(view.ambient, 0.0, 0.0, 0.0),
             ..Self::default()
         }
     }

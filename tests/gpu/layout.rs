@@ -219,44 +219,50 @@ fn shared_structs_match_glsl() {
     expected.uv(plain.size);
     expected.a(plain.depths);
     expected.a(plain.ids);
-    expected.a(draw.positions0);
-    expected.a(draw.positions1);
-    expected.a(draw.indices);
-    for u in [
-        draw.stride0,
-        draw.stride1,
-        draw.index_kind,
-        draw.vertex_count,
-        draw.first_id,
-        draw.triangle_count,
-    ] {
-        expected.u(u);
-    }
-    expected.v(draw.albedo_flags);
-    draw.model0
-        .iter()
-        .chain(&draw.model1)
-        .for_each(|&r| expected.v(r));
-    expected.m(camera.view_proj);
-    for v in [
-        camera.position,
-        camera.forward,
-        camera.ray00,
-        camera.ray_dx,
-        camera.ray_dy,
-    ] {
-        expected.v(v);
-    }
-    expected.uv(camera.image);
-    expected.v(camera.shading);
-    for a in [
-        camera.visibility,
-        camera.radiance,
-        camera.counters,
-        camera.reserved,
-    ] {
-        expected.a(a);
-    }
+    let expect_draw = |expected: &mut Dump| {
+        expected.a(draw.positions0);
+        expected.a(draw.positions1);
+        expected.a(draw.indices);
+        for u in [
+            draw.stride0,
+            draw.stride1,
+            draw.index_kind,
+            draw.vertex_count,
+            draw.first_id,
+            draw.triangle_count,
+        ] {
+            expected.u(u);
+        }
+        expected.v(draw.albedo_flags);
+        draw.model0
+            .iter()
+            .chain(&draw.model1)
+            .for_each(|&r| expected.v(r));
+    };
+    expect_draw(&mut expected);
+    let expect_camera = |expected: &mut Dump| {
+        expected.m(camera.view_proj);
+        for v in [
+            camera.position,
+            camera.forward,
+            camera.ray00,
+            camera.ray_dx,
+            camera.ray_dy,
+        ] {
+            expected.v(v);
+        }
+        expected.uv(camera.image);
+        expected.v(camera.shading);
+        for a in [
+            camera.visibility,
+            camera.radiance,
+            camera.counters,
+            camera.reserved,
+        ] {
+            expected.a(a);
+        }
+    };
+    expect_camera(&mut expected);
     expected.a(push.map);
     expected.a(push.draws);
     expected.a(push.target);
@@ -272,6 +278,33 @@ fn shared_structs_match_glsl() {
     expected.f(push.time);
     expected.u(push.flags);
     expected.u(push.reserved);
+    // ms_load's copy of the header, read as 64-bit words.
+    expected.light(&shadow.light);
+    expected.uv(UVec4::new(shadow.size.x, shadow.size.y, 0, 0));
+    for a in [
+        shadow.range_heads,
+        shadow.ranges,
+        shadow.coverage,
+        shadow.cover_depth,
+        shadow.static_nearest,
+    ] {
+        expected.a(a);
+    }
+    // load_draw's copy of the draw record, read as 64-bit words.
+    expect_draw(&mut expected);
+    // load_camera's copy of the camera header, read as 64-bit words.
+    expect_camera(&mut expected);
+    // The node and the range the probe stored, read back through load_node and ms_range.
+    for x in [1.5f32, 0.25] {
+        expected.f(x);
+    }
+    expected.u(7);
+    expected.u(9);
+    for x in [0.125f32, 0.75, 2.5, 3.5] {
+        expected.f(x);
+    }
+    expected.u(11);
+    expected.u(13);
 
     let download = |b: &Buffer, bytes: usize| -> Vec<u8> {
         let staging = Buffer::new(&ctx, "staging", bytes as u64, BufferUsage::Readback).unwrap();
