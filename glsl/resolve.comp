@@ -3,9 +3,11 @@
 // the visibility buffer, shade it (Lambert, point light with a hard cone or directional
 // light), test its shadow at exactly the sample's time, and add the chunk's share of the box
 // filter average to the accumulated radiance (alpha: the share of samples that see a moving
-// triangle). The temporal shadow map is tested through motion_shadows.glsl's ms_shadowed,
-// the same function a host's own shaders call.
+// triangle). The temporal shadow map is tested through motion_shadows.glsl, the include a
+// host's own shaders call: per sample (ms_visibility and the filtered lookups), or for the
+// papers' test, per texel for all the samples of a pixel in it (temporal_samples.glsl).
 #extension GL_EXT_shader_atomic_int64 : require
+#extension GL_EXT_control_flow_attributes : require
 #include "shared.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -22,6 +24,11 @@ layout(constant_id = 2) const uint SHADE_FILTER = 0u;       // SHADE_FILTER_*
 // The most loop iterations a pixel's lookups may report before it is counted as possibly
 // cut short by the device's loop limit; 0: the device has no such limit (nothing counted).
 layout(constant_id = 3) const uint SHADE_LOOP_BUDGET = 0u;
+// Samples per pixel in the chunk (PassConstants::sample_count): the loops over a pixel's
+// samples unroll, and their arrays stay in registers.
+layout(constant_id = 4) const uint SHADE_SAMPLES = 1u;
+
+#include "temporal_samples.glsl"
 
 const uint SHADE_FILTER_NONE = 0u;        // the receiver's texel
 const uint SHADE_FILTER_BILINEAR = 1u;    // 2x2 texels, bilinear weights
@@ -134,39 +141,22 @@ vec3 pixel_step(vec2 pixel_pos, vec2 axis, vec3 p, vec3 n) {
     return s > 0.0 ? camera.position.xyz + s * dir - p : vec3(0.0);
 }
 
-// Radiance of sample k, which hit `triangle` (id and depth in `hit`).
-vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, HitTriangle triangle) {
-    uint id = uint(hit & 0xffffffffUL);
-    if (id == NO_TRIANGLE) return vec3(0.0);
-    float view_depth = uintBitsToFloat(uint(hit >> 32));
-    float t;
-    vec2 offset;
-    pixel_sample(key, rotation, k, camera.image.z, t, offset);
-    if ((pc.flags & FIXED_TIME) != 0u) t = pc.time;
-    vec3 dir = camera_ray(camera, vec2(pixel) + offset);
-    vec3 p = camera.position.xyz + view_depth * dir;
-
-    Triangle tri = triangle.tri;
-    bool moving = triangle.moving;
-    // A static triangle is taken at t = 0 exactly (mix(a, a, t) may round differently for
-    // another t), so its shading cannot depend on the sample's time.
-    float s = moving ? t : 0.0;
+// The normal of `hit`'s triangle at time t (a static triangle at t = 0 exactly: mix(a, a, t)
+// may round differently for another t, and its shading must not depend on the sample's
+// time), on the side seen along `dir` (two-sided).
+vec3 surface_normal(HitTriangle hit, float t, vec3 dir) {
+    Triangle tri = hit.tri;
+    float s = hit.moving ? t : 0.0;
     vec3 pa = mix(tri.p0[0], tri.p1[0], s), pb = mix(tri.p0[1], tri.p1[1], s);
     vec3 pc_ = mix(tri.p0[2], tri.p1[2], s);
     vec3 n = normalize(cross(pb - pa, pc_ - pa));
-    if (dot(n, -dir) < 0.0) n = -n;  // two-sided: the face the camera sees
-    vec3 albedo = triangle.albedo;
+    return dot(n, -dir) < 0.0 ? -n : n;
+}
 
-    bool spot = light.position.w > 0.5;
-    vec3 to_light = spot ? light.position.xyz - p : -light.direction.xyz;
-    float dist2 = spot ? dot(to_light, to_light) : 1.0;
-    vec3 l = normalize(to_light);
-    float cos_theta = dot(n, l);
-    vec3 ambient = camera.shading.x * albedo;
-    if (cos_theta <= 0.0) return ambient;
-    if (spot && dot(-l, light.direction.xyz) < light.direction.w) return ambient;
-    vec3 direct = albedo / PI * light.emission.x * cos_theta / dist2;
-
+// The share of the light a sample at p (normal n, time t, on triangle id; sample k of the
+// pixel, at `offset` in it) receives, by the per-sample lookups of the pipeline's variant.
+float sample_lit(uvec2 pixel, uint rotation, uint k, vec2 offset, vec3 p, vec3 n, float t,
+                 uint id, bool moving) {
     // The footprint is centred on the pixel's centre, not the sample, so that where the
     // sample fell does not matter.
     const bool filtered = SHADE_FILTER != SHADE_FILTER_NONE;
@@ -197,8 +187,13 @@ vec3 shade(uvec2 pixel, uint key, uint rotation, uint k, uint64_t hit, HitTriang
         lit = footprint ? visibility_ordinary_footprint(centre, n, id, stratum, dpdx, dpdy)
                         : visibility_ordinary(p, n, id, stratum, filtered);
     }
-    return ambient + direct * lit;
+    return lit;
 }
+
+// The papers' test on the temporal map, unfiltered: every sample of the pixel tested in one
+// pass over each texel's data (temporal_samples.glsl).
+const bool SHADE_PER_TEXEL = SHADE_SHADOW == SHADOW_TEMPORAL && !SHADE_ANALYTIC
+                             && SHADE_FILTER == SHADE_FILTER_NONE;
 
 void main() {
     camera = load_camera(pc.target);
@@ -217,43 +212,96 @@ void main() {
     uint p = pixel.y * camera.image.x + pixel.x;
     uint key = pixel_key(pixel, camera.image.w);
     uint rotation = stratum_rotation(key, camera.image.z);
-    Uint64Array visibility = Uint64Array(camera.visibility);
-    uint count = pc.sample_count;
-    uint64_t hits[MAX_SAMPLES_PER_CHUNK];
-    for (uint j = 0u; j < count; ++j) hits[j] = visibility.v[p * count + j];
 
-    // The distinct triangles the samples hit (most pixels: one), each fetched once into a
-    // slot. Fetching a triangle through its draw is many loads, and a CPU device makes each
-    // load lane by lane for every lane of a branch, taken or not; this loop runs as often as
-    // the lanes' most distinct triangles.
-    HitTriangle slots[MAX_SAMPLES_PER_CHUNK];
-    uint slot_of[MAX_SAMPLES_PER_CHUNK];
+    // Each sample's hit: its triangle, time, position in the pixel and point.
+    Uint64Array visibility = Uint64Array(camera.visibility);
+    uint id[SHADE_SAMPLES];
+    float t[SHADE_SAMPLES];
+    vec2 offset[SHADE_SAMPLES];
+    vec3 dir[SHADE_SAMPLES], point[SHADE_SAMPLES];
     uint pending = 0u;  // samples on a triangle not fetched yet
-    for (uint j = 0u; j < count; ++j) {
-        slot_of[j] = 0u;
-        if (uint(hits[j] & 0xffffffffUL) != NO_TRIANGLE) pending |= 1u << j;
+    [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
+        uint64_t hit = visibility.v[p * SHADE_SAMPLES + j];
+        id[j] = uint(hit & 0xffffffffUL);
+        pixel_sample(key, rotation, pc.first_sample + j, camera.image.z, t[j], offset[j]);
+        if ((pc.flags & FIXED_TIME) != 0u) t[j] = pc.time;
+        dir[j] = camera_ray(camera, vec2(pixel) + offset[j]);
+        point[j] = camera.position.xyz + uintBitsToFloat(uint(hit >> 32)) * dir[j];
+        if (id[j] != NO_TRIANGLE) pending |= 1u << j;
     }
-    for (uint slot = 0u; pending != 0u; ++slot) {
-        uint id = uint(hits[findLSB(pending)] & 0xffffffffUL);
-        slots[slot] = fetch_hit(id);
-        for (uint j = 0u; j < count; ++j) {
-            if (uint(hits[j] & 0xffffffffUL) == id) {
-                slot_of[j] = slot;
-                pending &= ~(1u << j);
-            }
+
+    // The distinct triangles the samples hit (most pixels: one), each fetched once: fetching
+    // a triangle through its draw is many loads, and a CPU device makes each load lane by
+    // lane for every lane of a branch, taken or not; this loop runs as often as the lanes'
+    // most distinct triangles.
+    vec3 normal[SHADE_SAMPLES], albedo[SHADE_SAMPLES];
+    uint moving = 0u;   // samples on a moving triangle
+    [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
+        normal[j] = vec3(0.0);
+        albedo[j] = vec3(0.0);
+    }
+    while (pending != 0u) {
+        uint first = uint(findLSB(pending));
+        uint hit_id = NO_TRIANGLE;
+        [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
+            if (j == first) hit_id = id[j];
+        }
+        HitTriangle hit = fetch_hit(hit_id);
+        [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
+            if ((pending & (1u << j)) == 0u || id[j] != hit_id) continue;
+            normal[j] = surface_normal(hit, t[j], dir[j]);
+            albedo[j] = hit.albedo;
+            if (hit.moving) moving |= 1u << j;
+            pending &= ~(1u << j);
+        }
+    }
+
+    // Lambert shading; `facing`: the samples the light reaches but for shadows.
+    vec3 ambient[SHADE_SAMPLES], direct[SHADE_SAMPLES];
+    uint facing = 0u;
+    bool spot = light.position.w > 0.5;
+    [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
+        vec3 to_light = spot ? light.position.xyz - point[j] : -light.direction.xyz;
+        float dist2 = spot ? dot(to_light, to_light) : 1.0;
+        vec3 l = normalize(to_light);
+        float cos_theta = dot(normal[j], l);
+        ambient[j] = camera.shading.x * albedo[j];
+        direct[j] = albedo[j] / PI * light.emission.x * cos_theta / dist2;
+        bool away = cos_theta <= 0.0 || (spot && dot(-l, light.direction.xyz) < light.direction.w);
+        if (id[j] != NO_TRIANGLE && !away) facing |= 1u << j;
+    }
+
+    // The shadow term of each facing sample.
+    float lit[SHADE_SAMPLES];
+    [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) lit[j] = 1.0;
+    if (SHADE_PER_TEXEL) {
+        uint texel[SHADE_SAMPLES];
+        float depth[SHADE_SAMPLES];
+        uint seen = 0u;
+        [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
+            bool tested = ms_receiver(temporal, point[j], normal[j], texel[j], depth[j]);
+            if ((facing & (1u << j)) != 0u && tested) seen |= 1u << j;
+        }
+        uint shadowed = ms_samples_shadowed(temporal, seen, texel, depth, t, id);
+        [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
+            if ((shadowed & (1u << j)) != 0u) lit[j] = 0.0;
+        }
+    } else {
+        [[dont_unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
+            if ((facing & (1u << j)) == 0u) continue;
+            lit[j] = sample_lit(pixel, rotation, pc.first_sample + j, offset[j], point[j],
+                                normal[j], t[j], id[j], (moving & (1u << j)) != 0u);
         }
     }
 
     vec3 sum = vec3(0.0);
-    float moving = 0.0;  // samples that see a moving triangle: the moving-object mask
-    for (uint j = 0u; j < count; ++j) {
-        HitTriangle triangle = slots[slot_of[j]];
-        sum += shade(pixel, key, rotation, pc.first_sample + j, hits[j], triangle);
-        bool background = uint(hits[j] & 0xffffffffUL) == NO_TRIANGLE;
-        if (!background && triangle.moving) moving += 1.0;
+    [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
+        if (id[j] == NO_TRIANGLE) continue;
+        bool lit_side = (facing & (1u << j)) != 0u;
+        sum += lit_side ? ambient[j] + direct[j] * lit[j] : ambient[j];
     }
     Vec4Array radiance = Vec4Array(camera.radiance);
-    radiance.v[p] += vec4(sum, moving) / float(camera.image.z);
+    radiance.v[p] += vec4(sum, float(bitCount(moving))) / float(camera.image.z);
     // The device leaves loops past a fixed count: say so when this pixel's lookups may have
     // come near it (the host re-runs with fewer samples per invocation, or fails).
     if (SHADE_LOOP_BUDGET > 0u && ms_loop_iterations > SHADE_LOOP_BUDGET) {

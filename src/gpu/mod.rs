@@ -14,6 +14,7 @@ mod image;
 mod image_bindings;
 mod pipeline;
 mod timestamps;
+mod variants;
 
 pub use barrier::{Access, image_barrier, memory_barrier};
 pub use buffer::{Buffer, BufferUsage};
@@ -27,3 +28,4 @@ pub use pipeline::{
     pipeline_layout, pipeline_layout_with_sets, specialized_compute_pipeline,
 };
 pub use timestamps::TimestampQueries;
+pub use variants::ComputeVariants;

@@ -90,6 +90,14 @@ pub fn pipeline_layout_with_sets(
     set_layouts: &[vk::DescriptorSetLayout],
     push_bytes: u32,
 ) -> Result<vk::PipelineLayout> {
+    layout_on(ctx.device(), set_layouts, push_bytes)
+}
+
+fn layout_on(
+    device: &ash::Device,
+    set_layouts: &[vk::DescriptorSetLayout],
+    push_bytes: u32,
+) -> Result<vk::PipelineLayout> {
     let ranges = [vk::PushConstantRange {
         stage_flags: vk::ShaderStageFlags::ALL,
         offset: 0,
@@ -99,7 +107,7 @@ pub fn pipeline_layout_with_sets(
     if push_bytes > 0 {
         info = info.push_constant_ranges(&ranges);
     }
-    unsafe { ctx.device().create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")
+    unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")
 }
 
 /// A compute pipeline of one SPIR-V module (entry point `main`).
@@ -135,6 +143,19 @@ pub fn specialized_compute_pipeline(
     constants: &[u32],
 ) -> Result<Pipeline> {
     let module = ShaderModule::new(ctx, name, spirv)?;
+    compute_of_module(&ctx.shared, set_layouts, push_bytes, &module, constants)
+}
+
+/// A compute pipeline of `module` (entry point `main`) with its specialization constants
+/// `constant_id = i` set to `constants[i]`.
+pub(crate) fn compute_of_module(
+    shared: &Arc<Shared>,
+    set_layouts: &[vk::DescriptorSetLayout],
+    push_bytes: u32,
+    module: &ShaderModule,
+    constants: &[u32],
+) -> Result<Pipeline> {
+    let device = &shared.device;
     let entries: Vec<vk::SpecializationMapEntry> = (0..constants.len() as u32)
         .map(|i| vk::SpecializationMapEntry {
             constant_id: i,
@@ -146,7 +167,7 @@ pub fn specialized_compute_pipeline(
     let specialization = vk::SpecializationInfo::default()
         .map_entries(&entries)
         .data(&data);
-    let layout = pipeline_layout_with_sets(ctx, set_layouts, push_bytes)?;
+    let layout = layout_on(device, set_layouts, push_bytes)?;
     let mut stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module.raw())
@@ -157,19 +178,16 @@ pub fn specialized_compute_pipeline(
     let info = [vk::ComputePipelineCreateInfo::default()
         .stage(stage)
         .layout(layout)];
-    let raw = unsafe {
-        ctx.device()
-            .create_compute_pipelines(vk::PipelineCache::null(), &info, None)
-    };
+    let raw = unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &info, None) };
     match raw {
         Ok(p) => Ok(Pipeline {
-            shared: ctx.shared.clone(),
+            shared: shared.clone(),
             raw: p[0],
             layout,
             bind_point: vk::PipelineBindPoint::COMPUTE,
         }),
         Err((_, result)) => {
-            unsafe { ctx.device().destroy_pipeline_layout(layout, None) };
+            unsafe { device.destroy_pipeline_layout(layout, None) };
             Err(Error::Vulkan {
                 call: "vkCreateComputePipelines",
                 result,

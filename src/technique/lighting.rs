@@ -16,10 +16,11 @@ use super::shadow_map::TemporalShadowMap;
 use super::view::{LightingView, ShadowEstimator, ShadowFilter};
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Buffer, BufferUsage, Context, Pipeline, TimestampQueries, attachmentless_pipeline,
-    begin_attachmentless, memory_barrier, specialized_compute_pipeline,
+    Access, Buffer, BufferUsage, ComputeVariants, Context, Pipeline, TimestampQueries,
+    attachmentless_pipeline, begin_attachmentless, memory_barrier,
 };
 use ash::vk;
+use std::sync::Arc;
 
 /// The most samples one geometry pass handles (bounded further by the device's buffer limit).
 pub const MAX_SAMPLES_PER_CHUNK: u32 = 16;
@@ -232,8 +233,11 @@ impl ShadowSource<'_> {
 /// The papers' lighting pass. Immutable after creation: one serves every frame in flight.
 pub struct LightingPass {
     raster: Pipeline,
-    /// One shading pipeline per [`ShadeVariant`].
-    resolve: Vec<(ShadeVariant, Pipeline)>,
+    /// The shading pipelines, one per [`ShadeVariant`] and chunk size, made on first use.
+    resolve: ComputeVariants,
+    /// The most loop iterations one pixel's shadow lookups may report before the pass
+    /// counts it as possibly cut short (0: the device has no loop limit, nothing counted).
+    loop_budget: u32,
 }
 
 /// What one shading pipeline is specialized for (`resolve.comp`'s specialization
@@ -248,40 +252,8 @@ struct ShadeVariant {
 }
 
 impl ShadeVariant {
-    const FILTERS: [ShadowFilter; 3] = [
-        ShadowFilter::None,
-        ShadowFilter::Bilinear,
-        ShadowFilter::Footprint,
-    ];
-
-    /// Every variant a record may ask for: the temporal map with either estimator and any
-    /// filter, the ordinary maps with any filter (no estimator), and no shadows.
-    fn all() -> Vec<Self> {
-        let mut all = Vec::new();
-        for (mode, analytic) in [
-            (ShadowMode::Temporal, false),
-            (ShadowMode::Temporal, true),
-            (ShadowMode::Plain, false),
-            (ShadowMode::Tsm, false),
-        ] {
-            for filter in Self::FILTERS {
-                all.push(Self {
-                    mode,
-                    analytic,
-                    filter,
-                });
-            }
-        }
-        all.push(Self::of(
-            ShadowMode::None,
-            ShadowEstimator::Sampled,
-            ShadowFilter::None,
-        ));
-        all
-    }
-
     /// The variant that renders `mode` with `estimator` and `filter` (choices a test does
-    /// not have are dropped: every request maps to one of [`Self::all`]).
+    /// not have are dropped, so that they do not make pipelines that differ for nothing).
     fn of(mode: ShadowMode, estimator: ShadowEstimator, filter: ShadowFilter) -> Self {
         Self {
             mode,
@@ -294,20 +266,28 @@ impl ShadeVariant {
         }
     }
 
-    /// The values of `resolve.comp`'s constants 0 to 3 (the last, the device's loop budget).
-    fn constants(self, loop_budget: u32) -> [u32; 4] {
+    /// The values of `resolve.comp`'s specialization constants for a chunk of `samples`
+    /// samples per pixel on a device with `loop_budget`.
+    fn constants(self, loop_budget: u32, samples: u32) -> [u32; 5] {
         let filter = match self.filter {
             ShadowFilter::None => 0,
             ShadowFilter::Bilinear => 1,
             ShadowFilter::Footprint => 2,
         };
-        [self.mode as u32, self.analytic as u32, filter, loop_budget]
+        [
+            self.mode as u32,
+            self.analytic as u32,
+            filter,
+            loop_budget,
+            samples,
+        ]
     }
 }
 
 impl LightingPass {
-    /// Creates the raster pipeline (vertex, geometry, fragment shader) and the resolve
-    /// compute pipelines (one per shadow test, estimator and filter).
+    /// Creates the raster pipeline (vertex, geometry, fragment shader). The shading's compute
+    /// pipelines (one per shadow test, estimator, filter and chunk size) are made when a
+    /// record first needs them.
     pub fn new(ctx: &Context) -> Result<Self> {
         let raster = attachmentless_pipeline(
             ctx,
@@ -330,38 +310,32 @@ impl LightingPass {
                 ),
             ],
         )?;
-        // The most loop iterations one pixel's shadow lookups may report before the pass
-        // counts it as possibly cut short (0: the device has no loop limit, nothing counted).
-        let loop_budget = ctx.info().shader_loop_budget();
-        let resolve = ShadeVariant::all()
-            .into_iter()
-            .map(|variant| {
-                let pipeline = specialized_compute_pipeline(
-                    ctx,
-                    &[],
-                    PUSH_BYTES,
-                    "resolve.comp",
-                    shaders::RESOLVE_COMP,
-                    &variant.constants(loop_budget),
-                )?;
-                Ok((variant, pipeline))
-            })
-            .collect::<Result<Vec<_>>>()?;
-        Ok(Self { raster, resolve })
+        Ok(Self {
+            raster,
+            resolve: ComputeVariants::new(ctx, PUSH_BYTES, "resolve.comp", shaders::RESOLVE_COMP)?,
+            loop_budget: ctx.info().shader_loop_budget(),
+        })
     }
 
-    fn resolve_pipeline(&self, variant: ShadeVariant) -> &Pipeline {
-        let (_, pipeline) = self
-            .resolve
-            .iter()
-            .find(|(v, _)| *v == variant)
-            .expect("ShadeVariant::of maps every request to one of ShadeVariant::all");
-        pipeline
+    /// The shading pipeline for `shadow` seen as `view` says, for chunks of `samples`.
+    fn shading(
+        &self,
+        shadow: ShadowSource<'_>,
+        view: &LightingView,
+        samples: u32,
+    ) -> Result<Arc<Pipeline>> {
+        let (mode, _) = shadow.mode_and_header();
+        let variant = ShadeVariant::of(mode, view.estimator, view.filter);
+        self.resolve
+            .get(&variant.constants(self.loop_budget, samples))
     }
 
     /// Records the whole lighting pass for the target's samples per pixel (as many chunks as
     /// the target needs), leaving the averaged radiance in `target.radiance`. With
     /// `timestamps`, marks "lighting raster" and "lighting shade" after each chunk's halves.
+    ///
+    /// Errors (nothing recorded) when a shading pipeline this frame needs cannot be made
+    /// (each variant is made on first use).
     ///
     /// # Safety
     /// - As [`super::CollectionPass::record`] for `cmd` and `draws`.
@@ -383,7 +357,14 @@ impl LightingPass {
         shadow: ShadowSource<'_>,
         target: &LightingTarget,
         mut timestamps: Option<&mut TimestampQueries>,
-    ) {
+    ) -> Result<()> {
+        // Every chunk is full but maybe the last: both pipelines are made before anything
+        // is recorded.
+        let full = target.samples_per_chunk.min(target.spp);
+        self.shading(shadow, view, full)?;
+        if target.spp % full != 0 {
+            self.shading(shadow, view, target.spp % full)?;
+        }
         unsafe { self.record_clear(device, cmd, view, target) };
         let mut first = 0;
         while first < target.spp {
@@ -404,9 +385,10 @@ impl LightingPass {
                     samples,
                     timestamps.as_deref_mut(),
                 )
-            };
+            }?;
             first += count;
         }
+        Ok(())
     }
 
     /// Writes the target's header for `view` and zeroes its radiance and counters, before a
@@ -457,6 +439,8 @@ impl LightingPass {
     /// header). The chunk starting at sample 0 counts the triangles dropped for an invalid
     /// index.
     ///
+    /// Errors (nothing recorded) when the chunk's shading pipeline cannot be made.
+    ///
     /// # Safety
     /// As [`Self::record`], after [`Self::record_clear`] of the same frame.
     #[allow(clippy::too_many_arguments)]
@@ -470,9 +454,10 @@ impl LightingPass {
         target: &LightingTarget,
         samples: Samples,
         mut timestamps: Option<&mut TimestampQueries>,
-    ) {
+    ) -> Result<()> {
         let (mode, map) = shadow.mode_and_header();
         let count = samples.count.clamp(1, target.samples_per_chunk);
+        let resolve = self.shading(shadow, view, count)?;
         let mut flags = if samples.fixed_time.is_some() {
             FIXED_TIME
         } else {
@@ -531,7 +516,6 @@ impl LightingPass {
             Access::FRAGMENT_RW.and(Access::GEOMETRY_RW),
             Access::COMPUTE_RW,
         );
-        let resolve = self.resolve_pipeline(ShadeVariant::of(mode, view.estimator, view.filter));
         resolve.bind(device, cmd);
         resolve.push(device, cmd, &constants);
         unsafe { device.cmd_dispatch(cmd, target.width.div_ceil(8), target.height.div_ceil(8), 1) };
@@ -544,6 +528,7 @@ impl LightingPass {
             Access::COMPUTE_RW,
             Access::COMPUTE_RW.and(Access::TRANSFER_READ),
         );
+        Ok(())
     }
 }
 

@@ -131,7 +131,8 @@ fn fixed_time_image(
                     fixed_time: Some(t),
                 };
                 let source = ShadowSource::Temporal(&map);
-                lighting.record_samples(device, cmd, &draws, &view, source, &target, samples, None);
+                lighting
+                    .record_samples(device, cmd, &draws, &view, source, &target, samples, None)?;
                 target.record_readback(device, cmd);
             }
             Ok(())

@@ -992,15 +992,17 @@ fn lighting_pass_writes_into_a_host_image() {
                     .record(device, cmd, &draws, &light, &map, None)
                     .unwrap();
                 generation.record(device, cmd, &map);
-                lighting.record(
-                    device,
-                    cmd,
-                    &draws,
-                    &view,
-                    ShadowSource::Temporal(&map),
-                    &target,
-                    None,
-                );
+                lighting
+                    .record(
+                        device,
+                        cmd,
+                        &draws,
+                        &view,
+                        ShadowSource::Temporal(&map),
+                        &target,
+                        None,
+                    )
+                    .unwrap();
                 target.record_readback(device, cmd);
                 deferred::pipeline_barrier(
                     device,

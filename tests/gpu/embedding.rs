@@ -82,15 +82,17 @@ fn render_embedded(host: &Host, scene: &Scene) -> Embedded {
                     .expect("collection");
                 generation.record(device, cmd, &map);
                 map.record_counter_readback(device, cmd);
-                lighting.record(
-                    device,
-                    cmd,
-                    &draws,
-                    &view,
-                    ShadowSource::Temporal(&map),
-                    &target,
-                    None,
-                );
+                lighting
+                    .record(
+                        device,
+                        cmd,
+                        &draws,
+                        &view,
+                        ShadowSource::Temporal(&map),
+                        &target,
+                        None,
+                    )
+                    .expect("lighting");
             }
             // SAFETY: the same command buffer, after the frame's passes.
             unsafe { target.record_readback(device, cmd) };

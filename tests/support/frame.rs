@@ -54,7 +54,7 @@ pub fn render_draws(
                     ShadowSource::Temporal(&map),
                     &target,
                     None,
-                );
+                )?;
             }
             // SAFETY: the same command buffer, after the frame's passes.
             unsafe { target.record_readback(device, cmd) };

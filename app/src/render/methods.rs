@@ -321,7 +321,7 @@ impl Renderer<'_> {
                             target,
                             samples,
                             None,
-                        );
+                        )?;
                     }
                 }
                 ts.mark(cmd, "reference slices");

@@ -440,7 +440,7 @@ impl<'a> Renderer<'a> {
             unsafe {
                 this.lighting
                     .record(device, cmd, draws, view, shadow, target, Some(ts))
-            };
+            }?;
             // SAFETY: the same command buffer, after the frame's passes.
             unsafe { target.record_readback(device, cmd) };
             Ok(())
