@@ -1,7 +1,7 @@
-// The collection sub-pass's one write (4.2), shared by both constructions: append a fragment
-// (a prism surface over texel p at `time`, `depth`) to the texel's linked list. A fragment
-// past the node capacity is counted but not linked, so the count tells the caller the size
-// needed. With a coverage map (the header has its address) it also keeps the nearest fragment
+// The collection sub-pass's writes (4.2). append_fragment, shared by both constructions:
+// append a fragment (a prism surface over texel p at `time`, `depth`) to the texel's linked
+// list. A fragment past the node capacity is counted but not linked, so the count tells the
+// caller the size needed. With a coverage map (the header has its address) it also keeps the nearest fragment
 // per texel: the nearest map, first pass of the 2017 paper's extension.
 #extension GL_EXT_shader_atomic_int64 : require
 
@@ -16,4 +16,27 @@ void append_fragment(MsShadowMap map, uint p, float depth, float time, uint id, 
     if (index >= counters.c.node_capacity || counters.c.wrapped != 0u) return;
     uint next = atomicExchange(UintArray(map.heads).v[p], index + 1u);
     store_node(map.nodes, index, Node(depth, clamp(time, 0.0, 1.0), id, next));
+}
+
+// The exact construction without a coverage map: append a covered run [times.x, times.y] of
+// triangle `id` over texel p (depths at its ends) to the texel's range list, as the generation
+// pass would have paired it from its two nodes. The figures stay those of the lists: two
+// fragments per run in node_count, and the texel's node head counts its runs (the list's
+// length: at most MAX_LIST_NODES fragments, more is an error as in the generation pass). A
+// range past the range capacity is counted but not linked.
+void append_range(MsShadowMap map, uint p, vec2 times, vec2 depths, uint id) {
+    CounterRef counters = CounterRef(map.counters);
+    // The fragment count is even: 2^32 - 2 is the last before it wraps. (The range count,
+    // half of it, cannot wrap first.)
+    if (atomicAdd(counters.c.node_count, 2u) == 0xfffffffeu) atomicOr(counters.c.wrapped, 1u);
+    uint fragments = 2u * (atomicAdd(UintArray(map.heads).v[p], 1u) + 1u);
+    atomicMax(counters.c.longest_list, fragments);
+    if (fragments > MAX_LIST_NODES) {
+        if (fragments == MAX_LIST_NODES + 2u) atomicAdd(counters.c.overlong_pixels, 1u);
+        return;
+    }
+    uint index = atomicAdd(counters.c.range_count, 1u);
+    if (index >= counters.c.range_capacity) return;
+    uint next = atomicExchange(UintArray(map.range_heads).v[p], index + 1u);
+    store_range(map.ranges, index, MsRange(times.x, times.y, depths.x, depths.y, id, next));
 }

@@ -43,17 +43,6 @@ void emit_ndc(vec2 ndc) {
     EmitVertex();
 }
 
-// The footprint's tiles go on the generation's tile list: every tile its bounding box (in
-// texels) touches; only when the collection asks for it (pc.target: the tile list), not when
-// the list is every tile or in the coverage map's reset pass, which draws the same footprints.
-void mark_footprint(vec2 lo, vec2 hi, uvec2 size) {
-    if (pc.target == 0UL) return;
-    uvec2 last = (size - 1u) / TILE_TEXELS;
-    uvec2 first = min(uvec2(clamp(floor(lo), vec2(0.0), vec2(size - 1u))) / TILE_TEXELS, last);
-    uvec2 to = min(uvec2(clamp(floor(hi), vec2(0.0), vec2(size - 1u))) / TILE_TEXELS, last);
-    mark_tiles(pc.target, size, first, to);
-}
-
 void emit_whole_map() {
     emit_ndc(vec2(-1.0, -1.0));
     emit_ndc(vec2(1.0, -1.0));
@@ -149,7 +138,6 @@ void main() {
         texels[i] = (ndc * 0.5 + 0.5) * size;
     }
     if (!bounded) {
-        mark_footprint(vec2(0.0), size, map.size.xy);
         emit_whole_map();
         return;
     }
@@ -157,12 +145,6 @@ void main() {
     int h = convex_hull(texels, hull);
     if (h < 3) return;  // seen edge-on all frame long: covers no texel centre
     dilate(hull, h, DILATION_TEXELS);
-    vec2 box_lo = hull[0], box_hi = hull[0];
-    for (int i = 1; i < h; ++i) {
-        box_lo = min(box_lo, hull[i]);
-        box_hi = max(box_hi, hull[i]);
-    }
-    mark_footprint(box_lo, box_hi, map.size.xy);
     // A convex polygon as one strip: 0, 1, h-1, 2, h-2, ...
     int lo = 0, hi = h - 1;
     emit_ndc(hull[lo++] / size * 2.0 - 1.0);

@@ -1,9 +1,8 @@
 #version 450
 // Generation, first tier: every pixel whose list holds at most SHORT_LIST fragments (nearly
 // all of them) is paired here with small private arrays; longer lists are handed to the
-// second tier (generation_long.comp) through the long-pixel list. One workgroup per tile of
-// the collection's tile list (shared.glsl): texels of other tiles hold no fragment, and their
-// range heads were cleared by the collection.
+// second tier (generation_long.comp) through the long-pixel list. One workgroup per 8x8-texel
+// tile, dispatched indirectly as the collection set it (shared.glsl's TILE_TEXELS).
 #define SHORT_LIST 16u
 #define LIST_CAPACITY SHORT_LIST
 #include "generation_common.glsl"
@@ -12,13 +11,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 void main() {
     open_map();
-    TileList tiles = TileList(map.tiles);
-    uvec2 tile = gl_WorkGroupID.xy;
-    if (tiles.every_tile == 0u) {
-        uint packed = tiles.v[tile_count(map.size.xy) + gl_WorkGroupID.x];
-        tile = uvec2(packed & 0xffffu, packed >> 16);
-    }
-    uvec2 pixel = tile * TILE_TEXELS + gl_LocalInvocationID.xy;
+    uvec2 pixel = gl_WorkGroupID.xy * TILE_TEXELS + gl_LocalInvocationID.xy;
     if (pixel.x >= map.size.x || pixel.y >= map.size.y) return;
     uint p = pixel.y * map.size.x + pixel.x;
     if (pair_two(p)) return;

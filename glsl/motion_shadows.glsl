@@ -89,7 +89,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ms
     uint64_t nearest;
     uint64_t static_nearest;  // 0, or MsUint64s: per texel, the nearest triangle that does not
                               // move, as ms_static_key(depth) << 32 | id (all ones: none)
-    uint64_t tiles;           // the 8x8-texel tiles holding fragments (shared.glsl's TileList)
+    uint64_t tiles;           // the generation pass's indirect dispatch (tiles across, down)
 };
 
 // Where a world point falls in the light's image, in texels from the map's corner

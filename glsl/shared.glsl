@@ -37,7 +37,8 @@ struct Counters {
     uint ranges_without_coverage;   // what range_count would be without the coverage map
     uint invalid_triangles;
     uint wrapped;                   // 1 if node_count passed 2^32 - 1 (the frame is an error)
-    uint reserved0, reserved1, reserved2;
+    uint ranges_direct;             // 1: the collection stored ranges, no nodes (host-written)
+    uint reserved1, reserved2;
 };
 
 // The most fragments one shadow-map pixel may hold. The generation pass sorts a pixel's list
@@ -77,41 +78,10 @@ layout(buffer_reference, std430, buffer_reference_align = 8) buffer Vec2Array { 
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer Vec4Array { vec4 v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer CounterRef { Counters c; };
 
-// The 8x8-texel tiles that may hold fragments, so that the generation pass visits those
-// instead of every texel (most of a map is empty once static triangles go to the static
-// layer). With the exact construction and the static layer, the collection's geometry shader
-// marks the tiles of every footprint it draws (static triangles add no fragment then);
-// otherwise (the papers' prisms, static triangles in the lists) the list is every tile.
-// `listed` and `groups_y` are the generation's indirect dispatch: the marked tiles, or every
-// tile (tiles across x tiles down).
+// The generation pass runs one 8x8-texel workgroup per tile of the map, through an indirect
+// dispatch the collection sets (the map header's `tiles`, 3 group counts and a pad): every
+// tile where the lists hold fragments, none where the collection stored the ranges itself.
 const uint TILE_TEXELS = 8u;
-layout(buffer_reference, std430, buffer_reference_align = 16) buffer TileList {
-    uint listed;            // tiles listed; with every_tile, tiles across
-    uint groups_y, groups_z;    // 1, 1; with every_tile, tiles down, 1
-    uint every_tile;        // 1: workgroup (x, y) is tile (x, y), nothing is marked
-    uint v[];               // [0, tile_count): 1 where marked; then the marked tiles, x | y << 16
-};
-
-uint tiles_across(uvec2 size) { return (size.x + TILE_TEXELS - 1u) / TILE_TEXELS; }
-uint tile_count(uvec2 size) {
-    return tiles_across(size) * ((size.y + TILE_TEXELS - 1u) / TILE_TEXELS);
-}
-
-// Puts the tiles from `first` to `last` (tile coordinates, inclusive) on `list` (a TileList
-// of a map of `size` texels), each once. Marking tiles that end up without a fragment is
-// harmless (the generation finds their lists empty).
-void mark_tiles(uint64_t list, uvec2 size, uvec2 first, uvec2 last) {
-    TileList tiles = TileList(list);
-    uint across = tiles_across(size), count = tile_count(size);
-    for (uint y = first.y; y <= last.y; ++y) {
-        for (uint x = first.x; x <= last.x; ++x) {
-            uint tile = y * across + x;
-            if (tiles.v[tile] == 0u && atomicExchange(tiles.v[tile], 1u) == 0u) {
-                tiles.v[count + atomicAdd(tiles.listed, 1u)] = x | (y << 16);
-            }
-        }
-    }
-}
 
 // ---- host geometry ----
 

@@ -1,5 +1,8 @@
 //! Collection sub-pass (paper 4.1-4.2): the prisms of all moving triangles, rasterized from
-//! the light, every fragment appended to its pixel's list.
+//! the light, every fragment appended to its pixel's list. With the exact construction and
+//! the static layer, each covered run goes straight to the pixel's range list instead
+//! ([`TemporalShadowMap::collects_ranges`]): a run is the range the generation sub-pass would
+//! pair from its two fragments, so that pass has nothing left to do and no node is stored.
 
 use super::coverage::{CoverageMap, MAX_COVERAGE_TRIANGLES};
 use super::draws::DrawList;
@@ -30,6 +33,8 @@ pub(crate) struct PrismShaders {
     pub exact_fragment: (&'static str, &'static [u8]),
     /// The exact construction's static draws (`collection_static.vert`, no geometry shader).
     pub static_fragment: (&'static str, &'static [u8]),
+    /// The exact construction storing each run as its range (the collection pass only).
+    pub ranges_fragment: Option<(&'static str, &'static [u8])>,
 }
 
 /// One pipeline per [`PrismConstruction`] (and one for the exact construction's static
@@ -37,6 +42,7 @@ pub(crate) struct PrismShaders {
 pub(crate) struct PrismPipelines {
     exact: Pipeline,
     exact_static: Pipeline,
+    exact_ranges: Option<Pipeline>,
     paper: Pipeline,
 }
 
@@ -64,6 +70,16 @@ impl PrismPipelines {
                     ),
                 ],
             )?,
+            exact_ranges: shaders
+                .ranges_fragment
+                .map(|fragment| {
+                    prism_pipeline(
+                        ctx,
+                        ("collection_exact.geom", shaders::COLLECTION_EXACT_GEOM),
+                        fragment,
+                    )
+                })
+                .transpose()?,
             paper: prism_pipeline(
                 ctx,
                 ("collection.geom", shaders::COLLECTION_GEOM),
@@ -73,8 +89,10 @@ impl PrismPipelines {
     }
 
     /// Records every draw's prisms with `construction`'s pipelines (binding them), pushing
-    /// `constants` with each draw's index; static draws only if `with_static`. Inside
+    /// `constants` with each draw's index; static draws only if `with_static`; the exact
+    /// construction's moving draws as ranges if `ranges` (and the pipelines have it). Inside
     /// dynamic rendering.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn draw(
         &self,
         device: &ash::Device,
@@ -83,11 +101,16 @@ impl PrismPipelines {
         draws: &DrawList,
         constants: PassConstants,
         with_static: bool,
+        ranges: bool,
     ) {
+        let exact_moving = match &self.exact_ranges {
+            Some(pipeline) if ranges => pipeline,
+            _ => &self.exact,
+        };
         let pipeline_of = |record: &DrawRecord| match construction {
             PrismConstruction::Paper => &self.paper,
             _ if record.flags() & DRAW_STATIC != 0 => &self.exact_static,
-            PrismConstruction::Exact => &self.exact,
+            PrismConstruction::Exact => exact_moving,
         };
         let mut bound: Option<vk::Pipeline> = None;
         for (i, record) in draws.records().iter().enumerate() {
@@ -169,6 +192,7 @@ impl CollectionPass {
                 paper_fragment: ("collection.frag", shaders::COLLECTION_FRAG),
                 exact_fragment: ("collection_exact.frag", shaders::COLLECTION_EXACT_FRAG),
                 static_fragment: ("collection_static.frag", shaders::COLLECTION_STATIC_FRAG),
+                ranges_fragment: Some(("collection_ranges.frag", shaders::COLLECTION_RANGES_FRAG)),
             },
         )?;
         Ok(Self { pipelines })
@@ -179,9 +203,10 @@ impl CollectionPass {
     /// triangle's prism, built as `light.prisms` says. Static draws go to the static layer
     /// ([`TemporalShadowMap::uses_static_layer`]); with [`LightView::keep_static_layer`] a
     /// layer drawn for the same light view and static draws is kept, and only the other draws
-    /// are drawn. The map's counters say afterwards whether it had room (see
-    /// [`TemporalShadowMap::needs_more_room`]). With `coverage`, also fills its nearest map
-    /// (the 2017 extension's first pass; [`super::CoveragePass`] follows).
+    /// are drawn; the moving draws' covered runs then go straight to the range lists
+    /// ([`TemporalShadowMap::collects_ranges`]). The map's counters say afterwards whether it
+    /// had room (see [`TemporalShadowMap::needs_more_room`]). With `coverage`, also fills its
+    /// nearest map (the 2017 extension's first pass; [`super::CoveragePass`] follows).
     ///
     /// Errors (nothing recorded) when the coverage map's size differs from the map's or the
     /// draws' ids reach [`MAX_COVERAGE_TRIANGLES`] with a coverage map.
@@ -198,9 +223,10 @@ impl CollectionPass {
     ///   queue.
     ///
     /// Synchronization: waits, with a global barrier, for earlier shader reads and writes and
-    /// transfers of any buffer of the map; leaves the lists written by the fragment stage and
-    /// made visible to later fragment and compute shader reads and writes. State changed: the
-    /// bound graphics pipeline, its push constants, viewport and scissor.
+    /// transfers of any buffer of the map; leaves the lists (or the ranges) and the counters
+    /// written by the fragment and transfer stages and made visible to later fragment and
+    /// compute shader reads and writes. State changed: the bound graphics pipeline, its push
+    /// constants, viewport and scissor.
     pub unsafe fn record(
         &self,
         device: &ash::Device,
@@ -234,9 +260,7 @@ impl CollectionPass {
             (static_layer && light.keep_static_layer).then(|| StaticLayerSource::of(light, draws));
         let keep = source.as_ref().is_some_and(|s| map.static_layer_is(s));
         let redraw_layer = static_layer && !keep;
-        // Only the exact construction's geometry shader marks the tiles it draws into, and
-        // only with static triangles in the static layer do no other draws add fragments.
-        let marked = static_layer;
+        let collects_ranges = map.collects_ranges(light, coverage);
         // Earlier frames may still read these lists.
         memory_barrier(
             device,
@@ -252,11 +276,12 @@ impl CollectionPass {
         let counters = Counters {
             node_capacity: map.node_capacity(),
             range_capacity: map.range_capacity(),
+            ranges_direct: collects_ranges as u32,
             ..Counters::default()
         };
         unsafe {
             device.cmd_fill_buffer(cmd, map.heads.raw(), 0, vk::WHOLE_SIZE, 0);
-            map.record_clear_tiles(device, cmd, marked);
+            map.record_clear_ranges(device, cmd, collects_ranges);
             if redraw_layer {
                 let empty = u32::MAX;
                 device.cmd_fill_buffer(cmd, map.static_nearest.raw(), 0, vk::WHOLE_SIZE, empty);
@@ -277,25 +302,47 @@ impl CollectionPass {
         begin_attachmentless(device, cmd, map.width(), map.height());
         let constants = PassConstants {
             map: map.header_address(),
-            // The geometry shader marks the footprints' tiles.
-            target: if marked {
-                map.tiles.device_address()
-            } else {
-                0
-            },
             flags: COUNT_INVALID,
             ..PassConstants::default()
         };
-        self.pipelines
-            .draw(device, cmd, light.prisms, draws, constants, !keep);
+        self.pipelines.draw(
+            device,
+            cmd,
+            light.prisms,
+            draws,
+            constants,
+            !keep,
+            collects_ranges,
+        );
         unsafe { device.cmd_end_rendering(cmd) };
         if redraw_layer {
             map.static_layer_drawn(source);
         }
+        if collects_ranges {
+            // No generation pass pairs these ranges, and no coverage map drops any: what the
+            // range count would be without one is the count itself.
+            memory_barrier(
+                device,
+                cmd,
+                Access::FRAGMENT_RW,
+                Access::TRANSFER_READ.and(Access::TRANSFER_WRITE),
+            );
+            let count = std::mem::offset_of!(Counters, range_count) as u64;
+            let without = std::mem::offset_of!(Counters, ranges_without_coverage) as u64;
+            let region = [vk::BufferCopy {
+                src_offset: count,
+                dst_offset: without,
+                size: 4,
+            }];
+            let counters = map.counters.raw();
+            unsafe { device.cmd_copy_buffer(cmd, counters, counters, &region) };
+        }
         memory_barrier(
             device,
             cmd,
-            Access::FRAGMENT_RW.and(Access::GEOMETRY_RW),
+            Access::FRAGMENT_RW
+                .and(Access::GEOMETRY_RW)
+                .and(Access::TRANSFER_WRITE),
             Access::COMPUTE_RW.and(Access::FRAGMENT_RW),
         );
         Ok(())

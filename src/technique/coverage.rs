@@ -117,6 +117,7 @@ impl CoveragePass {
                     "coverage_reset_static.frag",
                     shaders::COVERAGE_RESET_STATIC_FRAG,
                 ),
+                ranges_fragment: None,
             },
         )?;
         Ok(Self { caps, reset })
@@ -175,7 +176,7 @@ impl CoveragePass {
             ..PassConstants::default()
         };
         self.reset
-            .draw(device, cmd, light.prisms, draws, constants, true);
+            .draw(device, cmd, light.prisms, draws, constants, true, false);
         unsafe { device.cmd_end_rendering(cmd) };
         memory_barrier(
             device,

@@ -2,7 +2,9 @@
 //! that holds fragments. It visits only the 8x8-texel tiles the collection marked (an
 //! indirect dispatch over its tile list; the collection cleared every range head). Two tiers:
 //! every pixel with a short list (nearly all) is paired with small private arrays; the few
-//! long lists go to a second, indirect dispatch with room for `MAX_LIST_NODES`.
+//! long lists go to a second, indirect dispatch with room for `MAX_LIST_NODES`. Where the
+//! collection stored the ranges itself ([`TemporalShadowMap::collects_ranges`]) it set both
+//! dispatches to zero groups: recording the pass costs its barriers only.
 
 use super::collection::PUSH_BYTES;
 use super::gpu_types::PassConstants;

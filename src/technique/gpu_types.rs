@@ -42,18 +42,21 @@ pub struct Range {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Counters {
-    /// Fragments the collection pass produced (stored up to `node_capacity`).
+    /// Fragments the collection pass produced (stored up to `node_capacity`; with
+    /// `ranges_direct`, two per covered run and none stored).
     pub node_count: u32,
     /// Room in the fragment buffer.
     pub node_capacity: u32,
-    /// Ranges the generation pass produced (stored up to `range_capacity`).
+    /// Ranges the generation pass produced, or with `ranges_direct` the collection pass
+    /// (stored up to `range_capacity`).
     pub range_count: u32,
     /// Room in the range buffer.
     pub range_capacity: u32,
     /// Shadow-map pixels holding more than [`MAX_LIST_NODES`] fragments: not turned into
-    /// ranges, so such a frame is an error.
+    /// ranges (with `ranges_direct`: not all of them), so such a frame is an error.
     pub overlong_pixels: u32,
-    /// The longest fragment list of the frame (counted up to 8 x [`MAX_LIST_NODES`]).
+    /// The longest fragment list of the frame (counted up to 8 x [`MAX_LIST_NODES`], or
+    /// exactly with `ranges_direct`).
     pub longest_list: u32,
     /// What `range_count` would be without the coverage map (equal to it without one).
     pub ranges_without_coverage: u32,
@@ -62,8 +65,13 @@ pub struct Counters {
     /// 1 if the fragment count passed 2^32 - 1 (the 32-bit counter wrapped): the frame's
     /// figures are meaningless and it is an error.
     pub wrapped: u32,
+    /// 1 if the collection pass stored each covered run as its range directly (the exact
+    /// construction with the static layer, see
+    /// [`super::TemporalShadowMap::collects_ranges`]): no node is stored, and the generation
+    /// pass has nothing to do.
+    pub ranges_direct: u32,
     /// Unused (0).
-    pub reserved: [u32; 3],
+    pub reserved: [u32; 2],
 }
 
 /// The most fragments one shadow-map pixel may hold (`MAX_LIST_NODES` in shared.glsl).
@@ -118,8 +126,8 @@ pub struct ShadowMapHeader {
     /// The static layer (u64 per texel: the nearest static triangle, depth key << 32 | id),
     /// 0 where static triangles are in the lists (the papers' prisms, the coverage map).
     pub static_nearest: u64,
-    /// The 8x8-texel tiles holding fragments (`TileList` in glsl/shared.glsl), which the
-    /// generation pass visits instead of every texel.
+    /// The generation pass's indirect dispatch over the map's 8x8-texel tiles (every tile,
+    /// or none where the collection stored the ranges itself).
     pub tiles: u64,
 }
 

@@ -16,6 +16,8 @@ pub const COLLECTION_FRAG: &[u8] = spirv!("collection.frag");
 pub const COLLECTION_EXACT_GEOM: &[u8] = spirv!("collection_exact.geom");
 /// SPIR-V of `glsl/collection_exact.frag`.
 pub const COLLECTION_EXACT_FRAG: &[u8] = spirv!("collection_exact.frag");
+/// SPIR-V of `glsl/collection_ranges.frag`.
+pub const COLLECTION_RANGES_FRAG: &[u8] = spirv!("collection_ranges.frag");
 /// SPIR-V of `glsl/collection_static.vert`.
 pub const COLLECTION_STATIC_VERT: &[u8] = spirv!("collection_static.vert");
 /// SPIR-V of `glsl/collection_static.frag`.

@@ -9,7 +9,7 @@ use super::draws::DrawList;
 use super::gpu_types::{
     Counters, DRAW_STATIC, DrawRecord, MAX_LIST_NODES, Node, Range, ShadowMapHeader,
 };
-use super::view::{LightView, PrismConstruction};
+use super::view::LightView;
 use crate::error::{Error, Result};
 use crate::gpu::{Access, Buffer, BufferUsage, Context, OneShot, memory_barrier};
 use ash::vk;
@@ -48,9 +48,9 @@ pub struct TemporalShadowMap {
     /// The static layer: per pixel, the nearest triangle of a static draw (depth key << 32 |
     /// id), in place of their fragments in the lists (see [`Self::uses_static_layer`]).
     pub static_nearest: Buffer,
-    /// The 8x8-texel tiles that may hold fragments (`TileList` in `glsl/shared.glsl`: a count
-    /// that is also the x group count of the generation's indirect dispatch, whether it is
-    /// every tile, a mark per tile, then the marked tiles' indices), set by the collection.
+    /// The generation pass's indirect dispatch (x, y, z group counts and a pad), set by the
+    /// collection: every 8x8-texel tile of the map where the lists hold fragments, none
+    /// where the collection stored the ranges itself ([`Self::collects_ranges`]).
     pub tiles: Buffer,
     counters_readback: Buffer,
     /// What the static layer was last drawn for, when it may be kept
@@ -88,13 +88,6 @@ impl StaticLayerSource {
 
 /// Texels on a side of the tiles the generation pass visits (`TILE_TEXELS` in shared.glsl).
 const TILE_TEXELS: u32 = 8;
-/// Bytes before the marks in the tile list: the count, two group counts, the every-tile flag.
-const TILE_LIST_HEADER: u64 = 16;
-
-/// Tiles of `TILE_TEXELS` x `TILE_TEXELS` texels covering a map of `width` x `height`.
-fn tile_count(width: u32, height: u32) -> u32 {
-    width.div_ceil(TILE_TEXELS) * height.div_ceil(TILE_TEXELS)
-}
 
 /// Bytes of a buffer of `count` elements, if the device can hold it: `limit` is what one
 /// descriptor can address, or (for buffers reached by address) one allocation.
@@ -165,12 +158,7 @@ impl TemporalShadowMap {
                 BufferUsage::Storage,
             )?,
             static_nearest: Buffer::new(ctx, "static layer", 2 * head_bytes, BufferUsage::Storage)?,
-            tiles: Buffer::new(
-                ctx,
-                "tile list",
-                TILE_LIST_HEADER + 8 * tile_count(width, height) as u64,
-                BufferUsage::Storage,
-            )?,
+            tiles: Buffer::new(ctx, "generation dispatch", 16, BufferUsage::Storage)?,
             counters_readback: Buffer::new(
                 ctx,
                 "counters readback",
@@ -206,12 +194,21 @@ impl TemporalShadowMap {
         self.header.device_address()
     }
 
+    /// Whether the collection pass of a frame lit by `light` (with or without a coverage
+    /// map) stores each covered run of a moving triangle as its range at once, so that no
+    /// node is stored and [`super::GenerationPass`] finds nothing to pair: the exact
+    /// construction with the static layer (the coverage map's passes need the nodes). A map
+    /// used only that way needs no node capacity.
+    pub fn collects_ranges(&self, light: &LightView, coverage: Option<&CoverageMap>) -> bool {
+        light.collects_ranges(coverage.is_some())
+    }
+
     /// Whether a frame lit by `light` (with or without a coverage map) keeps static draws'
     /// triangles in the static layer rather than in the lists: when `light` asks for it,
     /// with the exact construction (static draws skip the geometry shader there) and no
     /// coverage map (its passes need every fragment).
     pub fn uses_static_layer(&self, light: &LightView, coverage: Option<&CoverageMap>) -> bool {
-        light.static_layer && light.prisms == PrismConstruction::Exact && coverage.is_none()
+        light.collects_ranges(coverage.is_some())
     }
 
     /// Records the header's update for a frame lit by `light` (with or without a coverage
@@ -283,41 +280,29 @@ impl TemporalShadowMap {
             .unwrap_or_else(|e| e.into_inner()) = source;
     }
 
-    /// Records the clearing of what the collection pass starts from empty besides the lists'
-    /// heads: the range heads (texels the generation pass does not visit keep none) and the
-    /// tile list, either empty for the collection to mark (`marked`) or listing every tile.
-    /// Transfer writes; the caller orders them with its barriers.
-    pub(crate) fn record_clear_tiles(
+    /// Records clearing the range heads and setting the generation's dispatch: every tile,
+    /// or none when the collection stores the ranges itself (`collects_ranges`). Transfer
+    /// writes; the caller orders them with its barriers.
+    pub(crate) fn record_clear_ranges(
         &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
-        marked: bool,
+        collects_ranges: bool,
     ) {
-        let tiles = tile_count(self.width, self.height);
-        let header: [u32; 4] = if marked {
+        let groups: [u32; 4] = if collects_ranges {
             [0, 1, 1, 0]
         } else {
             [
                 self.width.div_ceil(TILE_TEXELS),
                 self.height.div_ceil(TILE_TEXELS),
                 1,
-                1,
+                0,
             ]
         };
-        // SAFETY: recording outside a render pass (the collection pass's contract); the
-        // header and the marks are disjoint ranges of the buffer.
+        // SAFETY: recording outside a render pass (the collection pass's contract).
         unsafe {
             device.cmd_fill_buffer(cmd, self.range_heads.raw(), 0, vk::WHOLE_SIZE, 0);
-            self.tiles.record_write(device, cmd, &header);
-            if marked {
-                device.cmd_fill_buffer(
-                    cmd,
-                    self.tiles.raw(),
-                    TILE_LIST_HEADER,
-                    4 * tiles as u64,
-                    0,
-                );
-            }
+            self.tiles.record_write(device, cmd, &groups);
         }
     }
 
@@ -342,8 +327,9 @@ impl TemporalShadowMap {
     /// Whether a frame with these counts overflowed this map (its output is then incomplete
     /// and the frame must be recorded again after [`Self::grow_to_fit`]).
     pub fn needs_more_room(&self, counts: &Counters) -> bool {
+        let nodes_stored = counts.ranges_direct == 0;
         counts.wrapped != 0
-            || counts.node_count > self.node_capacity
+            || (nodes_stored && counts.node_count > self.node_capacity)
             || counts.range_count > self.range_capacity
     }
 
@@ -394,12 +380,19 @@ impl TemporalShadowMap {
         if counts.wrapped != 0 {
             return Err(Error::FragmentCountOverflow);
         }
-        let nodes = counts.node_count.max(self.node_capacity);
+        // A frame that stored its ranges directly stored no node: its count is exact and
+        // needs no node room.
+        let nodes_stored = counts.ranges_direct == 0;
+        let nodes = if nodes_stored {
+            counts.node_count.max(self.node_capacity)
+        } else {
+            self.node_capacity
+        };
         // When fragments overflowed, the ranges counted came from incomplete lists. Ranges
         // pair fragments, so about half the fragments plus a little for odd groups is a good
         // guess that keeps the allocation near equation (2); should it fall short, the range
         // count of the next run is exact and one more run fits.
-        let estimate = if counts.node_count > self.node_capacity {
+        let estimate = if nodes_stored && counts.node_count > self.node_capacity {
             counts.node_count / 2 + counts.node_count / 64
         } else {
             0

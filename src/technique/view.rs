@@ -201,6 +201,15 @@ impl LightView {
         }
     }
 
+    /// Whether the collection pass of a frame lit by this view, with or without a coverage
+    /// map, keeps static draws in the static layer and stores each covered run of a moving
+    /// triangle as its range at once (no node stored, nothing left for the generation pass):
+    /// the exact construction with [`Self::static_layer`] and no coverage map (whose passes
+    /// need every fragment). See [`super::TemporalShadowMap::collects_ranges`].
+    pub fn collects_ranges(&self, with_coverage_map: bool) -> bool {
+        self.static_layer && self.prisms == PrismConstruction::Exact && !with_coverage_map
+    }
+
     /// Whether it is a spot light (perspective map) rather than directional (orthographic).
     pub fn is_spot(&self) -> bool {
         matches!(self.kind, LightKind::Spot { .. })

@@ -383,7 +383,8 @@ fn shared_structs_match_glsl() {
             ranges_without_coverage: 33,
             invalid_triangles: 34,
             wrapped: 35,
-            reserved: [36, 37, 38],
+            ranges_direct: 36,
+            reserved: [37, 38],
         }
     );
     drop(pipeline);

@@ -117,6 +117,7 @@ pub fn render(
         seed: settings.seed,
         triangles: bvh.triangles().len() as u32,
         fragments: 0,
+        fragments_stored: 0,
         ranges: 0,
         ranges_without_coverage: 0,
         shadow_map_bytes_eq2: 0,

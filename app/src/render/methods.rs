@@ -125,13 +125,18 @@ impl Renderer<'_> {
     ) -> Result<ShadowOutcome> {
         let (width, height) = settings.shadow_size();
         let pixels = width * height;
+        // The exact construction with the static layer stores no node (its collection writes
+        // the ranges): a node buffer would be memory for nothing.
+        let stores_nodes = !inputs.light.collects_ranges(with_coverage);
         let mut map = TemporalShadowMap::new(
             self.ctx,
             width,
             height,
-            settings
-                .initial_node_capacity
-                .unwrap_or(pixels.saturating_mul(2)),
+            settings.initial_node_capacity.unwrap_or(if stores_nodes {
+                pixels.saturating_mul(2)
+            } else {
+                1
+            }),
             settings.initial_range_capacity.unwrap_or(pixels),
         )?;
         let coverage = if with_coverage {

@@ -362,6 +362,11 @@ impl<'a> Renderer<'a> {
         }
         let shadow_pixels = shadow_size.0 as u64 * shadow_size.1 as u64;
         let (fragments, ranges) = (counts.node_count as u64, counts.range_count as u64);
+        let fragments_stored = if counts.ranges_direct != 0 {
+            0
+        } else {
+            fragments
+        };
         let temporal = matches!(outcome, ShadowOutcome::Temporal { .. });
         let stats = FrameStats {
             scene: scene.name.clone(),
@@ -382,10 +387,11 @@ impl<'a> Renderer<'a> {
             seed: settings.seed,
             triangles: geometry.triangle_count,
             fragments,
+            fragments_stored,
             ranges,
             ranges_without_coverage: counts.ranges_without_coverage as u64,
             shadow_map_bytes_eq2: if temporal {
-                equation_2_bytes(fragments, ranges, shadow_pixels)
+                equation_2_bytes(fragments_stored, ranges, shadow_pixels)
             } else {
                 0
             },
@@ -393,7 +399,7 @@ impl<'a> Renderer<'a> {
             static_layer_kept: outcome.static_layer_kept(inputs.light),
             shadow_map_bytes_eq2_without_coverage: if temporal {
                 equation_2_bytes(
-                    fragments,
+                    fragments_stored,
                     counts.ranges_without_coverage as u64,
                     shadow_pixels,
                 )

@@ -78,9 +78,13 @@ pub struct FrameStats {
     pub spp: u32,
     pub seed: u32,
     pub triangles: u32,
-    /// N_f: fragments stored by the collection sub-pass.
+    /// N_f: prism fragments the collection sub-pass produced (two per range where it
+    /// stores the ranges itself).
     pub fragments: u64,
-    /// N_r: depth-time ranges stored by the generation sub-pass.
+    /// The fragments stored as nodes: N_f, or 0 where the collection stores the ranges
+    /// itself (the exact construction with the static layer).
+    pub fragments_stored: u64,
+    /// N_r: depth-time ranges stored by the generation sub-pass (or the collection).
     pub ranges: u64,
     /// N_r without the coverage map (equal to `ranges` for other methods).
     pub ranges_without_coverage: u64,
@@ -121,7 +125,7 @@ pub struct FrameStats {
     pub device: String,
 }
 
-/// Equation (2) of the 2018 paper.
+/// Equation (2) of the 2018 paper, for the fragments stored as nodes and the ranges.
 pub fn equation_2_bytes(fragments: u64, ranges: u64, shadow_pixels: u64) -> u64 {
     fragments * NODE_BYTES + ranges * RANGE_BYTES + 2 * shadow_pixels * 4
 }

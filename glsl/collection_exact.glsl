@@ -1,0 +1,36 @@
+// The exact construction's collection fragment shader (collection_exact.frag stores nodes,
+// collection_ranges.frag ranges): the texel's covered runs of this triangle, solved in
+// closed form (exact_prism.glsl). A run is what the generation pass pairs from its start and
+// end nodes, so where the lists are not needed for anything else (no coverage map: the
+// collection with the static layer) it goes straight to the texel's range list and the
+// generation pass has nothing left to do.
+#include "shared.glsl"
+#include "collection_append.glsl"
+#include "exact_prism.glsl"
+
+layout(push_constant) uniform Push { PassConstants pc; };
+
+layout(location = 0) flat in vec4 in_at0[3];
+layout(location = 3) flat in vec4 in_at1[3];
+layout(location = 6) flat in uint in_id;
+
+void main() {
+    MsShadowMap map = MsShadowMap(pc.map);
+    uvec2 pixel = uvec2(gl_FragCoord.xy);
+    vec2 ndc = gl_FragCoord.xy / vec2(map.size.xy) * 2.0 - 1.0;
+    ExactCorner corners[3];
+    for (int k = 0; k < 3; ++k) corners[k] = ExactCorner(in_at0[k], in_at1[k]);
+    uint p = pixel.y * map.size.x + pixel.x;
+    vec2 a[3], d[3];
+    ExactRuns runs = exact_prism_runs(corners, ndc, a, d);
+    for (int i = 0; i < runs.count; ++i) {
+        vec2 times, depths;
+        exact_run_nodes(a, d, corners, runs, i, times, depths);
+#ifdef COLLECT_RANGES
+        append_range(map, p, times, depths, in_id);
+#else
+        append_fragment(map, p, depths.x, times.x, in_id, exact_surface(times.x));
+        append_fragment(map, p, depths.y, times.y, in_id, exact_surface(times.y));
+#endif
+    }
+}
