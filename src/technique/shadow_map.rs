@@ -448,12 +448,23 @@ impl TemporalShadowMap {
     pub fn download(&self, ctx: &Context) -> Result<ShadowMapContents> {
         let counts = self.read_counters()?;
         let pixels = (self.width * self.height) as usize;
-        let nodes = counts.node_count.min(self.node_capacity) as usize;
+        // Where the collection stored the ranges itself, there are no lists (the heads held
+        // the texels' run counts).
+        let lists = counts.ranges_direct == 0;
+        let nodes = if lists {
+            counts.node_count.min(self.node_capacity) as usize
+        } else {
+            0
+        };
         let ranges = counts.range_count.min(self.range_capacity) as usize;
         Ok(ShadowMapContents {
             width: self.width,
             height: self.height,
-            heads: download(ctx, &self.heads, pixels)?,
+            heads: if lists {
+                download(ctx, &self.heads, pixels)?
+            } else {
+                vec![0; pixels]
+            },
             nodes: download(ctx, &self.nodes, nodes)?,
             range_heads: download(ctx, &self.range_heads, pixels)?,
             ranges: download(ctx, &self.ranges, ranges)?,
@@ -502,9 +513,10 @@ pub struct ShadowMapContents {
     pub width: u32,
     /// Texels down.
     pub height: u32,
-    /// Per texel: index + 1 of its newest fragment.
+    /// Per texel: index + 1 of its newest fragment (0 everywhere where the collection stored
+    /// the ranges itself, [`TemporalShadowMap::collects_ranges`]).
     pub heads: Vec<u32>,
-    /// The fragments.
+    /// The fragments (none where the collection stored the ranges itself).
     pub nodes: Vec<Node>,
     /// Per texel: index + 1 of its first range.
     pub range_heads: Vec<u32>,

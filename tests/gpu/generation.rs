@@ -71,13 +71,58 @@ fn check_every_pixel(map: &ShadowMapContents) -> usize {
     odd_pixels
 }
 
+/// The generation pass's pairing of every pixel's list, on the default scene with its static
+/// triangles in the lists (with the static layer, the collection stores ranges itself: see
+/// `collected_ranges_are_the_pairs_of_the_lists`).
 #[test]
 fn ranges_pair_fragments_on_the_default_scene() {
     let ctx = context();
     let s = builtin("cubes-toward-light", &BuiltinOptions::default()).unwrap();
-    let map = temporal_map(&ctx, &s, (96, 72));
+    let map = temporal_map_with(&ctx, &s, (96, 72), PrismConstruction::Exact, false);
     assert!(map.nodes.len() > 10_000, "{} fragments", map.nodes.len());
     check_every_pixel(&map);
+    assert_no_validation_messages(&ctx);
+}
+
+/// Where the collection stores each covered run as its range (the exact construction with
+/// the static layer, the default), the ranges are the generation pass's pairs of the same runs
+/// stored as nodes (static triangles in the lists): per pixel, the moving triangles' ranges
+/// agree bit for bit.
+#[test]
+fn collected_ranges_are_the_pairs_of_the_lists() {
+    let ctx = context();
+    let s = builtin("cubes-toward-light", &BuiltinOptions::default()).unwrap();
+    let direct = temporal_map(&ctx, &s, (96, 72));
+    let lists = temporal_map_with(&ctx, &s, (96, 72), PrismConstruction::Exact, false);
+    assert!(direct.nodes.is_empty(), "the collection stored nodes");
+    // Global ids are given per mesh in order; a mesh whose positions do not move is static.
+    let mut static_ids = Vec::new();
+    let mut first = 0u32;
+    for mesh in &s.meshes {
+        let count = mesh.t0.len() as u32 / 3;
+        if mesh.t0 == mesh.t1 {
+            static_ids.push(first..first + count);
+        }
+        first += count;
+    }
+    let moving = |r: &&Range| !static_ids.iter().any(|ids| ids.contains(&r.id));
+    let mut compared = 0;
+    for y in 0..direct.height {
+        for x in 0..direct.width {
+            let mut got: Vec<_> = direct.ranges_at(x, y).iter().map(key).collect();
+            let mut want: Vec<_> = lists
+                .ranges_at(x, y)
+                .iter()
+                .filter(moving)
+                .map(key)
+                .collect();
+            got.sort();
+            want.sort();
+            assert_eq!(got, want, "pixel ({x},{y})");
+            compared += got.len();
+        }
+    }
+    assert!(compared > 5_000, "only {compared} ranges compared");
     assert_no_validation_messages(&ctx);
 }
 
@@ -175,6 +220,58 @@ fn overlong_lists_are_an_error_with_figures() {
     let err = Renderer::new(&ctx)
         .unwrap()
         .render(&s, &settings, &mut |_| {})
+        .err()
+        .expect("must fail");
+    match err {
+        AppError::Library(Error::FragmentListTooLong {
+            pixels,
+            longest,
+            limit,
+            ..
+        }) => {
+            assert!(pixels > 10, "{pixels}");
+            assert_eq!(longest, 600);
+            assert_eq!(limit, MAX_LIST_NODES);
+        }
+        other => panic!("expected FragmentListTooLong, got {other}"),
+    }
+    assert_no_validation_messages(&ctx);
+}
+
+/// The same limit where the collection stores the ranges itself (moving squares, the static
+/// layer): 300 runs per covered pixel are 600 fragments of its list, an error with the same
+/// figures, and 250 (500 fragments) are not.
+#[test]
+fn overlong_collected_ranges_are_an_error_with_figures() {
+    let ctx = context();
+    let moving = |count: usize| {
+        let meshes = (0..count)
+            .map(|i| {
+                let sq = crate::support::gpu::square(-1.0, -1.0, 2.0, 1.0 + 0.02 * i as f32);
+                let t1 = sq.iter().map(|p| *p + Vec3::new(0.05, 0.0, 0.0)).collect();
+                mesh("moving-layer", sq, t1, false)
+            })
+            .collect();
+        scene("moving-stack", overhead_spot(10.0, 30.0), meshes)
+    };
+    let settings = RenderSettings {
+        width: 8,
+        height: 8,
+        spp: 1,
+        shadow_size: Some((32, 32)),
+        ..RenderSettings::default()
+    };
+    let fits = Renderer::new(&ctx)
+        .unwrap()
+        .render(&moving(250), &settings, &mut |_| {})
+        .expect("500 fragments per pixel fit");
+    assert_eq!(
+        fits.stats.fragments_stored, 0,
+        "the collection stored nodes"
+    );
+    let err = Renderer::new(&ctx)
+        .unwrap()
+        .render(&moving(300), &settings, &mut |_| {})
         .err()
         .expect("must fail");
     match err {
