@@ -46,10 +46,15 @@ fn render_json_reports_the_frame_and_writes_the_files() {
         json["ranges"].as_u64().unwrap(),
     );
     assert!(nf > 0 && nr > 0 && nr <= nf, "N_f {nf}, N_r {nr}");
-    // Equation (2), by hand: 16 bytes per fragment, 24 per range, two 4-byte heads per pixel.
+    // The default (exact construction, static layer) stores each run as its range: two
+    // fragments per range, none stored as a node.
+    assert_eq!(nf, 2 * nr);
+    assert_eq!(json["fragments_stored"], 0);
+    // Equation (2), by hand: 16 bytes per stored fragment, 24 per range, two 4-byte heads
+    // per pixel.
     assert_eq!(
         json["shadow_map_bytes_eq2"].as_u64().unwrap(),
-        nf * 16 + nr * 24 + 2 * 64 * 48 * 4
+        nr * 24 + 2 * 64 * 48 * 4
     );
     let passes: Vec<&str> = json["passes"]
         .as_array()
@@ -110,6 +115,8 @@ fn render_runs_and_static_layer_are_reported() {
     assert_eq!(lists["runs"], 1);
     assert_eq!(lists["static_layer_bytes"], 0);
     assert!(lists["fragments"].as_u64() > layer["fragments"].as_u64());
+    // The lists store their fragments as nodes (the generation pass pairs them).
+    assert_eq!(lists["fragments_stored"], lists["fragments"]);
     assert!(lists_png == layer_png, "the static layer changed the image");
     assert_eq!(layer["static_layer_kept"], false);
     // Kept from a pass before the timed one: the same image, and the timed collection draws
@@ -242,6 +249,78 @@ fn quick_bench_preset_writes_csv_and_png() {
         assert!(scene[0]["target"].is_string() && scene[1]["target"].is_string());
         assert!(scene[2]["target"].is_null(), "{scene:?}");
     }
+    std::fs::remove_dir_all(&out).ok();
+}
+
+/// `bench --quick --preset frame`: the default frame for temporal, TSM and plain at 1, 8 and
+/// 16 spp, every pass of each, under the validation layer; each frame row is the sum of its
+/// passes; the ratios against TSM carry their targets at 8 and 16 spp.
+#[test]
+fn quick_frame_preset_measures_every_pass_of_three_methods() {
+    let out = std::env::temp_dir().join(format!("motion-shadows-frame-{}", std::process::id()));
+    let status = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args(["bench", "--quick", "--preset", "frame", "--out"])
+        .arg(&out)
+        .env("MOTION_SHADOWS_VALIDATION", "1")
+        .status()
+        .expect("run the binary");
+    assert!(status.success());
+    let csv = std::fs::read_to_string(out.join("frame-results.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    for spp in ["1", "8", "16"] {
+        for (method, passes) in [
+            (
+                "temporal",
+                &[
+                    "collection",
+                    "generation",
+                    "lighting raster",
+                    "lighting shade",
+                ][..],
+            ),
+            (
+                "tsm",
+                &["tsm shadow maps", "lighting raster", "lighting shade"][..],
+            ),
+            (
+                "plain",
+                &["plain shadow map", "lighting raster", "lighting shade"][..],
+            ),
+        ] {
+            let of = |pass: &str| -> f64 {
+                let row = rows
+                    .iter()
+                    .find(|r| r[0] == spp && r[1] == method && r[2] == pass)
+                    .unwrap_or_else(|| panic!("no {method} {spp} spp {pass} in {csv}"));
+                row[3].parse().unwrap()
+            };
+            let sum: f64 = passes.iter().map(|p| of(p)).sum();
+            let frame = of("frame");
+            assert!(
+                frame > 0.0 && (frame - sum).abs() <= 1e-3 * frame,
+                "{method} {spp}: {csv}"
+            );
+        }
+    }
+    let png = image::open(out.join("frame-time.png")).expect("a decodable PNG");
+    assert_eq!((png.width(), png.height()), (800, 500));
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("bench-summary.json")).unwrap()).unwrap();
+    let ratios = summary["reports"][0]["ratios"].as_array().unwrap();
+    let target = |name: &str| {
+        ratios
+            .iter()
+            .find(|r| r["name"] == name)
+            .unwrap_or_else(|| panic!("no ratio {name} in {ratios:?}"))["target"]
+            .clone()
+    };
+    assert_eq!(target("temporal / TSM frame time at 8 spp"), "<= 1");
+    assert_eq!(target("temporal / TSM frame time at 16 spp"), "<= 0.8");
+    assert!(target("temporal / plain frame time at 8 spp").is_null());
     std::fs::remove_dir_all(&out).ok();
 }
 
@@ -513,6 +592,7 @@ fn raytrace_renders_without_a_device_and_compare_measures_against_it() {
     for field in [
         "shadow_width",
         "fragments",
+        "fragments_stored",
         "ranges",
         "shadow_map_bytes_allocated",
     ] {

@@ -3,6 +3,7 @@
 mod characters;
 mod cubes;
 mod equal_quality;
+mod frame;
 mod game;
 mod hard;
 mod scaling;
@@ -20,6 +21,8 @@ use std::path::PathBuf;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Preset {
+    /// The default frame pass by pass: temporal, TSM and plain at 1, 8 and 16 spp.
+    Frame,
     /// 2018 paper Figs. 11-12: time per step and memory, temporal vs TSM, as spp grows.
     Spp,
     /// 2017 paper Figs. 9-10: memory and time vs number of random cubes, with/without the
@@ -48,6 +51,7 @@ pub enum Preset {
 /// Every preset, in the order a run without `--preset` takes them (those of
 /// [`Preset::by_default`]).
 pub const PRESETS: &[Preset] = &[
+    Preset::Frame,
     Preset::Spp,
     Preset::RandomCubes,
     Preset::Speed,
@@ -63,6 +67,7 @@ pub const PRESETS: &[Preset] = &[
 impl Preset {
     pub fn name(self) -> &'static str {
         match self {
+            Preset::Frame => "frame",
             Preset::Spp => "spp",
             Preset::RandomCubes => "random-cubes",
             Preset::Speed => "speed",
@@ -282,6 +287,7 @@ pub fn run_preset(
         },
     };
     match preset {
+        Preset::Frame => frame::frame(&mut bench)?,
         Preset::Spp => spp::spp(&mut bench)?,
         Preset::RandomCubes => cubes::random_cubes(&mut bench, cubes::Sweep::Count)?,
         Preset::Speed => cubes::random_cubes(&mut bench, cubes::Sweep::Speed)?,
