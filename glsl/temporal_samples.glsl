@@ -18,21 +18,18 @@ uint ms_samples_shadowed(MsMap map, uint candidates, uint texel[SHADE_SAMPLES],
                          uint own[SHADE_SAMPLES]) {
     uint shadowed = 0u;
     uint pending = candidates;
-    // One group per distinct (texel, triangle) among the samples: usually one, two where the
-    // pixel straddles a texel edge.
+    // One group per distinct texel among the samples: usually one, two where the pixel
+    // straddles a texel edge. (Samples of a group may lie on different triangles: the own
+    // triangle test is each sample's.)
     while (pending != 0u) {
         uint first = uint(findLSB(pending));
-        uint group_texel = 0u, group_own = 0u;
+        uint group_texel = 0u;
         [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
-            if (j == first) {
-                group_texel = texel[j];
-                group_own = own[j];
-            }
+            if (j == first) group_texel = texel[j];
         }
         uint group = 0u;
         [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
-            bool same = texel[j] == group_texel && own[j] == group_own;
-            if ((pending & (1u << j)) != 0u && same) group |= 1u << j;
+            if ((pending & (1u << j)) != 0u && texel[j] == group_texel) group |= 1u << j;
         }
         pending &= ~group;
 
@@ -41,12 +38,9 @@ uint ms_samples_shadowed(MsMap map, uint candidates, uint texel[SHADE_SAMPLES],
             uint64_t nearest = MsUint64s(map.static_nearest).v[group_texel];
             uint id = uint(nearest & 0xffffffffUL);
             float static_depth = ms_static_depth(uint(nearest >> 32));
-            if (id != MS_NO_TRIANGLE && id != group_own) {
-                [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
-                    if ((group & (1u << j)) != 0u && static_depth < depth[j]) {
-                        shadowed |= 1u << j;
-                    }
-                }
+            [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
+                bool blocks = id != MS_NO_TRIANGLE && id != own[j] && static_depth < depth[j];
+                if ((group & (1u << j)) != 0u && blocks) shadowed |= 1u << j;
             }
         }
         uint open = group & ~shadowed;  // not decided yet
@@ -58,7 +52,7 @@ uint ms_samples_shadowed(MsMap map, uint candidates, uint texel[SHADE_SAMPLES],
             if (cover != MS_NO_TRIANGLE) {
                 vec2 d = ms_cover_depth(map, group_texel);
                 [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
-                    bool behind = cover != group_own && mix(d.x, d.y, t[j]) < depth[j];
+                    bool behind = cover != own[j] && mix(d.x, d.y, t[j]) < depth[j];
                     if ((open & (1u << j)) != 0u && behind) shadowed |= 1u << j;
                 }
                 open = 0u;
@@ -71,10 +65,10 @@ uint ms_samples_shadowed(MsMap map, uint candidates, uint texel[SHADE_SAMPLES],
             ++ms_loop_iterations;
             MsRange range = ms_range(map.ranges, r);
             r = range.next;
-            if (range.id == group_own) continue;
             float span = range.t_e - range.t_s;
             [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
-                if ((open & (1u << j)) == 0u || t[j] < range.t_s || t[j] > range.t_e) continue;
+                bool outside = t[j] < range.t_s || t[j] > range.t_e;
+                if ((open & (1u << j)) == 0u || range.id == own[j] || outside) continue;
                 float occluder = span > 0.0 ? mix(range.d_s, range.d_e, (t[j] - range.t_s) / span)
                                             : range.d_s;
                 if (occluder < depth[j]) {
