@@ -22,6 +22,7 @@ mod lighting;
 mod loop_limit;
 mod prism;
 mod receiver_plane;
+mod several_runs;
 mod static_layer;
 mod validation;
 mod visibility;
