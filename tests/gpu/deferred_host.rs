@@ -1274,3 +1274,192 @@ fn a_kept_static_layer_renders_what_a_redrawn_one_renders() {
     drop((kept, redrawn));
     host.assert_clean_teardown();
 }
+
+/// A caster of `interval_world`: a square of `width` (x) by `SIDE` (z), its corner moving
+/// from (`x0`, `h0`) at t = 0 to (`x0 + travel`, `h1`) at t = 1 (x, height), at z = `Z0`.
+struct Caster {
+    x0: f64,
+    travel: f64,
+    h0: f64,
+    h1: f64,
+    width: f64,
+}
+
+/// Two squares sliding over the ground at different heights and speeds (one fast and narrow,
+/// one slow and wide: over some points their shadow intervals overlap, over others one nests
+/// in the other) and one that sinks straight down through the ground (its depth crosses the
+/// ground's a quarter into the shutter).
+const INTERVAL_CASTERS: [Caster; 3] = [
+    Caster {
+        x0: -5.5,
+        travel: 6.0,
+        h0: 1.0,
+        h1: 1.0,
+        width: 2.5,
+    },
+    Caster {
+        x0: -4.5,
+        travel: 2.5,
+        h0: 2.0,
+        h1: 2.0,
+        width: 2.5,
+    },
+    Caster {
+        x0: 3.5,
+        travel: 0.0,
+        h0: 1.0,
+        h1: -3.0,
+        width: 2.0,
+    },
+];
+const Z0: f64 = -1.0;
+
+fn interval_world() -> World {
+    let (world, _, _) = square_world();
+    let mut meshes = vec![deferred::ground_mesh()];
+    for (i, c) in INTERVAL_CASTERS.iter().enumerate() {
+        let w = c.width as f32;
+        let square = [[0.0, 0.0], [0.0, SIDE], [w, SIDE], [w, 0.0]].map(|[x, z]| Vertex {
+            position: [x, 0.0, z],
+            normal: [0.0, 1.0, 0.0],
+        });
+        let (x0, travel, h0, h1) = (c.x0, c.travel, c.h0, c.h1);
+        meshes.push(Mesh {
+            name: format!("caster-{i}"),
+            vertices: square.to_vec(),
+            indices: MeshIndices::U16(vec![0, 1, 2, 0, 2, 3]),
+            albedo: Vec3::splat(0.5),
+            closed: false,
+            motion: Motion::Rigid(Box::new(move |f| {
+                DMat4::from_translation(DVec3::new(x0 + travel * f, h0 + (h1 - h0) * f, Z0))
+            })),
+        });
+    }
+    World { meshes, ..world }
+}
+
+/// The times in frame 1's shutter during which caster `c` covers ground point (x, z) and is
+/// nearer to the overhead light than the ground there (its height above `depth_margin`).
+fn caster_interval(c: &Caster, x: f64, z: f64, depth_margin: f64) -> Option<(f64, f64)> {
+    if z <= Z0 || z >= Z0 + f64::from(SIDE) {
+        return None;
+    }
+    let (mut from, mut to) = if c.travel == 0.0 {
+        if x <= c.x0 || x >= c.x0 + c.width {
+            return None;
+        }
+        (0.0, 1.0)
+    } else {
+        ((x - c.x0 - c.width) / c.travel, (x - c.x0) / c.travel)
+    };
+    // Above the ground: h0 + (h1 - h0) t > margin.
+    if c.h1 < c.h0 {
+        to = to.min((c.h0 - depth_margin) / (c.h0 - c.h1));
+    }
+    from = from.max(0.0);
+    to = to.min(1.0);
+    (to > from).then_some((from, to))
+}
+
+/// The length of the union of intervals.
+fn union_length(mut intervals: Vec<(f64, f64)>) -> f64 {
+    intervals.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (mut length, mut covered_to) = (0.0, f64::NEG_INFINITY);
+    for (from, to) in intervals {
+        length += (to - from.max(covered_to)).max(0.0);
+        covered_to = covered_to.max(to);
+    }
+    length
+}
+
+/// `ms_lit_fraction` where the ranges over a receiver overlap, nest, and cross its depth:
+/// at the texel centres of a row across every caster's path, through the host's probe shader,
+/// against 1 minus the length of the union of the closed-form intervals during which a
+/// caster is nearer to the light than the ground point (the sinking square's interval ends
+/// where its depth passes the receiver's, near a quarter into the shutter: the receiver is
+/// the ground point moved up by the light's normal offset of one texel, its depth less the
+/// relative bias of 1e-4).
+/// Tolerance 1e-3 (f32 rounding; at texel centres the map holds the point's own intervals).
+/// The row is chosen, and checked, to hold texels where intervals overlap partly, where one
+/// nests in another, and where the crossing decides: summing instead of uniting, or taking
+/// the wrong side of the crossing, moves those by more than 0.1.
+#[test]
+fn lit_fraction_unites_overlapping_ranges_and_cuts_at_the_depth_crossing() {
+    let host = new_host();
+    let world = interval_world();
+    let mut engine = Engine::new(&host, &world, settings((300_000, 200_000))).expect("engine");
+    let frame = engine
+        .render(&world, 0..2, &|f| f == 1)
+        .expect("frames")
+        .pop()
+        .expect("frame 1 kept");
+    let light = world.lights[0].view(SHADOW);
+    let to_world = (light.proj * light.view).as_dmat4().inverse();
+    let row = {
+        let ndc = (light.proj * light.view).as_dmat4()
+            * DVec3::new(0.0, 0.0, Z0 + 0.5 * f64::from(SIDE)).extend(1.0);
+        ((ndc.y / ndc.w * 0.5 + 0.5) * f64::from(SHADOW.1)).floor()
+    };
+    let queries: Vec<Query> = (0..SHADOW.0)
+        .map(|column| {
+            let ndc_x = (f64::from(column) + 0.5) / f64::from(SHADOW.0) * 2.0 - 1.0;
+            let ndc_y = (row + 0.5) / f64::from(SHADOW.1) * 2.0 - 1.0;
+            let p = to_world * glam::DVec4::new(ndc_x, ndc_y, 0.5, 1.0);
+            Query {
+                position: [(p.x / p.w) as f32, 0.0, (p.z / p.w) as f32],
+                time: -1.0,
+                normal: [0.0, 1.0, 0.0],
+                own: u32::MAX,
+            }
+        })
+        .collect();
+    let lit = probe(&host, engine.shadow_map(frame.slot, 0), &queries);
+    // The receiver tested: the ground point moved up by the light's normal offset (one
+    // texel: the box is 12 units across the map), its depth less the relative bias 1e-4.
+    let texel = 2.0 * 6.0 / f64::from(SHADOW.0);
+    let margin = 10.0 - (10.0 - texel) * (1.0 - 1e-4);
+    let (mut overlapping, mut nested, mut crossing, mut worst) = (0, 0, 0, 0.0f64);
+    for (q, &got) in queries.iter().zip(&lit) {
+        let (x, z) = (f64::from(q.position[0]), f64::from(q.position[2]));
+        let intervals: Vec<(f64, f64)> = INTERVAL_CASTERS
+            .iter()
+            .filter_map(|c| caster_interval(c, x, z, margin))
+            .collect();
+        let expected = 1.0 - union_length(intervals.clone()).min(1.0);
+        let error = (f64::from(got) - expected).abs();
+        assert!(
+            error <= 1e-3,
+            "texel centre x = {x:.3}: ms_lit_fraction {got}, closed form {expected} \
+             (intervals {intervals:?})"
+        );
+        worst = worst.max(error);
+        let summed: f64 = intervals.iter().map(|(a, b)| b - a).sum();
+        if summed - union_length(intervals.clone()) > 0.1 {
+            let (a, b) = (intervals[0], intervals[1]);
+            let nests = (a.0 <= b.0 && b.1 <= a.1) || (b.0 <= a.0 && a.1 <= b.1);
+            if nests {
+                nested += 1;
+            } else {
+                overlapping += 1;
+            }
+        }
+        let sinking = &INTERVAL_CASTERS[2];
+        if caster_interval(sinking, x, z, margin).is_some()
+            && intervals.len() == 1
+            && (expected - 0.76).abs() < 0.01
+        {
+            crossing += 1;
+        }
+    }
+    eprintln!(
+        "ms_lit_fraction at {} texel centres: {overlapping} with overlapping intervals, \
+         {nested} nested, {crossing} decided by a depth crossing; max error {worst:.2e}",
+        queries.len()
+    );
+    assert!(
+        overlapping >= 15 && nested >= 15 && crossing >= 15,
+        "{overlapping} overlapping, {nested} nested, {crossing} crossing"
+    );
+    drop(engine);
+    host.assert_clean_teardown();
+}
