@@ -480,6 +480,36 @@ struct ProbePush {
 /// Runs the host's probe shader (its own GLSL, including the library's header) on `queries`
 /// against `map`, in the host's own command buffer.
 fn probe(host: &Host, map: &TemporalShadowMap, queries: &[Query]) -> Vec<f32> {
+    run_probe(
+        host,
+        map,
+        queries,
+        deferred::sources::PROBE_COMP,
+        Shape {
+            per_invocation: 1,
+            workgroup: 64,
+            results_per_query: 1,
+        },
+    )
+}
+
+/// How a probe shader takes its queries: `per_invocation` queries each (its push
+/// constants' `count` is the number of invocations), `workgroup` invocations per group, and
+/// writes `results_per_query` floats per query.
+struct Shape {
+    per_invocation: usize,
+    workgroup: u32,
+    results_per_query: usize,
+}
+
+/// Runs the probe shader `source` on `queries` against `map` in the host's command buffer.
+fn run_probe(
+    host: &Host,
+    map: &TemporalShadowMap,
+    queries: &[Query],
+    source: &str,
+    shape: Shape,
+) -> Vec<f32> {
     let device = &host.device;
     let push = [vk::PushConstantRange {
         stage_flags: vk::ShaderStageFlags::COMPUTE,
@@ -493,17 +523,17 @@ fn probe(host: &Host, map: &TemporalShadowMap, queries: &[Query]) -> Vec<f32> {
         )
     }
     .expect("probe layout");
-    let pipeline =
-        deferred::compute_pipeline(device, "probe.comp", deferred::sources::PROBE_COMP, layout)
-            .expect("probe pipeline");
+    let pipeline = deferred::compute_pipeline(device, "probe", source, layout).expect("probe");
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
     let query_buffer = HostBuffer::with_data(host, queries, usage).expect("queries");
-    let results = HostBuffer::new(host, 4 * queries.len() as u64, usage).expect("results");
+    let result_count = shape.results_per_query * queries.len();
+    let results = HostBuffer::new(host, 4 * result_count as u64, usage).expect("results");
+    let invocations = queries.len().div_ceil(shape.per_invocation);
     let constants = ProbePush {
         map: map.header_address(),
         queries: query_buffer.address(),
         results: results.address(),
-        count: queries.len() as u32,
+        count: invocations as u32,
         reserved: 0,
     };
     host.record_and_wait(|cmd| unsafe {
@@ -513,7 +543,7 @@ fn probe(host: &Host, map: &TemporalShadowMap, queries: &[Query]) -> Vec<f32> {
             std::mem::size_of::<ProbePush>(),
         );
         device.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::COMPUTE, 0, bytes);
-        device.cmd_dispatch(cmd, (queries.len() as u32).div_ceil(64), 1, 1);
+        device.cmd_dispatch(cmd, (invocations as u32).div_ceil(shape.workgroup), 1, 1);
         let to_host = [vk::MemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
             .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
@@ -522,7 +552,7 @@ fn probe(host: &Host, map: &TemporalShadowMap, queries: &[Query]) -> Vec<f32> {
         deferred::pipeline_barrier(device, cmd, &[], &to_host);
     })
     .expect("probe submission");
-    let out = results.read::<f32>(queries.len()).expect("results");
+    let out = results.read::<f32>(result_count).expect("results");
     unsafe {
         device.destroy_pipeline(pipeline, None);
         device.destroy_pipeline_layout(layout, None);
@@ -1559,6 +1589,105 @@ fn a_receivers_own_triangle_never_shadows_it() {
     assert!(
         under_ground >= 50 && under_caster >= 50,
         "{under_ground} / {under_caster}"
+    );
+    drop(engine);
+    host.assert_clean_teardown();
+}
+
+/// The lighting pass tests a pixel's samples per texel (`ms_samples_shadowed`, glsl/
+/// temporal_samples.glsl, not part of the public include); each sample must get exactly what
+/// `ms_texel_shadowed` answers for it alone. Groups of 8 receivers around one point (within
+/// a texel or two, so some share a texel and some do not), at random times, on the ground or
+/// just below a caster, with their own triangle's id, another triangle's, or none: the two
+/// answers agree for every one, and the own ids decide many of them (the test fails when
+/// either function drops the own-triangle skip, or the static layer, coverage or time test).
+#[test]
+fn per_texel_sample_tests_answer_as_ms_texel_shadowed() {
+    let host = new_host();
+    let world = interval_world();
+    let mut engine = Engine::new(&host, &world, settings((300_000, 200_000))).expect("engine");
+    let frame = engine
+        .render(&world, 0..2, &|f| f == 1)
+        .expect("frames")
+        .pop()
+        .expect("frame 1 kept");
+    let texel = 2.0 * 6.0 / f64::from(SHADOW.0);
+    let mut rng = 0x2545_f491_4f6c_dd1du64;
+    let mut uniform = move || {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        (rng >> 11) as f64 / (1u64 << 53) as f64
+    };
+    // Global ids: the ground's 32 triangles, then two per caster.
+    let ground_triangles = 2 * 4 * 4;
+    let ids: Vec<u32> = (0..ground_triangles + 6).collect();
+    let mut queries = Vec::new();
+    for _ in 0..400 {
+        let (x, z) = (-5.5 + 11.0 * uniform(), Z0 + f64::from(SIDE) * uniform());
+        // Below the ground, below the low caster, or below the high one.
+        let surface = (uniform() * 3.0) as usize;
+        let height = [-0.2, 0.8, 1.8][surface];
+        for _ in 0..8 {
+            let (px, pz) = (
+                x + 2.0 * texel * (uniform() - 0.5),
+                z + 2.0 * texel * (uniform() - 0.5),
+            );
+            // A third each: the id of the surface just above (either triangle of a caster),
+            // any id, none.
+            let own = match (uniform() * 3.0) as usize {
+                0 if surface == 0 => ground_triangle(DVec3::new(px, 0.0, pz), 0.0).unwrap_or(0),
+                0 => ground_triangles + 2 * (surface as u32 - 1) + u32::from(uniform() < 0.5),
+                1 => ids[(uniform() * ids.len() as f64) as usize],
+                _ => u32::MAX,
+            };
+            queries.push(Query {
+                position: [px as f32, height as f32, pz as f32],
+                time: uniform() as f32,
+                normal: [0.0, 1.0, 0.0],
+                own,
+            });
+        }
+    }
+    let map = engine.shadow_map(frame.slot, 0);
+    let answers = run_probe(
+        &host,
+        map,
+        &queries,
+        deferred::sources::SAMPLES_PROBE_COMP,
+        Shape {
+            per_invocation: 8,
+            workgroup: 16,
+            results_per_query: 2,
+        },
+    );
+    // The same receivers without their own ids: how many answers the ids decide.
+    let anonymous: Vec<Query> = queries
+        .iter()
+        .map(|q| Query {
+            own: u32::MAX,
+            ..*q
+        })
+        .collect();
+    let without_ids = probe(&host, map, &anonymous);
+    let (mut shadowed, mut decided_by_id) = (0, 0);
+    for (i, (q, pair)) in queries.iter().zip(answers.chunks_exact(2)).enumerate() {
+        assert_eq!(
+            pair[0], pair[1],
+            "query {i} {q:?}: per texel {}, alone {}",
+            pair[0], pair[1]
+        );
+        shadowed += usize::from(pair[1] == 1.0);
+        // Shadowed without an id (probe gives visibility: 0), lit with its own.
+        decided_by_id += usize::from(pair[1] == 0.0 && without_ids[i] == 0.0);
+    }
+    eprintln!(
+        "{} receivers: {shadowed} shadowed, {decided_by_id} lit only by their own id",
+        queries.len()
+    );
+    assert!(
+        shadowed >= 300 && queries.len() - shadowed >= 300 && decided_by_id >= 100,
+        "{shadowed} shadowed, {decided_by_id} decided by the id"
     );
     drop(engine);
     host.assert_clean_teardown();
