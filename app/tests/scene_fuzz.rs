@@ -10,7 +10,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use motion_shadows_app::scene::limits::MAX_ERROR_CHARS;
 use motion_shadows_app::scene::parse_scene_json;
@@ -428,13 +428,14 @@ fn the_scene_parser_survives_generated_and_mutated_documents() {
         sane: false,
         obj_paths: obj_fixtures(&dir),
     };
-    let (budget, max_cases) = (Duration::from_secs(10), 30_000);
+    // A fixed number of cases (no time budget: the same cases run on every machine).
+    const CASES: usize = 30_000;
     let start = Instant::now();
     let (mut cases, mut valid, mut largest_peak) = (0usize, 0usize, 0usize);
     let mut failures = Vec::new();
     // The panic hook would print every caught panic; the failures are reported below.
     std::panic::set_hook(Box::new(|_| {}));
-    while cases < max_cases && start.elapsed() < budget {
+    while cases < CASES {
         let mut text = generator.document();
         if generator.rng.chance(0.4) {
             text = generator.mutate(text);
@@ -488,7 +489,6 @@ fn the_scene_parser_survives_generated_and_mutated_documents() {
             .collect::<Vec<_>>()
             .join("\n")
     );
-    assert!(cases >= 1000, "only {cases} cases ran in {seconds:.1} s");
     assert!(
         valid > 0,
         "no generated document was a valid scene: the generator is off"
