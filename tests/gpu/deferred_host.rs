@@ -477,6 +477,31 @@ struct ProbePush {
     reserved: u32,
 }
 
+/// Lit-fraction queries (time -1, own id none, normal up) at the centres of the shadow-map
+/// texels of the row through ground depth `z`, on the ground, for the probe shader.
+fn lit_fraction_queries_along_texel_row(world: &World, z: f64) -> Vec<Query> {
+    let light = world.lights[0].view(SHADOW);
+    let view_proj = (light.proj * light.view).as_dmat4();
+    let to_world = view_proj.inverse();
+    let row = {
+        let ndc = view_proj * DVec3::new(0.0, 0.0, z).extend(1.0);
+        ((ndc.y / ndc.w * 0.5 + 0.5) * f64::from(SHADOW.1)).floor()
+    };
+    (0..SHADOW.0)
+        .map(|column| {
+            let ndc_x = (f64::from(column) + 0.5) / f64::from(SHADOW.0) * 2.0 - 1.0;
+            let ndc_y = (row + 0.5) / f64::from(SHADOW.1) * 2.0 - 1.0;
+            let p = to_world * glam::DVec4::new(ndc_x, ndc_y, 0.5, 1.0);
+            Query {
+                position: [(p.x / p.w) as f32, 0.0, (p.z / p.w) as f32],
+                time: -1.0,
+                normal: [0.0, 1.0, 0.0],
+                own: u32::MAX,
+            }
+        })
+        .collect()
+}
+
 /// Runs the host's probe shader (its own GLSL, including the library's header) on `queries`
 /// against `map`, in the host's own command buffer.
 fn probe(host: &Host, map: &TemporalShadowMap, queries: &[Query]) -> Vec<f32> {
@@ -907,27 +932,8 @@ fn lit_fraction_matches_the_closed_form_for_a_translating_square() {
     // At texel centres the map holds exactly the intervals of the point itself (no half
     // texel of motion): there ms_lit_fraction equals the closed form to 1e-3, along a row of
     // texels across the square's whole path, through the host's own probe shader.
-    let light = world.lights[0].view(SHADOW);
-    let to_world = (light.proj * light.view).as_dmat4().inverse();
-    let row = {
-        // The texel row through the middle of the square's z extent.
-        let ndc = (light.proj * light.view).as_dmat4()
-            * DVec3::new(0.0, 0.0, z0 + 0.5 * side).extend(1.0);
-        ((ndc.y / ndc.w * 0.5 + 0.5) * f64::from(SHADOW.1)).floor()
-    };
-    let queries: Vec<Query> = (0..SHADOW.0)
-        .map(|column| {
-            let ndc_x = (f64::from(column) + 0.5) / f64::from(SHADOW.0) * 2.0 - 1.0;
-            let ndc_y = (row + 0.5) / f64::from(SHADOW.1) * 2.0 - 1.0;
-            let p = to_world * glam::DVec4::new(ndc_x, ndc_y, 0.5, 1.0);
-            Query {
-                position: [(p.x / p.w) as f32, 0.0, (p.z / p.w) as f32],
-                time: -1.0,
-                normal: [0.0, 1.0, 0.0],
-                own: u32::MAX,
-            }
-        })
-        .collect();
+    // The texel row through the middle of the square's z extent.
+    let queries = lit_fraction_queries_along_texel_row(&world, z0 + 0.5 * side);
     let lit = probe(&host, engine.shadow_map(frame.slot, 0), &queries);
     let (mut worst_centre, mut partly) = (0.0f64, 0);
     for (q, &got) in queries.iter().zip(&lit) {
@@ -1423,26 +1429,7 @@ fn lit_fraction_unites_overlapping_ranges_and_cuts_at_the_depth_crossing() {
         .expect("frames")
         .pop()
         .expect("frame 1 kept");
-    let light = world.lights[0].view(SHADOW);
-    let to_world = (light.proj * light.view).as_dmat4().inverse();
-    let row = {
-        let ndc = (light.proj * light.view).as_dmat4()
-            * DVec3::new(0.0, 0.0, Z0 + 0.5 * f64::from(SIDE)).extend(1.0);
-        ((ndc.y / ndc.w * 0.5 + 0.5) * f64::from(SHADOW.1)).floor()
-    };
-    let queries: Vec<Query> = (0..SHADOW.0)
-        .map(|column| {
-            let ndc_x = (f64::from(column) + 0.5) / f64::from(SHADOW.0) * 2.0 - 1.0;
-            let ndc_y = (row + 0.5) / f64::from(SHADOW.1) * 2.0 - 1.0;
-            let p = to_world * glam::DVec4::new(ndc_x, ndc_y, 0.5, 1.0);
-            Query {
-                position: [(p.x / p.w) as f32, 0.0, (p.z / p.w) as f32],
-                time: -1.0,
-                normal: [0.0, 1.0, 0.0],
-                own: u32::MAX,
-            }
-        })
-        .collect();
+    let queries = lit_fraction_queries_along_texel_row(&world, Z0 + 0.5 * f64::from(SIDE));
     let lit = probe(&host, engine.shadow_map(frame.slot, 0), &queries);
     // The receiver tested: the ground point moved up by the light's normal offset (one
     // texel: the box is 12 units across the map), its depth less the relative bias 1e-4.

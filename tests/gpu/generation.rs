@@ -191,6 +191,23 @@ fn long_lists_are_paired_exactly() {
     assert_no_validation_messages(&ctx);
 }
 
+/// The refusal of a stack of 300 layers: many pixels, the longest list 600 fragments.
+fn assert_too_long_with_600(err: AppError) {
+    match err {
+        AppError::Library(Error::FragmentListTooLong {
+            pixels,
+            longest,
+            limit,
+            ..
+        }) => {
+            assert!(pixels > 10, "{pixels}");
+            assert_eq!(longest, 600);
+            assert_eq!(limit, MAX_LIST_NODES);
+        }
+        other => panic!("expected FragmentListTooLong, got {other}"),
+    }
+}
+
 /// Past MAX_LIST_NODES fragments in one pixel the frame is refused with the figures, never
 /// rendered with ranges missing. (Static triangles in the static layer take no list room: the
 /// same stack then renders.)
@@ -222,19 +239,7 @@ fn overlong_lists_are_an_error_with_figures() {
         .render(&s, &settings, &mut |_| {})
         .err()
         .expect("must fail");
-    match err {
-        AppError::Library(Error::FragmentListTooLong {
-            pixels,
-            longest,
-            limit,
-            ..
-        }) => {
-            assert!(pixels > 10, "{pixels}");
-            assert_eq!(longest, 600);
-            assert_eq!(limit, MAX_LIST_NODES);
-        }
-        other => panic!("expected FragmentListTooLong, got {other}"),
-    }
+    assert_too_long_with_600(err);
     assert_no_validation_messages(&ctx);
 }
 
@@ -274,18 +279,6 @@ fn overlong_collected_ranges_are_an_error_with_figures() {
         .render(&moving(300), &settings, &mut |_| {})
         .err()
         .expect("must fail");
-    match err {
-        AppError::Library(Error::FragmentListTooLong {
-            pixels,
-            longest,
-            limit,
-            ..
-        }) => {
-            assert!(pixels > 10, "{pixels}");
-            assert_eq!(longest, 600);
-            assert_eq!(limit, MAX_LIST_NODES);
-        }
-        other => panic!("expected FragmentListTooLong, got {other}"),
-    }
+    assert_too_long_with_600(err);
     assert_no_validation_messages(&ctx);
 }
