@@ -89,7 +89,8 @@ fn same_seed_gives_identical_exr() {
     std::fs::create_dir_all(&dir).unwrap();
     let mut files = Vec::new();
     for run in 0..2 {
-        let image = render(&ctx, &s, &settings).image;
+        let blurred = render(&ctx, &s, &settings);
+        let image = &blurred.image;
         let path = dir.join(format!("run{run}.exr"));
         write_exr(&path, &image).unwrap();
         files.push(std::fs::read(&path).unwrap());
@@ -145,8 +146,10 @@ fn tiny_starting_capacity_gives_the_same_image() {
     assert_no_validation_messages(&ctx);
 }
 
-/// Ranges that only exist in part of the frame must matter: the temporal method differs from
-/// an ordinary shadow map taken at any single time when the occluder moves.
+/// Ranges that only exist in part of the frame must matter: under a moving block the temporal
+/// method's ground is partly lit (the shadow blurred along the path) over many pixels, where
+/// an ordinary shadow map taken at one time (mid-shutter) leaves a hard shadow with partly lit
+/// pixels only along its edges' antialiasing: at least four times as many.
 #[test]
 fn moving_occluder_blurs_its_shadow() {
     let ctx = context();
@@ -171,7 +174,8 @@ fn moving_occluder_blurs_its_shadow() {
         seed: 1,
         ..RenderSettings::default()
     };
-    let image = render(&ctx, &s, &settings).image;
+    let blurred = render(&ctx, &s, &settings);
+    let image = &blurred.image;
     // Under the path of the block the ground is partly lit: neither fully dark nor fully lit.
     let (w, h) = (image.width as usize, image.height as usize);
     let unshadowed = render(
@@ -180,13 +184,28 @@ fn moving_occluder_blurs_its_shadow() {
         &settings,
     )
     .image;
-    let partial = (0..w * h)
-        .filter(|&i| {
-            let (v, lit) = (image.rgb[3 * i], unshadowed.rgb[3 * i]);
-            lit > 0.0 && v > 0.2 * lit && v < 0.8 * lit
-        })
-        .count();
+    // Ground pixels only: no sample of the pixel sees the (motion-blurred) block itself.
+    let partly_lit = |rgb: &[f32], moving: &[f32]| {
+        (0..w * h)
+            .filter(|&i| {
+                let (v, lit) = (rgb[3 * i], unshadowed.rgb[3 * i]);
+                moving[i] == 0.0 && lit > 0.0 && v > 0.2 * lit && v < 0.8 * lit
+            })
+            .count()
+    };
+    let partial = partly_lit(&image.rgb, &blurred.moving_coverage);
+    let one_time = RenderSettings {
+        method: Method::Plain { time: 0.5 },
+        ..settings.clone()
+    };
+    let hard = render(&ctx, &s, &one_time);
+    let hard = partly_lit(&hard.image.rgb, &hard.moving_coverage);
+    eprintln!("partly lit pixels: temporal {partial}, one map at mid-shutter {hard}");
     assert!(partial > 200, "only {partial} partly shadowed pixels");
+    assert!(
+        partial > 4 * hard,
+        "temporal {partial}, one map at mid-shutter {hard}"
+    );
     assert_no_validation_messages(&ctx);
 }
 
