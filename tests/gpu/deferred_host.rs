@@ -1374,6 +1374,19 @@ fn interval_world() -> World {
     World { meshes, ..world }
 }
 
+/// `interval_world`'s engine after frame 1 (whose shutter the casters' motions span), and
+/// that frame.
+fn interval_frame(host: &Host) -> (Engine<'_>, FrameOutput) {
+    let world = interval_world();
+    let mut engine = Engine::new(host, &world, settings((300_000, 200_000))).expect("engine");
+    let frame = engine
+        .render(&world, 0..2, &|f| f == 1)
+        .expect("frames")
+        .pop()
+        .expect("frame 1 kept");
+    (engine, frame)
+}
+
 /// The times in frame 1's shutter during which caster `c` covers ground point (x, z) and is
 /// nearer to the overhead light than the ground there (its height above `depth_margin`).
 fn caster_interval(c: &Caster, x: f64, z: f64, depth_margin: f64) -> Option<(f64, f64)> {
@@ -1422,14 +1435,9 @@ fn union_length(mut intervals: Vec<(f64, f64)>) -> f64 {
 #[test]
 fn lit_fraction_unites_overlapping_ranges_and_cuts_at_the_depth_crossing() {
     let host = new_host();
-    let world = interval_world();
-    let mut engine = Engine::new(&host, &world, settings((300_000, 200_000))).expect("engine");
-    let frame = engine
-        .render(&world, 0..2, &|f| f == 1)
-        .expect("frames")
-        .pop()
-        .expect("frame 1 kept");
-    let queries = lit_fraction_queries_along_texel_row(&world, Z0 + 0.5 * f64::from(SIDE));
+    let (engine, frame) = interval_frame(&host);
+    let queries =
+        lit_fraction_queries_along_texel_row(&interval_world(), Z0 + 0.5 * f64::from(SIDE));
     let lit = probe(&host, engine.shadow_map(frame.slot, 0), &queries);
     // The receiver tested: the ground point moved up by the light's normal offset (one
     // texel: the box is 12 units across the map), its depth less the relative bias 1e-4.
@@ -1490,13 +1498,7 @@ fn lit_fraction_unites_overlapping_ranges_and_cuts_at_the_depth_crossing() {
 #[test]
 fn a_receivers_own_triangle_never_shadows_it() {
     let host = new_host();
-    let world = interval_world();
-    let mut engine = Engine::new(&host, &world, settings((300_000, 200_000))).expect("engine");
-    let frame = engine
-        .render(&world, 0..2, &|f| f == 1)
-        .expect("frames")
-        .pop()
-        .expect("frame 1 kept");
+    let (engine, frame) = interval_frame(&host);
     // Global ids: the ground's 32 triangles, then two per caster.
     let ground_triangles = 2 * 4 * 4;
     let texel = 2.0 * 6.0 / f64::from(SHADOW.0);
@@ -1591,13 +1593,7 @@ fn a_receivers_own_triangle_never_shadows_it() {
 #[test]
 fn per_texel_sample_tests_answer_as_ms_texel_shadowed() {
     let host = new_host();
-    let world = interval_world();
-    let mut engine = Engine::new(&host, &world, settings((300_000, 200_000))).expect("engine");
-    let frame = engine
-        .render(&world, 0..2, &|f| f == 1)
-        .expect("frames")
-        .pop()
-        .expect("frame 1 kept");
+    let (engine, frame) = interval_frame(&host);
     let texel = 2.0 * 6.0 / f64::from(SHADOW.0);
     let mut rng = 0x2545_f491_4f6c_dd1du64;
     let mut uniform = move || {
