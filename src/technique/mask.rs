@@ -58,6 +58,21 @@ pub struct NormalImage {
     pub encoding: NormalEncoding,
 }
 
+/// The host's motion image: how far each G-buffer point moves during the shutter, so that
+/// the mask follows moving receivers (a character's own faces, a moving floor) instead of
+/// testing them where they are at one time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MotionImage {
+    /// A view of a sampled float image (R16G16B16A16_SFLOAT or R32G32B32A32_SFLOAT; any
+    /// format the shader reads as floats), the size of the depth image: rgb = the surface
+    /// point's world-space displacement over the whole shutter, `p(1) - p(0)` (a = unused).
+    /// An engine whose shutter runs from the previous frame to this one writes
+    /// `position_now - position_previous`, its motion vectors in world space.
+    pub view: vk::ImageView,
+    /// Its layout while the pass runs (e.g. `SHADER_READ_ONLY_OPTIMAL`).
+    pub layout: vk::ImageLayout,
+}
+
 /// What one mask dispatch reads and writes: the host's images and camera.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MaskInputs {
@@ -79,6 +94,13 @@ pub struct MaskInputs {
     /// The depth image's clear value (1 for a standard depth buffer, 0 for reversed Z):
     /// pixels holding it have no surface and get 1 (lit).
     pub background_depth: f32,
+    /// The host's motion image, or `None`: every receiver stands still for the whole
+    /// shutter (the static mask, cheaper).
+    pub motion: Option<MotionImage>,
+    /// The shutter time in [0, 1] the depth (and normal) image shows: the point of pixel p
+    /// is at `position(p) + (t - time) * motion(p)` at time t. Engines draw their current
+    /// frame at shutter close: 1. Read only with `motion`.
+    pub time: f32,
 }
 
 /// The mask shader's push constants (104 bytes).

@@ -43,7 +43,9 @@ pub use gpu_types::{
 };
 pub use image_output::LightingImageOutput;
 pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, Samples, ShadowSource};
-pub use mask::{MaskBindings, MaskInputs, NormalEncoding, NormalImage, VisibilityMaskPass};
+pub use mask::{
+    MaskBindings, MaskInputs, MotionImage, NormalEncoding, NormalImage, VisibilityMaskPass,
+};
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
 pub use sampling::{pixel_key, pixel_sample};
 pub use shadow_map::{ShadowMapContents, TemporalShadowMap};

@@ -1229,6 +1229,8 @@ impl Recorder<'_> {
                 size: (width, height),
                 inv_view_proj,
                 background_depth: 1.0,
+                motion: None,
+                time: 1.0,
             };
             // SAFETY: recording outside rendering; the bindings are this slot's and this
             // light's (used once in this command buffer, not by the other slot's frame); the
