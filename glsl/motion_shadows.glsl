@@ -164,6 +164,14 @@ float ms_receiver_plane_depth(MsLight light, uvec2 size, uvec2 texel, vec3 p, ve
     return -(o + d * (dot(nv, pv - o) / nd)).z;
 }
 
+// The light depth an offset receiver point q (unit normal n) in `texel`, at linear light
+// depth `depth`, is tested with: if the light asks for it, its plane's depth at the texel's
+// centre; then the relative depth bias.
+float ms_tested_depth(MsLight light, uvec2 size, uvec2 texel, vec3 q, vec3 n, float depth) {
+    if (light.bias.w > 0.5) depth = ms_receiver_plane_depth(light, size, texel, q, n, depth);
+    return depth * (1.0 - light.bias.y);
+}
+
 // The texel and the light depth a receiver at p (unit normal n) is tested with: p moved
 // by the normal offset, then, if the light asks for it, its plane's depth at the texel.
 bool ms_receiver_texel(MsLight light, uvec2 size, vec3 p, vec3 n, out uint texel_index,
@@ -173,8 +181,7 @@ bool ms_receiver_texel(MsLight light, uvec2 size, vec3 p, vec3 n, out uint texel
     bool seen = ms_project_texel(light, size, q, texel, depth);
     texel_index = texel.y * size.x + texel.x;
     if (!seen) return false;
-    if (light.bias.w > 0.5) depth = ms_receiver_plane_depth(light, size, texel, q, n, depth);
-    depth *= 1.0 - light.bias.y;
+    depth = ms_tested_depth(light, size, texel, q, n, depth);
     return true;
 }
 
@@ -413,30 +420,56 @@ float ms_visibility(MsShadowMap header, vec3 p, vec3 n, float t, uint own) {
     return ms_visibility(ms_load(header), p, n, t, own);
 }
 
-// ---- visibility integrated over the shutter, for a receiver that does not move ----
+// ---- visibility integrated over the shutter ----
 
-// The part of a range's interval during which its triangle is nearer to the light than
-// `depth`: its depth is linear in time over the range, so that part is one interval (empty
-// when x > y). A zero-length range shadows a single instant: measure zero.
-vec2 ms_nearer_interval(float t_s, float t_e, float d_s, float d_e, float depth) {
+// The part of the window [w.x, w.y] (within [t_s, t_e]) during which an occluder whose depth
+// runs linearly from d_s at t_s to d_e at t_e is nearer to the light than a receiver whose
+// depth runs linearly from r.x at w.x to r.y at w.y. Both are linear in time there, so their
+// difference changes sign at most once: one interval (empty when x > y). A zero-length range
+// shadows a single instant: measure zero.
+vec2 ms_nearer_span(float t_s, float t_e, float d_s, float d_e, vec2 w, vec2 r) {
     const vec2 EMPTY = vec2(1.0, 0.0);
-    if (!(t_e > t_s)) return EMPTY;
-    bool start_nearer = d_s < depth, end_nearer = d_e < depth;
-    if (start_nearer && end_nearer) return vec2(t_s, t_e);
+    float a = max(t_s, w.x), b = min(t_e, w.y);
+    if (!(t_e > t_s) || !(b > a)) return EMPTY;
+    // Ends that are the lines' own ends are taken as stored (no rounding: a receiver that
+    // stands still over the whole shutter gets exactly the static answer).
+    float ta = (a - t_s) / (t_e - t_s), tb = (b - t_s) / (t_e - t_s);
+    float wa = (a - w.x) / (w.y - w.x), wb = (b - w.x) / (w.y - w.x);
+    float fa = (a > t_s ? mix(d_s, d_e, ta) : d_s) - (a > w.x ? mix(r.x, r.y, wa) : r.x);
+    float fb = (b < t_e ? mix(d_s, d_e, tb) : d_e) - (b < w.y ? mix(r.x, r.y, wb) : r.y);
+    bool start_nearer = fa < 0.0, end_nearer = fb < 0.0;
+    if (start_nearer && end_nearer) return vec2(a, b);
     if (!start_nearer && !end_nearer) return EMPTY;
-    float crossing = t_s + (depth - d_s) / (d_e - d_s) * (t_e - t_s);
-    crossing = clamp(crossing, t_s, t_e);
-    return start_nearer ? vec2(t_s, crossing) : vec2(crossing, t_e);
+    float crossing = clamp(a + fa / (fa - fb) * (b - a), a, b);
+    return start_nearer ? vec2(a, crossing) : vec2(crossing, b);
 }
 
-// The interval of range r (of the texel's list, r counted from 0 in list order) that
-// shadows a receiver at `depth` on triangle `own`.
-vec2 ms_range_nearer(MsRange range, float depth, uint own) {
+// The part of a range's interval during which its triangle is nearer to the light than a
+// receiver standing still at `depth` (see ms_nearer_span).
+vec2 ms_nearer_interval(float t_s, float t_e, float d_s, float d_e, float depth) {
+    return ms_nearer_span(t_s, t_e, d_s, d_e, vec2(0.0, 1.0), vec2(depth));
+}
+
+// The interval of a range that shadows a receiver on triangle `own` whose depth runs from
+// r.x to r.y over the window w.
+vec2 ms_range_nearer(MsRange range, vec2 w, vec2 r, uint own) {
     if (range.id == own) return vec2(1.0, 0.0);
-    return ms_nearer_interval(range.t_s, range.t_e, range.d_s, range.d_e, depth);
+    return ms_nearer_span(range.t_s, range.t_e, range.d_s, range.d_e, w, r);
 }
 
-// How many disjoint intervals ms_texel_lit_fraction keeps in private memory. Loop iterations
+// The interval of a range that shadows a receiver standing still at `depth` on `own`.
+vec2 ms_range_nearer(MsRange range, float depth, uint own) {
+    return ms_range_nearer(range, vec2(0.0, 1.0), vec2(depth), own);
+}
+
+// The length of the union of two intervals (empty where x >= y).
+float ms_union_length(vec2 a, vec2 b) {
+    float la = max(a.y - a.x, 0.0), lb = max(b.y - b.x, 0.0);
+    if (la == 0.0 || lb == 0.0) return la + lb;
+    return la + lb - max(min(a.y, b.y) - max(a.x, b.x), 0.0);
+}
+
+// How many disjoint intervals ms_texel_lit_span keeps in private memory. Loop iterations
 // are the budget here: lavapipe leaves every loop of an invocation once they have run 65,535
 // iterations in all (silently). The union is built as a sorted set of disjoint intervals,
 // each new interval merged into it (n ranges cost about n times the set's size; the ranges
@@ -444,29 +477,62 @@ vec2 ms_range_nearer(MsRange range, float depth, uint own) {
 // comes and goes more often than this is measured by repeated scans (n per interval).
 const uint MS_DISJOINT_INTERVALS = 32u;
 
-// The lit fraction of the shutter for a receiver at light depth `depth` on triangle `own`
-// in `texel` (see ms_lit_fraction).
-float ms_texel_lit_fraction(MsMap map, uint texel, float depth, uint own) {
-    if (ms_static_shadow(map, texel, depth, own)) return 0.0;
+// In the repeated scans of ms_texel_lit_span: is interval `iv` (number `index`) the next
+// one to take, after (last_start, last_index) in order of start, and before the best so far?
+void ms_consider_next(vec2 iv, uint index, float covered_to, float last_start,
+                      uint last_index, inout float next_start, inout float next_end,
+                      inout uint next_index) {
+    if (!(iv.y > iv.x) || iv.y <= covered_to) return;
+    bool after_last = iv.x > last_start || (iv.x == last_start && index > last_index);
+    bool before_next = iv.x < next_start || (iv.x == next_start && index < next_index);
+    if (after_last && before_next) {
+        next_start = iv.x;
+        next_end = iv.y;
+        next_index = index;
+    }
+}
+
+// How long, within the window [w.x, w.y] of the shutter, a receiver in `texel` on triangle
+// `own` whose light depth runs linearly from r.x at w.x to r.y at w.y sees the light: the
+// window's length minus the length of the union of the intervals during which the texel's
+// nearest static triangle, its covering triangle or one of its ranges is nearer than it.
+float ms_texel_lit_span(MsMap map, uint texel, vec2 w, vec2 r, uint own) {
+    const vec2 EMPTY = vec2(1.0, 0.0);
+    float span = max(w.y - w.x, 0.0);
+    // The static layer's nearest triangle: one occluder at one depth all shutter long (if it
+    // is the receiver's own, every other static triangle there is at least as far as the
+    // receiver's own surface at the texel centre, which no receiver test puts behind).
+    vec2 fixed_iv = EMPTY;
+    if (map.static_nearest != 0UL) {
+        uint64_t nearest = MsUint64s(map.static_nearest).v[texel];
+        uint id = uint(nearest & 0xffffffffUL);
+        if (id != MS_NO_TRIANGLE && id != own) {
+            float d = ms_static_depth(uint(nearest >> 32));
+            fixed_iv = ms_nearer_span(0.0, 1.0, d, d, w, r);
+        }
+    }
+    float fixed_length = max(fixed_iv.y - fixed_iv.x, 0.0);
+    if (fixed_length >= span) return 0.0;
     if (map.coverage != 0UL) {
         uint cover = MsUints(map.coverage).v[texel];
         if (cover != MS_NO_TRIANGLE) {
-            if (cover == own) return 1.0;
+            if (cover == own) return span - fixed_length;
             vec2 d = ms_cover_depth(map, texel);
-            vec2 iv = ms_nearer_interval(0.0, 1.0, d.x, d.y, depth);
-            return 1.0 - max(iv.y - iv.x, 0.0);
+            vec2 iv = ms_nearer_span(0.0, 1.0, d.x, d.y, w, r);
+            return span - min(ms_union_length(fixed_iv, iv), span);
         }
     }
     uint head = MsUints(map.range_heads).v[texel];
-    // The union so far: m disjoint intervals in order. A zero-length interval shadows an
-    // instant (measure zero) and is left out.
+    // The union so far: m disjoint intervals in order, starting with the static one. A
+    // zero-length interval shadows an instant (measure zero) and is left out.
     vec2 set[MS_DISJOINT_INTERVALS];
-    uint m = 0u;
+    set[0] = fixed_iv;
+    uint m = fixed_length > 0.0 ? 1u : 0u;
     bool fits = true;
-    for (uint r = head; r != MS_END_OF_LIST && fits;) {
-        MsRange range = ms_range(map.ranges, r);
-        r = range.next;
-        vec2 iv = ms_range_nearer(range, depth, own);
+    for (uint r_ = head; r_ != MS_END_OF_LIST && fits;) {
+        MsRange range = ms_range(map.ranges, r_);
+        r_ = range.next;
+        vec2 iv = ms_range_nearer(range, w, r, own);
         ms_loop_iterations += 1u + 2u * m;   // the scans and shifts below, at most
         if (!(iv.y > iv.x)) continue;
         // set[first .. last] are the intervals iv overlaps or touches (none: first > last,
@@ -490,32 +556,28 @@ float ms_texel_lit_fraction(MsMap map, uint texel, float depth, uint own) {
         }
     }
     float shadowed = 0.0;
-    float covered_to = 0.0;     // the union so far ends here
+    float covered_to = w.x;     // the union so far ends here
     if (fits) {
         for (uint j = 0u; j < m; ++j) shadowed += set[j].y - set[j].x;
-        return 1.0 - min(shadowed, 1.0);
+        return span - min(shadowed, span);
     }
     // Many intervals: take them in order of their start, the next found by a scan (the last
-    // taken as (start, position in the list); the next is the smallest after it).
-    float last_start = -1.0;
+    // taken as (start, number): the static interval is number 0, the list's ranges 1, 2, ...;
+    // the next is the smallest after it).
+    float last_start = w.x - 1.0;
     uint last_index = 0u;
-    for (uint taken = 0u; taken <= MS_MAX_TEXEL_RANGES && covered_to < 1.0; ++taken) {
-        float next_start = 2.0, next_end = 0.0;
+    for (uint taken = 0u; taken <= MS_MAX_TEXEL_RANGES + 1u && covered_to < w.y; ++taken) {
+        float next_start = w.y + 1.0, next_end = 0.0;
         uint next_index = 0xffffffffu;
-        uint index = 0u;
-        for (uint r = head; r != MS_END_OF_LIST; ++index) {
+        ms_consider_next(fixed_iv, 0u, covered_to, last_start, last_index, next_start,
+                         next_end, next_index);
+        uint index = 1u;
+        for (uint r_ = head; r_ != MS_END_OF_LIST; ++index) {
             ++ms_loop_iterations;
-            MsRange range = ms_range(map.ranges, r);
-            r = range.next;
-            vec2 iv = ms_range_nearer(range, depth, own);
-            if (!(iv.y > iv.x) || iv.y <= covered_to) continue;
-            bool after_last = iv.x > last_start || (iv.x == last_start && index > last_index);
-            bool before_next = iv.x < next_start || (iv.x == next_start && index < next_index);
-            if (after_last && before_next) {
-                next_start = iv.x;
-                next_end = iv.y;
-                next_index = index;
-            }
+            MsRange range = ms_range(map.ranges, r_);
+            r_ = range.next;
+            ms_consider_next(ms_range_nearer(range, w, r, own), index, covered_to, last_start,
+                             last_index, next_start, next_end, next_index);
         }
         if (next_index == 0xffffffffu) break;
         shadowed += max(next_end - max(next_start, covered_to), 0.0);
@@ -523,7 +585,13 @@ float ms_texel_lit_fraction(MsMap map, uint texel, float depth, uint own) {
         last_start = next_start;
         last_index = next_index;
     }
-    return 1.0 - min(shadowed, 1.0);
+    return span - min(shadowed, span);
+}
+
+// The lit fraction of the shutter for a receiver standing still at light depth `depth` on
+// triangle `own` in `texel` (see ms_lit_fraction).
+float ms_texel_lit_fraction(MsMap map, uint texel, float depth, uint own) {
+    return ms_texel_lit_span(map, texel, vec2(0.0, 1.0), vec2(depth), own);
 }
 
 // The fraction of the shutter [0, 1] during which a receiver that stays at `p` all frame
@@ -541,6 +609,100 @@ float ms_lit_fraction(MsMap map, vec3 p, vec3 n, uint own) {
 
 float ms_lit_fraction(MsShadowMap header, vec3 p, vec3 n, uint own) {
     return ms_lit_fraction(ms_load(header), p, n, own);
+}
+
+// ---- receivers that move during the shutter ----
+
+// Narrows [lo, hi] to the times t at which g0 + t * dg >= 0.
+void ms_clip_times(float g0, float dg, inout float lo, inout float hi) {
+    if (dg > 0.0) {
+        lo = max(lo, -g0 / dg);
+    } else if (dg < 0.0) {
+        hi = min(hi, -g0 / dg);
+    } else if (g0 < 0.0) {
+        hi = lo;
+    }
+}
+
+// The time at which the linear clip-space path c0 + t * dc crosses the texel boundary at
+// normalized coordinate `edge` on axis `axis` (x/w = edge: linear in t even for a spot
+// light's projection); 2 where it never does.
+float ms_boundary_time(vec4 c0, vec4 dc, int axis, float edge) {
+    float den = dc[axis] - edge * dc.w;
+    return den != 0.0 ? -(c0[axis] - edge * c0.w) / den : 2.0;
+}
+
+// The fraction of the shutter [0, 1] during which a receiver moving linearly from p0 (at
+// t = 0) to p1 (at t = 1), unit normal n (on the side facing the light; taken as constant),
+// on triangle `own`, sees the light: each range tested where the point is when it holds.
+// Exact for a receiver that translates (any linear motion of the point), with the same
+// receiver offset, bias and own-triangle rule as ms_lit_fraction, to which it reduces when
+// p0 == p1.
+//
+// The point's path is cut where it crosses texel boundaries (its projection x/w is monotonic
+// in t, and each crossing time solves a linear equation, for both light kinds); within one
+// texel its light depth, and its tangent plane's depth at the texel centre, are linear in t,
+// so every range shadows it during one interval (ms_texel_lit_span). Time spent outside the
+// light's view is lit. The cost is one list walk per texel crossed.
+float ms_lit_fraction_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own) {
+    MsLight light = map.light;
+    // The normal offset is linear in the point's light depth, so the offset point moves
+    // linearly too.
+    vec3 q0 = ms_offset_receiver(light, p0, n), q1 = ms_offset_receiver(light, p1, n);
+    mat4 to_clip = light.proj * light.view;
+    vec4 c0 = to_clip * vec4(q0, 1.0), dc = to_clip * vec4(q1, 1.0) - c0;
+    float lo = 0.0, hi = 1.0;
+    ms_clip_times(c0.w, dc.w, lo, hi);
+    ms_clip_times(c0.w + c0.x, dc.w + dc.x, lo, hi);
+    ms_clip_times(c0.w - c0.x, dc.w - dc.x, lo, hi);
+    ms_clip_times(c0.w + c0.y, dc.w + dc.y, lo, hi);
+    ms_clip_times(c0.w - c0.y, dc.w - dc.y, lo, hi);
+    if (!(hi > lo)) return 1.0;
+    vec2 size = vec2(map.size);
+    // The sign of d(x/w)/dt is that of dx w0 - x0 dw: one direction of travel per axis for
+    // the whole shutter.
+    ivec2 dir = ivec2(sign(vec2(dc.x * c0.w - c0.x * dc.w, dc.y * c0.w - c0.y * dc.w)));
+    vec4 start = c0 + lo * dc;
+    ivec2 texel = clamp(ivec2(floor((start.xy / start.w * 0.5 + 0.5) * size)), ivec2(0),
+                        ivec2(map.size) - 1);
+    float lit = 1.0 - (hi - lo);    // outside the light's view
+    float t = lo;
+    float depth0 = -(light.view * vec4(q0, 1.0)).z, depth1 = -(light.view * vec4(q1, 1.0)).z;
+    for (uint crossed = 0u; t < hi && crossed <= map.size.x + map.size.y; ++crossed) {
+        ++ms_loop_iterations;
+        float tx = 2.0, ty = 2.0;
+        if (dir.x != 0) {
+            float edge = float(texel.x + max(dir.x, 0)) / size.x * 2.0 - 1.0;
+            tx = ms_boundary_time(c0, dc, 0, edge);
+        }
+        if (dir.y != 0) {
+            float edge = float(texel.y + max(dir.y, 0)) / size.y * 2.0 - 1.0;
+            ty = ms_boundary_time(c0, dc, 1, edge);
+        }
+        float exit = clamp(min(min(tx, ty), hi), t, hi);
+        uvec2 at = uvec2(texel);
+        float da = ms_tested_depth(light, map.size, at, mix(q0, q1, t), n, mix(depth0, depth1, t));
+        float db = ms_tested_depth(light, map.size, at, mix(q0, q1, exit), n,
+                                   mix(depth0, depth1, exit));
+        lit += ms_texel_lit_span(map, at.y * map.size.x + at.x, vec2(t, exit), vec2(da, db), own);
+        if (tx <= ty) {
+            texel.x += dir.x;
+        } else {
+            texel.y += dir.y;
+        }
+        t = exit;
+        // Past the map's border by rounding only (hi is where the path leaves the view): the
+        // sliver left is counted lit, as outside.
+        if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, ivec2(map.size)))) {
+            lit += hi - t;
+            break;
+        }
+    }
+    return min(lit, 1.0);
+}
+
+float ms_lit_fraction_moving(MsShadowMap header, vec3 p0, vec3 p1, vec3 n, uint own) {
+    return ms_lit_fraction_moving(ms_load(header), p0, p1, n, own);
 }
 
 // The footprint lookups' common part: the taps' bilinear weights summed per texel first, so

@@ -2,8 +2,10 @@
 // The visibility-mask pass for deferred engines: for every pixel of the host's depth image,
 // rebuild the world position (and the normal, from the host's normal image or the depth
 // neighbours), and write the fraction of the shutter during which that point sees the light
-// (ms_lit_fraction: exact for a receiver that does not move during the shutter) into the
-// host's single-channel image, ready for its own lighting. Background pixels get 1.
+// into the host's single-channel image, ready for its own lighting. Background pixels get 1.
+// Two variants (specialization constant MOVING): receivers standing still (ms_lit_fraction)
+// or moving as the host's motion image says (ms_lit_fraction_moving: each range tested
+// where the point is at that time).
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_buffer_reference : require
 #include "motion_shadows.glsl"
@@ -13,6 +15,10 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 0) uniform sampler2D depth_image;
 layout(set = 0, binding = 1) uniform sampler2D normal_image;
 layout(set = 0, binding = 2) writeonly uniform image2D mask;
+// rgb: the point's world displacement over the shutter, p(1) - p(0) (read when MOVING).
+layout(set = 0, binding = 3) uniform sampler2D motion_image;
+
+layout(constant_id = 0) const bool MOVING = false;
 
 const uint MASK_HAS_NORMALS = 1u;       // read the normal image (else rebuild from depth)
 const uint MASK_NORMALS_UNORM = 2u;     // stored as n * 0.5 + 0.5
@@ -25,6 +31,7 @@ layout(push_constant) uniform Push {
     uint flags;             // MASK_*
     uint64_t over_budget;   // u32: pixels whose lookups ran past loop_budget iterations
     uint loop_budget;       // 0: the device does not limit loops
+    float time;             // the shutter time the depth image shows (read when MOVING)
 } pc;
 
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer Counter { uint count; };
@@ -80,7 +87,15 @@ void main() {
     MsLight light = map.light;
     vec3 to_light = light.position.w > 0.5 ? light.position.xyz - p : -light.direction.xyz;
     if (dot(n, to_light) < 0.0) n = -n;
-    imageStore(mask, pixel, vec4(ms_lit_fraction(map, p, n, MS_NO_TRIANGLE)));
+    float lit;
+    if (MOVING) {
+        vec3 motion = texelFetch(motion_image, pixel, 0).xyz;
+        vec3 p0 = p - pc.time * motion;
+        lit = ms_lit_fraction_moving(map, p0, p0 + motion, n, MS_NO_TRIANGLE);
+    } else {
+        lit = ms_lit_fraction(map, p, n, MS_NO_TRIANGLE);
+    }
+    imageStore(mask, pixel, vec4(lit));
     // The device leaves loops past a fixed count: say so when this pixel's lookup may have
     // come near it (the value above may then be cut short).
     if (pc.loop_budget > 0u && ms_loop_iterations > pc.loop_budget) {

@@ -31,8 +31,8 @@ impl LightingImageOutput {
             "writing the lighting pass into a host image",
             &[vk::DescriptorType::STORAGE_IMAGE],
             std::mem::size_of::<OutputConstants>() as u32,
-            "radiance_to_image.comp",
-            shaders::RADIANCE_TO_IMAGE_COMP,
+            ("radiance_to_image.comp", shaders::RADIANCE_TO_IMAGE_COMP),
+            &[&[]],
         )?;
         Ok(Self { pass })
     }
@@ -75,6 +75,6 @@ impl LightingImageOutput {
         };
         let size = (target.width(), target.height());
         // SAFETY: the caller's contract; the set was just written.
-        unsafe { self.pass.record(device, cmd, bindings, &constants, size) };
+        unsafe { self.pass.record(device, cmd, 0, bindings, &constants, size) };
     }
 }

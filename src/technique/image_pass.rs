@@ -1,29 +1,31 @@
 //! What the two passes that touch a host's images share (the visibility mask, the lighting
 //! output): a compute pipeline with one set of image bindings, created only where the device
-//! can write storage images without a format, and one dispatch over an image.
+//! can write storage images without a format, and one dispatch over an image. A pass may have
+//! several variants of its shader (specialization constants), all made up front.
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Context, ImageBindingLayout, ImageBindings, Pipeline, compute_pipeline_with_sets,
+    Context, ImageBindingLayout, ImageBindings, Pipeline, specialized_compute_pipeline,
 };
 use ash::vk;
 
-/// A compute pipeline over a host's images, with its binding layout.
+/// Compute pipelines over a host's images (one per variant), with their binding layout.
 pub(crate) struct ImagePass {
     pub layout: ImageBindingLayout,
-    pub pipeline: Pipeline,
+    pub pipelines: Vec<Pipeline>,
 }
 
 impl ImagePass {
     /// `what` names the pass in the error when shaderStorageImageWriteWithoutFormat is not
-    /// enabled (one pipeline then writes any output format).
+    /// enabled (one pipeline then writes any output format). Variant i of the pipelines has
+    /// the specialization constants `variants[i]`.
     pub fn new(
         ctx: &Context,
         what: &str,
         bindings: &[vk::DescriptorType],
         push_bytes: u32,
-        name: &str,
-        spirv: &[u8],
+        (name, spirv): (&str, &[u8]),
+        variants: &[&[u32]],
     ) -> Result<Self> {
         if !ctx.info().storage_image_write_without_format {
             return Err(Error::MissingFeatures(format!(
@@ -31,12 +33,24 @@ impl ImagePass {
             )));
         }
         let layout = ImageBindingLayout::new(ctx, bindings)?;
-        let pipeline = compute_pipeline_with_sets(ctx, &[layout.raw()], push_bytes, name, spirv)?;
-        Ok(Self { layout, pipeline })
+        let pipelines = variants
+            .iter()
+            .map(|constants| {
+                specialized_compute_pipeline(
+                    ctx,
+                    &[layout.raw()],
+                    push_bytes,
+                    name,
+                    spirv,
+                    constants,
+                )
+            })
+            .collect::<Result<_>>()?;
+        Ok(Self { layout, pipelines })
     }
 
-    /// Records one dispatch of 8x8 groups over `size` with `bindings` (already written) bound
-    /// as set 0 and `constants` pushed.
+    /// Records one dispatch of 8x8 groups of pipeline `variant` over `size` with `bindings`
+    /// (already written) bound as set 0 and `constants` pushed.
     ///
     /// # Safety
     /// `cmd` is recording, outside any render pass; `bindings` was made from this pass's
@@ -45,22 +59,24 @@ impl ImagePass {
         &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
+        variant: usize,
         bindings: &ImageBindings,
         constants: &T,
         size: (u32, u32),
     ) {
-        self.pipeline.bind(device, cmd);
+        let pipeline = &self.pipelines[variant];
+        pipeline.bind(device, cmd);
         unsafe {
             device.cmd_bind_descriptor_sets(
                 cmd,
                 vk::PipelineBindPoint::COMPUTE,
-                self.pipeline.layout,
+                pipeline.layout,
                 0,
                 &[bindings.raw()],
                 &[],
             )
         };
-        self.pipeline.push(device, cmd, constants);
+        pipeline.push(device, cmd, constants);
         unsafe { device.cmd_dispatch(cmd, size.0.div_ceil(8), size.1.div_ceil(8), 1) };
     }
 }

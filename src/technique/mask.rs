@@ -116,7 +116,8 @@ struct MaskConstants {
     over_budget: u64,
     /// `ms_loop_iterations` a pixel may reach (0: no limit).
     loop_budget: u32,
-    reserved: u32,
+    /// [`MaskInputs::time`].
+    time: f32,
 }
 
 const HAS_NORMALS: u32 = 1;
@@ -137,10 +138,11 @@ impl VisibilityMaskPass {
         let pass = ImagePass::new(
             ctx,
             "the visibility-mask pass",
-            &[sampled, sampled, vk::DescriptorType::STORAGE_IMAGE],
+            &[sampled, sampled, vk::DescriptorType::STORAGE_IMAGE, sampled],
             std::mem::size_of::<MaskConstants>() as u32,
-            "visibility_mask.comp",
-            shaders::VISIBILITY_MASK_COMP,
+            ("visibility_mask.comp", shaders::VISIBILITY_MASK_COMP),
+            // Receivers standing still; receivers moving (MOVING = true).
+            &[&[0], &[1]],
         )?;
         Ok(Self {
             pass,
@@ -192,14 +194,13 @@ impl VisibilityMaskPass {
         map: &TemporalShadowMap,
     ) {
         let depth = (inputs.depth, inputs.depth_layout);
-        // Without a normal image the depth view stands in (never read: the flag says so).
+        // Without a normal or motion image the depth view stands in (never read: the flag
+        // and the variant say so).
         let normals = inputs.normals.map_or(depth, |n| (n.view, n.layout));
+        let motion = inputs.motion.map_or(depth, |m| (m.view, m.layout));
+        let output = (inputs.output, vk::ImageLayout::GENERAL);
         // SAFETY: the caller's contract (the set is not in use; the views are valid).
-        unsafe {
-            bindings
-                .images
-                .write(&[depth, normals, (inputs.output, vk::ImageLayout::GENERAL)])
-        };
+        unsafe { bindings.images.write(&[depth, normals, output, motion]) };
         let flags = match inputs.normals {
             Some(NormalImage {
                 encoding: NormalEncoding::Unorm,
@@ -216,8 +217,9 @@ impl VisibilityMaskPass {
             flags,
             over_budget: bindings.over_budget.device_address(),
             loop_budget: self.loop_budget,
-            reserved: 0,
+            time: inputs.time,
         };
+        let variant = usize::from(inputs.motion.is_some());
         let counter = bindings.over_budget.raw();
         // SAFETY: the caller's contract; the set was just written; the counter is the
         // bindings' own, not in use by a pending command buffer (the caller's contract).
@@ -225,7 +227,7 @@ impl VisibilityMaskPass {
             device.cmd_fill_buffer(cmd, counter, 0, vk::WHOLE_SIZE, 0);
             memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_RW);
             self.pass
-                .record(device, cmd, &bindings.images, &constants, inputs.size);
+                .record(device, cmd, variant, &bindings.images, &constants, inputs.size);
             memory_barrier(device, cmd, Access::COMPUTE_RW, Access::HOST_READ);
         }
     }

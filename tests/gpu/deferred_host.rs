@@ -23,6 +23,9 @@ use motion_shadows_app::scene as app;
 #[path = "../support/deferred.rs"]
 mod deferred;
 
+#[path = "deferred_moving.rs"]
+mod moving;
+
 const SIZE: (u32, u32) = (160, 120);
 const SHADOW: (u32, u32) = (256, 256);
 const SEED: u32 = 11;

@@ -1637,6 +1637,7 @@ pub mod sources {
     pub const SHADE_COMP: &str = include_str!("../glsl/shade.comp");
     pub const PROBE_COMP: &str = include_str!("../glsl/probe.comp");
     pub const SAMPLES_PROBE_COMP: &str = include_str!("../glsl/samples_probe.comp");
+    pub const MOVING_PROBE_COMP: &str = include_str!("../glsl/moving_probe.comp");
     /// The library's own per-texel test of a pixel's samples (not part of the public
     /// include), for the test that holds it to `ms_texel_shadowed`.
     pub const TEMPORAL_SAMPLES_GLSL: &str = include_str!("../../glsl/temporal_samples.glsl");
