@@ -226,8 +226,14 @@ impl VisibilityMaskPass {
         unsafe {
             device.cmd_fill_buffer(cmd, counter, 0, vk::WHOLE_SIZE, 0);
             memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_RW);
-            self.pass
-                .record(device, cmd, variant, &bindings.images, &constants, inputs.size);
+            self.pass.record(
+                device,
+                cmd,
+                variant,
+                &bindings.images,
+                &constants,
+                inputs.size,
+            );
             memory_barrier(device, cmd, Access::COMPUTE_RW, Access::HOST_READ);
         }
     }

@@ -34,9 +34,7 @@ fn square_over_ground(light: Light, at: impl Fn(f64) -> DVec3 + 'static) -> Worl
                 indices: MeshIndices::U16(vec![0, 1, 2, 0, 2, 3]),
                 albedo: Vec3::splat(0.5),
                 closed: false,
-                motion: Motion::Rigid(Box::new(move |f| {
-                    DMat4::from_translation(DVec3::Y + at(f))
-                })),
+                motion: Motion::Rigid(Box::new(move |f| DMat4::from_translation(DVec3::Y + at(f)))),
             },
         ],
         ..world
@@ -116,7 +114,10 @@ fn crossing_paths(count: usize) -> Vec<(DVec3, DVec3)> {
     let mut paths = Vec::new();
     while paths.len() < count {
         let (xa, xb) = (next() * 8.0 - 4.0, next() * 8.0 - 4.0);
-        let (za, zb) = ((next() * 2.0 - 1.0) * Z_INSIDE, (next() * 2.0 - 1.0) * Z_INSIDE);
+        let (za, zb) = (
+            (next() * 2.0 - 1.0) * Z_INSIDE,
+            (next() * 2.0 - 1.0) * Z_INSIDE,
+        );
         if (xb - xa).abs() >= 1.0 {
             paths.push((DVec3::new(xa, 0.0, za), DVec3::new(xb, 0.0, zb)));
         }
