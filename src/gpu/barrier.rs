@@ -87,6 +87,11 @@ impl Access {
         stages: vk::PipelineStageFlags2::DRAW_INDIRECT,
         access: vk::AccessFlags2::INDIRECT_COMMAND_READ,
     };
+    /// Compute shaders sampling images (a host's G-buffer, a depth map).
+    pub const COMPUTE_SAMPLED_READ: Self = Self {
+        stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
+        access: vk::AccessFlags2::SHADER_SAMPLED_READ,
+    };
     /// The host reading mapped memory.
     pub const HOST_READ: Self = Self {
         stages: vk::PipelineStageFlags2::HOST,

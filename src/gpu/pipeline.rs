@@ -319,6 +319,20 @@ pub fn begin_rendering(
     depth: Option<(vk::ImageView, f32)>,
     color: Option<(vk::ImageView, u32)>,
 ) {
+    let colors: Vec<_> = color.into_iter().collect();
+    begin_rendering_colors(device, cmd, width, height, depth, &colors);
+}
+
+/// [`begin_rendering`] into any number of colour attachments, each cleared to the bits of its
+/// value in every channel (0 is 0.0 in float formats).
+pub fn begin_rendering_colors(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    width: u32,
+    height: u32,
+    depth: Option<(vk::ImageView, f32)>,
+    colors: &[(vk::ImageView, u32)],
+) {
     let area = vk::Rect2D {
         offset: vk::Offset2D { x: 0, y: 0 },
         extent: vk::Extent2D { width, height },
@@ -336,8 +350,9 @@ pub fn begin_rendering(
                 },
             })
     });
-    let color_attachments: Vec<_> = color
-        .map(|(view, clear)| {
+    let color_attachments: Vec<_> = colors
+        .iter()
+        .map(|&(view, clear)| {
             vk::RenderingAttachmentInfo::default()
                 .image_view(view)
                 .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
@@ -347,7 +362,6 @@ pub fn begin_rendering(
                     color: vk::ClearColorValue { uint32: [clear; 4] },
                 })
         })
-        .into_iter()
         .collect();
     let mut info = vk::RenderingInfo::default()
         .render_area(area)
