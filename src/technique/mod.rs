@@ -20,6 +20,7 @@
 mod collection;
 mod coverage;
 mod draws;
+mod gbuffer;
 mod generation;
 pub mod gpu_types;
 mod image_output;
@@ -36,6 +37,10 @@ mod view;
 pub use collection::CollectionPass;
 pub use coverage::{CoverageMap, CoveragePass, MAX_COVERAGE_TRIANGLES};
 pub use draws::{Draw, DrawList, IndexStream, Indices, PositionStream};
+pub use gbuffer::{
+    GBUFFER_COLOR_FORMAT, GBUFFER_DEPTH_FORMAT, GBuffer, GBufferCamera, GBufferContents,
+    GBufferPass,
+};
 pub use generation::GenerationPass;
 pub use gpu_types::{
     CameraParams, Counters, DepthFormat, DrawRecord, FIXED_TIME, GpuLight, MAX_LIST_NODES,

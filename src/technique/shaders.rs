@@ -52,3 +52,7 @@ pub const COVERAGE_RESET_STATIC_FRAG: &[u8] = spirv!("coverage_reset_static.frag
 pub const VISIBILITY_MASK_COMP: &[u8] = spirv!("visibility_mask.comp");
 /// SPIR-V of `glsl/radiance_to_image.comp`.
 pub const RADIANCE_TO_IMAGE_COMP: &[u8] = spirv!("radiance_to_image.comp");
+/// SPIR-V of `glsl/gbuffer.vert`.
+pub const GBUFFER_VERT: &[u8] = spirv!("gbuffer.vert");
+/// SPIR-V of `glsl/gbuffer.frag`.
+pub const GBUFFER_FRAG: &[u8] = spirv!("gbuffer.frag");
