@@ -20,6 +20,7 @@
 mod collection;
 mod coverage;
 mod draws;
+mod engine_tsm;
 mod gbuffer;
 mod generation;
 pub mod gpu_types;
@@ -37,6 +38,7 @@ mod view;
 pub use collection::CollectionPass;
 pub use coverage::{CoverageMap, CoveragePass, MAX_COVERAGE_TRIANGLES};
 pub use draws::{Draw, DrawList, IndexStream, Indices, PositionStream};
+pub use engine_tsm::{EngineTsmBindings, EngineTsmMap, EngineTsmPass, MAX_TSM_MAPS, TsmStart};
 pub use gbuffer::{
     GBUFFER_COLOR_FORMAT, GBUFFER_DEPTH_FORMAT, GBuffer, GBufferCamera, GBufferContents,
     GBufferPass,

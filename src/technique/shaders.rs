@@ -50,6 +50,8 @@ pub const COVERAGE_RESET_EXACT_FRAG: &[u8] = spirv!("coverage_reset_exact.frag")
 pub const COVERAGE_RESET_STATIC_FRAG: &[u8] = spirv!("coverage_reset_static.frag");
 /// SPIR-V of `glsl/visibility_mask.comp`.
 pub const VISIBILITY_MASK_COMP: &[u8] = spirv!("visibility_mask.comp");
+/// SPIR-V of `glsl/tsm_mask.comp`.
+pub const TSM_MASK_COMP: &[u8] = spirv!("tsm_mask.comp");
 /// SPIR-V of `glsl/radiance_to_image.comp`.
 pub const RADIANCE_TO_IMAGE_COMP: &[u8] = spirv!("radiance_to_image.comp");
 /// SPIR-V of `glsl/gbuffer.vert`.

@@ -12,6 +12,7 @@ mod character;
 mod coverage;
 mod deferred_host;
 mod embedding;
+mod engine_tsm;
 mod errors;
 mod exact_prisms;
 mod filtered_lookup;

@@ -1,0 +1,742 @@
+//! Time-dependent shadow maps (Akenine-Moller, Munkberg and Hasselgren 2007) as an engine
+//! builds them, for the deferred frame: the baseline the temporal map's
+//! [`super::VisibilityMaskPass`] is compared against, built to be as fast as is honest.
+//!
+//! For N maps at the times t_i = (i + 0.5) / N: start a D32 depth map from the static draws'
+//! map (drawn once and kept across frames, like the temporal map's kept static layer), draw
+//! the moving draws at t_i into it depth-only (`shadow_depth.vert`, as
+//! [`super::PlainShadowPass`] draws), then a compute dispatch over the host's G-buffer
+//! (the same [`MaskInputs`] as the temporal mask) counts each pixel's point lit or not at
+//! t_i: the receiver moved to `p + (t_i - time) * motion`, tested with the temporal map's own
+//! receiver test (`ms_receiver_texel` in `glsl/motion_shadows.glsl`: normal offset,
+//! receiver-plane depth, light bias) against the map's depth read through a sampled image.
+//! The last map divides the count by N: the host's image ends as the lit fraction of the N
+//! times, which converges to the shutter's lit fraction as N grows (error at most about 1/N
+//! plus a texel's worth of motion).
+//!
+//! How each map starts from the static draws is [`TsmStart`]: an image copy of the static
+//! map into the working map ([`TsmStart::Copy`]), or a cleared working map and a second
+//! lookup of the static map in the mask shader ([`TsmStart::SecondLookup`]). Both give the
+//! same answers.
+
+use super::draws::DrawList;
+use super::gpu_types::{DRAW_STATIC, DepthFormat, PassConstants, PlainMapHeader};
+use super::mask::{MaskInputs, NormalEncoding, NormalImage};
+use super::shaders;
+use super::shadow_map::StaticLayerSource;
+use super::view::LightView;
+use crate::error::{Error, Result};
+use crate::gpu::{
+    Access, Attachments, Buffer, BufferUsage, Context, Image, ImageBindingLayout, ImageBindings,
+    Pipeline, graphics_pipeline, image_barrier, memory_barrier, specialized_compute_pipeline,
+};
+use ash::vk;
+use glam::{Mat4, UVec4};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicU32, Ordering};
+
+/// The most maps one [`EngineTsmPass::record`] draws (the papers compare up to 64; 1,024
+/// leaves room for a reference, and keeps the count of lit maps exact in the R32 image).
+pub const MAX_TSM_MAPS: u32 = 1024;
+
+/// The maps' format: 32-bit float depth, as the ordinary shadow maps.
+const MAP_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// How each of the N maps starts from the static draws' map.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum TsmStart {
+    /// Copy the static map into the working map (a depth image copy per map), then draw the
+    /// moving draws into it: one lookup per pixel and map.
+    Copy,
+    /// Clear the working map (the render pass's load op), draw the moving draws into it, and
+    /// look up both maps per pixel (the nearer depth wins): no copy, two lookups.
+    #[default]
+    SecondLookup,
+}
+
+/// Bytes of the header: the light and the map's size (a [`PlainMapHeader`], so that
+/// `shadow_depth.vert` reads it as it reads an ordinary map's).
+const HEADER_BYTES: u64 = std::mem::size_of::<PlainMapHeader>() as u64;
+
+/// The maps of one light (per frame in flight and light): the static draws' depth map, kept
+/// across frames, and the working depth map each of the N times is drawn into.
+pub struct EngineTsmMap {
+    width: u32,
+    height: u32,
+    start: TsmStart,
+    /// The static draws, drawn once (and again when the light or the static draws change).
+    /// Rests in `static_resting_layout(start)` between uses.
+    static_map: Image,
+    /// The map of one time: moving draws (and, with [`TsmStart::Copy`], the static ones).
+    working: Image,
+    /// [`PlainMapHeader`]: the light (read by `shadow_depth.vert` and the mask shader).
+    header: Buffer,
+    /// What the static map holds, when it may be kept ([`LightView::keep_static_layer`]).
+    static_source: Mutex<Option<StaticLayerSource>>,
+    /// Times [`EngineTsmPass::record`] has drawn the static map.
+    static_builds: AtomicU32,
+}
+
+impl EngineTsmMap {
+    /// Maps of `width` x `height` texels (each side at most the device's
+    /// maxImageDimension2D, 4,096 or more), started from the static map as `start` says.
+    /// Errors on a zero size, and on a device that cannot draw, sample and copy D32_SFLOAT
+    /// depth images.
+    pub fn new(ctx: &Context, width: u32, height: u32, start: TsmStart) -> Result<Self> {
+        check_map_format(|format| ctx.optimal_tiling_features(format))?;
+        if width == 0 || height == 0 {
+            return Err(Error::InvalidArgument(format!(
+                "time-dependent shadow map size {width}x{height}"
+            )));
+        }
+        let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
+        let size = (width, height, 1);
+        Ok(Self {
+            width,
+            height,
+            start,
+            static_map: Image::new(
+                ctx,
+                "time-dependent shadow maps' static map",
+                size,
+                MAP_FORMAT,
+                usage | vk::ImageUsageFlags::TRANSFER_SRC,
+            )?,
+            working: Image::new(
+                ctx,
+                "time-dependent shadow maps' working map",
+                size,
+                MAP_FORMAT,
+                usage | vk::ImageUsageFlags::TRANSFER_DST,
+            )?,
+            header: Buffer::new(
+                ctx,
+                "time-dependent shadow maps' header",
+                HEADER_BYTES,
+                BufferUsage::Storage,
+            )?,
+            static_source: Mutex::new(None),
+            static_builds: AtomicU32::new(0),
+        })
+    }
+
+    /// Texels across.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+    /// Texels down.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+    /// How each map starts from the static map.
+    pub fn start(&self) -> TsmStart {
+        self.start
+    }
+    /// Bytes of the two depth maps (4 per texel each).
+    pub fn bytes(&self) -> u64 {
+        2 * 4 * self.width as u64 * self.height as u64
+    }
+    /// The device address of the header (the light, then the size: `PlainHeader` in
+    /// shared.glsl, without depth buffers).
+    pub fn header_address(&self) -> u64 {
+        self.header.device_address()
+    }
+
+    /// How many times [`EngineTsmPass::record`] has drawn the static map (with
+    /// [`LightView::keep_static_layer`], once per change of light or static draws).
+    pub fn static_map_builds(&self) -> u32 {
+        self.static_builds.load(Ordering::Relaxed)
+    }
+
+    /// Makes the next record redraw the static map, kept or not: call it when a recorded
+    /// pass was not submitted, or when a static draw's buffer contents changed in place.
+    pub fn forget_static_map(&self) {
+        *self.static_source.lock().unwrap_or_else(|e| e.into_inner()) = None;
+    }
+
+    /// Whether the static map must be drawn for `source` (and notes it as drawn, kept only
+    /// if `keep`).
+    fn take_static_redraw(&self, source: StaticLayerSource, keep: bool) -> bool {
+        let mut kept = self.static_source.lock().unwrap_or_else(|e| e.into_inner());
+        if keep && kept.as_ref() == Some(&source) {
+            return false;
+        }
+        *kept = keep.then_some(source);
+        self.static_builds.fetch_add(1, Ordering::Relaxed);
+        true
+    }
+}
+
+/// Whether a device whose optimal-tiling format features are `features` can draw, sample and
+/// copy D32_SFLOAT depth maps.
+fn check_map_format(features: impl Fn(vk::Format) -> vk::FormatFeatureFlags) -> Result<()> {
+    let needed = vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT
+        | vk::FormatFeatureFlags::SAMPLED_IMAGE
+        | vk::FormatFeatureFlags::TRANSFER_SRC
+        | vk::FormatFeatureFlags::TRANSFER_DST;
+    if !features(MAP_FORMAT).contains(needed) {
+        return Err(Error::MissingFeatures(
+            "the device cannot draw, sample and copy D32_SFLOAT depth images (time-dependent shadow maps)".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// The mask shader's push constants (112 bytes; `Push` in glsl/tsm_mask.comp).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+struct TsmConstants {
+    inv_view_proj: Mat4,
+    light: u64,
+    size: [u32; 2],
+    background_depth: f32,
+    flags: u32,
+    map_size: [u32; 2],
+    time: f32,
+    map_time: f32,
+    maps: f32,
+    reserved: u32,
+}
+
+const _: () = assert!(std::mem::size_of::<TsmConstants>() == 112);
+
+/// `MASK_*` in glsl/mask_gbuffer.glsl.
+const HAS_NORMALS: u32 = 1;
+const NORMALS_UNORM: u32 = 2;
+/// `TSM_*` in glsl/tsm_mask.comp.
+const FIRST_MAP: u32 = 0x10;
+const LAST_MAP: u32 = 0x20;
+
+/// Sampled reads of the mask shader (the working and static maps).
+const COMPUTE_SAMPLED_READ: Access = Access::COMPUTE_SAMPLED_READ;
+/// The mask shader's read-modify-write of the output image.
+const COMPUTE_STORAGE_RW: Access = Access::COMPUTE_RW;
+
+/// What one record binds: the descriptor set of the host's images and the two maps. One per
+/// record that may be pending at the same time (per frame in flight and light), used once
+/// per command buffer. Made by [`EngineTsmPass::bindings`].
+pub struct EngineTsmBindings {
+    images: ImageBindings,
+}
+
+/// Records time-dependent shadow maps and their mask. Immutable after creation: one serves
+/// every frame in flight and every light.
+pub struct EngineTsmPass {
+    /// Depth-only drawing of the draws at one time (`shadow_depth.vert`, no fragment shader).
+    depth_only: Pipeline,
+    layout: ImageBindingLayout,
+    /// Mask pipelines, indexed by `moving as usize + 2 * second_lookup as usize`.
+    masks: Vec<Pipeline>,
+}
+
+impl EngineTsmPass {
+    /// Creates the pipelines; fails with [`Error::MissingFeatures`] on a device that cannot
+    /// draw, sample and copy D32_SFLOAT depth images.
+    pub fn new(ctx: &Context) -> Result<Self> {
+        check_map_format(|format| ctx.optimal_tiling_features(format))?;
+        let depth_only = graphics_pipeline(
+            ctx,
+            std::mem::size_of::<PassConstants>() as u32,
+            &[(
+                vk::ShaderStageFlags::VERTEX,
+                "shadow_depth.vert",
+                shaders::SHADOW_DEPTH_VERT,
+            )],
+            Attachments {
+                depth: Some(MAP_FORMAT),
+                colors: &[],
+            },
+        )?;
+        let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
+        let layout = ImageBindingLayout::new(
+            ctx,
+            &[
+                sampled,
+                sampled,
+                sampled,
+                vk::DescriptorType::STORAGE_IMAGE,
+                sampled,
+                sampled,
+            ],
+        )?;
+        let masks = [[0, 0], [1, 0], [0, 1], [1, 1]]
+            .iter()
+            .map(|constants| {
+                specialized_compute_pipeline(
+                    ctx,
+                    &[layout.raw()],
+                    std::mem::size_of::<TsmConstants>() as u32,
+                    "tsm_mask.comp",
+                    shaders::TSM_MASK_COMP,
+                    constants,
+                )
+            })
+            .collect::<Result<_>>()?;
+        Ok(Self {
+            depth_only,
+            layout,
+            masks,
+        })
+    }
+
+    /// The bindings for one record in flight.
+    pub fn bindings(&self) -> Result<EngineTsmBindings> {
+        Ok(EngineTsmBindings {
+            images: self.layout.allocate()?,
+        })
+    }
+
+    /// Records `maps` time-dependent shadow maps of `draws` lit by `light` into `map`, and
+    /// the lit fraction of the N times into the host's `inputs.output` (first the static map
+    /// if it must be drawn: see [`EngineTsmMap::static_map_builds`]). Errors, recording
+    /// nothing, when `maps` is 0 or above [`MAX_TSM_MAPS`], when `inputs.size` is 0 on a side,
+    /// or when `inputs.motion` is given and `inputs.time` is not in [0, 1].
+    ///
+    /// # Safety
+    /// - `cmd` was allocated from the device the pass and `map` were made on, is recording,
+    ///   outside any render pass or dynamic rendering, on a queue with graphics and compute.
+    /// - `bindings` was made by this pass and no command buffer using it is pending or has
+    ///   it bound in `cmd` (its set is rewritten here).
+    /// - No other command buffer recording `map` is pending unless it was submitted earlier
+    ///   to the same queue (its header and working map are rewritten; one map per frame in
+    ///   flight and light). If this record is not submitted, call
+    ///   [`EngineTsmMap::forget_static_map`] (the map counts its static map as drawn).
+    /// - The views are valid, of the device, with the sizes and layouts [`MaskInputs`]
+    ///   states, and stay alive until `cmd` completes; here the output must be an
+    ///   `R32_SFLOAT` image with storage usage (the shader reads back its count between
+    ///   maps), in `GENERAL` layout.
+    /// - The draws' buffers are as [`super::Draw`] requires; `draws` was updated
+    ///   ([`DrawList::record_update`]) earlier in `cmd` or in a command buffer submitted
+    ///   before it.
+    /// - The host has made its writes to the depth, normal and motion images visible to
+    ///   `COMPUTE_SHADER` sampled reads, and ordered earlier accesses of the output image
+    ///   before `COMPUTE_SHADER` storage reads and writes, with its own barriers (image layout
+    ///   transitions included).
+    ///
+    /// Synchronization: waits for earlier shader reads of the header, earlier uses of the
+    /// maps by this pass (they are in no other hands). Leaves the output written by
+    /// `COMPUTE_SHADER` (`SHADER_STORAGE_WRITE`, after reads of it there), in `GENERAL`
+    /// layout; the host's barrier makes it visible to its lighting. The working map is left
+    /// in `SHADER_READ_ONLY_OPTIMAL`, the static map in `SHADER_READ_ONLY_OPTIMAL`
+    /// ([`TsmStart::SecondLookup`]) or `TRANSFER_SRC_OPTIMAL` ([`TsmStart::Copy`]).
+    /// State changed: the bound graphics and compute pipelines, descriptor set 0 of the
+    /// compute bind point, push constants, viewport, scissor.
+    #[allow(clippy::too_many_arguments)]
+    pub unsafe fn record(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        bindings: &mut EngineTsmBindings,
+        inputs: &MaskInputs,
+        draws: &DrawList,
+        light: &LightView,
+        map: &EngineTsmMap,
+        maps: u32,
+    ) -> Result<()> {
+        check_record(inputs, maps)?;
+        let second_lookup = map.start == TsmStart::SecondLookup;
+        let static_layout = static_resting_layout(map.start);
+        let static_reads = if second_lookup {
+            COMPUTE_SAMPLED_READ
+        } else {
+            Access::TRANSFER_READ
+        };
+
+        // The header: the light as shadow_depth.vert and the mask shader read it.
+        let header = PlainMapHeader {
+            light: light.gpu(),
+            size: UVec4::new(map.width, map.height, 1, DepthFormat::DepthOnly as u32),
+            depths: 0,
+            ids: 0,
+        };
+        memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE);
+        // SAFETY: plain data of the header's size; outside a render pass (the contract).
+        unsafe { map.header.record_write(device, cmd, &[header]) };
+        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ);
+
+        // The static map, unless the one kept from an earlier frame still holds these draws.
+        let source = StaticLayerSource::of(light, draws);
+        if map.take_static_redraw(source, light.keep_static_layer) {
+            image_barrier(
+                device,
+                cmd,
+                map.static_map.raw(),
+                map.static_map.layers_range(0, 1),
+                (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                ),
+                static_reads,
+                Access::DEPTH_ATTACHMENT,
+            );
+            let view = map.static_map.layer_view(0);
+            // SAFETY: the caller's contract; the view is in the attachment layout.
+            unsafe { begin_depth(device, cmd, view, map.width, map.height, true) };
+            self.depth_only.bind(device, cmd);
+            draw_where(device, cmd, &self.depth_only, draws, map, 0.0, true);
+            unsafe { device.cmd_end_rendering(cmd) };
+            image_barrier(
+                device,
+                cmd,
+                map.static_map.raw(),
+                map.static_map.layers_range(0, 1),
+                (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, static_layout),
+                Access::DEPTH_ATTACHMENT,
+                static_reads,
+            );
+        }
+
+        // The host's images and the maps, for every dispatch below.
+        let depth = (inputs.depth, inputs.depth_layout);
+        // Without a normal or motion image the depth view stands in (never read: the flag
+        // and the variant say so).
+        let normals = inputs.normals.map_or(depth, |n| (n.view, n.layout));
+        let motion = inputs.motion.map_or(depth, |m| (m.view, m.layout));
+        let read_only = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        // Copy: the static map is never read by the shader; the working map stands in.
+        let static_binding = if second_lookup {
+            (map.static_map.layer_view(0), read_only)
+        } else {
+            (map.working.layer_view(0), read_only)
+        };
+        // SAFETY: the caller's contract (the set is not in use; the views are valid).
+        unsafe {
+            bindings.images.write(&[
+                depth,
+                normals,
+                motion,
+                (inputs.output, vk::ImageLayout::GENERAL),
+                (map.working.layer_view(0), read_only),
+                static_binding,
+            ])
+        };
+        let flags = match inputs.normals {
+            Some(NormalImage {
+                encoding: NormalEncoding::Unorm,
+                ..
+            }) => HAS_NORMALS | NORMALS_UNORM,
+            Some(_) => HAS_NORMALS,
+            None => 0,
+        };
+        let mask =
+            &self.masks[usize::from(inputs.motion.is_some()) + 2 * usize::from(second_lookup)];
+        let working = map.working.raw();
+        let range = map.working.layers_range(0, 1);
+        for i in 0..maps {
+            let t = (i as f32 + 0.5) / maps as f32;
+            // The working map: its reads by the previous dispatch (or frame) are done.
+            if second_lookup {
+                image_barrier(
+                    device,
+                    cmd,
+                    working,
+                    range,
+                    (
+                        vk::ImageLayout::UNDEFINED,
+                        vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                    ),
+                    COMPUTE_SAMPLED_READ,
+                    Access::DEPTH_ATTACHMENT,
+                );
+            } else {
+                image_barrier(
+                    device,
+                    cmd,
+                    working,
+                    range,
+                    (
+                        vk::ImageLayout::UNDEFINED,
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    ),
+                    COMPUTE_SAMPLED_READ,
+                    Access::TRANSFER_WRITE,
+                );
+                // SAFETY: both images are the map's, in the layouts named.
+                unsafe { copy_depth(device, cmd, map) };
+                image_barrier(
+                    device,
+                    cmd,
+                    working,
+                    range,
+                    (
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                    ),
+                    Access::TRANSFER_WRITE,
+                    Access::DEPTH_ATTACHMENT,
+                );
+            }
+            let view = map.working.layer_view(0);
+            // SAFETY: the caller's contract; the view is in the attachment layout.
+            unsafe { begin_depth(device, cmd, view, map.width, map.height, second_lookup) };
+            self.depth_only.bind(device, cmd);
+            draw_where(device, cmd, &self.depth_only, draws, map, t, false);
+            unsafe { device.cmd_end_rendering(cmd) };
+            image_barrier(
+                device,
+                cmd,
+                working,
+                range,
+                (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, read_only),
+                Access::DEPTH_ATTACHMENT,
+                COMPUTE_SAMPLED_READ,
+            );
+            if i > 0 {
+                // The previous map's count, read and rewritten by this one.
+                memory_barrier(device, cmd, COMPUTE_STORAGE_RW, COMPUTE_STORAGE_RW);
+            }
+            let constants = TsmConstants {
+                inv_view_proj: inputs.inv_view_proj,
+                light: map.header_address(),
+                size: [inputs.size.0, inputs.size.1],
+                background_depth: inputs.background_depth,
+                flags: flags
+                    | if i == 0 { FIRST_MAP } else { 0 }
+                    | if i + 1 == maps { LAST_MAP } else { 0 },
+                map_size: [map.width, map.height],
+                time: inputs.time,
+                map_time: t,
+                maps: maps as f32,
+                reserved: 0,
+            };
+            mask.bind(device, cmd);
+            // SAFETY: the set was written above; its views are valid (the caller's contract).
+            unsafe {
+                device.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::COMPUTE,
+                    mask.layout,
+                    0,
+                    &[bindings.images.raw()],
+                    &[],
+                );
+            }
+            mask.push(device, cmd, &constants);
+            unsafe {
+                device.cmd_dispatch(cmd, inputs.size.0.div_ceil(8), inputs.size.1.div_ceil(8), 1)
+            };
+        }
+        Ok(())
+    }
+}
+
+/// The refusals of [`EngineTsmPass::record`], before anything is recorded.
+fn check_record(inputs: &MaskInputs, maps: u32) -> Result<()> {
+    if maps == 0 || maps > MAX_TSM_MAPS {
+        return Err(Error::InvalidArgument(format!(
+            "{maps} time-dependent shadow maps (1 to {MAX_TSM_MAPS})"
+        )));
+    }
+    if inputs.size.0 == 0 || inputs.size.1 == 0 {
+        return Err(Error::InvalidArgument(format!(
+            "mask size {}x{}",
+            inputs.size.0, inputs.size.1
+        )));
+    }
+    if inputs.motion.is_some() && !(0.0..=1.0).contains(&inputs.time) {
+        return Err(Error::InvalidArgument(format!(
+            "G-buffer time {} (the shutter is [0, 1])",
+            inputs.time
+        )));
+    }
+    Ok(())
+}
+
+/// The layout the static map rests in between frames: where its next use reads it.
+fn static_resting_layout(start: TsmStart) -> vk::ImageLayout {
+    match start {
+        TsmStart::Copy => vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        TsmStart::SecondLookup => vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+    }
+}
+
+/// Begins dynamic rendering into the depth map `view` (in `DEPTH_ATTACHMENT_OPTIMAL`),
+/// cleared to 1 if `clear`, else loaded as it is, stored at the end; viewport and scissor
+/// over the map.
+///
+/// # Safety
+/// `cmd` is recording, outside rendering.
+unsafe fn begin_depth(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    view: vk::ImageView,
+    width: u32,
+    height: u32,
+    clear: bool,
+) {
+    let area = vk::Rect2D {
+        offset: vk::Offset2D { x: 0, y: 0 },
+        extent: vk::Extent2D { width, height },
+    };
+    let attachment = vk::RenderingAttachmentInfo::default()
+        .image_view(view)
+        .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+        .load_op(if clear {
+            vk::AttachmentLoadOp::CLEAR
+        } else {
+            vk::AttachmentLoadOp::LOAD
+        })
+        .store_op(vk::AttachmentStoreOp::STORE)
+        .clear_value(vk::ClearValue {
+            depth_stencil: vk::ClearDepthStencilValue {
+                depth: 1.0,
+                stencil: 0,
+            },
+        });
+    let info = vk::RenderingInfo::default()
+        .render_area(area)
+        .layer_count(1)
+        .depth_attachment(&attachment);
+    let viewport = vk::Viewport {
+        x: 0.0,
+        y: 0.0,
+        width: width as f32,
+        height: height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    };
+    unsafe {
+        device.cmd_begin_rendering(cmd, &info);
+        device.cmd_set_viewport(cmd, 0, &[viewport]);
+        device.cmd_set_scissor(cmd, 0, &[area]);
+    }
+}
+
+/// Copies the static map (in `TRANSFER_SRC_OPTIMAL`) into the working map (in
+/// `TRANSFER_DST_OPTIMAL`).
+///
+/// # Safety
+/// `cmd` is recording, outside rendering; the maps are in those layouts.
+unsafe fn copy_depth(device: &ash::Device, cmd: vk::CommandBuffer, map: &EngineTsmMap) {
+    let layers = vk::ImageSubresourceLayers {
+        aspect_mask: vk::ImageAspectFlags::DEPTH,
+        mip_level: 0,
+        base_array_layer: 0,
+        layer_count: 1,
+    };
+    let region = [vk::ImageCopy {
+        src_subresource: layers,
+        src_offset: vk::Offset3D::default(),
+        dst_subresource: layers,
+        dst_offset: vk::Offset3D::default(),
+        extent: vk::Extent3D {
+            width: map.width,
+            height: map.height,
+            depth: 1,
+        },
+    }];
+    unsafe {
+        device.cmd_copy_image(
+            cmd,
+            map.static_map.raw(),
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            map.working.raw(),
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            &region,
+        )
+    };
+}
+
+/// Records the static draws (`statics`) or the moving ones at time `t`, depth-only, inside
+/// dynamic rendering with `pipeline` bound (`draw_each` of the collection pass, one kind of
+/// draw only).
+fn draw_where(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    pipeline: &Pipeline,
+    draws: &DrawList,
+    map: &EngineTsmMap,
+    t: f32,
+    statics: bool,
+) {
+    for (i, record) in draws.records().iter().enumerate() {
+        let is_static = record.flags() & DRAW_STATIC != 0;
+        if record.triangle_count == 0 || is_static != statics {
+            continue;
+        }
+        let constants = PassConstants {
+            map: map.header_address(),
+            draws: draws.address(),
+            draw_index: i as u32,
+            draw_count: draws.draw_count(),
+            mode: DepthFormat::DepthOnly as u32,
+            time: t,
+            ..PassConstants::default()
+        };
+        pipeline.push(device, cmd, &constants);
+        unsafe { device.cmd_draw(cmd, 3 * record.triangle_count, 1, 0, 0) };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::mask::MotionImage;
+    use super::*;
+
+    fn inputs(size: (u32, u32), time: f32) -> MaskInputs {
+        MaskInputs {
+            depth: vk::ImageView::null(),
+            depth_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            normals: None,
+            output: vk::ImageView::null(),
+            size,
+            inv_view_proj: Mat4::IDENTITY,
+            background_depth: 1.0,
+            motion: Some(MotionImage {
+                view: vk::ImageView::null(),
+                layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            }),
+            time,
+        }
+    }
+
+    /// No maps, too many, an empty mask or a time outside the shutter are refused by name.
+    #[test]
+    fn bad_counts_sizes_and_times_are_refused() {
+        assert!(check_record(&inputs((8, 8), 1.0), 1).is_ok());
+        assert!(check_record(&inputs((8, 8), 0.0), MAX_TSM_MAPS).is_ok());
+        // Without a motion image the time is not read.
+        let still = MaskInputs {
+            motion: None,
+            ..inputs((8, 8), 1.5)
+        };
+        assert!(check_record(&still, 4).is_ok());
+        for (what, size, time, maps) in [
+            ("0 time-dependent", (8, 8), 1.0, 0),
+            ("1025 time-dependent", (8, 8), 1.0, MAX_TSM_MAPS + 1),
+            ("mask size 0x8", (0, 8), 1.0, 4),
+            ("mask size 8x0", (8, 0), 1.0, 4),
+            ("G-buffer time 1.5", (8, 8), 1.5, 4),
+            ("G-buffer time NaN", (8, 8), f32::NAN, 4),
+        ] {
+            match check_record(&inputs(size, time), maps) {
+                Err(Error::InvalidArgument(message)) => {
+                    assert!(message.contains(what), "{message}")
+                }
+                other => panic!("{what}: {other:?}"),
+            }
+        }
+    }
+
+    /// A device that cannot draw, sample or copy D32 depth maps is refused by name.
+    #[test]
+    fn a_device_without_d32_depth_maps_is_refused() {
+        let all = vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT
+            | vk::FormatFeatureFlags::SAMPLED_IMAGE
+            | vk::FormatFeatureFlags::TRANSFER_SRC
+            | vk::FormatFeatureFlags::TRANSFER_DST;
+        assert!(check_map_format(|_| all).is_ok());
+        for missing in [
+            vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT,
+            vk::FormatFeatureFlags::SAMPLED_IMAGE,
+            vk::FormatFeatureFlags::TRANSFER_SRC,
+        ] {
+            match check_map_format(|_| all & !missing) {
+                Err(Error::MissingFeatures(message)) => {
+                    assert!(message.contains("D32_SFLOAT"), "{message}")
+                }
+                other => panic!("{missing:?}: {other:?}"),
+            }
+        }
+    }
+}
