@@ -180,6 +180,47 @@ impl Bvh {
         found
     }
 
+    /// Visits `(index, triangle)` in every leaf reached through nodes whose boxes `keep`
+    /// accepts, given as `(lo0, hi0, lo1, hi1)` (padded, at t = 0 and t = 1; the box at time
+    /// t is their blend); `visit` returns true to stop. For queries over the whole shutter
+    /// (the lit fraction of a moving point, `shutter.rs`), which need both ends, not one
+    /// time's blend.
+    pub fn visit_swept(
+        &self,
+        mut keep: impl FnMut(DVec3, DVec3, DVec3, DVec3) -> bool,
+        mut visit: impl FnMut(u32, &Triangle) -> bool,
+    ) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let mut stack = [0u32; STACK];
+        let mut top = 0;
+        let mut current = 0u32;
+        loop {
+            let node = &self.nodes[current as usize];
+            if keep(node.lo0, node.hi0, node.lo1, node.hi1) {
+                if node.count > 0 {
+                    let first = node.first as usize;
+                    for i in first..first + node.count as usize {
+                        if visit(i as u32, &self.triangles[i]) {
+                            return;
+                        }
+                    }
+                } else {
+                    stack[top] = node.first;
+                    top += 1;
+                    current += 1;
+                    continue;
+                }
+            }
+            if top == 0 {
+                return;
+            }
+            top -= 1;
+            current = stack[top];
+        }
+    }
+
     /// Visits the triangles of every leaf whose box at time t the ray enters within
     /// `[s_min, s_far]`, near child first; `visit` may shorten `s_far` and returns true to
     /// stop.

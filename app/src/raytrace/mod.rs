@@ -16,9 +16,11 @@
 //! triangle at t = 0 exactly, the shading) is the GPU's.
 
 pub mod bvh;
+pub mod deferred;
 pub mod intersect;
 pub mod pixels;
 pub mod shade;
+pub mod shutter;
 pub mod triangles;
 
 use crate::error::Result;

@@ -54,6 +54,23 @@ impl ShadingLight {
             scale: scene_scale.max(f64::MIN_POSITIVE),
         }
     }
+
+    /// The light's position if it is a spot light (directional lights have none).
+    pub fn spot_position(&self) -> Option<DVec3> {
+        self.spot.then_some(self.position)
+    }
+
+    /// The shadow ray from `p` and the range of its parameter that must be free of
+    /// triangles for `p` to see the light (see the module's documentation).
+    pub fn shadow_ray(&self, p: DVec3) -> (Ray, f64, f64) {
+        if self.spot {
+            let ray = Ray::new(p, self.position - p);
+            (ray, SHADOW_EPSILON, 1.0 - SHADOW_EPSILON)
+        } else {
+            let ray = Ray::new(p, (-self.direction).normalize());
+            (ray, SHADOW_EPSILON * self.scale, f64::INFINITY)
+        }
+    }
 }
 
 /// What shading a sample needs besides the hit.
@@ -68,11 +85,26 @@ impl Shading<'_> {
     /// Radiance of a sample at time `t` whose camera ray `ray` hits `tri` at parameter `s`.
     pub fn radiance(&self, ray: &Ray, s: f64, tri: &Triangle, t: f64) -> DVec3 {
         let p = ray.origin + s * ray.dir;
-        let [a, b, c] = tri.at(t);
-        let mut n = (b - a).cross(c - a).normalize();
-        if n.dot(-ray.dir) < 0.0 {
-            n = -n;
+        let (direct, ambient) = self.unshadowed(p, ray.dir, tri, t);
+        match direct {
+            Some(direct) if !self.occluded(p, t, tri.id) => direct + ambient,
+            _ => ambient,
         }
+    }
+
+    /// The two terms of the radiance at `p` on `tri` at time `t`, seen along `view_dir`:
+    /// the direct term as if nothing shadowed it (`None` where the light cannot reach it
+    /// whatever the shadows: the normal faces away from the light, or the point is outside a
+    /// spot's cone) and the ambient term. The deferred truth weights the direct term by a
+    /// lit fraction instead of one shadow ray.
+    pub fn unshadowed(
+        &self,
+        p: DVec3,
+        view_dir: DVec3,
+        tri: &Triangle,
+        t: f64,
+    ) -> (Option<DVec3>, DVec3) {
+        let n = facing_normal(tri, t, view_dir);
         let (albedo, ambient) = self.albedo[tri.mesh as usize];
         let light = &self.light;
         let to_light = if light.spot {
@@ -88,24 +120,26 @@ impl Shading<'_> {
         let l = to_light.normalize();
         let cos_theta = n.dot(l);
         if cos_theta <= 0.0 {
-            return ambient;
+            return (None, ambient);
         }
         if light.spot && (-l).dot(light.direction) < light.cos_cone {
-            return ambient;
+            return (None, ambient);
         }
-        let shadow = if light.spot {
-            Ray::new(p, to_light)
-        } else {
-            Ray::new(p, l)
-        };
-        let (s_min, s_max) = if light.spot {
-            (SHADOW_EPSILON, 1.0 - SHADOW_EPSILON)
-        } else {
-            (SHADOW_EPSILON * light.scale, f64::INFINITY)
-        };
-        if self.bvh.occluded(&shadow, t, s_min, s_max, tri.id) {
-            return ambient;
-        }
-        albedo / std::f64::consts::PI * light.emission * cos_theta / dist2 + ambient
+        let direct = albedo / std::f64::consts::PI * light.emission * cos_theta / dist2;
+        (Some(direct), ambient)
     }
+
+    /// Whether a triangle other than the one with id `skip` blocks the light from `p` at
+    /// time `t`.
+    pub fn occluded(&self, p: DVec3, t: f64, skip: u32) -> bool {
+        let (shadow, s_min, s_max) = self.light.shadow_ray(p);
+        self.bvh.occluded(&shadow, t, s_min, s_max, skip)
+    }
+}
+
+/// The unit normal of `tri` at time `t`, turned toward the viewer (two-sided shading).
+pub fn facing_normal(tri: &Triangle, t: f64, view_dir: DVec3) -> DVec3 {
+    let [a, b, c] = tri.at(t);
+    let n = (b - a).cross(c - a).normalize();
+    if n.dot(-view_dir) < 0.0 { -n } else { n }
 }

@@ -3,6 +3,7 @@
 //! triangle.
 
 mod bvh;
+mod shutter;
 mod timing;
 mod watertight;
 

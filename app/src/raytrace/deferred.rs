@@ -1,0 +1,200 @@
+//! The truth for a deferred ("engine") frame: a G-buffer drawn at one camera time T and, per
+//! pixel, the share of the shutter during which that G-buffer point sees the light.
+//!
+//! The G-buffer point is a fixed barycentric point of the triangle the pixel centre's camera
+//! ray sees at T (nearest hit as [`Bvh::closest`] finds it, no back-face culling), so it
+//! moves linearly with that triangle's corners; its lit fraction is exact
+//! ([`shutter::lit_fraction`]), not sampled. Shading is `shade.rs`'s at time T, the direct
+//! term weighted by that fraction instead of one shadow ray's answer.
+
+use super::bvh::Bvh;
+use super::intersect::Ray;
+use super::pixels::CameraRays;
+use super::shade::{Shading, ShadingLight, facing_normal};
+use super::shutter;
+use super::triangles::scene_triangles;
+use crate::error::{Error, Result};
+use crate::render::MAX_IMAGE_SIDE;
+use crate::render::upload::{camera_view, light_view};
+use crate::scene::Scene;
+use glam::{DVec3, Vec2};
+use motion_shadows::technique::{CameraParams, LightingView};
+use rayon::prelude::*;
+
+/// Progress is reported about this many times per image.
+const PROGRESS_STEPS: u32 = 16;
+
+/// The truth's G-buffer and lit fraction, row-major from the top-left pixel. Pixels whose
+/// camera ray meets nothing (between the camera's near and far planes) have `hit` false,
+/// `lit` 1, and zeros elsewhere.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DeferredTruth {
+    pub width: u32,
+    pub height: u32,
+    /// Share of the shutter [0, 1] during which the pixel's point sees the light, whatever
+    /// its orientation (a point facing away from the light still gets its visibility).
+    pub lit: Vec<f32>,
+    pub hit: Vec<bool>,
+    /// The camera ray's hit point at time T.
+    pub position: Vec<[f32; 3]>,
+    /// The unit normal at time T, turned toward the camera.
+    pub normal: Vec<[f32; 3]>,
+    pub albedo: Vec<[f32; 3]>,
+    /// Radiance, 3 values per pixel: ambient plus the direct term times `lit`.
+    pub rgb: Vec<f32>,
+}
+
+#[derive(Debug, Clone, Copy, Default)]
+struct Pixel {
+    lit: f32,
+    hit: bool,
+    position: [f32; 3],
+    normal: [f32; 3],
+    albedo: [f32; 3],
+    rgb: [f32; 3],
+}
+
+/// The deferred truth of `scene` at `width` x `height`, G-buffer at `camera_time` in [0, 1].
+/// `shadow_size` only sizes the light's view, whose shading numbers (direction, cone,
+/// emission) are the GPU's.
+pub fn deferred_truth(
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    camera_time: f32,
+    shadow_size: (u32, u32),
+    progress: &mut dyn FnMut(&str),
+) -> Result<DeferredTruth> {
+    let side_ok = |v: u32| (1..=MAX_IMAGE_SIDE).contains(&v);
+    if ![width, height, shadow_size.0, shadow_size.1]
+        .into_iter()
+        .all(side_ok)
+    {
+        return Err(Error::InvalidArgument(format!(
+            "deferred truth: image {width}x{height}, shadow map {}x{}: each side must be \
+             1..={MAX_IMAGE_SIDE}",
+            shadow_size.0, shadow_size.1
+        )));
+    }
+    if !(0.0..=1.0).contains(&camera_time) {
+        return Err(Error::InvalidArgument(format!(
+            "deferred truth: camera time {camera_time} must be in [0, 1]"
+        )));
+    }
+    scene.validate()?;
+
+    progress(&format!(
+        "deferred truth: building the motion BVH over {} triangles",
+        scene.triangle_count()
+    ));
+    let bvh = Bvh::new(&scene_triangles(scene));
+    // The same view, scale and albedos as the per-sample tracer (`raytrace::render`).
+    let view = LightingView {
+        camera: camera_view(scene, (width, height)),
+        seed: 0,
+        ambient: scene.ambient,
+        estimator: Default::default(),
+        filter: Default::default(),
+    };
+    let params = CameraParams::new(&view, (width, height), 1);
+    let rays = CameraRays::new(&params);
+    let (near, far) = (f64::from(params.position.w), f64::from(params.forward.w));
+    let (lo, hi) = scene.bounds();
+    let scale = f64::from((hi - lo).length().max(lo.abs().max(hi.abs()).max_element()));
+    let ambient = f64::from(scene.ambient);
+    let shading = Shading {
+        bvh: &bvh,
+        light: ShadingLight::new(&light_view(scene, shadow_size), scale),
+        albedo: scene
+            .meshes
+            .iter()
+            .map(|m| (m.albedo.as_dvec3(), ambient * m.albedo.as_dvec3()))
+            .collect(),
+    };
+    let t = f64::from(camera_time);
+
+    let n = width as usize * height as usize;
+    let mut out = DeferredTruth {
+        width,
+        height,
+        lit: Vec::with_capacity(n),
+        hit: Vec::with_capacity(n),
+        position: Vec::with_capacity(n),
+        normal: Vec::with_capacity(n),
+        albedo: Vec::with_capacity(n),
+        rgb: Vec::with_capacity(3 * n),
+    };
+    let band = height.div_ceil(PROGRESS_STEPS).max(1);
+    for first in (0..height).step_by(band as usize) {
+        let end = (first + band).min(height);
+        progress(&format!(
+            "deferred truth: rows {first}..{end} of {height} ({} threads)",
+            rayon::current_num_threads()
+        ));
+        let rows: Vec<Vec<Pixel>> = (first..end)
+            .into_par_iter()
+            .map(|y| {
+                (0..width)
+                    .map(|x| {
+                        let ray = rays.ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
+                        pixel(&ray, t, (near, far), &shading)
+                    })
+                    .collect()
+            })
+            .collect();
+        for p in rows.into_iter().flatten() {
+            out.lit.push(p.lit);
+            out.hit.push(p.hit);
+            out.position.push(p.position);
+            out.normal.push(p.normal);
+            out.albedo.push(p.albedo);
+            out.rgb.extend_from_slice(&p.rgb);
+        }
+    }
+    Ok(out)
+}
+
+/// One pixel centre's camera ray at time `t`.
+fn pixel(ray: &Ray, t: f64, (near, far): (f64, f64), shading: &Shading) -> Pixel {
+    let Some(hit) = shading.bvh.closest(ray, t, near, far) else {
+        return Pixel {
+            lit: 1.0,
+            ..Pixel::default()
+        };
+    };
+    let tri = &shading.bvh.triangles()[hit.index as usize];
+    let p = ray.origin + hit.s * ray.dir;
+    let w = barycentrics(ray, &tri.at(t));
+    let at = |time: f64| {
+        let v = tri.at(time);
+        w[0] * v[0] + w[1] * v[1] + w[2] * v[2]
+    };
+    let lit = shutter::lit_fraction(shading.bvh, &shading.light, at(0.0), at(1.0), tri.id);
+    let (direct, ambient) = shading.unshadowed(p, ray.dir, tri, t);
+    let rgb = direct.map_or(ambient, |d| d * lit + ambient);
+    Pixel {
+        lit: lit as f32,
+        hit: true,
+        position: p.as_vec3().to_array(),
+        normal: facing_normal(tri, t, ray.dir).as_vec3().to_array(),
+        albedo: shading.albedo[tri.mesh as usize].0.as_vec3().to_array(),
+        rgb: rgb.as_vec3().to_array(),
+    }
+}
+
+/// The barycentric weights of the point where `ray` crosses triangle `v`: each corner's
+/// weight is the edge function of the opposite edge (the ray's projection along itself, as
+/// the watertight test computes them), normalised. Rounding can leave a weight slightly
+/// negative at an edge; it is clamped, so the point stays on the triangle.
+fn barycentrics(ray: &Ray, v: &[DVec3; 3]) -> [f64; 3] {
+    let [a, b, c] = v.map(|p| p - ray.origin);
+    let d = ray.dir;
+    let e = [b.dot(c.cross(d)), c.dot(a.cross(d)), a.dot(b.cross(d))];
+    let sum = e[0] + e[1] + e[2];
+    if sum == 0.0 {
+        return [1.0 / 3.0; 3];
+    }
+    let e = e.map(|x| (x / sum).max(0.0));
+    let total = e[0] + e[1] + e[2];
+    e.map(|x| x / total)
+}
