@@ -1,17 +1,18 @@
 #version 450
 // Time-dependent shadow maps (Akenine-Moller et al. 2007) as an engine builds them, for the
-// deferred frame: the mask of one of the N maps. For every pixel of the host's G-buffer,
-// rebuild the world point and normal exactly as visibility_mask.comp does (mask_gbuffer.glsl),
-// move the point to where it is at the map's time (p + (t_i - time) * motion, when MOVING),
-// test it against the map with the temporal map's receiver test (ms_receiver_texel: normal
-// offset, receiver-plane depth, light bias) and count it lit or not. Map i of N adds its 0 or
-// 1 to the host's R32_SFLOAT image (the first map writes); the last map divides by N, so the
-// image ends as the lit fraction of the N times (exactly 1 where every map sees the light).
+// deferred frame: the mask of one batch of the N maps (the layers of the working map). For
+// every pixel of the host's G-buffer, rebuild the world point and normal as the temporal
+// map's mask does (mask_gbuffer.glsl), and for each map i of the batch move the point to
+// where it is at the map's time t_i = (i + 0.5) / N (p + (t_i - time) * motion, when MOVING),
+// test it with the temporal map's receiver test (ms_receiver_texel: normal offset,
+// receiver-plane depth, light bias) against the map, and count it lit or not. The first batch
+// writes its count into the host's R32_SFLOAT image, later ones add theirs; the last turns the
+// count into the lit fraction of the N times (exactly 1 where every map sees the light).
 // Background pixels count as lit.
 //
-// The map is an ordinary depth attachment (post-projection z/w, 1 where nothing was drawn)
-// read through a sampled image; with SECOND_LOOKUP the moving draws' map of this time and the
-// static draws' map are both read (the nearer wins) instead of one map that holds both.
+// The maps are ordinary depth attachments (post-projection z/w, 1 where nothing was drawn)
+// read through sampled images; with SECOND_LOOKUP each layer holds the moving draws alone and
+// the static draws' map is read too (the nearer depth wins), instead of layers that hold both.
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_buffer_reference : require
 #include "motion_shadows.glsl"
@@ -23,27 +24,29 @@ layout(set = 0, binding = 1) uniform sampler2D normal_image;
 // rgb: the point's world displacement over the shutter, p(1) - p(0) (read when MOVING).
 layout(set = 0, binding = 2) uniform sampler2D motion_image;
 layout(set = 0, binding = 3, r32f) uniform image2D mask;
-// The map of time pc.map_time (z/w of the depth attachment).
-layout(set = 0, binding = 4) uniform sampler2D map_depth;
+// Layer k: the map of time t_(first_map + k) (z/w of the depth attachment).
+layout(set = 0, binding = 4) uniform sampler2DArray maps;
 // SECOND_LOOKUP: the static draws' map (z/w), drawn once and kept.
-layout(set = 0, binding = 5) uniform sampler2D static_depth;
+layout(set = 0, binding = 5) uniform sampler2D static_map;
 
 layout(constant_id = 0) const bool MOVING = false;
 layout(constant_id = 1) const bool SECOND_LOOKUP = false;
 
-const uint TSM_FIRST = 0x10u;   // the first of the N maps: write the count, do not add
-const uint TSM_LAST = 0x20u;    // the last: divide the count by pc.maps
+const uint TSM_FIRST = 0x10u;   // the first batch: write the count, do not add
+const uint TSM_LAST = 0x20u;    // the last: turn the count into the lit fraction
 
 layout(push_constant) uniform Push {
     mat4 inv_view_proj;     // camera clip -> world (the host's matrices, Vulkan NDC)
-    uint64_t light;         // MsLight (the start of the map's header)
+    uint64_t light;         // MsLight (the start of the maps' header)
     uvec2 size;             // pixels
     float background_depth; // the depth buffer's clear value: no surface there
     uint flags;             // MASK_* | TSM_*
-    uvec2 map_size;         // texels of the map
+    uvec2 map_size;         // texels of a map
     float time;             // the shutter time the G-buffer shows (read when MOVING)
-    float map_time;         // the time of this map, (i + 0.5) / N
     float maps;             // N
+    float inv_maps;         // 1 / N: map i is drawn at (i + 0.5) * (1 / N)
+    uint first_map;         // the batch's first map (layer 0)
+    uint batch;             // maps in the batch (layers 0 .. batch - 1)
     uint reserved;
 } pc;
 
@@ -59,29 +62,46 @@ float stored_light_depth(MsLight light, float stored) {
     return -z;
 }
 
+// Is a receiver tested at light depth `receiver` in `texel` lit in layer k? z/w grows with
+// the light depth (both projections), so the nearer of a layer and the static map is the
+// smaller z/w (`static_stored`: the static map's, 1 when there is none to read).
+bool lit_in_layer(MsLight light, ivec2 texel, uint k, float static_stored, float receiver) {
+    float stored = min(texelFetch(maps, ivec3(texel, int(k)), 0).r, static_stored);
+    return !(stored_light_depth(light, stored) < receiver);
+}
+
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(uvec2(pixel), pc.size))) return;
     float depth = texelFetch(depth_image, pixel, 0).r;
-    float lit = 1.0;
+    float lit = float(pc.batch);    // maps of the batch that see the light at this pixel
     if (depth != pc.background_depth) {
         vec3 p = world_at(pixel, depth);
         MsLight light = ms_load_light(pc.light);
         vec3 n = gbuffer_normal(pixel, p, light);
-        if (MOVING) p += (pc.map_time - pc.time) * texelFetch(motion_image, pixel, 0).xyz;
         uint index;
         float receiver;
-        if (ms_receiver_texel(light, pc.map_size, p, n, index, receiver)) {
+        if (MOVING) {
+            vec3 motion = texelFetch(motion_image, pixel, 0).xyz;
+            for (uint k = 0u; k < pc.batch; ++k) {
+                float t = (float(pc.first_map + k) + 0.5) * pc.inv_maps;
+                if (!ms_receiver_texel(light, pc.map_size, p + (t - pc.time) * motion, n,
+                                       index, receiver)) continue;
+                ivec2 texel = ivec2(index % pc.map_size.x, index / pc.map_size.x);
+                float static_stored = SECOND_LOOKUP ? texelFetch(static_map, texel, 0).r : 1.0;
+                if (!lit_in_layer(light, texel, k, static_stored, receiver)) lit -= 1.0;
+            }
+        } else if (ms_receiver_texel(light, pc.map_size, p, n, index, receiver)) {
+            // A receiver standing still: one texel for every map.
             ivec2 texel = ivec2(index % pc.map_size.x, index / pc.map_size.x);
-            // z/w grows with the light depth (both projections), so the nearer of the two
-            // maps is the smaller z/w.
-            float stored = texelFetch(map_depth, texel, 0).r;
-            if (SECOND_LOOKUP) stored = min(stored, texelFetch(static_depth, texel, 0).r);
-            if (stored_light_depth(light, stored) < receiver) lit = 0.0;
+            float static_stored = SECOND_LOOKUP ? texelFetch(static_map, texel, 0).r : 1.0;
+            for (uint k = 0u; k < pc.batch; ++k) {
+                if (!lit_in_layer(light, texel, k, static_stored, receiver)) lit -= 1.0;
+            }
         }
     }
-    // Counts add exactly in floats; one division at the end makes N lit maps exactly 1.
-    float count = lit;
-    if ((pc.flags & TSM_FIRST) == 0u) count += imageLoad(mask, pixel).r;
-    imageStore(mask, pixel, vec4((pc.flags & TSM_LAST) != 0u ? count / pc.maps : count));
+    // Counts add exactly in floats; the last batch scales them once.
+    if ((pc.flags & TSM_FIRST) == 0u) lit += imageLoad(mask, pixel).r;
+    if ((pc.flags & TSM_LAST) != 0u) lit = lit == pc.maps ? 1.0 : lit * pc.inv_maps;
+    imageStore(mask, pixel, vec4(lit));
 }

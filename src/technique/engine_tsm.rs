@@ -5,19 +5,28 @@
 //! For N maps at the times t_i = (i + 0.5) / N: start a D32 depth map from the static draws'
 //! map (drawn once and kept across frames, like the temporal map's kept static layer), draw
 //! the moving draws at t_i into it depth-only (`shadow_depth.vert`, as
-//! [`super::PlainShadowPass`] draws), then a compute dispatch over the host's G-buffer
-//! (the same [`MaskInputs`] as the temporal mask) counts each pixel's point lit or not at
-//! t_i: the receiver moved to `p + (t_i - time) * motion`, tested with the temporal map's own
-//! receiver test (`ms_receiver_texel` in `glsl/motion_shadows.glsl`: normal offset,
-//! receiver-plane depth, light bias) against the map's depth read through a sampled image.
-//! The last map divides the count by N: the host's image ends as the lit fraction of the N
-//! times, which converges to the shutter's lit fraction as N grows (error at most about 1/N
-//! plus a texel's worth of motion).
+//! [`super::PlainShadowPass`] draws), and test the host's G-buffer (the same [`MaskInputs`]
+//! as the temporal mask) against it: each pixel's point moved to `p + (t_i - time) * motion`,
+//! tested with the temporal map's own receiver test (`ms_receiver_texel` in
+//! `glsl/motion_shadows.glsl`: normal offset, receiver-plane depth, light bias) against the
+//! map's depth read through a sampled image, and counted lit or not. The host's image ends as
+//! the lit fraction of the N times, which converges to the shutter's lit fraction as N grows
+//! (error at most about 1/N plus a texel's worth of motion).
+//!
+//! The maps are drawn in batches of [`EngineTsmMap::layers`] (the layers of the working map,
+//! an array image), and one compute dispatch (`glsl/tsm_mask.comp`) tests every pixel against
+//! the batch's maps: the pixel's G-buffer point, normal and the light are read once per
+//! batch, the output image read and written once per batch (the first batch writes, later
+//! ones add, the last divides by N). On lavapipe that per-pixel work, not the lookups, is most
+//! of a dispatch, so layers trade memory (4 bytes per texel and layer) for time: at a
+//! 1920x1080 G-buffer and 2048x2048 maps a map costs about 230-260 ms with 1 layer, 75-95 with
+//! 4, 50-70 with 8 and 42-45 with 16, of which drawing the moving draws (and starting the
+//! layer) is 2-4 ms (`examples/engine_tsm_costs.rs`; 2 cores, other work beside it).
 //!
 //! How each map starts from the static draws is [`TsmStart`]: an image copy of the static
-//! map into the working map ([`TsmStart::Copy`]), or a cleared working map and a second
+//! map into the working map's layer ([`TsmStart::Copy`]), or a cleared layer and a second
 //! lookup of the static map in the mask shader ([`TsmStart::SecondLookup`]). Both give the
-//! same answers.
+//! same answers, bit for bit.
 
 use super::draws::DrawList;
 use super::gpu_types::{DRAW_STATIC, DepthFormat, PassConstants, PlainMapHeader};
@@ -38,19 +47,28 @@ use std::sync::atomic::{AtomicU32, Ordering};
 /// The most maps one [`EngineTsmPass::record`] draws (the papers compare up to 64; 1,024
 /// leaves room for a reference, and keeps the count of lit maps exact in the R32 image).
 pub const MAX_TSM_MAPS: u32 = 1024;
+/// The most layers an [`EngineTsmMap`]'s working map may have (maps per dispatch).
+pub const MAX_TSM_LAYERS: u32 = 64;
 
 /// The maps' format: 32-bit float depth, as the ordinary shadow maps.
 const MAP_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// How each of the N maps starts from the static draws' map.
+///
+/// Measured on lavapipe (2 cores; `examples/engine_tsm_costs.rs`, 1920x1080 G-buffer, 2048x2048
+/// maps, 8 maps per dispatch): a copy of one map costs 1.3 ms and a clear 0.8 ms, but the
+/// second lookup costs about 4 ms per map over the 1080p G-buffer (TSM-16: 797 ms with copies,
+/// 867 ms with second lookups, the least of 20 runs each), so copying is the default. A GPU
+/// that copies 16 MB faster than it samples 2 million texels may choose otherwise.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub enum TsmStart {
-    /// Copy the static map into the working map (a depth image copy per map), then draw the
-    /// moving draws into it: one lookup per pixel and map.
-    Copy,
-    /// Clear the working map (the render pass's load op), draw the moving draws into it, and
-    /// look up both maps per pixel (the nearer depth wins): no copy, two lookups.
+    /// Copy the static map into the working map's layer (a depth image copy per map), then
+    /// draw the moving draws into it: one lookup per pixel and map.
     #[default]
+    Copy,
+    /// Clear the working map's layer (the render pass's load op), draw the moving draws into
+    /// it, and look up both it and the static map per pixel (the nearer depth wins): no copy,
+    /// two lookups.
     SecondLookup,
 }
 
@@ -61,14 +79,19 @@ const HEADER_BYTES: u64 = std::mem::size_of::<PlainMapHeader>() as u64;
 /// The maps of one light (per frame in flight and light): the static draws' depth map, kept
 /// across frames, and the working depth map each of the N times is drawn into.
 pub struct EngineTsmMap {
+    device: ash::Device,
     width: u32,
     height: u32,
+    layers: u32,
     start: TsmStart,
     /// The static draws, drawn once (and again when the light or the static draws change).
     /// Rests in `static_resting_layout(start)` between uses.
     static_map: Image,
-    /// The map of one time: moving draws (and, with [`TsmStart::Copy`], the static ones).
+    /// A batch of maps, one per layer: moving draws (and, with [`TsmStart::Copy`], the
+    /// static ones).
     working: Image,
+    /// A 2D array view of every layer of `working`, for the mask shader (destroyed here).
+    working_array: vk::ImageView,
     /// [`PlainMapHeader`]: the light (read by `shadow_depth.vert` and the mask shader).
     header: Buffer,
     /// What the static map holds, when it may be kept ([`LightView::keep_static_layer`]).
@@ -79,45 +102,83 @@ pub struct EngineTsmMap {
 
 impl EngineTsmMap {
     /// Maps of `width` x `height` texels (each side at most the device's
-    /// maxImageDimension2D, 4,096 or more), started from the static map as `start` says.
-    /// Errors on a zero size, and on a device that cannot draw, sample and copy D32_SFLOAT
-    /// depth images.
-    pub fn new(ctx: &Context, width: u32, height: u32, start: TsmStart) -> Result<Self> {
+    /// maxImageDimension2D, 4,096 or more), drawn `layers` at a time (1 to
+    /// [`MAX_TSM_LAYERS`]: the working map's layers, 4 bytes a texel each), started from the
+    /// static map as `start` says. Errors on a zero size or a layer count out of range, and
+    /// on a device that cannot draw, sample and copy D32_SFLOAT depth images.
+    pub fn new(
+        ctx: &Context,
+        width: u32,
+        height: u32,
+        layers: u32,
+        start: TsmStart,
+    ) -> Result<Self> {
         check_map_format(|format| ctx.optimal_tiling_features(format))?;
         if width == 0 || height == 0 {
             return Err(Error::InvalidArgument(format!(
                 "time-dependent shadow map size {width}x{height}"
             )));
         }
+        if layers == 0 || layers > MAX_TSM_LAYERS {
+            return Err(Error::InvalidArgument(format!(
+                "{layers} time-dependent shadow map layers (1 to {MAX_TSM_LAYERS})"
+            )));
+        }
         let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
-        let size = (width, height, 1);
-        Ok(Self {
+        let static_map = Image::new(
+            ctx,
+            "time-dependent shadow maps' static map",
+            (width, height, 1),
+            MAP_FORMAT,
+            usage | vk::ImageUsageFlags::TRANSFER_SRC,
+        )?;
+        let working = Image::new(
+            ctx,
+            "time-dependent shadow maps' working maps",
+            (width, height, layers),
+            MAP_FORMAT,
+            usage | vk::ImageUsageFlags::TRANSFER_DST,
+        )?;
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(working.raw())
+            .view_type(vk::ImageViewType::TYPE_2D_ARRAY)
+            .format(MAP_FORMAT)
+            .subresource_range(working.layers_range(0, layers));
+        // SAFETY: a view of the image just made, destroyed by Drop before it.
+        let working_array =
+            unsafe { ctx.device().create_image_view(&view_info, None) }.map_err(|result| {
+                Error::Vulkan {
+                    call: "vkCreateImageView",
+                    result,
+                }
+            })?;
+        let header = Buffer::new(
+            ctx,
+            "time-dependent shadow maps' header",
+            HEADER_BYTES,
+            BufferUsage::Storage,
+        );
+        let map = Self {
+            device: ctx.device().clone(),
             width,
             height,
+            layers,
             start,
-            static_map: Image::new(
-                ctx,
-                "time-dependent shadow maps' static map",
-                size,
-                MAP_FORMAT,
-                usage | vk::ImageUsageFlags::TRANSFER_SRC,
-            )?,
-            working: Image::new(
-                ctx,
-                "time-dependent shadow maps' working map",
-                size,
-                MAP_FORMAT,
-                usage | vk::ImageUsageFlags::TRANSFER_DST,
-            )?,
-            header: Buffer::new(
-                ctx,
-                "time-dependent shadow maps' header",
-                HEADER_BYTES,
-                BufferUsage::Storage,
-            )?,
+            static_map,
+            working,
+            working_array,
+            header: match header {
+                Ok(header) => header,
+                Err(e) => {
+                    // SAFETY: the view was made above and is in no command buffer.
+                    unsafe { ctx.device().destroy_image_view(working_array, None) };
+                    return Err(e);
+                }
+            },
             static_source: Mutex::new(None),
             static_builds: AtomicU32::new(0),
-        })
+        };
+        Ok(map)
     }
 
     /// Texels across.
@@ -128,13 +189,18 @@ impl EngineTsmMap {
     pub fn height(&self) -> u32 {
         self.height
     }
+    /// Maps drawn per dispatch: the working map's layers.
+    pub fn layers(&self) -> u32 {
+        self.layers
+    }
     /// How each map starts from the static map.
     pub fn start(&self) -> TsmStart {
         self.start
     }
-    /// Bytes of the two depth maps (4 per texel each).
+    /// Bytes of the depth maps: the static map and the working map's layers (4 per texel
+    /// each).
     pub fn bytes(&self) -> u64 {
-        2 * 4 * self.width as u64 * self.height as u64
+        (1 + self.layers as u64) * 4 * self.width as u64 * self.height as u64
     }
     /// The device address of the header (the light, then the size: `PlainHeader` in
     /// shared.glsl, without depth buffers).
@@ -167,6 +233,14 @@ impl EngineTsmMap {
     }
 }
 
+impl Drop for EngineTsmMap {
+    fn drop(&mut self) {
+        // SAFETY: the view is the map's own; the caller keeps the map alive until no command
+        // buffer using it is pending (the record's contract). The images drop after this.
+        unsafe { self.device.destroy_image_view(self.working_array, None) };
+    }
+}
+
 /// Whether a device whose optimal-tiling format features are `features` can draw, sample and
 /// copy D32_SFLOAT depth maps.
 fn check_map_format(features: impl Fn(vk::Format) -> vk::FormatFeatureFlags) -> Result<()> {
@@ -182,7 +256,8 @@ fn check_map_format(features: impl Fn(vk::Format) -> vk::FormatFeatureFlags) -> 
     Ok(())
 }
 
-/// The mask shader's push constants (112 bytes; `Push` in glsl/tsm_mask.comp).
+/// The mask shader's push constants (`Push` in glsl/tsm_mask.comp: 120 bytes, 128 with the
+/// padding pushed along).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 struct TsmConstants {
@@ -193,19 +268,23 @@ struct TsmConstants {
     flags: u32,
     map_size: [u32; 2],
     time: f32,
-    map_time: f32,
+    /// N, and 1 / N: map i is drawn at (i + 0.5) * (1 / N), in the shader as on the host.
     maps: f32,
+    inv_maps: f32,
+    /// The batch's first map and its count (its layers 0..batch).
+    first_map: u32,
+    batch: u32,
     reserved: u32,
 }
 
-const _: () = assert!(std::mem::size_of::<TsmConstants>() == 112);
+const _: () = assert!(std::mem::size_of::<TsmConstants>() == 128);
 
 /// `MASK_*` in glsl/mask_gbuffer.glsl.
 const HAS_NORMALS: u32 = 1;
 const NORMALS_UNORM: u32 = 2;
 /// `TSM_*` in glsl/tsm_mask.comp.
-const FIRST_MAP: u32 = 0x10;
-const LAST_MAP: u32 = 0x20;
+const FIRST_BATCH: u32 = 0x10;
+const LAST_BATCH: u32 = 0x20;
 
 /// Sampled reads of the mask shader (the working and static maps).
 const COMPUTE_SAMPLED_READ: Access = Access::COMPUTE_SAMPLED_READ;
@@ -304,7 +383,7 @@ impl EngineTsmPass {
     /// - The views are valid, of the device, with the sizes and layouts [`MaskInputs`]
     ///   states, and stay alive until `cmd` completes; here the output must be an
     ///   `R32_SFLOAT` image with storage usage (the shader reads back its count between
-    ///   maps), in `GENERAL` layout.
+    ///   batches of maps), in `GENERAL` layout.
     /// - The draws' buffers are as [`super::Draw`] requires; `draws` was updated
     ///   ([`DrawList::record_update`]) earlier in `cmd` or in a command buffer submitted
     ///   before it.
@@ -388,16 +467,15 @@ impl EngineTsmPass {
 
         // The host's images and the maps, for every dispatch below.
         let depth = (inputs.depth, inputs.depth_layout);
-        // Without a normal or motion image the depth view stands in (never read: the flag
-        // and the variant say so).
+        // Without a normal or motion image (or, copying, without a second lookup) the depth
+        // view stands in (never read: the flag and the variant say so).
         let normals = inputs.normals.map_or(depth, |n| (n.view, n.layout));
         let motion = inputs.motion.map_or(depth, |m| (m.view, m.layout));
         let read_only = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-        // Copy: the static map is never read by the shader; the working map stands in.
-        let static_binding = if second_lookup {
+        let static_map = if second_lookup {
             (map.static_map.layer_view(0), read_only)
         } else {
-            (map.working.layer_view(0), read_only)
+            depth
         };
         // SAFETY: the caller's contract (the set is not in use; the views are valid).
         unsafe {
@@ -406,11 +484,11 @@ impl EngineTsmPass {
                 normals,
                 motion,
                 (inputs.output, vk::ImageLayout::GENERAL),
-                (map.working.layer_view(0), read_only),
-                static_binding,
+                (map.working_array, read_only),
+                static_map,
             ])
         };
-        let flags = match inputs.normals {
+        let normal_flags = match inputs.normals {
             Some(NormalImage {
                 encoding: NormalEncoding::Unorm,
                 ..
@@ -418,19 +496,20 @@ impl EngineTsmPass {
             Some(_) => HAS_NORMALS,
             None => 0,
         };
-        let mask =
-            &self.masks[usize::from(inputs.motion.is_some()) + 2 * usize::from(second_lookup)];
+        let variant = usize::from(inputs.motion.is_some()) + 2 * usize::from(second_lookup);
+        let mask = &self.masks[variant];
         let working = map.working.raw();
-        let range = map.working.layers_range(0, 1);
-        for i in 0..maps {
-            let t = (i as f32 + 0.5) / maps as f32;
-            // The working map: its reads by the previous dispatch (or frame) are done.
+        let all_layers = map.working.layers_range(0, map.layers);
+        let inv_maps = 1.0 / maps as f32;
+        for first in (0..maps).step_by(map.layers as usize) {
+            let batch = map.layers.min(maps - first);
+            // The working layers: their reads by the previous dispatch (or frame) are done.
             if second_lookup {
                 image_barrier(
                     device,
                     cmd,
                     working,
-                    range,
+                    all_layers,
                     (
                         vk::ImageLayout::UNDEFINED,
                         vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
@@ -443,7 +522,7 @@ impl EngineTsmPass {
                     device,
                     cmd,
                     working,
-                    range,
+                    all_layers,
                     (
                         vk::ImageLayout::UNDEFINED,
                         vk::ImageLayout::TRANSFER_DST_OPTIMAL,
@@ -452,12 +531,12 @@ impl EngineTsmPass {
                     Access::TRANSFER_WRITE,
                 );
                 // SAFETY: both images are the map's, in the layouts named.
-                unsafe { copy_depth(device, cmd, map) };
+                unsafe { copy_static(device, cmd, map, batch) };
                 image_barrier(
                     device,
                     cmd,
                     working,
-                    range,
+                    all_layers,
                     (
                         vk::ImageLayout::TRANSFER_DST_OPTIMAL,
                         vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
@@ -466,37 +545,43 @@ impl EngineTsmPass {
                     Access::DEPTH_ATTACHMENT,
                 );
             }
-            let view = map.working.layer_view(0);
-            // SAFETY: the caller's contract; the view is in the attachment layout.
-            unsafe { begin_depth(device, cmd, view, map.width, map.height, second_lookup) };
             self.depth_only.bind(device, cmd);
-            draw_where(device, cmd, &self.depth_only, draws, map, t, false);
-            unsafe { device.cmd_end_rendering(cmd) };
+            for layer in 0..batch {
+                let t = ((first + layer) as f32 + 0.5) * inv_maps;
+                let view = map.working.layer_view(layer);
+                // SAFETY: the caller's contract; the layer is in the attachment layout.
+                unsafe { begin_depth(device, cmd, view, map.width, map.height, second_lookup) };
+                draw_where(device, cmd, &self.depth_only, draws, map, t, false);
+                unsafe { device.cmd_end_rendering(cmd) };
+            }
             image_barrier(
                 device,
                 cmd,
                 working,
-                range,
+                all_layers,
                 (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, read_only),
                 Access::DEPTH_ATTACHMENT,
                 COMPUTE_SAMPLED_READ,
             );
-            if i > 0 {
-                // The previous map's count, read and rewritten by this one.
+            if first > 0 {
+                // The previous batch's count, read and rewritten by this one.
                 memory_barrier(device, cmd, COMPUTE_STORAGE_RW, COMPUTE_STORAGE_RW);
             }
+            let flags = normal_flags
+                | if first == 0 { FIRST_BATCH } else { 0 }
+                | if first + batch == maps { LAST_BATCH } else { 0 };
             let constants = TsmConstants {
                 inv_view_proj: inputs.inv_view_proj,
                 light: map.header_address(),
                 size: [inputs.size.0, inputs.size.1],
                 background_depth: inputs.background_depth,
-                flags: flags
-                    | if i == 0 { FIRST_MAP } else { 0 }
-                    | if i + 1 == maps { LAST_MAP } else { 0 },
+                flags,
                 map_size: [map.width, map.height],
                 time: inputs.time,
-                map_time: t,
                 maps: maps as f32,
+                inv_maps,
+                first_map: first,
+                batch,
                 reserved: 0,
             };
             mask.bind(device, cmd);
@@ -512,9 +597,8 @@ impl EngineTsmPass {
                 );
             }
             mask.push(device, cmd, &constants);
-            unsafe {
-                device.cmd_dispatch(cmd, inputs.size.0.div_ceil(8), inputs.size.1.div_ceil(8), 1)
-            };
+            let groups = (inputs.size.0.div_ceil(8), inputs.size.1.div_ceil(8));
+            unsafe { device.cmd_dispatch(cmd, groups.0, groups.1, 1) };
         }
         Ok(())
     }
@@ -602,29 +686,36 @@ unsafe fn begin_depth(
     }
 }
 
-/// Copies the static map (in `TRANSFER_SRC_OPTIMAL`) into the working map (in
-/// `TRANSFER_DST_OPTIMAL`).
+/// Copies the static map (in `TRANSFER_SRC_OPTIMAL`) into layers `0..layers` of the
+/// working map (in `TRANSFER_DST_OPTIMAL`).
 ///
 /// # Safety
 /// `cmd` is recording, outside rendering; the maps are in those layouts.
-unsafe fn copy_depth(device: &ash::Device, cmd: vk::CommandBuffer, map: &EngineTsmMap) {
-    let layers = vk::ImageSubresourceLayers {
+unsafe fn copy_static(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    map: &EngineTsmMap,
+    layers: u32,
+) {
+    let layer = |base_array_layer| vk::ImageSubresourceLayers {
         aspect_mask: vk::ImageAspectFlags::DEPTH,
         mip_level: 0,
-        base_array_layer: 0,
+        base_array_layer,
         layer_count: 1,
     };
-    let region = [vk::ImageCopy {
-        src_subresource: layers,
-        src_offset: vk::Offset3D::default(),
-        dst_subresource: layers,
-        dst_offset: vk::Offset3D::default(),
-        extent: vk::Extent3D {
-            width: map.width,
-            height: map.height,
-            depth: 1,
-        },
-    }];
+    let regions: Vec<vk::ImageCopy> = (0..layers)
+        .map(|i| vk::ImageCopy {
+            src_subresource: layer(0),
+            src_offset: vk::Offset3D::default(),
+            dst_subresource: layer(i),
+            dst_offset: vk::Offset3D::default(),
+            extent: vk::Extent3D {
+                width: map.width,
+                height: map.height,
+                depth: 1,
+            },
+        })
+        .collect();
     unsafe {
         device.cmd_copy_image(
             cmd,
@@ -632,7 +723,7 @@ unsafe fn copy_depth(device: &ash::Device, cmd: vk::CommandBuffer, map: &EngineT
             vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
             map.working.raw(),
             vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            &region,
+            &regions,
         )
     };
 }

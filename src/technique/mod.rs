@@ -38,7 +38,9 @@ mod view;
 pub use collection::CollectionPass;
 pub use coverage::{CoverageMap, CoveragePass, MAX_COVERAGE_TRIANGLES};
 pub use draws::{Draw, DrawList, IndexStream, Indices, PositionStream};
-pub use engine_tsm::{EngineTsmBindings, EngineTsmMap, EngineTsmPass, MAX_TSM_MAPS, TsmStart};
+pub use engine_tsm::{
+    EngineTsmBindings, EngineTsmMap, EngineTsmPass, MAX_TSM_LAYERS, MAX_TSM_MAPS, TsmStart,
+};
 pub use gbuffer::{
     GBUFFER_COLOR_FORMAT, GBUFFER_DEPTH_FORMAT, GBuffer, GBufferCamera, GBufferContents,
     GBufferPass,

@@ -3,7 +3,8 @@
 //! G-buffer (drawn here by the library's `GBufferPass` from the receivers alone). Checked
 //! against closed forms: a caster translating over a still plane, a plane translating under a
 //! still caster, a still square's shadow; and the kept static map against a redrawn one. Each
-//! runs with both ways a map starts from the static one (`TsmStart`).
+//! runs with both ways a map starts from the static one (`TsmStart`), one map per dispatch
+//! and in batches (`EngineTsmMap::layers`).
 
 use crate::support::gpu::{assert_no_validation_messages, context};
 use ash::vk;
@@ -25,7 +26,14 @@ const SHADOW: u32 = 512;
 const HALF: f32 = 3.0;
 /// A texel of the maps, in world units.
 const TEXEL: f32 = 2.0 * HALF / SHADOW as f32;
-const STARTS: [TsmStart; 2] = [TsmStart::Copy, TsmStart::SecondLookup];
+/// How the maps start from the static map, and how many are drawn per dispatch (5: batches
+/// of 5, 5, 5, 1 for 16 maps).
+const CONFIGS: [(TsmStart, u32); 4] = [
+    (TsmStart::Copy, 1),
+    (TsmStart::SecondLookup, 1),
+    (TsmStart::Copy, 5),
+    (TsmStart::SecondLookup, 8),
+];
 
 /// Two triangles of the rectangle [x0, x1] x [z0, z1] at height y.
 fn rect(x0: f32, x1: f32, z0: f32, z1: f32, y: f32) -> Vec<Vec3> {
@@ -321,8 +329,8 @@ fn check_convergence(what: &str, n: u32, found: &[(usize, f32, f32)], texel_term
 /// A still ground under a square translating along x (a moving draw), light straight down:
 /// a ground point at x is shadowed while the square's extent [x0 + D t, x0 + s + D t] holds
 /// x. TSM-N's mask is within 1/N (stratified times) plus a texel's worth of motion of that
-/// at every pixel, and its mean error falls as N grows. Both starts give the same mask bit
-/// for bit. Fails when the maps' times, the moving draws' time or the counting are wrong.
+/// at every pixel, and its mean error falls as N grows. Both starts, one map per dispatch or
+/// batches, give the same mask bit for bit. Fails when the maps' times, the moving draws' time or the counting are wrong.
 #[test]
 fn engine_tsm_converges_under_a_moving_caster() {
     let ctx = context();
@@ -345,9 +353,10 @@ fn engine_tsm_converges_under_a_moving_caster() {
         Some(1.0 - within_shutter((p.x - x0 - s) / d, (p.x - x0) / d))
     };
     let mut rig = Rig::new(&ctx);
-    let mut by_start = Vec::new();
-    for start in STARTS {
-        let map = EngineTsmMap::new(&ctx, SHADOW, SHADOW, start).expect("map");
+    let mut by_config = Vec::new();
+    for (start, layers) in CONFIGS {
+        let map = EngineTsmMap::new(&ctx, SHADOW, SHADOW, layers, start).expect("map");
+        let start = format!("{start:?} x{layers}");
         let mut means = Vec::new();
         let mut masks = Vec::new();
         for n in [4, 16, 64] {
@@ -362,21 +371,22 @@ fn engine_tsm_converges_under_a_moving_caster() {
             };
             let mask = rig.run(&frame, &map).expect("frame");
             let found = errors(&rig, &mask, closed_form);
-            means.push(check_convergence(
-                &format!("{start:?}"),
-                n,
-                &found,
-                TEXEL / d,
-            ));
+            means.push(check_convergence(&start.clone(), n, &found, TEXEL / d));
             masks.push(mask);
         }
         assert!(
             means[0] > means[1] && means[1] > means[2],
-            "{start:?}: mean errors {means:?} do not fall with N = 4, 16, 64"
+            "{start}: mean errors {means:?} do not fall with N = 4, 16, 64"
         );
-        by_start.push(masks);
+        by_config.push((start, masks));
     }
-    assert!(by_start[0] == by_start[1], "Copy and SecondLookup differ");
+    for (config, masks) in &by_config[1..] {
+        assert!(
+            masks == &by_config[0].1,
+            "{config} differs from {}",
+            by_config[0].0
+        );
+    }
     drop(rig);
     assert_no_validation_messages(&ctx);
 }
@@ -410,8 +420,9 @@ fn engine_tsm_converges_for_a_moving_receiver() {
         Some(1.0 - within_shutter(1.0 + (c0 - p.x) / d, 1.0 + (c0 + s - p.x) / d))
     };
     let mut rig = Rig::new(&ctx);
-    for start in STARTS {
-        let map = EngineTsmMap::new(&ctx, SHADOW, SHADOW, start).expect("map");
+    for (start, layers) in CONFIGS {
+        let map = EngineTsmMap::new(&ctx, SHADOW, SHADOW, layers, start).expect("map");
+        let start = format!("{start:?} x{layers}");
         let mut means = Vec::new();
         for n in [4, 16, 64] {
             let frame = Frame {
@@ -425,16 +436,11 @@ fn engine_tsm_converges_for_a_moving_receiver() {
             };
             let mask = rig.run(&frame, &map).expect("frame");
             let found = errors(&rig, &mask, closed_form);
-            means.push(check_convergence(
-                &format!("{start:?}"),
-                n,
-                &found,
-                TEXEL / d,
-            ));
+            means.push(check_convergence(&start.clone(), n, &found, TEXEL / d));
         }
         assert!(
             means[0] > means[1] && means[1] > means[2],
-            "{start:?}: mean errors {means:?} do not fall with N = 4, 16, 64"
+            "{start}: mean errors {means:?} do not fall with N = 4, 16, 64"
         );
     }
     drop(rig);
@@ -468,8 +474,9 @@ fn engine_tsm_of_static_draws_is_an_ordinary_shadow_map() {
         Some(if inside > 0.0 { 0.0 } else { 1.0 })
     };
     let mut rig = Rig::new(&ctx);
-    for start in STARTS {
-        let map = EngineTsmMap::new(&ctx, SHADOW, SHADOW, start).expect("map");
+    for (start, layers) in CONFIGS {
+        let map = EngineTsmMap::new(&ctx, SHADOW, SHADOW, layers, start).expect("map");
+        let start = format!("{start:?} x{layers}");
         let mut masks = Vec::new();
         for n in [1, 4] {
             let frame = Frame {
@@ -486,19 +493,19 @@ fn engine_tsm_of_static_draws_is_an_ordinary_shadow_map() {
             let shadowed = found.iter().filter(|(_, _, e)| *e == 0.0).count();
             assert!(
                 shadowed > 150 && found.len() - shadowed > 1000,
-                "{start:?}: {shadowed} shadowed of {} pixels tested",
+                "{start}: {shadowed} shadowed of {} pixels tested",
                 found.len()
             );
             let wrong: Vec<_> = found.iter().filter(|(_, got, e)| got != e).collect();
             assert!(
                 wrong.is_empty(),
-                "{start:?}, N = {n}: {} pixels differ from the square's shadow, e.g. {:?}",
+                "{start}, N = {n}: {} pixels differ from the square's shadow, e.g. {:?}",
                 wrong.len(),
                 &wrong[..wrong.len().min(5)]
             );
             masks.push(mask);
         }
-        assert!(masks[0] == masks[1], "{start:?}: TSM-4 differs from TSM-1");
+        assert!(masks[0] == masks[1], "{start}: TSM-4 differs from TSM-1");
         for maps in [0, MAX_TSM_MAPS + 1] {
             let frame = Frame {
                 receivers: &receivers,
@@ -541,8 +548,9 @@ fn engine_tsm_keeps_its_static_map() {
     let light = light(Vec3::NEG_Y, true);
     let receivers = [ground.draw(0)];
     let mut rig = Rig::new(&ctx);
-    for start in STARTS {
-        let map = EngineTsmMap::new(&ctx, SHADOW, SHADOW, start).expect("map");
+    for (start, layers) in CONFIGS {
+        let map = EngineTsmMap::new(&ctx, SHADOW, SHADOW, layers, start).expect("map");
+        let start = format!("{start:?} x{layers}");
         let run = |rig: &mut Rig, still: &Mesh, draw_gbuffer: bool| -> Vec<f32> {
             let casters = [ground.draw(0), still.draw(2), moving.draw(4)];
             let frame = Frame {
@@ -561,27 +569,27 @@ fn engine_tsm_keeps_its_static_map() {
         assert_eq!(map.static_map_builds(), 1);
         // The square is where it was drawn: shadowed under it, lit beside it.
         let (under, beside) = (nearest_pixel(&rig, -1.1), nearest_pixel(&rig, -0.2));
-        assert_eq!((first[under], first[beside]), (0.0, 1.0), "{start:?}");
+        assert_eq!((first[under], first[beside]), (0.0, 1.0), "{start}");
 
         still.rewrite(&square(-0.6));
         let kept = run(&mut rig, &still, false);
         assert_eq!(
             map.static_map_builds(),
             1,
-            "{start:?}: the kept map was redrawn"
+            "{start}: the kept map was redrawn"
         );
         assert!(
             kept == first,
-            "{start:?}: the kept static map changed the mask"
+            "{start}: the kept static map changed the mask"
         );
 
         map.forget_static_map();
         let redrawn = run(&mut rig, &still, false);
-        assert_eq!(map.static_map_builds(), 2, "{start:?}");
+        assert_eq!(map.static_map_builds(), 2, "{start}");
         assert_eq!(
             (redrawn[under], redrawn[beside]),
             (1.0, 0.0),
-            "{start:?}: the redrawn map does not show the square where it now is"
+            "{start}: the redrawn map does not show the square where it now is"
         );
     }
     drop(rig);
