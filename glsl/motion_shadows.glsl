@@ -533,16 +533,25 @@ float ms_texel_lit_span(MsMap map, uint texel, vec2 w, vec2 r, uint own) {
         MsRange range = ms_range(map.ranges, r_);
         r_ = range.next;
         vec2 iv = ms_range_nearer(range, w, r, own);
-        ms_loop_iterations += 1u + 2u * m;   // the scans and shifts below, at most
+        // Every loop iteration is counted where it runs: a moving receiver walks one list per
+        // texel it crosses, and most ranges there miss its window (no scan at all).
+        ++ms_loop_iterations;
         if (!(iv.y > iv.x)) continue;
         // set[first .. last] are the intervals iv overlaps or touches (none: first > last,
         // and iv goes in at first).
         uint first = 0u;
-        while (first < m && set[first].y < iv.x) ++first;
+        while (first < m && set[first].y < iv.x) {
+            ++first;
+            ++ms_loop_iterations;
+        }
         uint last = first;
-        while (last < m && set[last].x <= iv.y) ++last;
+        while (last < m && set[last].x <= iv.y) {
+            ++last;
+            ++ms_loop_iterations;
+        }
         if (last == first) {
             fits = m < MS_DISJOINT_INTERVALS;
+            ms_loop_iterations += m - first;
             for (uint j = m; fits && j > first; --j) set[j] = set[j - 1u];
             if (fits) {
                 set[first] = iv;
@@ -551,6 +560,7 @@ float ms_texel_lit_span(MsMap map, uint texel, vec2 w, vec2 r, uint own) {
         } else {
             set[first] = vec2(min(iv.x, set[first].x), max(iv.y, set[last - 1u].y));
             uint removed = last - first - 1u;
+            ms_loop_iterations += m - first;
             for (uint j = first + 1u; j + removed < m; ++j) set[j] = set[j + removed];
             m -= removed;
         }
@@ -558,6 +568,7 @@ float ms_texel_lit_span(MsMap map, uint texel, vec2 w, vec2 r, uint own) {
     float shadowed = 0.0;
     float covered_to = w.x;     // the union so far ends here
     if (fits) {
+        ms_loop_iterations += m;
         for (uint j = 0u; j < m; ++j) shadowed += set[j].y - set[j].x;
         return span - min(shadowed, span);
     }

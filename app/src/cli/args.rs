@@ -424,8 +424,34 @@ pub struct RenderArgs {
     /// (for coverage, with and without the coverage map, on one scale).
     #[arg(long)]
     pub heatmaps: bool,
+    /// `forward`: stochastic rasterization, each sample at its own time (the papers').
+    /// `deferred`: an engine's frame: a G-buffer at --camera-time, each pixel lit by the share
+    /// of the shutter its (moving) point sees the light; methods temporal, tsm (--tsm-maps
+    /// maps), plain or raytrace (the exact truth).
+    #[arg(long, value_enum, default_value_t = FrameArg::Forward)]
+    pub frame: FrameArg,
+    /// Deferred: the shutter time in [0, 1] the G-buffer shows (1: shutter close, as an
+    /// engine draws its current frame).
+    #[arg(long, default_value_t = 1.0)]
+    pub camera_time: f32,
+    /// Deferred TSM: the number of depth maps (1 to 1024), at the centres of equal strata.
+    #[arg(long, default_value_t = 8)]
+    pub tsm_maps: u32,
+    /// Deferred: every receiver stands still where the G-buffer shows it (the mask before
+    /// receivers could move), instead of moving as the G-buffer's motion says.
+    #[arg(long)]
+    pub static_receivers: bool,
     #[command(flatten)]
     pub random: RandomCubesArgs,
+}
+
+/// `render --frame`: how the camera side of the frame is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FrameArg {
+    /// Stochastic rasterization: every sample at its own time.
+    Forward,
+    /// A G-buffer at one time, lit by each pixel's lit share of the shutter.
+    Deferred,
 }
 
 impl Default for RenderArgs {

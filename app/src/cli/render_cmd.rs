@@ -133,6 +133,9 @@ fn heat_map_names(method: MethodArg, stem: &str) -> Vec<String> {
 }
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    if args.frame == super::args::FrameArg::Deferred {
+        return super::deferred_cmd::run(args);
+    }
     // Everything that can be checked without the scene or a device is checked first, so a
     // run never fails after minutes of rendering for a reason it could have told at once.
     let settings = render_settings(args);

@@ -6,6 +6,7 @@
 //! pass (for the temporal method: collection and generation, counters read back, grown and
 //! re-run if needed) -> lighting -> radiance read back -> [`RadianceImage`].
 
+pub mod deferred;
 mod methods;
 pub mod receiver;
 pub mod stats;
@@ -205,6 +206,8 @@ pub struct Renderer<'a> {
     plain: PlainShadowPass,
     /// Taken out while a submission records into it (the closure borrows the renderer).
     timestamps: Option<TimestampQueries>,
+    /// Made by the first deferred frame.
+    deferred: Option<deferred::DeferredPasses>,
 }
 
 impl<'a> Renderer<'a> {
@@ -217,6 +220,7 @@ impl<'a> Renderer<'a> {
             lighting: LightingPass::new(ctx)?,
             plain: PlainShadowPass::new(ctx)?,
             timestamps: Some(TimestampQueries::new(ctx, 16)?),
+            deferred: None,
         })
     }
 

@@ -1,0 +1,483 @@
+//! The engine's frame (`render --frame deferred`): a G-buffer drawn at one shutter time (the
+//! camera time T; engines draw their current frame at shutter close, T = 1), then per pixel
+//! the share of the shutter its point sees the light, multiplied into Lambert shading on the
+//! host side. What differs between the methods is only that share:
+//!  - temporal: the temporal map and the mask pass (exact lit fraction, receivers moving as
+//!    the G-buffer's motion says, or standing still with `moving_receivers` off);
+//!  - TSM-N: N depth maps at the strata's centres, each looked up with the receiver where it
+//!    is at that map's time, averaged ([`motion_shadows::technique::EngineTsmPass`]);
+//!  - plain: one depth map at mid-shutter (TSM-1);
+//!  - raytrace: the truth, on the CPU ([`crate::raytrace::deferred`]): the exact lit fraction
+//!    of each pixel's moving point, from its own camera rays.
+//!
+//! Timed as an engine runs its frames after the first: the static layer (temporal) or the
+//! static depth map (TSM) is drawn before the timed passes and kept; the timed passes are the
+//! shadow pass and the mask.
+
+use super::stats::PassTime;
+use super::{FrameInputs, RenderSettings, Renderer, upload};
+use crate::error::{Error, Result};
+use crate::output::RadianceImage;
+use crate::scene::Scene;
+use glam::DVec3;
+use motion_shadows::ash::vk;
+use motion_shadows::gpu::{Access, Buffer, BufferUsage, Image, image_barrier, memory_barrier};
+use motion_shadows::technique::{
+    DrawList, GBuffer, GBufferCamera, GBufferContents, GBufferPass, LightView, MaskInputs,
+    TemporalShadowMap, VisibilityMaskPass,
+};
+use std::time::Instant;
+
+/// The largest N of `--method tsm` in a deferred frame.
+pub const MAX_DEFERRED_TSM_MAPS: u32 = 1024;
+
+/// How a deferred frame finds each pixel's lit share of the shutter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DeferredMethod {
+    Temporal,
+    /// `maps` depth maps at the centres of equal time strata.
+    Tsm {
+        maps: u32,
+    },
+    /// One depth map at mid-shutter.
+    Plain,
+    /// The exact truth on the CPU.
+    Raytrace,
+}
+
+impl DeferredMethod {
+    pub fn name(&self) -> String {
+        match self {
+            Self::Temporal => "temporal".to_owned(),
+            Self::Tsm { maps } => format!("tsm-{maps}"),
+            Self::Plain => "plain".to_owned(),
+            Self::Raytrace => "raytrace".to_owned(),
+        }
+    }
+}
+
+/// What a deferred frame adds to [`RenderSettings`] (whose size, shadow size, receiver test
+/// and static-layer choice it uses; spp and seed do not apply).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DeferredSettings {
+    pub method: DeferredMethod,
+    /// The shutter time the G-buffer shows, in [0, 1].
+    pub camera_time: f32,
+    /// Receivers move as the G-buffer's motion image says (off: each stands still where the
+    /// G-buffer shows it, as the mask did before receivers could move).
+    pub moving_receivers: bool,
+}
+
+impl Default for DeferredSettings {
+    fn default() -> Self {
+        Self {
+            method: DeferredMethod::Temporal,
+            camera_time: 1.0,
+            moving_receivers: true,
+        }
+    }
+}
+
+impl DeferredSettings {
+    pub fn validate(&self) -> Result<()> {
+        if !(0.0..=1.0).contains(&self.camera_time) {
+            return Err(Error::InvalidArgument(format!(
+                "camera time {}: must be in [0, 1]",
+                self.camera_time
+            )));
+        }
+        if let DeferredMethod::Tsm { maps } = self.method
+            && !(1..=MAX_DEFERRED_TSM_MAPS).contains(&maps)
+        {
+            return Err(Error::InvalidArgument(format!(
+                "TSM maps {maps}: must be 1..={MAX_DEFERRED_TSM_MAPS}"
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// A deferred frame.
+pub struct DeferredResult {
+    pub image: RadianceImage,
+    /// Per pixel: the lit share of the shutter (1 where no surface is seen).
+    pub lit: Vec<f32>,
+    /// Per pixel: whether a surface is seen.
+    pub hit: Vec<bool>,
+    pub method: String,
+    /// GPU milliseconds of the timed passes (shadow pass and mask); CPU milliseconds for
+    /// the ray tracer.
+    pub passes: Vec<PassTime>,
+    /// Sum of `passes`: the shadow side of the frame (shadow pass plus mask).
+    pub shadow_and_mask_ms: f64,
+    pub wall_ms: f64,
+}
+
+/// The deferred frame of [`DeferredMethod::Raytrace`]: the truth, on the CPU (no device).
+pub fn render_truth(
+    scene: &Scene,
+    settings: &RenderSettings,
+    deferred: &DeferredSettings,
+    progress: &mut dyn FnMut(&str),
+) -> Result<DeferredResult> {
+    let start = Instant::now();
+    settings.validate()?;
+    deferred.validate()?;
+    scene.validate()?;
+    let truth = crate::raytrace::deferred::deferred_truth(
+        scene,
+        settings.width,
+        settings.height,
+        deferred.camera_time,
+        settings.shadow_size(),
+        progress,
+    )?;
+    let trace_ms = start.elapsed().as_secs_f64() * 1e3;
+    Ok(DeferredResult {
+        image: RadianceImage::new(settings.width, settings.height, truth.rgb)?,
+        lit: truth.lit,
+        hit: truth.hit,
+        method: deferred.method.name(),
+        passes: vec![PassTime {
+            pass: "raytrace".to_owned(),
+            gpu_ms: trace_ms,
+        }],
+        shadow_and_mask_ms: trace_ms,
+        wall_ms: trace_ms,
+    })
+}
+
+impl Renderer<'_> {
+    /// Renders the deferred frame of `scene` ([`DeferredMethod::Raytrace`]: on the CPU).
+    pub fn render_deferred(
+        &mut self,
+        scene: &Scene,
+        settings: &RenderSettings,
+        deferred: &DeferredSettings,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<DeferredResult> {
+        let start = Instant::now();
+        settings.validate()?;
+        deferred.validate()?;
+        scene.validate()?;
+        let size = (settings.width, settings.height);
+        if deferred.method == DeferredMethod::Raytrace {
+            return render_truth(scene, settings, deferred, progress);
+        }
+        let ctx = self.ctx;
+        progress("uploading the scene");
+        let geometry = upload::SceneGeometry::upload(ctx, scene)?;
+        let mut draws = DrawList::new(ctx, geometry.draws.len() as u32)?;
+        self.run_timed(&mut Vec::new(), |this, cmd, _| {
+            // SAFETY: a OneShot command buffer of this context, recording, outside rendering.
+            unsafe { draws.record_update(this.ctx.device(), cmd, &geometry.draws) }
+        })?;
+        let light = self.deferred_light(scene, settings);
+        let camera = upload::camera_view(scene, size);
+        let view_proj = camera.proj * camera.view;
+        let gbuffer = GBuffer::new(ctx, settings.width, settings.height)?;
+        self.deferred_passes()?;
+        progress(&format!(
+            "G-buffer at t = {}: {}x{} pixels",
+            deferred.camera_time, settings.width, settings.height
+        ));
+        self.run_timed(&mut Vec::new(), |this, cmd, _| {
+            let camera = GBufferCamera {
+                view_proj,
+                eye: camera.position,
+            };
+            // SAFETY: a OneShot command buffer of this context, recording, outside
+            // rendering; the draw list was uploaded in an earlier submission.
+            let pass = &this.deferred_passes_made().gbuffer;
+            unsafe {
+                pass.record(
+                    this.ctx.device(),
+                    cmd,
+                    &draws,
+                    &camera,
+                    deferred.camera_time,
+                    &gbuffer,
+                )
+            };
+            Ok(())
+        })?;
+
+        let mask = MaskTarget::new(ctx, size)?;
+        let inputs = gbuffer.mask_inputs(
+            mask.image.layer_view(0),
+            view_proj.inverse(),
+            deferred.camera_time,
+            deferred.moving_receivers,
+        );
+        let frame = FrameInputs {
+            draws: &draws,
+            light: &light,
+        };
+        let mut passes = Vec::new();
+        match deferred.method {
+            DeferredMethod::Temporal => {
+                // The map is built (grown until it fits) with the static layer kept, then
+                // the timed frame: the shadow pass again, and the mask.
+                let outcome =
+                    self.temporal_shadow(frame, settings, false, &mut Vec::new(), progress)?;
+                let map = outcome
+                    .into_temporal_map()
+                    .expect("the temporal shadow step makes a temporal map");
+                progress("timed frame: shadow pass and mask");
+                self.deferred_temporal_frame(frame, &map, &inputs, &mask, &gbuffer, &mut passes)?;
+            }
+            DeferredMethod::Tsm { maps } => self.deferred_tsm_frame(
+                frame,
+                maps,
+                &inputs,
+                &mask,
+                &gbuffer,
+                &mut passes,
+                progress,
+            )?,
+            DeferredMethod::Plain => {
+                self.deferred_tsm_frame(frame, 1, &inputs, &mask, &gbuffer, &mut passes, progress)?
+            }
+            DeferredMethod::Raytrace => unreachable!("traced on the CPU above"),
+        }
+        let contents = gbuffer.read()?;
+        let lit = mask.read(size)?;
+        let (image, hit) = shade(scene, &light, &contents, view_proj.inverse(), &lit)?;
+        let lit = lit
+            .iter()
+            .zip(&hit)
+            .map(|(&l, &h)| if h { l } else { 1.0 })
+            .collect();
+        Ok(DeferredResult {
+            image,
+            lit,
+            hit,
+            method: deferred.method.name(),
+            shadow_and_mask_ms: passes.iter().map(|p| p.gpu_ms).sum(),
+            passes,
+            wall_ms: start.elapsed().as_secs_f64() * 1e3,
+        })
+    }
+
+    /// The deferred frame's passes, made on first use (most renders never need them).
+    fn deferred_passes(&mut self) -> Result<&DeferredPasses> {
+        if self.deferred.is_none() {
+            self.deferred = Some(DeferredPasses {
+                gbuffer: GBufferPass::new(self.ctx)?,
+                mask: VisibilityMaskPass::new(self.ctx)?,
+            });
+        }
+        Ok(self.deferred_passes_made())
+    }
+
+    fn deferred_passes_made(&self) -> &DeferredPasses {
+        self.deferred
+            .as_ref()
+            .expect("deferred_passes() made them before this submission")
+    }
+
+    /// The light as the frame's settings set it up (receiver test, static layer kept).
+    fn deferred_light(&self, scene: &Scene, settings: &RenderSettings) -> LightView {
+        let mut light = LightView {
+            prisms: settings.prisms,
+            static_layer: settings.static_layer,
+            keep_static_layer: settings.static_layer,
+            ..upload::light_view(scene, settings.shadow_size())
+        };
+        if settings.receiver_plane() {
+            light.receiver_plane = true;
+            light.normal_offset_texels = 0.0;
+        }
+        light
+    }
+
+    fn deferred_temporal_frame(
+        &mut self,
+        frame: FrameInputs<'_>,
+        map: &TemporalShadowMap,
+        inputs: &MaskInputs,
+        mask: &MaskTarget,
+        gbuffer: &GBuffer,
+        passes: &mut Vec<PassTime>,
+    ) -> Result<()> {
+        let ctx = self.ctx;
+        let mut bindings = self.deferred_passes()?.mask.bindings(ctx)?;
+        self.run_timed(passes, |this, cmd, ts| {
+            let device = this.ctx.device();
+            let FrameInputs { draws, light } = frame;
+            mask.record_to_storage(device, cmd);
+            ts.mark(cmd, "setup");
+            // SAFETY: a OneShot command buffer of this context, recording, outside
+            // rendering; the map fits (built above); the G-buffer was drawn in an earlier
+            // submission and left in its read layouts; the mask image is in GENERAL.
+            unsafe {
+                this.collection
+                    .record(device, cmd, draws, light, map, None)?;
+                ts.mark(cmd, "collection");
+                this.generation.record(device, cmd, map);
+                ts.mark(cmd, "generation");
+                let mask_pass = &this.deferred_passes_made().mask;
+                mask_pass.record(device, cmd, &mut bindings, inputs, map);
+                ts.mark(cmd, "mask");
+                map.record_counter_readback(device, cmd);
+            }
+            mask.record_readback(device, cmd);
+            // SAFETY: the same command buffer; the mask pass read the G-buffer before.
+            unsafe { gbuffer.record_readback(device, cmd) };
+            Ok(())
+        })?;
+        passes.retain(|p| p.pass != "setup");
+        map.check_complete(&map.read_counters()?)?;
+        let over = bindings.read_over_budget_pixels()?;
+        if over > 0 {
+            let limit = self.ctx.info().shader_loop_limit.unwrap_or(0);
+            return Err(motion_shadows::Error::LoopLimit {
+                pixels: over,
+                limit,
+            }
+            .into());
+        }
+        Ok(())
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn deferred_tsm_frame(
+        &mut self,
+        _frame: FrameInputs<'_>,
+        _maps: u32,
+        _inputs: &MaskInputs,
+        _mask: &MaskTarget,
+        _gbuffer: &GBuffer,
+        _passes: &mut Vec<PassTime>,
+        _progress: &mut dyn FnMut(&str),
+    ) -> Result<()> {
+        Err(Error::InvalidArgument(
+            "the deferred TSM frame is not built yet".into(),
+        ))
+    }
+}
+
+/// The passes only deferred frames use.
+pub(super) struct DeferredPasses {
+    gbuffer: GBufferPass,
+    mask: VisibilityMaskPass,
+}
+
+/// The mask image (R32_SFLOAT, storage) and its readback buffer.
+struct MaskTarget {
+    image: Image,
+    readback: Buffer,
+}
+
+impl MaskTarget {
+    fn new(ctx: &motion_shadows::gpu::Context, (width, height): (u32, u32)) -> Result<Self> {
+        Ok(Self {
+            image: Image::new(
+                ctx,
+                "deferred mask",
+                (width, height, 1),
+                vk::Format::R32_SFLOAT,
+                vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,
+            )?,
+            readback: Buffer::new(
+                ctx,
+                "deferred mask readback",
+                4 * width as u64 * height as u64,
+                BufferUsage::Readback,
+            )?,
+        })
+    }
+
+    /// Moves the image to GENERAL for the mask's storage writes (contents discarded).
+    fn record_to_storage(&self, device: &motion_shadows::ash::Device, cmd: vk::CommandBuffer) {
+        image_barrier(
+            device,
+            cmd,
+            self.image.raw(),
+            self.image.layers_range(0, 1),
+            (vk::ImageLayout::UNDEFINED, vk::ImageLayout::GENERAL),
+            Access::TRANSFER_READ,
+            Access::COMPUTE_RW,
+        );
+    }
+
+    /// Copies the mask (written by the compute pass before) into the readback buffer.
+    fn record_readback(&self, device: &motion_shadows::ash::Device, cmd: vk::CommandBuffer) {
+        let range = self.image.layers_range(0, 1);
+        let layouts = (
+            vk::ImageLayout::GENERAL,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        );
+        image_barrier(
+            device,
+            cmd,
+            self.image.raw(),
+            range,
+            layouts,
+            Access::COMPUTE_RW,
+            Access::TRANSFER_READ,
+        );
+        // SAFETY: recording outside rendering; the buffer holds the image.
+        unsafe {
+            self.image
+                .record_copy_to_buffer(device, cmd, self.readback.raw(), 0)
+        };
+        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+    }
+
+    fn read(&self, (width, height): (u32, u32)) -> Result<Vec<f32>> {
+        Ok(self.readback.read(width as usize * height as usize)?)
+    }
+}
+
+/// Lambert shading of the G-buffer with the lit shares `lit`: the lighting pass's terms (see
+/// [`crate::raytrace::shade`]), the direct term times the lit share. Returns the image and
+/// which pixels hold a surface.
+fn shade(
+    scene: &Scene,
+    light: &LightView,
+    g: &GBufferContents,
+    inv_view_proj: glam::Mat4,
+    lit: &[f32],
+) -> Result<(RadianceImage, Vec<bool>)> {
+    let gpu = light.gpu();
+    let spot = gpu.position.w > 0.5;
+    let light_position = gpu.position.truncate().as_dvec3();
+    let direction = gpu.direction.truncate().as_dvec3();
+    let (cos_cone, emission) = (f64::from(gpu.direction.w), f64::from(gpu.emission.x));
+    let ambient = f64::from(scene.ambient);
+    let inv = inv_view_proj.as_dmat4();
+    let (w, h) = (g.width as usize, g.height as usize);
+    let mut rgb = vec![0.0f32; 3 * w * h];
+    let mut hit = vec![false; w * h];
+    for i in 0..w * h {
+        if g.depth[i] >= 1.0 {
+            continue;
+        }
+        hit[i] = true;
+        let (x, y) = ((i % w) as f64 + 0.5, (i / w) as f64 + 0.5);
+        let ndc = glam::DVec4::new(
+            x / w as f64 * 2.0 - 1.0,
+            y / h as f64 * 2.0 - 1.0,
+            f64::from(g.depth[i]),
+            1.0,
+        );
+        let p = inv * ndc;
+        let p = p.truncate() / p.w;
+        let n = g.normal[i].as_dvec3();
+        let albedo = g.albedo[i].as_dvec3();
+        let to_light = if spot { light_position - p } else { -direction };
+        let dist2 = if spot { to_light.length_squared() } else { 1.0 };
+        let l = to_light.normalize();
+        let cos_theta = n.dot(l);
+        let lit_by_cone = !spot || (-l).dot(direction) >= cos_cone;
+        let direct = if cos_theta > 0.0 && lit_by_cone {
+            albedo / std::f64::consts::PI * emission * cos_theta / dist2 * f64::from(lit[i])
+        } else {
+            DVec3::ZERO
+        };
+        let radiance = direct + ambient * albedo;
+        rgb[3 * i..3 * i + 3].copy_from_slice(&radiance.as_vec3().to_array());
+    }
+    Ok((RadianceImage::new(g.width, g.height, rgb)?, hit))
+}
