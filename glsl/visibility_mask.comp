@@ -17,11 +17,10 @@ layout(set = 0, binding = 1) uniform sampler2D normal_image;
 layout(set = 0, binding = 2) writeonly uniform image2D mask;
 // rgb: the point's world displacement over the shutter, p(1) - p(0) (read when MOVING).
 layout(set = 0, binding = 3) uniform sampler2D motion_image;
+// The triangle each pixel shows (read with MASK_HAS_IDS): never shadows its own pixels.
+layout(set = 0, binding = 4) uniform usampler2D id_image;
 
 layout(constant_id = 0) const bool MOVING = false;
-
-const uint MASK_HAS_NORMALS = 1u;       // read the normal image (else rebuild from depth)
-const uint MASK_NORMALS_UNORM = 2u;     // stored as n * 0.5 + 0.5
 
 layout(push_constant) uniform Push {
     mat4 inv_view_proj;     // camera clip -> world (the host's matrices, Vulkan NDC)
@@ -36,34 +35,9 @@ layout(push_constant) uniform Push {
 
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer Counter { uint count; };
 
-vec3 world_at(ivec2 pixel, float depth) {
-    vec2 ndc = (vec2(pixel) + 0.5) / vec2(pc.size) * 2.0 - 1.0;
-    vec4 p = pc.inv_view_proj * vec4(ndc, depth, 1.0);
-    return p.xyz / p.w;
-}
-
-// A normal from the depth neighbours: on each axis the neighbour whose depth differs least
-// (so that a depth edge next to the pixel does not bend it).
-vec3 normal_from_depth(ivec2 pixel, vec3 p) {
-    ivec2 last = ivec2(pc.size) - 1;
-    vec3 dx = vec3(0.0), dy = vec3(0.0);
-    float best_x = 1e30, best_y = 1e30;
-    for (int s = -1; s <= 1; s += 2) {
-        ivec2 qx = clamp(pixel + ivec2(s, 0), ivec2(0), last);
-        ivec2 qy = clamp(pixel + ivec2(0, s), ivec2(0), last);
-        float zx = texelFetch(depth_image, qx, 0).r, zy = texelFetch(depth_image, qy, 0).r;
-        if (qx != pixel && zx != pc.background_depth) {
-            vec3 d = (world_at(qx, zx) - p) * float(s);
-            if (dot(d, d) < best_x) { best_x = dot(d, d); dx = d; }
-        }
-        if (qy != pixel && zy != pc.background_depth) {
-            vec3 d = (world_at(qy, zy) - p) * float(s);
-            if (dot(d, d) < best_y) { best_y = dot(d, d); dy = d; }
-        }
-    }
-    vec3 n = cross(dx, dy);
-    return dot(n, n) > 0.0 ? normalize(n) : vec3(0.0);
-}
+// world_at, normal_from_depth, gbuffer_normal and the MASK_* flags (shared with
+// tsm_mask.comp, so both masks test the same receivers).
+#include "mask_gbuffer.glsl"
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -74,26 +48,18 @@ void main() {
         return;
     }
     vec3 p = world_at(pixel, depth);
-    vec3 n;
-    if ((pc.flags & MASK_HAS_NORMALS) != 0u) {
-        n = texelFetch(normal_image, pixel, 0).xyz;
-        if ((pc.flags & MASK_NORMALS_UNORM) != 0u) n = n * 2.0 - 1.0;
-        n = dot(n, n) > 0.0 ? normalize(n) : vec3(0.0);
-    } else {
-        n = normal_from_depth(pixel, p);
-    }
-    // The receiver offset goes to the side the light is tested from.
     MsShadowMap map = MsShadowMap(pc.map);
     MsLight light = map.light;
-    vec3 to_light = light.position.w > 0.5 ? light.position.xyz - p : -light.direction.xyz;
-    if (dot(n, to_light) < 0.0) n = -n;
+    // The receiver offset goes to the side the light is tested from.
+    vec3 n = gbuffer_normal(pixel, p, light);
+    uint own = (pc.flags & MASK_HAS_IDS) != 0u ? texelFetch(id_image, pixel, 0).r : MS_NO_TRIANGLE;
     float lit;
     if (MOVING) {
         vec3 motion = texelFetch(motion_image, pixel, 0).xyz;
         vec3 p0 = p - pc.time * motion;
-        lit = ms_lit_fraction_moving(map, p0, p0 + motion, n, MS_NO_TRIANGLE);
+        lit = ms_lit_fraction_moving(map, p0, p0 + motion, n, own);
     } else {
-        lit = ms_lit_fraction(map, p, n, MS_NO_TRIANGLE);
+        lit = ms_lit_fraction(map, p, n, own);
     }
     imageStore(mask, pixel, vec4(lit));
     // The device leaves loops past a fixed count: say so when this pixel's lookup may have
