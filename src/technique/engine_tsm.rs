@@ -16,8 +16,8 @@
 //! The maps are drawn in batches of [`EngineTsmMap::layers`] (the layers of the working map,
 //! an array image), and one compute dispatch (`glsl/tsm_mask.comp`) tests every pixel against
 //! the batch's maps: the pixel's G-buffer point, normal and the light are read once per
-//! batch, the output image read and written once per batch (the first batch writes, later
-//! ones add, the last divides by N). On lavapipe that per-pixel work, not the lookups, is most
+//! batch, the output image read and written once per batch (the first batch writes its count
+//! of lit maps, later ones add theirs, the last scales the sum by 1/N). On lavapipe that per-pixel work, not the lookups, is most
 //! of a dispatch, so layers trade memory (4 bytes per texel and layer) for time: at a
 //! 1920x1080 G-buffer and 2048x2048 maps a map costs about 230-260 ms with 1 layer, 75-95 with
 //! 4, 50-70 with 8 and 42-45 with 16, of which drawing the moving draws (and starting the
@@ -58,8 +58,8 @@ const MAP_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 /// Measured on lavapipe (2 cores; `examples/engine_tsm_costs.rs`, 1920x1080 G-buffer, 2048x2048
 /// maps, 8 maps per dispatch): a copy of one map costs 1.3 ms and a clear 0.8 ms, but the
 /// second lookup costs about 4 ms per map over the 1080p G-buffer (TSM-16: 797 ms with copies,
-/// 867 ms with second lookups, the least of 20 runs each), so copying is the default. A GPU
-/// that copies 16 MB faster than it samples 2 million texels may choose otherwise.
+/// 867 ms with second lookups, the least of 20 runs each), so copying is the default. On a
+/// GPU both are cheap and the balance may differ: measure there.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub enum TsmStart {
     /// Copy the static map into the working map's layer (a depth image copy per map), then
@@ -77,7 +77,8 @@ pub enum TsmStart {
 const HEADER_BYTES: u64 = std::mem::size_of::<PlainMapHeader>() as u64;
 
 /// The maps of one light (per frame in flight and light): the static draws' depth map, kept
-/// across frames, and the working depth map each of the N times is drawn into.
+/// across frames, and the working depth maps (an array of [`Self::layers`]) the N times are
+/// drawn into, a batch at a time.
 pub struct EngineTsmMap {
     device: ash::Device,
     width: u32,
@@ -256,8 +257,8 @@ fn check_map_format(features: impl Fn(vk::Format) -> vk::FormatFeatureFlags) -> 
     Ok(())
 }
 
-/// The mask shader's push constants (`Push` in glsl/tsm_mask.comp: 120 bytes, 128 with the
-/// padding pushed along).
+/// The mask shader's push constants (`Push` in glsl/tsm_mask.comp, 120 bytes; 128 here, the
+/// last 8 bytes never read).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 struct TsmConstants {
@@ -274,7 +275,7 @@ struct TsmConstants {
     /// The batch's first map and its count (its layers 0..batch).
     first_map: u32,
     batch: u32,
-    reserved: u32,
+    reserved: [u32; 3],
 }
 
 const _: () = assert!(std::mem::size_of::<TsmConstants>() == 128);
@@ -365,11 +366,15 @@ impl EngineTsmPass {
         })
     }
 
-    /// Records `maps` time-dependent shadow maps of `draws` lit by `light` into `map`, and
-    /// the lit fraction of the N times into the host's `inputs.output` (first the static map
-    /// if it must be drawn: see [`EngineTsmMap::static_map_builds`]). Errors, recording
-    /// nothing, when `maps` is 0 or above [`MAX_TSM_MAPS`], when `inputs.size` is 0 on a side,
-    /// or when `inputs.motion` is given and `inputs.time` is not in [0, 1].
+    /// Records `maps` (N) time-dependent shadow maps of `draws` lit by `light` into `map`,
+    /// and the lit fraction of the N times into the host's `inputs.output`. First the static
+    /// map, when it must be drawn: at every record, or with [`LightView::keep_static_layer`]
+    /// only when the light's view or projection or the static draws' descriptions changed
+    /// since its last build (or after [`EngineTsmMap::forget_static_map`]). Then, per batch
+    /// of [`EngineTsmMap::layers`] maps: each layer started from the static map (a copy, or a
+    /// clear), the moving draws drawn into it at its time, and one mask dispatch. Errors,
+    /// recording nothing, when `maps` is 0 or above [`MAX_TSM_MAPS`], when `inputs.size` is
+    /// 0 on a side, or when `inputs.motion` is given and `inputs.time` is not in [0, 1].
     ///
     /// # Safety
     /// - `cmd` was allocated from the device the pass and `map` were made on, is recording,
@@ -412,7 +417,7 @@ impl EngineTsmPass {
         map: &EngineTsmMap,
         maps: u32,
     ) -> Result<()> {
-        check_record(inputs, maps)?;
+        check_record(inputs.size, inputs.time, inputs.motion.is_some(), maps)?;
         let second_lookup = map.start == TsmStart::SecondLookup;
         let static_layout = static_resting_layout(map.start);
         let static_reads = if second_lookup {
@@ -582,7 +587,7 @@ impl EngineTsmPass {
                 inv_maps,
                 first_map: first,
                 batch,
-                reserved: 0,
+                reserved: [0; 3],
             };
             mask.bind(device, cmd);
             // SAFETY: the set was written above; its views are valid (the caller's contract).
@@ -604,23 +609,23 @@ impl EngineTsmPass {
     }
 }
 
-/// The refusals of [`EngineTsmPass::record`], before anything is recorded.
-fn check_record(inputs: &MaskInputs, maps: u32) -> Result<()> {
+/// The refusals of [`EngineTsmPass::record`], before anything is recorded: for a mask of
+/// `size` pixels, a G-buffer at `time` (read only if `moving`) and `maps` maps.
+fn check_record(size: (u32, u32), time: f32, moving: bool, maps: u32) -> Result<()> {
     if maps == 0 || maps > MAX_TSM_MAPS {
         return Err(Error::InvalidArgument(format!(
             "{maps} time-dependent shadow maps (1 to {MAX_TSM_MAPS})"
         )));
     }
-    if inputs.size.0 == 0 || inputs.size.1 == 0 {
+    if size.0 == 0 || size.1 == 0 {
         return Err(Error::InvalidArgument(format!(
             "mask size {}x{}",
-            inputs.size.0, inputs.size.1
+            size.0, size.1
         )));
     }
-    if inputs.motion.is_some() && !(0.0..=1.0).contains(&inputs.time) {
+    if moving && !(0.0..=1.0).contains(&time) {
         return Err(Error::InvalidArgument(format!(
-            "G-buffer time {} (the shutter is [0, 1])",
-            inputs.time
+            "G-buffer time {time} (the shutter is [0, 1])"
         )));
     }
     Ok(())
@@ -761,37 +766,15 @@ fn draw_where(
 
 #[cfg(test)]
 mod tests {
-    use super::super::mask::MotionImage;
     use super::*;
-
-    fn inputs(size: (u32, u32), time: f32) -> MaskInputs {
-        MaskInputs {
-            depth: vk::ImageView::null(),
-            depth_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            normals: None,
-            output: vk::ImageView::null(),
-            size,
-            inv_view_proj: Mat4::IDENTITY,
-            background_depth: 1.0,
-            motion: Some(MotionImage {
-                view: vk::ImageView::null(),
-                layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            }),
-            time,
-        }
-    }
 
     /// No maps, too many, an empty mask or a time outside the shutter are refused by name.
     #[test]
     fn bad_counts_sizes_and_times_are_refused() {
-        assert!(check_record(&inputs((8, 8), 1.0), 1).is_ok());
-        assert!(check_record(&inputs((8, 8), 0.0), MAX_TSM_MAPS).is_ok());
+        assert!(check_record((8, 8), 1.0, true, 1).is_ok());
+        assert!(check_record((8, 8), 0.0, true, MAX_TSM_MAPS).is_ok());
         // Without a motion image the time is not read.
-        let still = MaskInputs {
-            motion: None,
-            ..inputs((8, 8), 1.5)
-        };
-        assert!(check_record(&still, 4).is_ok());
+        assert!(check_record((8, 8), 1.5, false, 4).is_ok());
         for (what, size, time, maps) in [
             ("0 time-dependent", (8, 8), 1.0, 0),
             ("1025 time-dependent", (8, 8), 1.0, MAX_TSM_MAPS + 1),
@@ -800,7 +783,7 @@ mod tests {
             ("G-buffer time 1.5", (8, 8), 1.5, 4),
             ("G-buffer time NaN", (8, 8), f32::NAN, 4),
         ] {
-            match check_record(&inputs(size, time), maps) {
+            match check_record(size, time, true, maps) {
                 Err(Error::InvalidArgument(message)) => {
                     assert!(message.contains(what), "{message}")
                 }

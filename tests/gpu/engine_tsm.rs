@@ -15,7 +15,8 @@ use motion_shadows::gpu::{
 };
 use motion_shadows::technique::{
     CameraView, Draw, DrawList, EngineTsmBindings, EngineTsmMap, EngineTsmPass, GBuffer,
-    GBufferCamera, GBufferPass, Indices, LightView, MAX_TSM_MAPS, PositionStream, TsmStart,
+    GBufferCamera, GBufferPass, Indices, LightView, MAX_TSM_LAYERS, MAX_TSM_MAPS, PositionStream,
+    TsmStart,
 };
 
 /// The mask's pixels.
@@ -450,7 +451,8 @@ fn engine_tsm_converges_for_a_moving_receiver() {
 /// With static draws only, TSM-1 is an ordinary shadow map: a still square under a slanted
 /// directional light shadows the ground points whose ray toward the light meets it, exactly
 /// 0 there and 1 elsewhere (pixels within three texels of the shadow's edge left out), and
-/// TSM-4 gives the same mask. Bad map counts are refused before anything is recorded.
+/// TSM-4 gives the same mask. Bad map counts are refused before anything is recorded, bad
+/// sizes and layer counts when the map is made.
 #[test]
 fn engine_tsm_of_static_draws_is_an_ordinary_shadow_map() {
     let ctx = context();
@@ -525,6 +527,23 @@ fn engine_tsm_of_static_draws_is_an_ordinary_shadow_map() {
                 }
                 other => panic!("{maps} maps: {other:?}"),
             }
+        }
+    }
+    for (what, size, layers) in [
+        ("size 0x512", (0, SHADOW), 1),
+        ("0 time-dependent shadow map layers", (SHADOW, SHADOW), 0),
+        (
+            "65 time-dependent shadow map layers",
+            (SHADOW, SHADOW),
+            MAX_TSM_LAYERS + 1,
+        ),
+    ] {
+        match EngineTsmMap::new(&ctx, size.0, size.1, layers, TsmStart::Copy) {
+            Err(Error::InvalidArgument(message)) => {
+                assert!(message.contains(what), "{message}")
+            }
+            Err(other) => panic!("{what}: {other:?}"),
+            Ok(_) => panic!("{what}: made"),
         }
     }
     drop(rig);
