@@ -2,7 +2,7 @@
 // The deferred frame's G-buffer, fragment stage: the surface's world normal (its plane's,
 // from the derivatives of the world position: every point of the 2x2 quad lies on the
 // triangle's plane; turned toward the camera, as the lighting pass shades two-sided), its
-// albedo, and its world displacement over the shutter. Depth goes to the D32 attachment.
+// albedo, its world displacement over the shutter and its triangle's id. Depth goes to the D32 attachment.
 #include "shared.glsl"
 
 layout(push_constant) uniform Push {
@@ -16,10 +16,12 @@ layout(push_constant) uniform Push {
 layout(location = 0) in vec3 in_world;
 layout(location = 1) in vec3 in_motion;
 layout(location = 2) flat in vec3 in_albedo;
+layout(location = 3) flat in uint in_id;
 
 layout(location = 0) out vec4 out_normal;   // RGBA16F: xyz signed
 layout(location = 1) out vec4 out_albedo;   // RGBA8 unorm
 layout(location = 2) out vec4 out_motion;   // RGBA32F: xyz = p(1) - p(0)
+layout(location = 3) out uint out_id;       // R32_UINT: the triangle's global id
 
 void main() {
     vec3 n = cross(dFdx(in_world), dFdy(in_world));
@@ -28,4 +30,5 @@ void main() {
     out_normal = vec4(n, 0.0);
     out_albedo = vec4(in_albedo, 1.0);
     out_motion = vec4(in_motion, 0.0);
+    out_id = in_id;
 }

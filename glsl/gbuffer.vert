@@ -17,11 +17,13 @@ layout(push_constant) uniform Push {
 layout(location = 0) out vec3 out_world;
 layout(location = 1) out vec3 out_motion;
 layout(location = 2) flat out vec3 out_albedo;
+layout(location = 3) flat out uint out_id;
 
 void main() {
     DrawRecord d = load_draw(pc.draws, pc.draw_index);
     uint prim = uint(gl_VertexIndex) / 3u;
     out_albedo = d.albedo_flags.rgb;
+    out_id = d.first_id + prim;
     if (!triangle_valid(d, prim)) {
         // Outside the clip volume: the triangle is dropped (the shadow passes count it).
         out_world = vec3(0.0);

@@ -17,8 +17,12 @@ layout(set = 0, binding = 1) uniform sampler2D normal_image;
 layout(set = 0, binding = 2) writeonly uniform image2D mask;
 // rgb: the point's world displacement over the shutter, p(1) - p(0) (read when MOVING).
 layout(set = 0, binding = 3) uniform sampler2D motion_image;
+// The triangle each pixel shows (read with MASK_HAS_IDS): never shadows its own pixels.
+layout(set = 0, binding = 4) uniform usampler2D id_image;
 
 layout(constant_id = 0) const bool MOVING = false;
+
+const uint MASK_HAS_IDS = 4u;           // read the triangle-id image
 
 layout(push_constant) uniform Push {
     mat4 inv_view_proj;     // camera clip -> world (the host's matrices, Vulkan NDC)
@@ -50,13 +54,15 @@ void main() {
     MsLight light = map.light;
     // The receiver offset goes to the side the light is tested from.
     vec3 n = gbuffer_normal(pixel, p, light);
+    uint own =
+        (pc.flags & MASK_HAS_IDS) != 0u ? texelFetch(id_image, pixel, 0).r : MS_NO_TRIANGLE;
     float lit;
     if (MOVING) {
         vec3 motion = texelFetch(motion_image, pixel, 0).xyz;
         vec3 p0 = p - pc.time * motion;
-        lit = ms_lit_fraction_moving(map, p0, p0 + motion, n, MS_NO_TRIANGLE);
+        lit = ms_lit_fraction_moving(map, p0, p0 + motion, n, own);
     } else {
-        lit = ms_lit_fraction(map, p, n, MS_NO_TRIANGLE);
+        lit = ms_lit_fraction(map, p, n, own);
     }
     imageStore(mask, pixel, vec4(lit));
     // The device leaves loops past a fixed count: say so when this pixel's lookup may have

@@ -9,7 +9,7 @@
 //! triangle whose corners move linearly moves linearly.
 
 use super::draws::DrawList;
-use super::mask::{MaskInputs, MotionImage, NormalEncoding, NormalImage};
+use super::mask::{MaskInputs, MotionImage, NormalEncoding, NormalImage, TriangleIdImage};
 use super::shaders;
 use crate::error::{Error, Result};
 use crate::gpu::{
@@ -24,6 +24,8 @@ pub const GBUFFER_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 /// The normal, albedo and motion images' format: full float, so that the app's frame carries
 /// no quantization of its own into comparisons with the truth.
 pub const GBUFFER_COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+/// The triangle-id image's format (cleared to `u32::MAX`: none).
+pub const GBUFFER_ID_FORMAT: vk::Format = vk::Format::R32_UINT;
 
 /// The layout the colour images are left in by [`GBufferPass::record`].
 const COLOR_READ_LAYOUT: vk::ImageLayout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
@@ -63,6 +65,8 @@ pub struct GBuffer {
     depth: Image,
     /// Normal, albedo, motion.
     colors: [Image; 3],
+    /// The triangle ids (not read back).
+    ids: Image,
     readback: Buffer,
 }
 
@@ -97,6 +101,13 @@ impl GBuffer {
             color("G-buffer albedo")?,
             color("G-buffer motion")?,
         ];
+        let ids = Image::new(
+            ctx,
+            "G-buffer triangle ids",
+            size,
+            GBUFFER_ID_FORMAT,
+            usage | vk::ImageUsageFlags::COLOR_ATTACHMENT,
+        )?;
         let pixels = width as u64 * height as u64;
         let readback = Buffer::new(
             ctx,
@@ -109,6 +120,7 @@ impl GBuffer {
             height,
             depth,
             colors,
+            ids,
             readback,
         })
     }
@@ -145,6 +157,10 @@ impl GBuffer {
                 layout: COLOR_READ_LAYOUT,
             }),
             time,
+            ids: Some(TriangleIdImage {
+                view: self.ids.layer_view(0),
+                layout: COLOR_READ_LAYOUT,
+            }),
         }
     }
 
@@ -254,7 +270,12 @@ impl GBufferPass {
             ],
             Attachments {
                 depth: Some(GBUFFER_DEPTH_FORMAT),
-                colors: &[GBUFFER_COLOR_FORMAT; 3],
+                colors: &[
+                    GBUFFER_COLOR_FORMAT,
+                    GBUFFER_COLOR_FORMAT,
+                    GBUFFER_COLOR_FORMAT,
+                    GBUFFER_ID_FORMAT,
+                ],
             },
         )?;
         Ok(Self { pipeline })
@@ -296,16 +317,21 @@ impl GBufferPass {
                 )
             }
         };
-        for (image, _) in target.images() {
+        let ids = std::iter::once((&target.ids, COLOR_READ_LAYOUT));
+        let with_ids = || target.images().chain(ids.clone());
+        for (image, _) in with_ids() {
             let (layout, access) = attachment(image);
             let range = image.layers_range(0, 1);
             let discard = (vk::ImageLayout::UNDEFINED, layout);
             image_barrier(device, cmd, image.raw(), range, discard, earlier, access);
         }
-        let colors = target
-            .colors
-            .each_ref()
-            .map(|image| (image.layer_view(0), 0));
+        let [normal, albedo, motion] = target.colors.each_ref().map(|image| image.layer_view(0));
+        let colors = [
+            (normal, 0),
+            (albedo, 0),
+            (motion, 0),
+            (target.ids.layer_view(0), u32::MAX),
+        ];
         let depth = Some((target.depth.layer_view(0), 1.0));
         begin_rendering_colors(device, cmd, target.width, target.height, depth, &colors);
         self.pipeline.bind(device, cmd);
@@ -327,7 +353,7 @@ impl GBufferPass {
         }
         // SAFETY: rendering began above.
         unsafe { device.cmd_end_rendering(cmd) };
-        for (image, read_layout) in target.images() {
+        for (image, read_layout) in with_ids() {
             let (layout, access) = attachment(image);
             let range = image.layers_range(0, 1);
             let read = (layout, read_layout);

@@ -73,6 +73,19 @@ pub struct MotionImage {
     pub layout: vk::ImageLayout,
 }
 
+/// The host's triangle-id image: which triangle each pixel shows, so that a receiver's own
+/// triangle never shadows it (what the receiver-plane test, `LightView::receiver_plane`,
+/// relies on; without ids, use the normal offset instead).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TriangleIdImage {
+    /// A view of a sampled R32_UINT image, the size of the depth image: the triangle's
+    /// global id in the [`DrawList`](super::DrawList) the map was built from (the draw's
+    /// first id plus the primitive's index), `u32::MAX` for none.
+    pub view: vk::ImageView,
+    /// Its layout while the pass runs (e.g. `SHADER_READ_ONLY_OPTIMAL`).
+    pub layout: vk::ImageLayout,
+}
+
 /// What one mask dispatch reads and writes: the host's images and camera.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MaskInputs {
@@ -101,6 +114,8 @@ pub struct MaskInputs {
     /// is at `position(p) + (t - time) * motion(p)` at time t. Engines draw their current
     /// frame at shutter close: 1. Read only with `motion`.
     pub time: f32,
+    /// The host's triangle-id image, or `None`: no receiver is known to lie on a triangle.
+    pub ids: Option<TriangleIdImage>,
 }
 
 /// The mask shader's push constants (104 bytes).
@@ -122,6 +137,7 @@ struct MaskConstants {
 
 const HAS_NORMALS: u32 = 1;
 const NORMALS_UNORM: u32 = 2;
+const HAS_IDS: u32 = 4;
 
 /// The visibility-mask pass. Immutable after creation.
 pub struct VisibilityMaskPass {
@@ -138,7 +154,13 @@ impl VisibilityMaskPass {
         let pass = ImagePass::new(
             ctx,
             "the visibility-mask pass",
-            &[sampled, sampled, vk::DescriptorType::STORAGE_IMAGE, sampled],
+            &[
+                sampled,
+                sampled,
+                vk::DescriptorType::STORAGE_IMAGE,
+                sampled,
+                sampled,
+            ],
             std::mem::size_of::<MaskConstants>() as u32,
             ("visibility_mask.comp", shaders::VISIBILITY_MASK_COMP),
             // Receivers standing still; receivers moving (MOVING = true).
@@ -198,9 +220,14 @@ impl VisibilityMaskPass {
         // and the variant say so).
         let normals = inputs.normals.map_or(depth, |n| (n.view, n.layout));
         let motion = inputs.motion.map_or(depth, |m| (m.view, m.layout));
+        let ids = inputs.ids.map_or(depth, |i| (i.view, i.layout));
         let output = (inputs.output, vk::ImageLayout::GENERAL);
         // SAFETY: the caller's contract (the set is not in use; the views are valid).
-        unsafe { bindings.images.write(&[depth, normals, output, motion]) };
+        unsafe {
+            bindings
+                .images
+                .write(&[depth, normals, output, motion, ids])
+        };
         let flags = match inputs.normals {
             Some(NormalImage {
                 encoding: NormalEncoding::Unorm,
@@ -208,7 +235,7 @@ impl VisibilityMaskPass {
             }) => HAS_NORMALS | NORMALS_UNORM,
             Some(_) => HAS_NORMALS,
             None => 0,
-        };
+        } | if inputs.ids.is_some() { HAS_IDS } else { 0 };
         let constants = MaskConstants {
             inv_view_proj: inputs.inv_view_proj,
             map: map.header_address(),

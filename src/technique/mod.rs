@@ -53,7 +53,8 @@ pub use gpu_types::{
 pub use image_output::LightingImageOutput;
 pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, Samples, ShadowSource};
 pub use mask::{
-    MaskBindings, MaskInputs, MotionImage, NormalEncoding, NormalImage, VisibilityMaskPass,
+    MaskBindings, MaskInputs, MotionImage, NormalEncoding, NormalImage, TriangleIdImage,
+    VisibilityMaskPass,
 };
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
 pub use sampling::{pixel_key, pixel_sample};

@@ -1231,6 +1231,7 @@ impl Recorder<'_> {
                 background_depth: 1.0,
                 motion: None,
                 time: 1.0,
+                ids: None,
             };
             // SAFETY: recording outside rendering; the bindings are this slot's and this
             // light's (used once in this command buffer, not by the other slot's frame); the

@@ -15,7 +15,7 @@
 //! shadow pass and the mask.
 
 use super::stats::PassTime;
-use super::{FrameInputs, RenderSettings, Renderer, upload};
+use super::{FrameInputs, ReceiverTest, RenderSettings, Renderer, upload};
 use crate::error::{Error, Result};
 use crate::output::RadianceImage;
 use crate::scene::Scene;
@@ -23,8 +23,8 @@ use glam::DVec3;
 use motion_shadows::ash::vk;
 use motion_shadows::gpu::{Access, Buffer, BufferUsage, Image, image_barrier, memory_barrier};
 use motion_shadows::technique::{
-    DrawList, GBuffer, GBufferCamera, GBufferContents, GBufferPass, LightView, MaskInputs,
-    TemporalShadowMap, VisibilityMaskPass,
+    DrawList, EngineTsmMap, EngineTsmPass, GBuffer, GBufferCamera, GBufferContents, GBufferPass,
+    LightView, MaskInputs, TemporalShadowMap, TsmStart, VisibilityMaskPass,
 };
 use std::time::Instant;
 
@@ -172,7 +172,7 @@ impl Renderer<'_> {
             // SAFETY: a OneShot command buffer of this context, recording, outside rendering.
             unsafe { draws.record_update(this.ctx.device(), cmd, &geometry.draws) }
         })?;
-        let light = self.deferred_light(scene, settings);
+        let light = self.deferred_light(scene, settings, deferred);
         let camera = upload::camera_view(scene, size);
         let view_proj = camera.proj * camera.view;
         let gbuffer = GBuffer::new(ctx, settings.width, settings.height)?;
@@ -214,6 +214,7 @@ impl Renderer<'_> {
             light: &light,
         };
         let mut passes = Vec::new();
+        let shadow = settings.shadow_size();
         match deferred.method {
             DeferredMethod::Temporal => {
                 // The map is built (grown until it fits) with the static layer kept, then
@@ -228,6 +229,7 @@ impl Renderer<'_> {
             }
             DeferredMethod::Tsm { maps } => self.deferred_tsm_frame(
                 frame,
+                shadow,
                 maps,
                 &inputs,
                 &mask,
@@ -235,9 +237,16 @@ impl Renderer<'_> {
                 &mut passes,
                 progress,
             )?,
-            DeferredMethod::Plain => {
-                self.deferred_tsm_frame(frame, 1, &inputs, &mask, &gbuffer, &mut passes, progress)?
-            }
+            DeferredMethod::Plain => self.deferred_tsm_frame(
+                frame,
+                shadow,
+                1,
+                &inputs,
+                &mask,
+                &gbuffer,
+                &mut passes,
+                progress,
+            )?,
             DeferredMethod::Raytrace => unreachable!("traced on the CPU above"),
         }
         let contents = gbuffer.read()?;
@@ -265,6 +274,7 @@ impl Renderer<'_> {
             self.deferred = Some(DeferredPasses {
                 gbuffer: GBufferPass::new(self.ctx)?,
                 mask: VisibilityMaskPass::new(self.ctx)?,
+                tsm: EngineTsmPass::new(self.ctx)?,
             });
         }
         Ok(self.deferred_passes_made())
@@ -276,15 +286,39 @@ impl Renderer<'_> {
             .expect("deferred_passes() made them before this submission")
     }
 
+    /// Whether receivers are tested at their plane's depth. `Auto`: only where they stand
+    /// still and the map holds triangle ids (temporal). A moving receiver's G-buffer normal is
+    /// its normal at the camera time: where its surface turns during the shutter, that plane
+    /// is off the surface at the other times by up to a texel's distance times the change of
+    /// slope, and its own surface's neighbouring triangles shadow it in speckles (measured on
+    /// cubes-toward-light's turning cubes); the normal offset keeps clear of them.
+    fn deferred_receiver_plane(
+        &self,
+        settings: &RenderSettings,
+        deferred: &DeferredSettings,
+    ) -> bool {
+        match settings.receiver {
+            ReceiverTest::Auto => {
+                deferred.method == DeferredMethod::Temporal && !deferred.moving_receivers
+            }
+            other => other.uses_plane(&settings.method),
+        }
+    }
+
     /// The light as the frame's settings set it up (receiver test, static layer kept).
-    fn deferred_light(&self, scene: &Scene, settings: &RenderSettings) -> LightView {
+    fn deferred_light(
+        &self,
+        scene: &Scene,
+        settings: &RenderSettings,
+        deferred: &DeferredSettings,
+    ) -> LightView {
         let mut light = LightView {
             prisms: settings.prisms,
             static_layer: settings.static_layer,
             keep_static_layer: settings.static_layer,
             ..upload::light_view(scene, settings.shadow_size())
         };
-        if settings.receiver_plane() {
+        if self.deferred_receiver_plane(settings, deferred) {
             light.receiver_plane = true;
             light.normal_offset_texels = 0.0;
         }
@@ -340,20 +374,71 @@ impl Renderer<'_> {
         Ok(())
     }
 
+    /// TSM-`maps`: a warm-up frame draws the static map (kept, as the temporal map's
+    /// static layer is), then the timed frame: per batch of maps, copies of the static map,
+    /// the moving draws, and the mask's lookups.
     #[allow(clippy::too_many_arguments)]
     fn deferred_tsm_frame(
         &mut self,
-        _frame: FrameInputs<'_>,
-        _maps: u32,
-        _inputs: &MaskInputs,
-        _mask: &MaskTarget,
-        _gbuffer: &GBuffer,
-        _passes: &mut Vec<PassTime>,
-        _progress: &mut dyn FnMut(&str),
+        frame: FrameInputs<'_>,
+        shadow_size: (u32, u32),
+        maps: u32,
+        inputs: &MaskInputs,
+        mask: &MaskTarget,
+        gbuffer: &GBuffer,
+        passes: &mut Vec<PassTime>,
+        progress: &mut dyn FnMut(&str),
     ) -> Result<()> {
-        Err(Error::InvalidArgument(
-            "the deferred TSM frame is not built yet".into(),
-        ))
+        let ctx = self.ctx;
+        let light = frame.light;
+        let (width, height) = shadow_size;
+        let tsm_map = EngineTsmMap::new(
+            ctx,
+            width,
+            height,
+            TSM_LAYERS_PER_BATCH.min(maps),
+            TsmStart::Copy,
+        )?;
+        let mut bindings = self.deferred_passes()?.tsm.bindings()?;
+        for timed in [false, true] {
+            progress(&if timed {
+                format!("timed frame: {maps} time-dependent shadow maps and their lookups")
+            } else {
+                "time-dependent shadow maps: the static map, drawn before the timed frame".into()
+            });
+            let mut spans = Vec::new();
+            self.run_timed(&mut spans, |this, cmd, ts| {
+                let device = this.ctx.device();
+                mask.record_to_storage(device, cmd);
+                ts.mark(cmd, "setup");
+                let tsm = &this.deferred_passes_made().tsm;
+                // SAFETY: a OneShot command buffer of this context, recording, outside
+                // rendering; the G-buffer was drawn in an earlier submission and left in its
+                // read layouts; the mask image is R32_SFLOAT, storage, in GENERAL; the draw
+                // list was updated in an earlier submission.
+                unsafe {
+                    tsm.record(
+                        device,
+                        cmd,
+                        &mut bindings,
+                        inputs,
+                        frame.draws,
+                        light,
+                        &tsm_map,
+                        maps,
+                    )?
+                };
+                ts.mark(cmd, "tsm maps + mask");
+                mask.record_readback(device, cmd);
+                // SAFETY: the same command buffer; the mask pass read the G-buffer before.
+                unsafe { gbuffer.record_readback(device, cmd) };
+                Ok(())
+            })?;
+            if timed {
+                passes.extend(spans.into_iter().filter(|p| p.pass != "setup"));
+            }
+        }
+        Ok(())
     }
 }
 
@@ -361,7 +446,11 @@ impl Renderer<'_> {
 pub(super) struct DeferredPasses {
     gbuffer: GBufferPass,
     mask: VisibilityMaskPass,
+    tsm: EngineTsmPass,
 }
+
+/// TSM maps drawn per batch (the working map's layers: 16 MiB each at 2048x2048).
+const TSM_LAYERS_PER_BATCH: u32 = 8;
 
 /// The mask image (R32_SFLOAT, storage) and its readback buffer.
 struct MaskTarget {
