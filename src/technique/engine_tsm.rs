@@ -19,9 +19,11 @@
 //! batch, the output image read and written once per batch (the first batch writes its count
 //! of lit maps, later ones add theirs, the last scales the sum by 1/N). On lavapipe that per-pixel work, not the lookups, is most
 //! of a dispatch, so layers trade memory (4 bytes per texel and layer) for time: at a
-//! 1920x1080 G-buffer and 2048x2048 maps a map costs about 230-260 ms with 1 layer, 75-95 with
-//! 4, 50-70 with 8 and 42-45 with 16, of which drawing the moving draws (and starting the
-//! layer) is 2-4 ms (`examples/engine_tsm_costs.rs`; 2 cores, other work beside it).
+//! 1920x1080 G-buffer and 2048x2048 maps a map costs about 230-260 ms of GPU time with 1
+//! layer, 75-95 with 4, 50-70 with 8 and 42-45 with 16 (in CPU time, both cores together,
+//! about 400, 140, 90 and 70 ms), of which drawing the moving draws and starting the layer is
+//! 2-5 ms (`examples/engine_tsm_costs.rs`, on 2 cores shared with other work: the figures
+//! vary by a fifth from run to run).
 //!
 //! How each map starts from the static draws is [`TsmStart`]: an image copy of the static
 //! map into the working map's layer ([`TsmStart::Copy`]), or a cleared layer and a second
