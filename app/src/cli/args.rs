@@ -41,7 +41,7 @@ pub struct BenchArgs {
     #[arg(long)]
     pub quick: bool,
     /// Presets to run (default: all but hard): spp, random-cubes, speed, cube-size,
-    /// equal-quality, shadow-pass, scaling, hard.
+    /// equal-quality, shadow-pass, scaling, characters, game, engine, hard.
     #[arg(long = "preset")]
     pub presets: Vec<String>,
     /// Shadow term of the presets' temporal and coverage renders (equal-quality sweeps both).

@@ -104,6 +104,10 @@ pub struct DeferredResult {
     pub lit: Vec<f32>,
     /// Per pixel: whether a surface is seen.
     pub hit: Vec<bool>,
+    /// Per pixel: whether the light reaches the surface at the camera time but for shadows
+    /// (it faces the light, inside a spot's cone): where the lit share multiplies the light,
+    /// and where comparisons measure it.
+    pub facing: Vec<bool>,
     pub method: String,
     /// GPU milliseconds of the timed passes (shadow pass and mask); CPU milliseconds for
     /// the ray tracer.
@@ -133,10 +137,23 @@ pub fn render_truth(
         progress,
     )?;
     let trace_ms = start.elapsed().as_secs_f64() * 1e3;
+    let light = upload::light_view(scene, settings.shadow_size());
+    let facing = (0..truth.hit.len())
+        .map(|i| {
+            truth.hit[i]
+                && direct_factor(
+                    &light,
+                    glam::Vec3::from(truth.position[i]).as_dvec3(),
+                    glam::Vec3::from(truth.normal[i]).as_dvec3(),
+                )
+                .is_some()
+        })
+        .collect();
     Ok(DeferredResult {
         image: RadianceImage::new(settings.width, settings.height, truth.rgb)?,
         lit: truth.lit,
         hit: truth.hit,
+        facing,
         method: deferred.method.name(),
         passes: vec![PassTime {
             pass: "raytrace".to_owned(),
@@ -251,7 +268,7 @@ impl Renderer<'_> {
         }
         let contents = gbuffer.read()?;
         let lit = mask.read(size)?;
-        let (image, hit) = shade(scene, &light, &contents, view_proj.inverse(), &lit)?;
+        let (image, hit, facing) = shade(scene, &light, &contents, view_proj.inverse(), &lit)?;
         let lit = lit
             .iter()
             .zip(&hit)
@@ -261,6 +278,7 @@ impl Renderer<'_> {
             image,
             lit,
             hit,
+            facing,
             method: deferred.method.name(),
             shadow_and_mask_ms: passes.iter().map(|p| p.gpu_ms).sum(),
             passes,
@@ -519,26 +537,43 @@ impl MaskTarget {
     }
 }
 
-/// Lambert shading of the G-buffer with the lit shares `lit`: the lighting pass's terms (see
-/// [`crate::raytrace::shade`]), the direct term times the lit share. Returns the image and
-/// which pixels hold a surface.
+/// The light at `p` (unit normal `n`, on the side the camera sees) but for shadows, per unit
+/// albedo: `E cos / (pi d^2)` (d = 1 for a directional light), the lighting pass's term
+/// ([`crate::raytrace::shade`]); `None` where the normal faces away from the light or `p`
+/// lies outside a spot's cone.
+pub fn direct_factor(light: &LightView, p: DVec3, n: DVec3) -> Option<f64> {
+    let gpu = light.gpu();
+    let spot = gpu.position.w > 0.5;
+    let direction = gpu.direction.truncate().as_dvec3();
+    let to_light = if spot {
+        gpu.position.truncate().as_dvec3() - p
+    } else {
+        -direction
+    };
+    let dist2 = if spot { to_light.length_squared() } else { 1.0 };
+    let l = to_light.normalize();
+    let cos_theta = n.dot(l);
+    let in_cone = !spot || (-l).dot(direction) >= f64::from(gpu.direction.w);
+    (cos_theta > 0.0 && in_cone)
+        .then(|| f64::from(gpu.emission.x) * cos_theta / (std::f64::consts::PI * dist2))
+}
+
+/// Lambert shading of the G-buffer with the lit shares `lit`: ambient plus the direct term
+/// ([`direct_factor`]) times the lit share. Returns the image, which pixels hold a surface and
+/// which of those the light reaches but for shadows.
 fn shade(
     scene: &Scene,
     light: &LightView,
     g: &GBufferContents,
     inv_view_proj: glam::Mat4,
     lit: &[f32],
-) -> Result<(RadianceImage, Vec<bool>)> {
-    let gpu = light.gpu();
-    let spot = gpu.position.w > 0.5;
-    let light_position = gpu.position.truncate().as_dvec3();
-    let direction = gpu.direction.truncate().as_dvec3();
-    let (cos_cone, emission) = (f64::from(gpu.direction.w), f64::from(gpu.emission.x));
+) -> Result<(RadianceImage, Vec<bool>, Vec<bool>)> {
     let ambient = f64::from(scene.ambient);
     let inv = inv_view_proj.as_dmat4();
     let (w, h) = (g.width as usize, g.height as usize);
     let mut rgb = vec![0.0f32; 3 * w * h];
     let mut hit = vec![false; w * h];
+    let mut facing = vec![false; w * h];
     for i in 0..w * h {
         if g.depth[i] >= 1.0 {
             continue;
@@ -553,20 +588,11 @@ fn shade(
         );
         let p = inv * ndc;
         let p = p.truncate() / p.w;
-        let n = g.normal[i].as_dvec3();
         let albedo = g.albedo[i].as_dvec3();
-        let to_light = if spot { light_position - p } else { -direction };
-        let dist2 = if spot { to_light.length_squared() } else { 1.0 };
-        let l = to_light.normalize();
-        let cos_theta = n.dot(l);
-        let lit_by_cone = !spot || (-l).dot(direction) >= cos_cone;
-        let direct = if cos_theta > 0.0 && lit_by_cone {
-            albedo / std::f64::consts::PI * emission * cos_theta / dist2 * f64::from(lit[i])
-        } else {
-            DVec3::ZERO
-        };
-        let radiance = direct + ambient * albedo;
+        let direct = direct_factor(light, p, g.normal[i].as_dvec3());
+        facing[i] = direct.is_some();
+        let radiance = albedo * (ambient + direct.unwrap_or(0.0) * f64::from(lit[i]));
         rgb[3 * i..3 * i + 3].copy_from_slice(&radiance.as_vec3().to_array());
     }
-    Ok((RadianceImage::new(g.width, g.height, rgb)?, hit))
+    Ok((RadianceImage::new(g.width, g.height, rgb)?, hit, facing))
 }

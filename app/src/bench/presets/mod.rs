@@ -2,6 +2,7 @@
 
 mod characters;
 mod cubes;
+mod engine;
 mod equal_quality;
 mod frame;
 mod game;
@@ -46,6 +47,9 @@ pub enum Preset {
     /// `game-level` (static level, a tenth of it moving) at 1080p: the temporal shadow pass
     /// against an ordinary map, the temporal frame against TSM's.
     Game,
+    /// The engine's deferred frame: the temporal mask against engine TSM-N at equal quality,
+    /// each against the exact truth (game-level, walker- and cubes-toward-light).
+    Engine,
 }
 
 /// Every preset, in the order a run without `--preset` takes them (those of
@@ -61,6 +65,7 @@ pub const PRESETS: &[Preset] = &[
     Preset::Scaling,
     Preset::Characters,
     Preset::Game,
+    Preset::Engine,
     Preset::Hard,
 ];
 
@@ -78,6 +83,7 @@ impl Preset {
             Preset::Hard => "hard",
             Preset::Characters => "characters",
             Preset::Game => "game",
+            Preset::Engine => "engine",
         }
     }
 
@@ -297,6 +303,7 @@ pub fn run_preset(
         Preset::Scaling => scaling::scaling(&mut bench)?,
         Preset::Characters => characters::characters(&mut bench)?,
         Preset::Game => game::game(&mut bench)?,
+        Preset::Engine => engine::engine(&mut bench)?,
         Preset::Hard => hard::hard(&mut bench)?,
     }
     Ok(bench.report)
