@@ -128,6 +128,16 @@ pub struct CompareArgs {
     /// tracer (then the reference is one more method measured against it).
     #[arg(long, value_enum, default_value_t = TruthArg::Reference)]
     pub truth: TruthArg,
+    /// `deferred`: compare the engine's frame instead (see `render --frame deferred`):
+    /// temporal, TSM-N and plain masks against the exact truth.
+    #[arg(long, value_enum, default_value_t = FrameArg::Forward)]
+    pub frame: FrameArg,
+    /// Deferred: the shutter time the G-buffer shows.
+    #[arg(long, default_value_t = 1.0)]
+    pub camera_time: f32,
+    /// Deferred: TSM's maps (1 to 1024).
+    #[arg(long, default_value_t = 8)]
+    pub tsm_maps: u32,
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
     /// Print the table as one JSON object on stdout.

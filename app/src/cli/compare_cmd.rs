@@ -106,6 +106,9 @@ fn output_names(scene: &str, methods: &[Method]) -> Vec<String> {
 }
 
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+    if args.frame == super::args::FrameArg::Deferred {
+        return super::compare_deferred::run(args);
+    }
     let (preset_scene, preset_spp) = preset_defaults(args.preset);
     let spp = args.spp.unwrap_or(preset_spp);
     let settings = |method| RenderSettings {

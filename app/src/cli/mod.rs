@@ -4,6 +4,7 @@ pub mod animate_cmd;
 pub mod args;
 pub mod bench_cmd;
 pub mod compare_cmd;
+pub mod compare_deferred;
 pub mod deferred_cmd;
 pub mod render_cmd;
 pub mod summary;

@@ -1,0 +1,159 @@
+//! `motion-shadows compare --frame deferred`: the engine's frame of one scene with the truth,
+//! the temporal mask, TSM-N and the plain map; a side-by-side PNG of the images and one of
+//! the masks, and a table of each mask's RMSE against the truth (over the pixels the light
+//! reaches, and over those in shadow) and its shadow pass + mask time.
+
+use super::args::CompareArgs;
+use super::render_cmd::{builtin_options, commit_outputs, progress_reporter};
+use crate::compare::{Rgb8Image, mask_error, side_by_side};
+use crate::output::{StagedFiles, auto_exposure, write_rgb8_png};
+use crate::render::deferred::{DeferredMethod, DeferredSettings, render_truth};
+use crate::render::{RenderSettings, Renderer};
+use crate::scene::{builtin, load_scene_file};
+use anyhow::Context as _;
+use motion_shadows::gpu::{Context, ContextOptions};
+
+pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+    let settings = RenderSettings {
+        width: args.width,
+        height: args.height,
+        shadow_size: args.shadow_size,
+        receiver: args.receiver.test(args.receiver_plane),
+        static_layer: args.static_layer.settings().0,
+        ..RenderSettings::default()
+    };
+    settings.validate()?;
+    let methods = [
+        DeferredMethod::Temporal,
+        DeferredMethod::Tsm {
+            maps: args.tsm_maps,
+        },
+        DeferredMethod::Plain,
+    ];
+    let deferred = |method| DeferredSettings {
+        method,
+        camera_time: args.camera_time,
+        moving_receivers: true,
+    };
+    for method in methods {
+        deferred(method).validate()?;
+    }
+    let (bar, mut report) = progress_reporter();
+    let scene = match (&args.scene_file, &args.scene) {
+        (Some(path), _) => load_scene_file(path)?,
+        (None, name) => builtin(
+            name.as_deref().unwrap_or("cubes-toward-light"),
+            &builtin_options(&args.random),
+        )?,
+    };
+    let stem = format!("{}-deferred-compare", scene.name);
+    let names = [format!("{stem}.png"), format!("{stem}-masks.png")];
+    let staged = StagedFiles::prepare(&args.out, &names)
+        .with_context(|| format!("preparing the output directory {}", args.out.display()))?;
+
+    report("the truth (CPU)");
+    let truth = render_truth(
+        &scene,
+        &settings,
+        &deferred(DeferredMethod::Raytrace),
+        &mut report,
+    )?;
+    let ctx = Context::headless(&ContextOptions::from_env())?;
+    let mut renderer = Renderer::new(&ctx)?;
+    let mut results = Vec::new();
+    for method in methods {
+        results.push(renderer.render_deferred(
+            &scene,
+            &settings,
+            &deferred(method),
+            &mut report,
+        )?);
+    }
+    drop(renderer);
+
+    report("writing images");
+    let exposure = auto_exposure(&truth.image);
+    let mask_image = |lit: &[f32]| {
+        let mut img = Rgb8Image::new(args.width, args.height);
+        for (i, &v) in lit.iter().enumerate() {
+            let g = (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+            img.put(i as u32 % args.width, i as u32 / args.width, [g, g, g]);
+        }
+        img
+    };
+    let mut images = vec![(
+        "truth".to_owned(),
+        Rgb8Image::from_radiance(&truth.image, exposure)?,
+        mask_image(&truth.lit),
+    )];
+    for r in &results {
+        images.push((
+            r.method.clone(),
+            Rgb8Image::from_radiance(&r.image, exposure)?,
+            mask_image(&r.lit),
+        ));
+    }
+    for (k, name) in names.iter().enumerate() {
+        let panels: Vec<(&str, &Rgb8Image)> = images
+            .iter()
+            .map(|(label, image, mask)| (label.as_str(), if k == 0 { image } else { mask }))
+            .collect();
+        let picture = side_by_side(&panels, [32, 32, 32]);
+        write_rgb8_png(
+            staged.temp_path(name)?,
+            picture.width,
+            picture.height,
+            &picture.data,
+        )?;
+    }
+    let files = commit_outputs(staged, bar)?;
+
+    let rows: Vec<_> = results
+        .iter()
+        .map(|r| {
+            let e = mask_error(&r.lit, &truth.lit, &truth.facing);
+            serde_json::json!({
+                "method": r.method,
+                "rmse": e.rmse,
+                "rmse_shadowed": e.rmse_shadowed,
+                "pixels": e.pixels,
+                "shadowed_pixels": e.shadowed_pixels,
+                "shadow_and_mask_ms": r.shadow_and_mask_ms,
+            })
+        })
+        .collect();
+    if args.json {
+        let value = serde_json::json!({
+            "scene": scene.name,
+            "frame": "deferred",
+            "camera_time": args.camera_time,
+            "methods": rows,
+            "truth_ms": truth.shadow_and_mask_ms,
+            "files": files,
+        });
+        println!("{}", serde_json::to_string(&value)?);
+    } else {
+        println!(
+            "deferred frame of {} ({}x{}, G-buffer at t = {}); mask RMSE against the exact \
+             truth over the pixels the light reaches",
+            scene.name, args.width, args.height, args.camera_time
+        );
+        println!(
+            "  {:<10} {:>9} {:>16} {:>22}",
+            "method", "RMSE", "RMSE (shadowed)", "shadow pass + mask ms"
+        );
+        for row in &rows {
+            println!(
+                "  {:<10} {:>9.5} {:>16.5} {:>22.2}",
+                row["method"].as_str().unwrap_or(""),
+                row["rmse"].as_f64().unwrap_or(f64::NAN),
+                row["rmse_shadowed"].as_f64().unwrap_or(f64::NAN),
+                row["shadow_and_mask_ms"].as_f64().unwrap_or(f64::NAN),
+            );
+        }
+        for f in &files {
+            println!("  wrote {f}");
+        }
+    }
+    super::validation_clean(&ctx)
+}
