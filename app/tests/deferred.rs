@@ -38,7 +38,10 @@ fn sliding_platform() -> Scene {
     let slide = Vec3::new(3.0, 0.0, 0.0);
     let ground = plane_mesh(Vec2::splat(14.0), 4);
     // box_mesh is centred on the origin: moved to its place at shutter open.
-    let platform = moved(&box_mesh(Vec3::new(4.0, 0.4, 3.0), 2), Vec3::new(-3.0, 0.2, 0.0));
+    let platform = moved(
+        &box_mesh(Vec3::new(4.0, 0.4, 3.0), 2),
+        Vec3::new(-3.0, 0.2, 0.0),
+    );
     let cube = moved(&box_mesh(Vec3::splat(0.6), 1), Vec3::new(-3.0, 0.7, 0.0));
     let (h, a) = (3.0, 0.75);
     let blocker = [(-a, -a), (-a, a), (a, a), (-a, -a), (a, a), (a, -a)]

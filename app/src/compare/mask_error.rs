@@ -19,12 +19,7 @@ const SHADOWED_BELOW: f32 = 1.0 - 1e-4;
 /// the same length).
 pub fn mask_error(lit: &[f32], truth: &[f32], counted: &[bool]) -> MaskError {
     let (mut sum, mut pixels, mut sum_shadowed, mut shadowed) = (0.0, 0, 0.0, 0);
-    for ((&l, &t), _) in lit
-        .iter()
-        .zip(truth)
-        .zip(counted)
-        .filter(|(_, c)| **c)
-    {
+    for ((&l, &t), _) in lit.iter().zip(truth).zip(counted).filter(|(_, c)| **c) {
         let e = f64::from(l) - f64::from(t);
         sum += e * e;
         pixels += 1;

@@ -37,8 +37,9 @@ const EQUAL_RMSE_SLACK: f64 = 1e-4;
 const GHOSTING_MAPS: u32 = 8;
 
 pub(super) fn engine(b: &mut Bench) -> Result<()> {
-    let ((width, height), map, max_maps) =
-        b.scale.pick(((480, 270), 512, 64), ((1920, 1080), 2048, 256));
+    let ((width, height), map, max_maps) = b
+        .scale
+        .pick(((480, 270), 512, 64), ((1920, 1080), 2048, 256));
     let mut table = Table::new(
         [
             "scene",
