@@ -447,7 +447,14 @@ vec2 ms_nearer_span(float t_s, float t_e, float d_s, float d_e, vec2 w, vec2 r) 
 // The part of a range's interval during which its triangle is nearer to the light than a
 // receiver standing still at `depth` (see ms_nearer_span).
 vec2 ms_nearer_interval(float t_s, float t_e, float d_s, float d_e, float depth) {
-    return ms_nearer_span(t_s, t_e, d_s, d_e, vec2(0.0, 1.0), vec2(depth));
+    const vec2 EMPTY = vec2(1.0, 0.0);
+    if (!(t_e > t_s)) return EMPTY;
+    bool start_nearer = d_s < depth, end_nearer = d_e < depth;
+    if (start_nearer && end_nearer) return vec2(t_s, t_e);
+    if (!start_nearer && !end_nearer) return EMPTY;
+    float crossing = t_s + (depth - d_s) / (d_e - d_s) * (t_e - t_s);
+    crossing = clamp(crossing, t_s, t_e);
+    return start_nearer ? vec2(t_s, crossing) : vec2(crossing, t_e);
 }
 
 // The interval of a range that shadows a receiver on triangle `own` whose depth runs from
@@ -459,7 +466,8 @@ vec2 ms_range_nearer(MsRange range, vec2 w, vec2 r, uint own) {
 
 // The interval of a range that shadows a receiver standing still at `depth` on `own`.
 vec2 ms_range_nearer(MsRange range, float depth, uint own) {
-    return ms_range_nearer(range, vec2(0.0, 1.0), vec2(depth), own);
+    if (range.id == own) return vec2(1.0, 0.0);
+    return ms_nearer_interval(range.t_s, range.t_e, range.d_s, range.d_e, depth);
 }
 
 // The length of the union of two intervals (empty where x >= y).
@@ -601,8 +609,88 @@ float ms_texel_lit_span(MsMap map, uint texel, vec2 w, vec2 r, uint own) {
 
 // The lit fraction of the shutter for a receiver standing still at light depth `depth` on
 // triangle `own` in `texel` (see ms_lit_fraction).
+// (The standing receiver's own copy of ms_texel_lit_span's union, as it was before receivers
+// could move: the general form, with its window clipping and exact loop counting, made the
+// analytic estimator's shading 1.17x slower on lavapipe, measured by ab-frame. Answers are
+// the same, asserted bit for bit by a_receiver_standing_still_gets_the_static_lit_fraction.)
 float ms_texel_lit_fraction(MsMap map, uint texel, float depth, uint own) {
-    return ms_texel_lit_span(map, texel, vec2(0.0, 1.0), vec2(depth), own);
+    if (ms_static_shadow(map, texel, depth, own)) return 0.0;
+    if (map.coverage != 0UL) {
+        uint cover = MsUints(map.coverage).v[texel];
+        if (cover != MS_NO_TRIANGLE) {
+            if (cover == own) return 1.0;
+            vec2 d = ms_cover_depth(map, texel);
+            vec2 iv = ms_nearer_interval(0.0, 1.0, d.x, d.y, depth);
+            return 1.0 - max(iv.y - iv.x, 0.0);
+        }
+    }
+    uint head = MsUints(map.range_heads).v[texel];
+    // The union so far: m disjoint intervals in order. A zero-length interval shadows an
+    // instant (measure zero) and is left out.
+    vec2 set[MS_DISJOINT_INTERVALS];
+    uint m = 0u;
+    bool fits = true;
+    for (uint r = head; r != MS_END_OF_LIST && fits;) {
+        MsRange range = ms_range(map.ranges, r);
+        r = range.next;
+        vec2 iv = ms_range_nearer(range, depth, own);
+        ms_loop_iterations += 1u + 2u * m;   // the scans and shifts below, at most
+        if (!(iv.y > iv.x)) continue;
+        // set[first .. last] are the intervals iv overlaps or touches (none: first > last,
+        // and iv goes in at first).
+        uint first = 0u;
+        while (first < m && set[first].y < iv.x) ++first;
+        uint last = first;
+        while (last < m && set[last].x <= iv.y) ++last;
+        if (last == first) {
+            fits = m < MS_DISJOINT_INTERVALS;
+            for (uint j = m; fits && j > first; --j) set[j] = set[j - 1u];
+            if (fits) {
+                set[first] = iv;
+                ++m;
+            }
+        } else {
+            set[first] = vec2(min(iv.x, set[first].x), max(iv.y, set[last - 1u].y));
+            uint removed = last - first - 1u;
+            for (uint j = first + 1u; j + removed < m; ++j) set[j] = set[j + removed];
+            m -= removed;
+        }
+    }
+    float shadowed = 0.0;
+    float covered_to = 0.0;     // the union so far ends here
+    if (fits) {
+        for (uint j = 0u; j < m; ++j) shadowed += set[j].y - set[j].x;
+        return 1.0 - min(shadowed, 1.0);
+    }
+    // Many intervals: take them in order of their start, the next found by a scan (the last
+    // taken as (start, position in the list); the next is the smallest after it).
+    float last_start = -1.0;
+    uint last_index = 0u;
+    for (uint taken = 0u; taken <= MS_MAX_TEXEL_RANGES && covered_to < 1.0; ++taken) {
+        float next_start = 2.0, next_end = 0.0;
+        uint next_index = 0xffffffffu;
+        uint index = 0u;
+        for (uint r = head; r != MS_END_OF_LIST; ++index) {
+            ++ms_loop_iterations;
+            MsRange range = ms_range(map.ranges, r);
+            r = range.next;
+            vec2 iv = ms_range_nearer(range, depth, own);
+            if (!(iv.y > iv.x) || iv.y <= covered_to) continue;
+            bool after_last = iv.x > last_start || (iv.x == last_start && index > last_index);
+            bool before_next = iv.x < next_start || (iv.x == next_start && index < next_index);
+            if (after_last && before_next) {
+                next_start = iv.x;
+                next_end = iv.y;
+                next_index = index;
+            }
+        }
+        if (next_index == 0xffffffffu) break;
+        shadowed += max(next_end - max(next_start, covered_to), 0.0);
+        covered_to = max(covered_to, next_end);
+        last_start = next_start;
+        last_index = next_index;
+    }
+    return 1.0 - min(shadowed, 1.0);
 }
 
 // The fraction of the shutter [0, 1] during which a receiver that stays at `p` all frame

@@ -11,7 +11,9 @@ use super::image_pass::ImagePass;
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
 use crate::error::Result;
-use crate::gpu::{Access, Buffer, BufferUsage, Context, ImageBindings, memory_barrier};
+use crate::gpu::{
+    Access, Buffer, BufferUsage, Context, Image, ImageBindings, image_barrier, memory_barrier,
+};
 use ash::vk;
 use glam::Mat4;
 
@@ -23,6 +25,10 @@ pub struct MaskBindings {
     images: ImageBindings,
     /// One u32: pixels past the device's loop budget (written by the shader, read by the host).
     over_budget: Buffer,
+    /// A 1x1 R32_UINT image bound in place of the host's id image when it has none: the
+    /// shader never reads it then, but the binding is an unsigned-integer sampler, and a view
+    /// of another numeric format there is invalid.
+    no_ids: Image,
 }
 
 impl MaskBindings {
@@ -182,6 +188,13 @@ impl VisibilityMaskPass {
                 4,
                 BufferUsage::DeviceToHost,
             )?,
+            no_ids: Image::new(
+                ctx,
+                "visibility-mask stand-in id image",
+                (1, 1, 1),
+                vk::Format::R32_UINT,
+                vk::ImageUsageFlags::SAMPLED,
+            )?,
         })
     }
 
@@ -220,7 +233,12 @@ impl VisibilityMaskPass {
         // and the variant say so).
         let normals = inputs.normals.map_or(depth, |n| (n.view, n.layout));
         let motion = inputs.motion.map_or(depth, |m| (m.view, m.layout));
-        let ids = inputs.ids.map_or(depth, |i| (i.view, i.layout));
+        let read_only = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        let ids = inputs
+            .ids
+            .map_or((bindings.no_ids.layer_view(0), read_only), |i| {
+                (i.view, i.layout)
+            });
         let output = (inputs.output, vk::ImageLayout::GENERAL);
         // SAFETY: the caller's contract (the set is not in use; the views are valid).
         unsafe {
@@ -252,6 +270,19 @@ impl VisibilityMaskPass {
         // bindings' own, not in use by a pending command buffer (the caller's contract).
         unsafe {
             device.cmd_fill_buffer(cmd, counter, 0, vk::WHOLE_SIZE, 0);
+            if inputs.ids.is_none() {
+                // Its contents are never read: a transition from UNDEFINED each time keeps it
+                // in the bound layout without a setup submission.
+                image_barrier(
+                    device,
+                    cmd,
+                    bindings.no_ids.raw(),
+                    bindings.no_ids.layers_range(0, 1),
+                    (vk::ImageLayout::UNDEFINED, read_only),
+                    Access::COMPUTE_SAMPLED_READ,
+                    Access::COMPUTE_SAMPLED_READ,
+                );
+            }
             memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_RW);
             self.pass.record(
                 device,
