@@ -1,6 +1,8 @@
 //! A deferred engine with motion-blurred shadows: the engine brings its own Vulkan device,
-//! geometry, G-buffer, frame loop (two frames in flight) and shading, and motion-shadows adds
-//! a temporal shadow map per light and a visibility mask per light. The engine is
+//! geometry, G-buffer (with world-space motion: this frame's position minus last frame's),
+//! frame loop (two frames in flight) and shading, and motion-shadows adds a temporal shadow
+//! map per light and a visibility mask per light that follows each receiver along its motion
+//! over the shutter. The engine is
 //! `tests/support/deferred.rs` (the tests drive the same code); read it from the top.
 //!
 //! ```sh

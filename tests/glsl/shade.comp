@@ -9,7 +9,8 @@
 // the pixel sees the light, taken one of three ways (push constant `lookup`):
 //   LOOKUP_MASKS:        the library's visibility-mask pass wrote it into a mask image;
 //   LOOKUP_LIT_FRACTION: this shader asks the temporal shadow map itself, through the
-//                        library's GLSL include (ms_lit_fraction), with the map's header
+//                        library's GLSL include (ms_lit_fraction_moving: the point followed
+//                        from p - motion at t = 0 to p at t = 1), with the map's header
 //                        address in the push constants;
 //   LOOKUP_AT_TIME:      ms_visibility at one shutter time (a sharp shadow at that instant).
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -27,6 +28,8 @@ layout(set = 1, binding = 2) uniform sampler2D albedo_image;
 layout(set = 1, binding = 3) uniform sampler2D mask0;
 layout(set = 1, binding = 4) uniform sampler2D mask1;
 layout(set = 1, binding = 5, rgba32f) uniform writeonly image2D radiance;
+// World displacement of each pixel's surface point over the shutter (the G-buffer's motion).
+layout(set = 1, binding = 6) uniform sampler2D motion_image;
 
 const uint LOOKUP_MASKS = 0u;
 const uint LOOKUP_LIT_FRACTION = 1u;
@@ -49,8 +52,12 @@ float visibility(uint light, ivec2 pixel, vec3 p, vec3 n) {
     MsShadowMap map = MsShadowMap(pc.maps[light]);
     // MS_NO_TRIANGLE: a G-buffer does not know which triangle a pixel shows (the receiver
     // offset keeps a surface from shadowing itself instead).
-    if (pc.lookup == LOOKUP_LIT_FRACTION) return ms_lit_fraction(map, p, n, MS_NO_TRIANGLE);
-    return ms_visibility(map, p, n, pc.time, MS_NO_TRIANGLE);
+    vec3 motion = texelFetch(motion_image, pixel, 0).xyz;
+    if (pc.lookup == LOOKUP_LIT_FRACTION) {
+        return ms_lit_fraction_moving(map, p - motion, p, n, MS_NO_TRIANGLE);
+    }
+    // The point where it is at that time.
+    return ms_visibility(map, p - (1.0 - pc.time) * motion, n, pc.time, MS_NO_TRIANGLE);
 }
 
 void main() {

@@ -26,6 +26,9 @@ mod deferred;
 #[path = "deferred_moving.rs"]
 mod moving;
 
+#[path = "deferred_host_truth.rs"]
+mod truth;
+
 const SIZE: (u32, u32) = (160, 120);
 const SHADOW: (u32, u32) = (256, 256);
 const SEED: u32 = 11;

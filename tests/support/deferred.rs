@@ -10,8 +10,11 @@
 //!   DrawList::record_update          the engine's draws: its own buffers, read in place
 //!   per light: CollectionPass        prism fragments of every moving triangle, from the light
 //!              GenerationPass        fragments -> depth-time ranges (the temporal shadow map)
-//!   G-buffer (the engine's own)      depth, world normal, albedo at shutter time t = 1
-//!   per light: VisibilityMaskPass    G-buffer depth + normals -> lit fraction over the shutter
+//!   G-buffer (the engine's own)      depth, world normal, albedo at shutter time t = 1, and
+//!                                    world motion over the shutter (this frame's position
+//!                                    minus last frame's, as engines keep for motion vectors)
+//!   per light: VisibilityMaskPass    G-buffer depth + normals + motion -> lit fraction of the
+//!                                    shutter, each receiver followed along its path
 //!   shading (the engine's own)       radiance = albedo / pi * sum(E cos falloff mask) + ambient
 //! ```
 //!
@@ -30,8 +33,8 @@ use glam::{DMat4, Mat4, UVec4, Vec3, Vec4};
 use motion_shadows::gpu::{Context, OptionalFeatures};
 use motion_shadows::technique::{
     CollectionPass, Counters, Draw, DrawList, GLSL_INCLUDE, GenerationPass, IndexStream, Indices,
-    LightKind, LightView, MaskBindings, MaskInputs, NormalEncoding, NormalImage, PositionStream,
-    TemporalShadowMap, VisibilityMaskPass,
+    LightKind, LightView, MaskBindings, MaskInputs, MotionImage, NormalEncoding, NormalImage,
+    PositionStream, TemporalShadowMap, VisibilityMaskPass,
 };
 use motion_shadows_shaderc_link as _;
 
@@ -469,6 +472,8 @@ pub struct FrameOutput {
 
 const NORMAL_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 const ALBEDO_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+/// World-space motion over the shutter: half floats, as an engine stores motion vectors.
+const MOTION_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 const RADIANCE_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
@@ -517,6 +522,8 @@ struct Slot {
     depth: Image,
     normals: Image,
     albedo: Image,
+    /// Per pixel: the surface point's world displacement from frame f - 1 to frame f.
+    motion: Image,
     /// One per light.
     masks: Vec<Image>,
     radiance: Image,
@@ -719,6 +726,13 @@ impl<'h> Engine<'h> {
                     vk::ImageUsageFlags::COLOR_ATTACHMENT | sampled,
                     color,
                 )?,
+                motion: Image::new(
+                    host,
+                    MOTION_FORMAT,
+                    size,
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT | sampled,
+                    color,
+                )?,
                 masks: (0..lights)
                     .map(|_| {
                         Image::new(
@@ -796,6 +810,7 @@ impl<'h> Engine<'h> {
             sampled(slot.masks[0].view, read_only),
             sampled(mask1.view, read_only),
         ];
+        let motion = sampled(slot.motion.view, read_only);
         let output = [vk::DescriptorImageInfo {
             sampler: vk::Sampler::null(),
             image_view: slot.radiance.view,
@@ -812,6 +827,11 @@ impl<'h> Engine<'h> {
                 .dst_binding(5)
                 .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
                 .image_info(&output),
+            vk::WriteDescriptorSet::default()
+                .dst_set(slot.image_set)
+                .dst_binding(6)
+                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                .image_info(&motion),
         ];
         for (binding, info) in images.iter().enumerate() {
             writes.push(
@@ -1185,6 +1205,7 @@ impl Recorder<'_> {
                 s.depth.barrier(discard, depth_attachment),
                 s.normals.barrier(discard, color_attachment),
                 s.albedo.barrier(discard, color_attachment),
+                s.motion.barrier(discard, color_attachment),
             ],
             &[],
         );
@@ -1211,6 +1232,7 @@ impl Recorder<'_> {
             ),
             s.normals.barrier(color_attachment, shader_read),
             s.albedo.barrier(color_attachment, shader_read),
+            s.motion.barrier(color_attachment, shader_read),
             s.radiance.barrier(discard, storage_write),
         ];
         barriers.extend(s.masks.iter().map(|m| m.barrier(discard, storage_write)));
@@ -1229,7 +1251,12 @@ impl Recorder<'_> {
                 size: (width, height),
                 inv_view_proj,
                 background_depth: 1.0,
-                motion: None,
+                // Receivers move: a surface point is followed from where it was at t = 0 to
+                // where the G-buffer shows it (t = 1).
+                motion: Some(MotionImage {
+                    view: s.motion.view,
+                    layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                }),
                 time: 1.0,
                 ids: None,
             };
@@ -1338,7 +1365,7 @@ impl Recorder<'_> {
         Ok(())
     }
 
-    /// The G-buffer pass: dynamic rendering into depth, normals and albedo; every mesh drawn
+    /// The G-buffer pass: dynamic rendering into depth, normals, albedo and motion; every mesh drawn
     /// with its own vertex and index buffers at t = 1.
     fn record_gbuffer(&self, world: &World, s: &Slot, f: f64) -> Result<()> {
         let device = self.device;
@@ -1356,6 +1383,12 @@ impl Recorder<'_> {
                 .clear_value(clear([0.0; 4])),
             vk::RenderingAttachmentInfo::default()
                 .image_view(s.albedo.view)
+                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(clear([0.0; 4])),
+            vk::RenderingAttachmentInfo::default()
+                .image_view(s.motion.view)
                 .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
                 .load_op(vk::AttachmentLoadOp::CLEAR)
                 .store_op(vk::AttachmentStoreOp::STORE)
@@ -1409,36 +1442,44 @@ impl Recorder<'_> {
             );
         }
         for (mesh, m) in world.meshes.iter().zip(&g.meshes) {
-            // Binding 0 = positions, binding 1 = normals: two views of one interleaved buffer,
-            // with the draw's own stride (dynamic state).
-            let (model, buffer, positions, normals, stride) = match &mesh.motion {
-                Motion::Rigid(transform) => (
-                    transform(f).as_mat4(),
-                    g.static_vertices.buffer,
-                    m.vertex_offset,
-                    m.vertex_offset + 12,
-                    24,
-                ),
-                Motion::Deformed(_) => (
-                    Mat4::IDENTITY,
-                    s.deformed.buffer,
-                    m.vertex_offset + 16,
-                    m.vertex_offset + 32,
-                    DEFORMED_STRIDE as u64,
-                ),
-            };
+            // Binding 0 = positions, binding 1 = normals, binding 2 = last frame's positions:
+            // three views of one interleaved buffer, with the draw's own stride (dynamic
+            // state). A rigid mesh's last positions are its vertices under last frame's model.
+            let (model, previous_model, buffer, positions, normals, previous, stride) =
+                match &mesh.motion {
+                    Motion::Rigid(transform) => (
+                        transform(f).as_mat4(),
+                        transform(f - 1.0).as_mat4(),
+                        g.static_vertices.buffer,
+                        m.vertex_offset,
+                        m.vertex_offset + 12,
+                        m.vertex_offset,
+                        24,
+                    ),
+                    Motion::Deformed(_) => (
+                        Mat4::IDENTITY,
+                        Mat4::IDENTITY,
+                        s.deformed.buffer,
+                        m.vertex_offset + 16,
+                        m.vertex_offset + 32,
+                        m.vertex_offset,
+                        DEFORMED_STRIDE as u64,
+                    ),
+                };
+            let rows = |m: Mat4| [m.row(0), m.row(1), m.row(2)];
             let push = DrawConstants {
-                model: [model.row(0), model.row(1), model.row(2)],
+                model: rows(model),
+                previous_model: rows(previous_model),
                 albedo: mesh.albedo.extend(1.0),
             };
             unsafe {
                 device.cmd_bind_vertex_buffers2(
                     cmd,
                     0,
-                    &[buffer, buffer],
-                    &[positions, normals],
+                    &[buffer, buffer, buffer],
+                    &[positions, normals, previous],
                     None,
-                    Some(&[stride, stride]),
+                    Some(&[stride, stride, stride]),
                 );
                 device.cmd_bind_index_buffer(cmd, g.indices.buffer, m.index_offset, m.index_type);
                 device.cmd_push_constants(
@@ -1492,11 +1533,12 @@ struct LightConstants {
     emission: Vec4,
 }
 
-/// The G-buffer pass's push constants (`Draw` in gbuffer.vert): 64 bytes.
+/// The G-buffer pass's push constants (`Draw` in gbuffer.vert): 112 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 struct DrawConstants {
     model: [Vec4; 3],
+    previous_model: [Vec4; 3],
     albedo: Vec4,
 }
 
@@ -1767,7 +1809,7 @@ impl Pipelines {
             )
         }
         .vk("vkCreateDescriptorSetLayout")?;
-        // Set 1 of the shading pass: depth, normals, albedo, two masks, the output.
+        // Set 1 of the shading pass: depth, normals, albedo, two masks, the output, motion.
         let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
         let c = vk::ShaderStageFlags::COMPUTE;
         let images = [
@@ -1777,6 +1819,7 @@ impl Pipelines {
             binding(3, sampled, c),
             binding(4, sampled, c),
             binding(5, vk::DescriptorType::STORAGE_IMAGE, c),
+            binding(6, sampled, c),
         ];
         self.image_set_layout = unsafe {
             device.create_descriptor_set_layout(
@@ -1793,7 +1836,7 @@ impl Pipelines {
             },
             vk::DescriptorPoolSize {
                 ty: sampled,
-                descriptor_count: 5 * n,
+                descriptor_count: 6 * n,
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_IMAGE,
@@ -1907,12 +1950,12 @@ fn gbuffer_pipeline(device: &ash::Device, layout: vk::PipelineLayout) -> Result<
             .module(frag)
             .name(c"main"),
     ];
-    let bindings = [0, 1].map(|binding| vk::VertexInputBindingDescription {
+    let bindings = [0, 1, 2].map(|binding| vk::VertexInputBindingDescription {
         binding,
         stride: 24, // overridden per draw (VERTEX_INPUT_BINDING_STRIDE is dynamic)
         input_rate: vk::VertexInputRate::VERTEX,
     });
-    let attributes = [0, 1].map(|i| vk::VertexInputAttributeDescription {
+    let attributes = [0, 1, 2].map(|i| vk::VertexInputAttributeDescription {
         location: i,
         binding: i,
         format: vk::Format::R32G32B32_SFLOAT,
@@ -1939,7 +1982,7 @@ fn gbuffer_pipeline(device: &ash::Device, layout: vk::PipelineLayout) -> Result<
         .depth_write_enable(true)
         .depth_compare_op(vk::CompareOp::LESS);
     let blend = [vk::PipelineColorBlendAttachmentState::default()
-        .color_write_mask(vk::ColorComponentFlags::RGBA); 2];
+        .color_write_mask(vk::ColorComponentFlags::RGBA); 3];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend);
     let dynamic = [
         vk::DynamicState::VIEWPORT,
@@ -1947,7 +1990,7 @@ fn gbuffer_pipeline(device: &ash::Device, layout: vk::PipelineLayout) -> Result<
         vk::DynamicState::VERTEX_INPUT_BINDING_STRIDE,
     ];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic);
-    let formats = [NORMAL_FORMAT, ALBEDO_FORMAT];
+    let formats = [NORMAL_FORMAT, ALBEDO_FORMAT, MOTION_FORMAT];
     let mut rendering = vk::PipelineRenderingCreateInfo::default()
         .color_attachment_formats(&formats)
         .depth_attachment_format(DEPTH_FORMAT);
