@@ -1,7 +1,19 @@
 #!/usr/bin/env bash
 # The project's full check, as the README and CI run it: format, lints, then all tests on
 # lavapipe with the Khronos validation layer (incl. synchronization validation) enabled.
+#
+#   scripts/test.sh           everything (CI runs this)
+#   scripts/test.sh --quick   the edit loop: the same, without the slow tests named in
+#                             scripts/slow-tests.txt (paper claims, bench presets, the
+#                             outside-crate build)
 set -euo pipefail
+
+quick=0
+case "${1:-}" in
+    "") ;;
+    --quick) quick=1 ;;
+    *) echo "usage: scripts/test.sh [--quick]" >&2; exit 2 ;;
+esac
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -18,4 +30,12 @@ export MOTION_SHADOWS_VALIDATION=1
 
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets -- -D warnings
-cargo test --workspace
+if [[ $quick == 1 ]]; then
+    skips=()
+    while read -r name; do
+        [[ -z $name || $name == \#* ]] || skips+=(--skip "$name")
+    done < scripts/slow-tests.txt
+    cargo test --workspace -- "${skips[@]}"
+else
+    cargo test --workspace
+fi
