@@ -1,10 +1,19 @@
 //! Compiles every GLSL shader in `glsl/` to SPIR-V in `OUT_DIR`, so a shader error fails the
-//! build with the file and line. Files ending in `.glsl` are includes, not stages.
+//! build with the file and line. Files ending in `.glsl` are includes, not stages. The
+//! constants shared with the Rust side are generated first, from the one table in
+//! `src/technique/gpu_constants.rs`, as the include `gpu_constants.glsl`.
 
 use std::path::{Path, PathBuf};
 // Links shaderc where the distribution's libshaderc.so cannot be linked as it is (Debian 12);
 // see build-support/shaderc-link. Naming the crate is what puts its link arguments on ours.
 use motion_shadows_shaderc_link as _;
+
+#[path = "src/technique/gpu_constants.rs"]
+#[allow(dead_code)]
+mod gpu_constants;
+
+/// The generated include's name, as the shaders `#include` it.
+const GENERATED_CONSTANTS: &str = "gpu_constants.glsl";
 
 fn stage_of(path: &Path) -> Option<shaderc::ShaderKind> {
     match path.extension()?.to_str()? {
@@ -20,6 +29,9 @@ fn main() {
     let glsl_dir = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").unwrap()).join("glsl");
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").unwrap());
     println!("cargo:rerun-if-changed={}", glsl_dir.display());
+    println!("cargo:rerun-if-changed=src/technique/gpu_constants.rs");
+    let constants = gpu_constants::glsl_header();
+    std::fs::write(out_dir.join(GENERATED_CONSTANTS), &constants).expect("write constants");
 
     let compiler = shaderc::Compiler::new().expect("shaderc compiler");
     let mut entries: Vec<PathBuf> = std::fs::read_dir(&glsl_dir)
@@ -42,7 +54,14 @@ fn main() {
         );
         options.set_optimization_level(shaderc::OptimizationLevel::Performance);
         options.set_generate_debug_info();
+        let constants = constants.clone();
         options.set_include_callback(move |name, _kind, _from, _depth| {
+            if name == GENERATED_CONSTANTS {
+                return Ok(shaderc::ResolvedInclude {
+                    resolved_name: GENERATED_CONSTANTS.to_owned(),
+                    content: constants.clone(),
+                });
+            }
             let p = include_dir.join(name);
             std::fs::read_to_string(&p)
                 .map(|content| shaderc::ResolvedInclude {

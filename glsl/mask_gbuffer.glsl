@@ -10,8 +10,9 @@
 //                                      NDC), uvec2 size (pixels), float background_depth
 //                                      (the depth image's clear value), uint flags (MASK_*)
 
-const uint MASK_HAS_NORMALS = 1u;       // read the normal image (else rebuild from depth)
-const uint MASK_NORMALS_UNORM = 2u;     // stored as n * 0.5 + 0.5
+// MASK_HAS_NORMALS (read the normal image, else rebuild from depth) and MASK_NORMALS_UNORM
+// (stored as n * 0.5 + 0.5): generated from src/technique/gpu_constants.rs.
+#include "gpu_constants.glsl"
 
 vec3 world_at(ivec2 pixel, float depth) {
     vec2 ndc = (vec2(pixel) + 0.5) / vec2(pc.size) * 2.0 - 1.0;

@@ -32,8 +32,9 @@ layout(set = 0, binding = 5) uniform sampler2D static_map;
 layout(constant_id = 0) const bool MOVING = false;
 layout(constant_id = 1) const bool SECOND_LOOKUP = false;
 
-const uint TSM_FIRST = 0x10u;   // the first batch: write the count, do not add
-const uint TSM_LAST = 0x20u;    // the last: turn the count into the lit fraction
+// MASK_* and TSM_FIRST_BATCH (write the count, do not add), TSM_LAST_BATCH (turn the count
+// into the lit fraction), from src/technique/gpu_constants.rs.
+#include "gpu_constants.glsl"
 
 layout(push_constant) uniform Push {
     mat4 inv_view_proj;     // camera clip -> world (the host's matrices, Vulkan NDC)
@@ -101,7 +102,7 @@ void main() {
         }
     }
     // Counts add exactly in floats; the last batch scales them once.
-    if ((pc.flags & TSM_FIRST) == 0u) lit += imageLoad(mask, pixel).r;
-    if ((pc.flags & TSM_LAST) != 0u) lit = lit == pc.maps ? 1.0 : lit * pc.inv_maps;
+    if ((pc.flags & TSM_FIRST_BATCH) == 0u) lit += imageLoad(mask, pixel).r;
+    if ((pc.flags & TSM_LAST_BATCH) != 0u) lit = lit == pc.maps ? 1.0 : lit * pc.inv_maps;
     imageStore(mask, pixel, vec4(lit));
 }

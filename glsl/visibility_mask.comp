@@ -22,7 +22,8 @@ layout(set = 0, binding = 4) uniform usampler2D id_image;
 
 layout(constant_id = 0) const bool MOVING = false;
 
-const uint MASK_HAS_IDS = 4u;           // read the triangle-id image
+// MASK_* flags (MASK_HAS_IDS: read the triangle-id image), from src/technique/gpu_constants.rs.
+#include "gpu_constants.glsl"
 
 layout(push_constant) uniform Push {
     mat4 inv_view_proj;     // camera clip -> world (the host's matrices, Vulkan NDC)

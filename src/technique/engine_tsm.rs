@@ -282,12 +282,11 @@ struct TsmConstants {
 
 const _: () = assert!(std::mem::size_of::<TsmConstants>() == 128);
 
-/// `MASK_*` in glsl/mask_gbuffer.glsl.
-const HAS_NORMALS: u32 = 1;
-const NORMALS_UNORM: u32 = 2;
-/// `TSM_*` in glsl/tsm_mask.comp.
-const FIRST_BATCH: u32 = 0x10;
-const LAST_BATCH: u32 = 0x20;
+// The mask's flags, shared with glsl/tsm_mask.comp through the generated constants.
+use super::gpu_constants::{
+    MASK_HAS_NORMALS as HAS_NORMALS, MASK_NORMALS_UNORM as NORMALS_UNORM,
+    TSM_FIRST_BATCH as FIRST_BATCH, TSM_LAST_BATCH as LAST_BATCH,
+};
 
 /// Sampled reads of the mask shader (the working and static maps).
 const COMPUTE_SAMPLED_READ: Access = Access::COMPUTE_SAMPLED_READ;

@@ -74,8 +74,14 @@ pub struct Counters {
     pub reserved: [u32; 2],
 }
 
-/// The most fragments one shadow-map pixel may hold (`MAX_LIST_NODES` in shared.glsl).
-pub const MAX_LIST_NODES: u32 = 512;
+pub use super::gpu_constants::{
+    COUNT_INVALID, DRAW_CLOSED, DRAW_STATIC, DRAW_UNTRANSFORMED, FIXED_TIME, INDEX_NONE, INDEX_U16,
+    INDEX_U32, MAX_LIST_NODES,
+};
+use super::gpu_constants::{
+    DEPTH_AND_ID, DEPTH_ONLY, DRAW_RECORD_WORDS, SHADOW_NONE, SHADOW_PLAIN, SHADOW_TEMPORAL,
+    SHADOW_TSM,
+};
 
 /// The light a shadow map is rendered for, as shaders read it (`MsLight`, 192 bytes).
 #[repr(C)]
@@ -146,20 +152,6 @@ pub struct PlainMapHeader {
     /// ([`NO_TRIANGLE`] where none was drawn); 0 for depth-only maps.
     pub ids: u64,
 }
-
-/// `DrawRecord::index_kind`: no index stream.
-pub const INDEX_NONE: u32 = 0;
-/// `DrawRecord::index_kind`: 16-bit indices.
-pub const INDEX_U16: u32 = 1;
-/// `DrawRecord::index_kind`: 32-bit indices.
-pub const INDEX_U32: u32 = 2;
-/// Draw flag: the mesh is closed (a triangle facing away all frame may be culled).
-pub const DRAW_CLOSED: u32 = 1;
-/// Draw flag: both transforms are the identity (the shaders skip them).
-pub const DRAW_UNTRANSFORMED: u32 = 2;
-/// Draw flag: the same positions and transform at t = 0 and t = 1 (nothing moves; the exact
-/// construction rasterizes its triangles directly).
-pub const DRAW_STATIC: u32 = 4;
 
 /// One draw of host geometry as shaders read it (160 bytes). Built from a
 /// [`super::Draw`] by [`super::DrawList`].
@@ -261,21 +253,16 @@ pub struct PassConstants {
     pub reserved: u32,
 }
 
-/// `PassConstants::flags` of the lighting pass: every sample at `PassConstants::time`.
-pub const FIXED_TIME: u32 = 1;
-/// `PassConstants::flags`: this draw counts its invalid triangles (once per frame).
-pub const COUNT_INVALID: u32 = 4;
-
 /// What an ordinary shadow map stores per texel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u32)]
 pub enum DepthFormat {
     /// 8 bytes: a depth (D32) and a triangle id (R32_UINT colour attachment, written by a
     /// fragment shader): lets the shadow test skip the receiver's own triangle.
-    DepthAndId = 0,
+    DepthAndId = DEPTH_AND_ID,
     /// 4 bytes: depth alone (D32, no fragment shader), as the papers' time-dependent shadow
     /// maps store it.
-    DepthOnly = 1,
+    DepthOnly = DEPTH_ONLY,
 }
 
 impl DepthFormat {
@@ -294,13 +281,13 @@ impl DepthFormat {
 pub enum ShadowMode {
     /// The depth-time ranges of a [`super::TemporalShadowMap`] (and its coverage map, if the
     /// collection pass built one).
-    Temporal = 0,
+    Temporal = SHADOW_TEMPORAL,
     /// One ordinary shadow map ([`super::PlainShadowMap`]) for every sample.
-    Plain = 1,
+    Plain = SHADOW_PLAIN,
     /// No shadows at all.
-    None = 2,
+    None = SHADOW_NONE,
     /// Time-dependent shadow maps: a sample in time stratum s tests map s (depth only).
-    Tsm = 3,
+    Tsm = SHADOW_TSM,
 }
 
 /// The visibility buffer's "no triangle" id (and the plain shadow map's).
@@ -314,6 +301,7 @@ const _: () = {
     assert!(std::mem::size_of::<ShadowMapHeader>() == 304);
     assert!(std::mem::size_of::<PlainMapHeader>() == 224);
     assert!(std::mem::size_of::<DrawRecord>() == 160);
+    assert!(std::mem::size_of::<DrawRecord>() == 8 * DRAW_RECORD_WORDS as usize);
     assert!(std::mem::size_of::<CameraParams>() == 208);
     assert!(std::mem::size_of::<PassConstants>() == 56);
 };

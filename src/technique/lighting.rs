@@ -22,8 +22,8 @@ use crate::gpu::{
 use ash::vk;
 use std::sync::Arc;
 
-/// The most samples one geometry pass handles (bounded further by the device's buffer limit).
-pub const MAX_SAMPLES_PER_CHUNK: u32 = 16;
+// The most samples one geometry pass handles (bounded further by the device's buffer limit).
+pub use super::gpu_constants::MAX_SAMPLES_PER_CHUNK;
 
 /// The visibility buffer's size above which a frame's samples are split into more chunks
 /// (16 samples of 1024x768 take 96 MiB; at 4096x4096 one chunk holds 2 samples).

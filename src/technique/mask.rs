@@ -141,9 +141,9 @@ struct MaskConstants {
     time: f32,
 }
 
-const HAS_NORMALS: u32 = 1;
-const NORMALS_UNORM: u32 = 2;
-const HAS_IDS: u32 = 4;
+use super::gpu_constants::{
+    MASK_HAS_IDS as HAS_IDS, MASK_HAS_NORMALS as HAS_NORMALS, MASK_NORMALS_UNORM as NORMALS_UNORM,
+};
 
 /// The visibility-mask pass. Immutable after creation.
 pub struct VisibilityMaskPass {

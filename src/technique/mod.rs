@@ -23,6 +23,7 @@ mod draws;
 mod engine_tsm;
 mod gbuffer;
 mod generation;
+pub mod gpu_constants;
 pub mod gpu_types;
 mod image_output;
 mod image_pass;

@@ -86,8 +86,7 @@ impl StaticLayerSource {
     }
 }
 
-/// Texels on a side of the tiles the generation pass visits (`TILE_TEXELS` in shared.glsl).
-const TILE_TEXELS: u32 = 8;
+use super::gpu_constants::TILE_TEXELS;
 
 /// Bytes of a buffer of `count` elements, if the device can hold it: `limit` is what one
 /// descriptor can address, or (for buffers reached by address) one allocation.
