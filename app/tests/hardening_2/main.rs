@@ -8,6 +8,7 @@
 
 mod animate;
 mod gltf_keys;
+mod messages;
 mod outputs;
 
 use std::path::{Path, PathBuf};
