@@ -59,6 +59,7 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
     );
     let (bar, mut report) = progress_reporter();
     report("loading the scene");
+    crate::scene::memory::set_renderer(settings.method == crate::render::Method::Raytrace);
     let animated = match &render.scene_file {
         Some(path) => AnimatedScene::file(path)?,
         None => AnimatedScene::builtin(&render.scene, &builtin_options(&render.random))?,

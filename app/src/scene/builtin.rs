@@ -293,6 +293,9 @@ fn random_cubes(opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
              at most {MAX_SCENE_TRIANGLES} in a scene), got {cube_count}"
         )));
     }
+    let triangles = 12 * cube_count as u64 + RANDOM_CUBES_GROUND_TRIANGLES;
+    super::memory::check_triangles(triangles)
+        .map_err(|e| SceneError::Invalid(format!("random-cubes, {cube_count} cubes: {e}")))?;
     if !(0.0 <= speed_min && speed_min <= speed_max && speed_max <= MAX_CUBE_SPEED) {
         return Err(SceneError::Invalid(format!(
             "random-cubes: need 0 <= speed_min <= speed_max <= {MAX_CUBE_SPEED}, \

@@ -8,6 +8,7 @@
 
 mod animate;
 mod gltf_keys;
+mod memory;
 mod messages;
 mod outputs;
 
