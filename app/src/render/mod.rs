@@ -9,6 +9,7 @@
 pub mod deferred;
 mod empty_map;
 mod methods;
+mod through_light;
 pub mod receiver;
 pub mod stats;
 pub mod times;
@@ -370,6 +371,13 @@ impl<'a> Renderer<'a> {
                 shadow_size,
                 settings.prisms,
             ));
+        }
+        // The exact prisms' one known inexact case: said rather than passed off as exact.
+        if matches!(outcome, ShadowOutcome::Temporal { .. })
+            && settings.prisms == PrismConstruction::Exact
+            && let Some(w) = through_light::through_light_warning(scene)
+        {
+            warnings.push(w);
         }
         for w in &warnings {
             progress(&format!("warning: {w}"));

@@ -98,3 +98,58 @@ fn the_reference_is_never_filtered() {
     assert!(listing(&dir).is_empty());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A vertical quad around (0, `y`, 0) whose plane sweeps along x from -0.5 to 0.5.
+fn sweeping_quad(y: f32) -> String {
+    let (lo, hi) = (y - 1.0, y + 1.0);
+    let corners = |x: f32| {
+        format!(
+            "[[{x}, {lo}, -1], [{x}, {lo}, 1], [{x}, {hi}, 1], \
+              [{x}, {lo}, -1], [{x}, {hi}, 1], [{x}, {hi}, -1]]"
+        )
+    };
+    format!(
+        r#"{{ "name": "sweeper", "albedo": [0.5, 0.5, 0.5],
+             "mesh": {{ "triangles": {{ "t0": {}, "t1": {} }} }} }}"#,
+        corners(-0.5),
+        corners(0.5)
+    )
+}
+
+/// Case 6: a quad that sweeps through the spot light itself gets a straight-edged shadow
+/// split the ray tracer does not have, while the README says the exact prisms hold for any
+/// linear motion. Not exact yet: detected and stated, on stderr and in the JSON warnings;
+/// the same quad passing below the light is exact and gets no warning.
+#[test]
+fn a_quad_sweeping_through_the_light_is_warned_about() {
+    let dir = temp_dir("through-light");
+    for (y, expected) in [(5.0, true), (2.5, false)] {
+        let scene = dir.join(format!("sweep-{y}.json"));
+        std::fs::write(&scene, super::scene_json("sweep", &[sweeping_quad(y)])).unwrap();
+        let mut args = vec![
+            "render",
+            "--scene-file",
+            s(&scene),
+            "--json",
+            "--out",
+            s(&dir),
+        ];
+        args.extend(SMALL);
+        let r = run(&args);
+        assert!(r.succeeded(), "{}", r.stderr());
+        let json: serde_json::Value = serde_json::from_slice(&r.output.stdout).unwrap();
+        let warned = json["warnings"]
+            .as_array()
+            .expect("a warnings array")
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("pass through the spot light"));
+        assert_eq!(warned, expected, "quad at y = {y}: {json}");
+        assert_eq!(
+            r.stderr().contains("warning: 2 moving triangle(s)"),
+            expected,
+            "{}",
+            r.stderr()
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
