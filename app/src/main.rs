@@ -1,9 +1,7 @@
 use clap::Parser;
 use motion_shadows_app::cli::args::{Cli, Command, RenderArgs, SceneCommand};
-use motion_shadows_app::cli::render_cmd::builtin_options;
-use motion_shadows_app::output::write_file_atomically;
 use motion_shadows_app::scene::limits::MAX_ERROR_CHARS;
-use motion_shadows_app::scene::{BUILTIN_NAMES, builtin_file, clip, scene_to_json};
+use motion_shadows_app::scene::{BUILTIN_NAMES, clip};
 use std::process::ExitCode;
 
 fn run(cli: Cli) -> anyhow::Result<()> {
@@ -20,15 +18,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Some(Command::Scene(SceneCommand::Export { name, out, random })) => {
-            let json = scene_to_json(&builtin_file(&name, &builtin_options(&random))?);
-            match out {
-                // Through a temporary file: a failed export leaves an older file intact.
-                Some(path) => Ok(write_file_atomically(&path, json.as_bytes())?),
-                None => {
-                    println!("{json}");
-                    Ok(())
-                }
-            }
+            motion_shadows_app::cli::export_cmd::run(&name, out.as_deref(), &random)
         }
     }
 }

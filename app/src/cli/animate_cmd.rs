@@ -30,9 +30,9 @@ struct AnimateSummary {
     frames: u32,
     fps: f32,
     /// `--start`; null: the scene's own time (a file's models: each its own `time`).
-    start: Option<f32>,
+    start: Option<f64>,
     /// Seconds from frame 0's shutter opening to each frame's: i / fps.
-    frame_offsets_s: Vec<f32>,
+    frame_offsets_s: Vec<f64>,
     width: u32,
     height: u32,
     spp: u32,
@@ -59,11 +59,13 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
     );
     let (bar, mut report) = progress_reporter();
     report("loading the scene");
+    crate::scene::memory::set_renderer(settings.method == crate::render::Method::Raytrace);
     let animated = match &render.scene_file {
         Some(path) => AnimatedScene::file(path)?,
         None => AnimatedScene::builtin(&render.scene, &builtin_options(&render.random))?,
     };
-    let offset = |i: u32| i as f32 / args.fps;
+    // f64, as `AnimatedScene::at` wants: see there.
+    let offset = |i: u32| f64::from(i) / f64::from(args.fps);
     // Frame 0 checks the scene itself; the others differ from it only in the poses.
     let first = animated.at(args.start, 0.0)?;
     let name = first.name.clone();
@@ -82,7 +84,8 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
         .with_context(|| format!("creating {gif_name}"))?;
     let mut gif = GifEncoder::new_with_speed(BufWriter::new(gif_file), GIF_SPEED);
     gif.set_repeat(Repeat::Infinite)?;
-    let delay = Delay::from_saturating_duration(Duration::from_secs_f32(1.0 / args.fps));
+    // `parse_fps` keeps 1 / fps within what a GIF delay holds, so nothing saturates here.
+    let delay = Delay::from_saturating_duration(Duration::from_secs_f64(1.0 / f64::from(args.fps)));
 
     let mut exposure = render.exposure;
     let (mut gpu_ms, mut wall_ms) = (Vec::new(), Vec::new());

@@ -153,40 +153,61 @@ pub const MAX_ANIMATE_FRAMES: u32 = 600;
 /// Highest `animate --fps`: a GIF's frame delays are in hundredths of a second.
 pub const MAX_ANIMATE_FPS: f32 = 100.0;
 
+/// Longest frame a GIF can hold: its delays are 16-bit counts of hundredths of a second.
+pub const MAX_GIF_DELAY_S: f64 = 655.35;
+
+/// Lowest `animate --fps` (about 0.001526): one frame a `MAX_GIF_DELAY_S`. Slower rates
+/// cannot be written (the GIF would silently play faster), and ones near 0 made the delay
+/// overflow a `Duration` (a panic).
+pub const MIN_ANIMATE_FPS: f64 = 1.0 / MAX_GIF_DELAY_S;
+
 #[derive(Debug, Args, Clone)]
 #[command(mut_arg("scene", |a| a.default_value("walker-toward-light")))]
 pub struct AnimateArgs {
     /// Number of frames, 1 to 600.
     #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u32).range(1..=MAX_ANIMATE_FRAMES as i64))]
     pub frames: u32,
-    /// Frames per second: frame i's shutter opens at START + i / FPS; more than 0, at most 100.
+    /// Frames per second: frame i's shutter opens at START + i / FPS; from 0.001526 (one frame
+    /// in 655.35 s, the longest a GIF frame lasts) to 100.
     #[arg(long, default_value_t = 24.0, value_parser = parse_fps)]
     pub fps: f32,
     /// Animation time of frame 0's shutter opening, seconds (default: the scene's own time,
     /// for a scene file each glTF model's `time`).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_start)]
-    pub start: Option<f32>,
+    pub start: Option<f64>,
     #[command(flatten)]
     pub render: RenderArgs,
 }
 
-/// Parses `animate --fps`: a number in (0, 100].
+/// Parses `animate --fps`: a number in [`MIN_ANIMATE_FPS`, `MAX_ANIMATE_FPS`], both set by
+/// what a GIF's frame delay can say (clap puts the option's name before the message).
 pub fn parse_fps(text: &str) -> Result<f32, String> {
     let fps: f32 = text.trim().parse().map_err(|e| format!("{e}"))?;
-    if fps > 0.0 && fps <= MAX_ANIMATE_FPS {
+    if f64::from(fps) >= MIN_ANIMATE_FPS && fps <= MAX_ANIMATE_FPS {
         Ok(fps)
     } else {
-        Err(format!("must be more than 0 and at most {MAX_ANIMATE_FPS}"))
+        Err(format!(
+            "must be at least {MIN_ANIMATE_FPS:.6} (a GIF frame lasts at most {MAX_GIF_DELAY_S} \
+             s) and at most {MAX_ANIMATE_FPS} (its delays are in hundredths of a second)"
+        ))
     }
 }
 
-/// Parses `animate --start`: a finite number of seconds.
-pub fn parse_start(text: &str) -> Result<f32, String> {
-    let start: f32 = text.trim().parse().map_err(|e| format!("{e}"))?;
-    if start.is_finite() {
+/// Largest |`animate --start`|, seconds (~32 years). Frame times are f64, which resolves
+/// 1e9 s to 1.2e-7 s, far finer than a shutter; further out nothing is gained and the
+/// resolution keeps falling.
+pub const MAX_ANIMATE_START_S: f64 = 1e9;
+
+/// Parses `animate --start`: a finite number of seconds, |start| <= `MAX_ANIMATE_START_S`.
+pub fn parse_start(text: &str) -> Result<f64, String> {
+    let start: f64 = text.trim().parse().map_err(|e| format!("{e}"))?;
+    if start.is_finite() && start.abs() <= MAX_ANIMATE_START_S {
         Ok(start)
     } else {
-        Err("must be a finite number of seconds".into())
+        Err(format!(
+            "must be a finite number of seconds in [-{MAX_ANIMATE_START_S:e}, \
+             {MAX_ANIMATE_START_S:e}]"
+        ))
     }
 }
 

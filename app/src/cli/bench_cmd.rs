@@ -3,10 +3,14 @@
 use super::args::BenchArgs;
 use super::render_cmd::progress_reporter;
 use crate::bench::{PRESETS, Preset, Report, Scale, run_preset};
+use crate::output::{StagedFiles, write_file_atomically};
 use crate::render::Renderer;
+use anyhow::Context as _;
 use motion_shadows::gpu::{Context, ContextOptions};
 use serde::Serialize;
 use std::time::Instant;
+
+const SUMMARY_FILE: &str = "bench-summary.json";
 
 #[derive(Serialize)]
 struct Summary<'a> {
@@ -38,6 +42,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             })
             .collect::<anyhow::Result<_>>()?
     };
+    // The output directory is checked before the device is made and hours are spent: it is
+    // created, and a file can be made in it (the staging proves both, naming the path).
+    StagedFiles::prepare(&args.out, &[SUMMARY_FILE.to_owned()])
+        .with_context(|| format!("preparing the output directory {}", args.out.display()))?;
     let start = Instant::now();
     let (bar, mut report) = progress_reporter();
     let ctx = Context::headless(&ContextOptions::from_env())?;
@@ -73,7 +81,8 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         reports: &reports,
     };
     let json = serde_json::to_string_pretty(&summary)?;
-    std::fs::write(args.out.join("bench-summary.json"), &json)?;
+    let summary_path = args.out.join(SUMMARY_FILE);
+    write_file_atomically(&summary_path, json.as_bytes())?;
     if args.json {
         println!("{}", serde_json::to_string(&summary)?);
     } else {
@@ -103,7 +112,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
                 println!("  wrote {}", f.display());
             }
         }
-        println!("wrote {}", args.out.join("bench-summary.json").display());
+        println!("wrote {}", summary_path.display());
     }
     super::validation_clean(&ctx)
 }

@@ -141,6 +141,8 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         settings(method).validate()?;
     }
     let (bar, mut report) = progress_reporter();
+    // Sized for the costlier renderer of the run: the ray tracer when it is the truth.
+    crate::scene::memory::set_renderer(args.truth == super::args::TruthArg::Raytrace);
     let scene = match (&args.scene_file, &args.scene) {
         (Some(path), _) => load_scene_file(path)?,
         (None, name) => builtin(

@@ -39,6 +39,8 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         deferred(method).validate()?;
     }
     let (bar, mut report) = progress_reporter();
+    // The exact truth is ray traced: sized for the ray tracer.
+    crate::scene::memory::set_renderer(true);
     let scene = match (&args.scene_file, &args.scene) {
         (Some(path), _) => load_scene_file(path)?,
         (None, name) => builtin(

@@ -6,6 +6,7 @@ pub mod bench_cmd;
 pub mod compare_cmd;
 pub mod compare_deferred;
 pub mod deferred_cmd;
+pub mod export_cmd;
 pub mod render_cmd;
 pub mod summary;
 

@@ -24,6 +24,7 @@ pub fn builtin_options(random: &RandomCubesArgs) -> BuiltinOptions {
 }
 
 pub fn load_scene(args: &RenderArgs) -> anyhow::Result<Scene> {
+    crate::scene::memory::set_renderer(args.method == MethodArg::Raytrace);
     Ok(match &args.scene_file {
         Some(path) => load_scene_file(path)?,
         None => builtin(&args.scene, &builtin_options(&args.random))?,

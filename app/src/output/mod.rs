@@ -1,15 +1,17 @@
 //! Writing rendered pictures to disk: linear radiance as 32-bit float OpenEXR, and
 //! display-referred sRGB 8-bit PNG for quick viewing and for other pictures (heat maps).
 
+mod dir_lock;
 mod exr;
 mod png;
 mod staged;
+mod target;
 
 use std::path::{Path, PathBuf};
 
 pub use self::exr::{read_exr, write_exr};
 pub use self::png::{encode_srgb8, write_png, write_rgb8_png};
-pub use self::staged::{StagedFiles, write_file_atomically};
+pub use self::staged::{StagedFiles, write_file_atomically, write_through_temp};
 
 /// Why a picture could not be written or read.
 #[derive(Debug, thiserror::Error)]

@@ -4,7 +4,9 @@
 //!
 //! The output directory and the targets are checked when the run starts, before anything is
 //! rendered: the directory is created, each temporary file is created in it (proving it is
-//! writable), and a target that is a directory is an error. Temporary files are named
+//! writable), and a target that exists and is not a regular file (a directory, a device, a
+//! FIFO, a socket, a symbolic link) is an error (`target.rs`). The renames happen under a
+//! lock of the directory (`dir_lock.rs`), so two runs' sets never mix. Temporary files are named
 //! `.<target name>.partial-<pid>`; they are removed when the run fails, and a later run into
 //! the same directory removes those a killed run left (on Linux, where it can tell that
 //! their process is gone).
@@ -13,6 +15,8 @@ use std::fs::File;
 use std::path::{Path, PathBuf};
 
 use super::OutputError;
+use super::dir_lock::DirLock;
+use super::target::check_replaceable;
 
 /// The files of one run, staged in one directory.
 pub struct StagedFiles {
@@ -29,7 +33,7 @@ fn temp_name(name: &str, pid: u32) -> String {
 
 impl StagedFiles {
     /// Creates `dir` if needed and a temporary file for each of `names` (plain file names,
-    /// no separators). Fails before anything is written over when a target is a directory
+    /// no separators). Fails before anything is written when a target is not a regular file
     /// or the directory is not writable.
     pub fn prepare(dir: &Path, names: &[String]) -> Result<Self, OutputError> {
         std::fs::create_dir_all(dir).map_err(|e| OutputError::io(dir, e))?;
@@ -44,6 +48,7 @@ impl StagedFiles {
             dir: dir.to_path_buf(),
             committed: false,
         };
+        // Every target is checked before any temporary file is made.
         for name in names {
             let plain = Path::new(name)
                 .file_name()
@@ -54,13 +59,10 @@ impl StagedFiles {
                     std::io::Error::other("output names must be plain file names"),
                 ));
             }
+            check_replaceable(&dir.join(name))?;
+        }
+        for name in names {
             let target = dir.join(name);
-            if target.is_dir() {
-                return Err(OutputError::io(
-                    &target,
-                    std::io::Error::other("is a directory; it would not be replaced by the image"),
-                ));
-            }
             remove_stale_partials(dir, name);
             let temp = dir.join(temp_name(name, std::process::id()));
             // Registered first, so Drop removes it even if creating it half-fails.
@@ -90,13 +92,19 @@ impl StagedFiles {
         self.entries.iter().map(|(_, target)| target.as_path())
     }
 
-    /// Flushes every temporary file to disk, then renames each over its target. Returns the
-    /// targets. Until this is called nothing in the directory but the temporary files changed.
+    /// Flushes every temporary file to disk, then, holding the directory's lock, checks
+    /// the targets again (something may have appeared there while the run rendered) and
+    /// renames each over its target. Returns the targets. Until this is called nothing in
+    /// the directory but the temporary files changed.
     pub fn commit(mut self) -> Result<Vec<PathBuf>, OutputError> {
         for (temp, _) in &self.entries {
             File::open(temp)
                 .and_then(|f| f.sync_all())
                 .map_err(|e| OutputError::io(temp, e))?;
+        }
+        let _lock = DirLock::acquire(&self.dir)?;
+        for (_, target) in &self.entries {
+            check_replaceable(target)?;
         }
         for (temp, target) in &self.entries {
             std::fs::rename(temp, target).map_err(|e| OutputError::io(target, e))?;
@@ -148,6 +156,17 @@ fn remove_stale_partials(dir: &Path, name: &str) {
 /// Writes `bytes` to `path` through a temporary file and a rename: a failure leaves any
 /// previous file at `path` as it was.
 pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
+    write_through_temp(path, |temp| {
+        std::fs::write(temp, bytes).map_err(|e| OutputError::io(temp, e))
+    })
+}
+
+/// `write` fills a temporary file beside `path`, which is then renamed over it as a run's
+/// outputs are (a regular file or nothing is replaced; see `StagedFiles`).
+pub fn write_through_temp(
+    path: &Path,
+    write: impl FnOnce(&Path) -> Result<(), OutputError>,
+) -> Result<(), OutputError> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -164,8 +183,7 @@ pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> Result<(), OutputErro
         })?
         .to_owned();
     let staged = StagedFiles::prepare(dir, std::slice::from_ref(&name))?;
-    let temp = staged.temp_path(&name)?;
-    std::fs::write(temp, bytes).map_err(|e| OutputError::io(temp, e))?;
+    write(staged.temp_path(&name)?)?;
     staged.commit().map(|_| ())
 }
 

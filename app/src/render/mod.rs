@@ -7,7 +7,9 @@
 //! re-run if needed) -> lighting -> radiance read back -> [`RadianceImage`].
 
 pub mod deferred;
+mod empty_map;
 mod methods;
+mod through_light;
 pub mod receiver;
 pub mod stats;
 pub mod times;
@@ -171,6 +173,17 @@ impl RenderSettings {
             Method::Reference { slices } if !(1..=MAX_REFERENCE_SLICES).contains(&slices) => {
                 Err(Error::InvalidArgument(format!(
                     "reference slices {slices}: must be 1..={MAX_REFERENCE_SLICES}"
+                )))
+            }
+            // The reference is the papers' ground truth, unfiltered wherever it is used
+            // (`compare` and `bench` always render it so): a filtered one would not converge
+            // to the truth, and would not be the reference the documentation describes.
+            Method::Reference { .. } if self.shadow_filter != ShadowFilter::None => {
+                Err(Error::InvalidArgument(format!(
+                    "--shadow-filter {}: the brute-force reference stays unfiltered (it is the \
+                     ground truth the filters are measured against); use --shadow-filter none \
+                     with --method reference",
+                    stats::filter_name(self.shadow_filter)
                 )))
             }
             _ => Ok(()),
@@ -352,14 +365,19 @@ impl<'a> Renderer<'a> {
             && geometry.triangle_count > 0
             && !outcome.static_layer_drawn(ctx, inputs.light)?
         {
-            // The exact construction is not clipped by the light's near and far planes.
-            let outside = match settings.prisms {
-                PrismConstruction::Exact => "the light's cone or box",
-                PrismConstruction::Paper => "the light's cone or its near..far depth range",
-            };
-            warnings.push(format!(
-                "no triangle reaches the shadow map (all outside {outside}): the image has no shadows"
+            warnings.push(empty_map::empty_map_warning(
+                scene,
+                inputs.light,
+                shadow_size,
+                settings.prisms,
             ));
+        }
+        // The exact prisms' one known inexact case: said rather than passed off as exact.
+        if matches!(outcome, ShadowOutcome::Temporal { .. })
+            && settings.prisms == PrismConstruction::Exact
+            && let Some(w) = through_light::through_light_warning(scene)
+        {
+            warnings.push(w);
         }
         for w in &warnings {
             progress(&format!("warning: {w}"));

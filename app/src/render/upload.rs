@@ -46,19 +46,23 @@ pub struct SceneGeometry {
 impl SceneGeometry {
     /// Uploads `scene` (checking first that the device can hold it).
     pub fn upload(ctx: &Context, scene: &Scene) -> Result<Self> {
-        let vertices = flatten(scene);
+        // Checked from the count, before the records are built: a scene past the device's
+        // limit is refused without first taking that much host memory.
+        let count: u64 = scene.meshes.iter().map(|m| m.t0.len() as u64).sum();
+        let element_bytes = std::mem::size_of::<SceneVertex>() as u64;
         let limit = ctx.max_addressed_buffer_bytes();
-        let bytes = std::mem::size_of_val(vertices.as_slice()) as u64;
+        let bytes = count.saturating_mul(element_bytes);
         if bytes > limit {
             return Err(motion_shadows::Error::DeviceLimit {
                 what: "the vertex buffer",
-                count: vertices.len() as u64,
-                element_bytes: std::mem::size_of::<SceneVertex>() as u64,
+                count,
+                element_bytes,
                 needed_bytes: bytes,
                 limit_bytes: limit,
             }
             .into());
         }
+        let vertices = flatten(scene);
         let buffer =
             Buffer::with_data(ctx, "scene vertices", BufferUsage::HostToDevice, &vertices)?;
         let stride = std::mem::size_of::<SceneVertex>() as u32;

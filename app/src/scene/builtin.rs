@@ -50,8 +50,9 @@ pub struct BuiltinOptions {
     pub cube_size: f32,
     pub seed: u64,
     /// Scenes with an animated character: animation time at shutter open, seconds; `None`:
-    /// the scene's own (`builtin_animation_time`). Other scenes ignore it.
-    pub frame_time: Option<f32>,
+    /// the scene's own (`builtin_animation_time`). Other scenes ignore it. Double precision,
+    /// so a time far from 0 still tells frames 1/100 s apart (`game-level` loops forever).
+    pub frame_time: Option<f64>,
     /// Scenes with an animated character: levels of midpoint subdivision of the character
     /// (each multiplies its triangles by 4).
     pub subdivide: u32,
@@ -92,15 +93,21 @@ pub fn builtin_file(name: &str, opts: &BuiltinOptions) -> Result<SceneFile, Scen
         "random-cubes" => random_cubes(opts),
         "leg-toward-light" => Ok(leg_toward_light()),
         "walker-toward-light" => {
-            walker_toward_light(opts.frame_time.unwrap_or(WALKER_TIME), opts.subdivide)
+            // The glTF animations clamp to their keys, so single precision loses nothing.
+            walker_toward_light(frame_time(opts, WALKER_TIME) as f32, opts.subdivide)
         }
-        "fox-run" => fox_run(opts.frame_time.unwrap_or(FOX_TIME), opts.subdivide),
-        "game-level" => game_level(opts.frame_time.unwrap_or(GAME_TIME), opts.subdivide),
+        "fox-run" => fox_run(frame_time(opts, FOX_TIME) as f32, opts.subdivide),
+        "game-level" => game_level(frame_time(opts, GAME_TIME), opts.subdivide),
         _ => hard_scene(name).ok_or_else(|| SceneError::UnknownBuiltin {
             name: name.to_owned(),
             available: BUILTIN_NAMES.iter().map(|s| s.to_string()).collect(),
         }),
     }
+}
+
+/// `opts.frame_time`, or the scene's own time.
+fn frame_time(opts: &BuiltinOptions, own: f32) -> f64 {
+    opts.frame_time.unwrap_or(f64::from(own))
 }
 
 pub(super) fn translate(t: Vec3) -> TransformFile {
@@ -286,6 +293,9 @@ fn random_cubes(opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
              at most {MAX_SCENE_TRIANGLES} in a scene), got {cube_count}"
         )));
     }
+    let triangles = 12 * cube_count as u64 + RANDOM_CUBES_GROUND_TRIANGLES;
+    super::memory::check_triangles(triangles)
+        .map_err(|e| SceneError::Invalid(format!("random-cubes, {cube_count} cubes: {e}")))?;
     if !(0.0 <= speed_min && speed_min <= speed_max && speed_max <= MAX_CUBE_SPEED) {
         return Err(SceneError::Invalid(format!(
             "random-cubes: need 0 <= speed_min <= speed_max <= {MAX_CUBE_SPEED}, \

@@ -430,7 +430,8 @@ impl SceneFile {
             }
         }
         match self.known_triangles() {
-            Some(n) if n <= MAX_SCENE_TRIANGLES => Ok(()),
+            Some(n) if n <= MAX_SCENE_TRIANGLES => super::memory::check_triangles(n)
+                .map_err(|e| SceneError::Invalid(format!("the scene's objects: {e}"))),
             n => Err(SceneError::Invalid(format!(
                 "the objects would have {} triangles, more than the limit of {MAX_SCENE_TRIANGLES} \
                  (docs/scene-format.md, \"Limits\")",

@@ -20,7 +20,7 @@ enum Source {
     Builtin {
         name: String,
         options: BuiltinOptions,
-        time: f32,
+        time: f64,
     },
     File(SceneSource),
 }
@@ -47,7 +47,7 @@ impl AnimatedScene {
             source: Source::Builtin {
                 name: name.to_owned(),
                 options: options.clone(),
-                time,
+                time: f64::from(time),
             },
         })
     }
@@ -73,7 +73,10 @@ impl AnimatedScene {
 
     /// The scene with each animated model's shutter opening `offset` seconds after `start`,
     /// or after the model's own time (the built-in's, or the file's `time`) without one.
-    pub fn at(&self, start: Option<f32>, offset: f32) -> Result<Scene, SceneError> {
+    /// Times are f64 until each scene reduces them modulo its loops (`game-level`) or
+    /// clamps them to its keys (glTF models): in f32, `start` 1e8 plus a frame's offset
+    /// rounded to the same time for every frame.
+    pub fn at(&self, start: Option<f64>, offset: f64) -> Result<Scene, SceneError> {
         match &self.source {
             Source::Builtin {
                 name,
@@ -92,7 +95,7 @@ impl AnimatedScene {
                     if let MeshSpec::Gltf(g) = &mut object.mesh
                         && g.animation.is_some()
                     {
-                        g.time = start.unwrap_or(g.time) + offset;
+                        g.time = (start.unwrap_or(f64::from(g.time)) + offset) as f32;
                     }
                 }
                 source.to_scene()
@@ -105,7 +108,7 @@ impl AnimatedScene {
 mod tests {
     use super::*;
 
-    fn walker_at(time: f32) -> Scene {
+    fn walker_at(time: f64) -> Scene {
         let options = BuiltinOptions {
             frame_time: Some(time),
             ..Default::default()

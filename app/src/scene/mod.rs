@@ -18,6 +18,7 @@ mod game;
 pub mod gltf;
 mod hard;
 mod leg;
+pub mod memory;
 pub mod limits;
 mod name;
 mod obj;

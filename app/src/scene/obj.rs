@@ -46,6 +46,7 @@ pub(crate) fn load_obj_triangles(
              {MAX_SCENE_TRIANGLES} (docs/scene-format.md, \"Limits\")"
         )));
     }
+    super::memory::check_triangles(triangles).map_err(obj_error)?;
     let mut out = Vec::with_capacity(triangles as usize * 3);
     for model in &models {
         let mesh = &model.mesh;

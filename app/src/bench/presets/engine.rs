@@ -17,7 +17,6 @@ use super::{Bench, bench_error, builtin_scene, chart, ratio, series, target};
 use crate::chart::{LineChart, Table, fmt_num};
 use crate::compare::{MaskError, Rgb8Image, mask_error, side_by_side};
 use crate::error::Result;
-use crate::output::write_rgb8_png;
 use crate::render::deferred::{DeferredMethod, DeferredResult, DeferredSettings, render_truth};
 use crate::render::{Method, RenderSettings};
 use crate::scene::BuiltinOptions;
@@ -334,7 +333,7 @@ fn write_ghosting(
         .scale
         .out
         .join(format!("{}-{name}-ghosting.png", b.report.preset));
-    write_rgb8_png(&path, picture.width, picture.height, &picture.data).map_err(bench_error)?;
+    super::write_picture(&path, picture.width, picture.height, &picture.data)?;
     b.report.files.push(path);
     Ok(())
 }

@@ -7,7 +7,7 @@ use super::{Bench, bench_error, builtin_scene, chart, ratio, series, target};
 use crate::chart::{Table, fmt_num};
 use crate::compare::{Rgb8Image, rmse, side_by_side};
 use crate::error::Result;
-use crate::output::{RadianceImage, auto_exposure, write_rgb8_png};
+use crate::output::{RadianceImage, auto_exposure};
 use crate::render::{Method, RenderSettings};
 use crate::scene::{BuiltinOptions, HARD_NAMES};
 use motion_shadows::technique::PrismConstruction;
@@ -245,7 +245,7 @@ pub(super) fn hard_with(b: &mut Bench, params: &HardParams) -> Result<()> {
             .scale
             .out
             .join(format!("hard-{}.png", &name["hard-".len()..]));
-        write_rgb8_png(&path, side.width, side.height, &side.data).map_err(bench_error)?;
+        super::write_picture(&path, side.width, side.height, &side.data)?;
         b.report.files.push(path);
         push_ratios(b, params, name, &errors);
     }

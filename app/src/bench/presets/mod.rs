@@ -13,12 +13,13 @@ mod spp;
 
 use super::Scale;
 use super::measure::{Measurement, measure};
-use crate::chart::{LineChart, Series, Table, fmt_num, write_chart};
+use crate::chart::{LineChart, Series, Table, fmt_num, render};
 use crate::error::{Error, Result};
+use crate::output::{write_file_atomically, write_rgb8_png, write_through_temp};
 use crate::render::{Method, RenderSettings, Renderer};
 use crate::scene::{BuiltinOptions, Scene, builtin};
 use serde::Serialize;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Preset {
@@ -235,7 +236,8 @@ impl Bench<'_, '_> {
             .scale
             .out
             .join(format!("{}-{name}.csv", self.report.preset));
-        table.write(&path).map_err(bench_error)?;
+        // Through a temporary file, as every output: never over a device, FIFO or link.
+        write_file_atomically(&path, table.to_csv().as_bytes()).map_err(bench_error)?;
         self.report.files.push(path);
         Ok(())
     }
@@ -245,10 +247,17 @@ impl Bench<'_, '_> {
             .scale
             .out
             .join(format!("{}-{name}.png", self.report.preset));
-        write_chart(&path, chart, CHART_SIZE.0, CHART_SIZE.1).map_err(bench_error)?;
+        let image = render(chart, CHART_SIZE.0, CHART_SIZE.1).map_err(bench_error)?;
+        write_picture(&path, image.width, image.height, &image.data)?;
         self.report.files.push(path);
         Ok(())
     }
+}
+
+/// Writes an RGB8 PNG through a temporary file, as every output is: never over a device,
+/// FIFO or link, and a failure leaves an older file as it was.
+pub(super) fn write_picture(path: &Path, width: u32, height: u32, data: &[u8]) -> Result<()> {
+    write_through_temp(path, |temp| write_rgb8_png(temp, width, height, data)).map_err(bench_error)
 }
 
 pub(super) fn chart(title: &str, x: &str, y: &str, series: Vec<Series>) -> LineChart {
@@ -280,7 +289,8 @@ pub fn run_preset(
     scale: &Scale,
     progress: &mut dyn FnMut(&str),
 ) -> Result<Report> {
-    std::fs::create_dir_all(&scale.out).map_err(bench_error)?;
+    std::fs::create_dir_all(&scale.out)
+        .map_err(|e| bench_error(format!("cannot create {}: {e}", scale.out.display())))?;
     let mut bench = Bench {
         renderer,
         scale,

@@ -34,7 +34,7 @@ const LIGHT_INTENSITY: f32 = 300.0;
 const CAMERA_OFFSET: Vec3 = Vec3::new(0.4, 2.6, 3.8);
 const CAMERA_LOOK_OFFSET: Vec3 = Vec3::new(-0.3, 0.6, -5.0);
 
-pub(super) fn game_level(time: f32, subdivide: u32) -> Result<SceneFile, SceneError> {
+pub(super) fn game_level(time: f64, subdivide: u32) -> Result<SceneFile, SceneError> {
     let mut objects = level::level();
     objects.extend(movers::movers(time, subdivide)?);
     let walker = walker_position(time);
@@ -81,7 +81,7 @@ mod tests {
         "thrown-crate-1",
     ];
 
-    fn scene_at(time: Option<f32>) -> Scene {
+    fn scene_at(time: Option<f64>) -> Scene {
         let options = BuiltinOptions {
             frame_time: time,
             ..Default::default()
@@ -135,8 +135,8 @@ mod tests {
     #[test]
     fn deterministic() {
         assert_eq!(scene_at(None), scene_at(None));
-        assert_eq!(scene_at(None), scene_at(Some(GAME_TIME)));
-        assert_ne!(scene_at(None), scene_at(Some(GAME_TIME + 0.1)));
+        assert_eq!(scene_at(None), scene_at(Some(f64::from(GAME_TIME))));
+        assert_ne!(scene_at(None), scene_at(Some(f64::from(GAME_TIME) + 0.1)));
     }
 
     /// A game's motion over a 180-degree shutter at 30 fps: every mover visibly blurred
@@ -166,7 +166,7 @@ mod tests {
     fn the_planted_foot_stays_on_the_floor() {
         let mut velocities = Vec::new();
         for frame in 0..48 {
-            let s = scene_at(Some(frame as f32 / 24.0));
+            let s = scene_at(Some(f64::from(frame) / 24.0));
             let m = mesh(&s, "walker");
             let sole: Vec<Vec3> =
                 m.t0.iter()
@@ -189,7 +189,7 @@ mod tests {
     #[test]
     fn movers_stay_lit_and_in_the_room_at_every_time() {
         for step in 0..=32 {
-            let time = step as f32 * 0.25;
+            let time = f64::from(step) * 0.25;
             let s = scene_at(Some(time));
             for name in MOVERS {
                 let m = mesh(&s, name);
@@ -270,7 +270,7 @@ mod tests {
             let d = light.position - p;
             albedo / std::f32::consts::PI * light.intensity * d.normalize().y / d.length_squared()
         };
-        let at_walker = radiance(walker_position(GAME_TIME));
+        let at_walker = radiance(walker_position(f64::from(GAME_TIME)));
         let far_corner = radiance(Vec3::new(-ROOM_HALF_X, 0.0, ROOM_BACK_Z));
         assert!((0.3..1.0).contains(&at_walker), "{at_walker}");
         assert!((0.04..0.2).contains(&far_corner), "{far_corner}");

@@ -87,13 +87,16 @@ impl Throw {
         (centre, self.spin_deg_per_s * tau)
     }
 
-    /// Seconds since the latest throw at scene time `time`.
-    pub(super) fn since_throw(&self, time: f32) -> f32 {
-        (time + self.phase).rem_euclid(self.flight())
+    /// Seconds since the latest throw at scene time `time` (reduced in f64: see `movers`).
+    pub(super) fn since_throw(&self, time: f64) -> f32 {
+        (time + f64::from(self.phase)).rem_euclid(f64::from(self.flight())) as f32
     }
 }
 
-pub(super) fn movers(time: f32, subdivide: u32) -> Result<Vec<ObjectFile>, SceneError> {
+/// `time` is f64 and each motion reduces it modulo its own loop before anything is single
+/// precision: an f32 time far from 0 (`animate --start 1e8`) steps by seconds, so
+/// consecutive frames came out the same.
+pub(super) fn movers(time: f64, subdivide: u32) -> Result<Vec<ObjectFile>, SceneError> {
     let mut objects = vec![walker(time, subdivide)?];
     objects.extend(spinner_arms(time));
     for (i, throw) in THROWS.iter().enumerate() {
@@ -103,18 +106,15 @@ pub(super) fn movers(time: f32, subdivide: u32) -> Result<Vec<ObjectFile>, Scene
 }
 
 /// Where the walker's root is at `time`: along its path, looping.
-pub(super) fn walker_position(time: f32) -> Vec3 {
-    let length = WALK_Z.0 - WALK_Z.1;
-    Vec3::new(
-        WALK_X,
-        0.0,
-        WALK_Z.0 - (WALK_SPEED * time).rem_euclid(length),
-    )
+pub(super) fn walker_position(time: f64) -> Vec3 {
+    let length = f64::from(WALK_Z.0 - WALK_Z.1);
+    let along = (f64::from(WALK_SPEED) * time).rem_euclid(length) as f32;
+    Vec3::new(WALK_X, 0.0, WALK_Z.0 - along)
 }
 
 /// CesiumMan at `time` into its looped walk, carried along its path over the shutter (the
 /// whole path is shifted, not wrapped, within one shutter, so the motion stays linear).
-fn walker(time: f32, subdivide: u32) -> Result<ObjectFile, SceneError> {
+fn walker(time: f64, subdivide: u32) -> Result<ObjectFile, SceneError> {
     let at = walker_position(time);
     let mut walker = animated_object(
         "walker",
@@ -122,7 +122,7 @@ fn walker(time: f32, subdivide: u32) -> Result<ObjectFile, SceneError> {
         CESIUM_MAN,
         &GltfOptions {
             animation: Some(AnimationRef::Index(0)),
-            time: time.rem_euclid(WALK_CYCLE),
+            time: time.rem_euclid(f64::from(WALK_CYCLE)) as f32,
             shutter: SHUTTER,
             subdivide,
         },
@@ -138,9 +138,9 @@ fn walker(time: f32, subdivide: u32) -> Result<ObjectFile, SceneError> {
 }
 
 /// The trap's two crossed arms, turned by the spin at shutter open and close.
-fn spinner_arms(time: f32) -> Vec<ObjectFile> {
+fn spinner_arms(time: f64) -> Vec<ObjectFile> {
     let centre = Vec3::new(SPINNER_AT.x, SPINNER_POST_HEIGHT - ARM.y, SPINNER_AT.y);
-    let start = (SPIN_DEG_PER_S * time).rem_euclid(360.0);
+    let start = (f64::from(SPIN_DEG_PER_S) * time).rem_euclid(360.0) as f32;
     let pose = |deg: f32| TransformFile {
         translation: Some(centre),
         rotation_axis: Some(Vec3::Y),
@@ -171,7 +171,7 @@ fn spinner_arms(time: f32) -> Vec<ObjectFile> {
 /// A crate along its throw at shutter open and close. A shutter that opens just before the
 /// landing finishes the same flight, so the motion stays one straight line per vertex (the
 /// crate then dips into the floor by at most a shutter's fall, ~16 cm).
-fn thrown_crate(i: usize, throw: &Throw, time: f32) -> ObjectFile {
+fn thrown_crate(i: usize, throw: &Throw, time: f64) -> ObjectFile {
     let tau = throw.since_throw(time);
     let pose = |tau: f32| {
         let (centre, deg) = throw.at(tau);

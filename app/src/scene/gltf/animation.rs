@@ -25,11 +25,17 @@ pub(super) fn channels(
         return Ok(Vec::new());
     };
     let animation = find(document, chosen)?;
-    let label = |i: usize| format!("animation {} channel {i}", animation.index());
     let mut out = Vec::new();
     for (i, channel) in animation.channels().enumerate() {
         let sampler = channel.sampler();
         let property = channel.target().property();
+        let path = match property {
+            Property::Translation => "translation",
+            Property::Rotation => "rotation",
+            Property::Scale => "scale",
+            Property::MorphTargetWeights => "weights",
+        };
+        let label = |i: usize| format!("animation {} channel {i} ({path})", animation.index());
         let interpolation = match sampler.interpolation() {
             gltf::animation::Interpolation::Step => Interpolation::Step,
             gltf::animation::Interpolation::Linear => Interpolation::Linear,
@@ -48,6 +54,10 @@ pub(super) fn channels(
         };
         let values = read_floats(&sampler.output(), buffers, "animation output", &[shape])?;
         let keys = Keyframes::new(times, values, interpolation, width)
+            .and_then(|k| match property {
+                Property::Rotation => k.check_rotations().map(|()| k),
+                _ => Ok(k),
+            })
             .map_err(|e| format!("{}: {e}", label(i)))?;
         out.push(Channel {
             node: channel.target().node().index(),

@@ -109,6 +109,7 @@ fn load_from(
              {MAX_SCENE_TRIANGLES} (docs/scene-format.md, \"Limits\")"
         )));
     }
+    super::memory::check_triangles(triangles).map_err(error)?;
     let model = evaluate::Model::new(source, options).map_err(error)?;
     let open = model.posed(options.time);
     let close = model.posed(options.time + options.shutter);

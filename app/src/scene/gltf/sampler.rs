@@ -52,12 +52,37 @@ impl Keyframes {
                 per_key * width.max(1)
             ));
         }
+        // Checked here, where every channel's values pass: sampling would carry a NaN into
+        // a translation (refused later as a posed vertex), but a rotation's normalisation
+        // turned it into no rotation at all, a wrong image without a word.
+        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+            return Err(format!(
+                "animation sampler output value {i} (key {}) is {}, not a finite number",
+                i / (per_key * width),
+                values[i]
+            ));
+        }
         Ok(Keyframes {
             times,
             values,
             width,
             interpolation,
         })
+    }
+
+    /// Refuses rotation keys of length 0, which have no direction to normalise to (they
+    /// were taken as no rotation). Other lengths are normalised, as viewers do.
+    pub(super) fn check_rotations(&self) -> Result<(), String> {
+        match (0..self.times.len()).find(|&k| {
+            let v = self.value(k);
+            Quat::from_xyzw(v[0], v[1], v[2], v[3]).length() < 1e-6
+        }) {
+            Some(k) => Err(format!(
+                "rotation key {k} is {:?}, not a unit quaternion (length 0)",
+                self.value(k)
+            )),
+            None => Ok(()),
+        }
     }
 
     /// Group `g` of key `k` (for CUBICSPLINE: 0 in-tangent, 1 value, 2 out-tangent).

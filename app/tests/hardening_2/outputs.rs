@@ -1,0 +1,126 @@
+//! Outputs: what a run may replace, and how two runs share an output directory.
+
+use std::io::{BufRead as _, BufReader};
+use std::path::Path;
+
+use super::{SMALL, listing, run, s, spawn, temp_dir};
+
+/// A FIFO at `path` (mkfifo(1): no root needed).
+fn mkfifo(path: &Path) {
+    let status = std::process::Command::new("mkfifo")
+        .arg(path)
+        .status()
+        .unwrap();
+    assert!(status.success());
+}
+
+fn is_fifo(path: &Path) -> bool {
+    use std::os::unix::fs::FileTypeExt as _;
+    std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_fifo())
+}
+
+/// Case 3: `scene export --out PATH` renamed its staged file over whatever was at PATH: a
+/// device (as root, `--out /dev/null` would replace the system's), a FIFO, a symbolic link
+/// such as /dev/stdout. Every output commit refuses a target that exists and is not a
+/// regular file, naming it, before anything is written; the thing there is left as it was.
+#[test]
+fn outputs_never_replace_links_fifos_or_devices() {
+    let dir = temp_dir("non-regular");
+    let kept = dir.join("kept.json");
+    std::fs::write(&kept, "keep me").unwrap();
+    let link = dir.join("link.json");
+    std::os::unix::fs::symlink(&kept, &link).unwrap();
+    let fifo = dir.join("fifo.json");
+    mkfifo(&fifo);
+    for (path, kind) in [(&link, "symbolic link"), (&fifo, "FIFO")] {
+        let r = run(&["scene", "export", "cubes-toward-light", "--out", s(path)]);
+        r.refused(&[s(path), kind, "not a regular file"]);
+    }
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert_eq!(std::fs::read_to_string(&kept).unwrap(), "keep me");
+    assert!(is_fifo(&fifo), "the FIFO was replaced");
+
+    // The same rule for a render's files: refused before rendering, nothing replaced.
+    let out = dir.join("out");
+    std::fs::create_dir(&out).unwrap();
+    let png = out.join("cubes-toward-light-temporal.png");
+    mkfifo(&png);
+    let mut args = vec!["render", "--out", s(&out)];
+    args.extend(SMALL);
+    let r = run(&args);
+    r.refused(&["cubes-toward-light-temporal.png", "FIFO"]);
+    assert!(
+        !r.stderr().contains("lighting pass"),
+        "refused after rendering"
+    );
+    assert!(is_fifo(&png));
+    assert_eq!(listing(&out), ["cubes-toward-light-temporal.png"]);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Case 8: two runs committing into one `--out` could leave one's EXR beside the other's
+/// PNG: the files were renamed one by one with no lock. A run renames its set holding a
+/// lock (flock) of the output directory now. Here the test holds that lock: the run must
+/// wait for it, saying so, and write nothing until it is released.
+#[test]
+fn a_run_commits_its_files_only_under_the_output_directorys_lock() {
+    let out = temp_dir("lock");
+    let lock = std::fs::File::open(&out).unwrap();
+    {
+        use std::os::fd::AsRawFd as _;
+        // SAFETY: flock on a descriptor this test owns.
+        assert_eq!(unsafe { libc::flock(lock.as_raw_fd(), libc::LOCK_EX) }, 0);
+    }
+    let mut args = vec!["render", "--method", "raytrace", "--out", s(&out)];
+    args.extend(SMALL);
+    let mut child = spawn(&args);
+    let stderr = BufReader::new(child.stderr.take().unwrap());
+    let mut seen = Vec::new();
+    let mut waiting = false;
+    let mut lines = stderr.lines();
+    for line in lines.by_ref() {
+        let line = line.unwrap();
+        waiting = line.contains("waiting for another run");
+        seen.push(line);
+        if waiting {
+            break;
+        }
+    }
+    assert!(waiting, "the run never waited for the lock: {seen:?}");
+    // Rendered and staged, but nothing committed while the lock is held.
+    assert!(
+        listing(&out).iter().all(|n| n.starts_with('.')),
+        "{:?}",
+        listing(&out)
+    );
+    drop(lock);
+    let rest: Vec<String> = lines.map(Result::unwrap).collect();
+    let status = child.wait().unwrap();
+    assert!(status.success(), "{seen:?} {rest:?}");
+    assert_eq!(
+        listing(&out),
+        [
+            "cubes-toward-light-raytrace.exr",
+            "cubes-toward-light-raytrace.png"
+        ]
+    );
+    std::fs::remove_dir_all(&out).ok();
+}
+
+/// Case 11, second half: `bench --out` errors did not name the path. It is checked before
+/// the device is made now, and named.
+#[test]
+fn bench_names_an_output_directory_it_cannot_use() {
+    let dir = temp_dir("bench-out");
+    let file = dir.join("a-file");
+    std::fs::write(&file, "not a directory").unwrap();
+    let out = file.join("bench");
+    let r = run(&["bench", "--quick", "--preset", "spp", "--out", s(&out)]);
+    r.refused(&[s(&out)]);
+    std::fs::remove_dir_all(&dir).ok();
+}
