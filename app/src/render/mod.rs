@@ -9,9 +9,9 @@
 pub mod deferred;
 mod empty_map;
 mod methods;
-mod through_light;
 pub mod receiver;
 pub mod stats;
+mod through_light;
 pub mod times;
 pub mod upload;
 
