@@ -766,3 +766,54 @@ fn animate_refuses_bad_requests_before_rendering() {
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), 2);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `animate --frame deferred` renders the engine's frame: frame 0 (the scene's own time) is
+/// the PNG `render --frame deferred` writes for the same scene and settings, byte for byte,
+/// and the summary names the frame and the deferred method. (Before, animate ignored
+/// `--frame` and rendered the forward frame.)
+#[test]
+fn animate_renders_the_deferred_frame() {
+    let out = temp_dir("animate-deferred");
+    let common = [
+        "--scene",
+        "game-level",
+        "--frame",
+        "deferred",
+        "--method",
+        "tsm",
+        "--tsm-maps",
+        "4",
+        "--width",
+        "160",
+        "--height",
+        "90",
+        "--shadow-size",
+        "256x256",
+        "--exposure",
+        "0",
+        "--json",
+    ];
+    let animate = motion_shadows(
+        &[&["animate", "--frames", "2"], &common[..]].concat(),
+        &out.join("animate"),
+    );
+    let summary: serde_json::Value = serde_json::from_slice(&animate.stdout).unwrap();
+    assert_eq!(summary["frame"], "deferred");
+    assert_eq!(summary["method"], "tsm-4");
+    let render = motion_shadows(&[&["render"], &common[..]].concat(), &out.join("render"));
+    let rendered: serde_json::Value = serde_json::from_slice(&render.stdout).unwrap();
+    let png = |v: &serde_json::Value| {
+        v["files"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f.as_str().unwrap().to_owned())
+            .find(|f| f.ends_with(".png") && !f.ends_with("-mask.png"))
+            .unwrap()
+    };
+    let first = std::fs::read(png(&summary)).unwrap();
+    assert_eq!(first, std::fs::read(png(&rendered)).unwrap());
+    let second = std::fs::read(summary["files"][1].as_str().unwrap()).unwrap();
+    assert_ne!(first, second, "game-level moves between frames");
+    std::fs::remove_dir_all(&out).ok();
+}

@@ -10,13 +10,16 @@ use image::codecs::gif::{GifEncoder, Repeat};
 use image::{Delay, Frame, RgbaImage};
 use serde::Serialize;
 
-use super::args::AnimateArgs;
+use super::args::{AnimateArgs, FrameArg};
+use super::deferred_cmd::deferred_settings;
 use super::render_cmd::{
     builtin_options, commit_outputs, device_for, progress_reporter, render_frame, render_settings,
 };
 use crate::output::{RadianceImage, StagedFiles, auto_exposure, encode_srgb8, write_png};
 use crate::render::Renderer;
+use crate::render::deferred::{DeferredSettings, render_truth};
 use crate::scene::AnimatedScene;
+use crate::scene::Scene;
 
 /// GIF colour quantisation speed (1 best, 30 fastest): 10 is the encoder's recommended
 /// trade-off, seconds per frame faster than 1 at 1024x768.
@@ -26,6 +29,9 @@ const GIF_SPEED: i32 = 10;
 #[derive(Debug, Serialize)]
 struct AnimateSummary {
     scene: String,
+    /// `forward` or `deferred` (`--frame`).
+    frame: &'static str,
+    /// Deferred: `temporal`, `tsm-N`, `plain` or `raytrace`.
     method: String,
     frames: u32,
     fps: f32,
@@ -37,7 +43,8 @@ struct AnimateSummary {
     height: u32,
     spp: u32,
     exposure: f32,
-    /// Sum of each frame's GPU pass times (CPU times for the ray tracer).
+    /// Sum of each frame's GPU pass times (CPU times for the ray tracer; deferred: the shadow
+    /// pass and the mask).
     frame_gpu_ms: Vec<f64>,
     frame_wall_ms: Vec<f64>,
     files: Vec<String>,
@@ -57,6 +64,10 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
         render.runs == 1,
         "--runs is not available with animate (it renders each frame once)"
     );
+    let deferred = match render.frame {
+        FrameArg::Deferred => Some(deferred_settings(render)?),
+        FrameArg::Forward => None,
+    };
     let (bar, mut report) = progress_reporter();
     report("loading the scene");
     crate::scene::memory::set_renderer(settings.method == crate::render::Method::Raytrace);
@@ -103,20 +114,21 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
                 report(&format!("frame {}/{n}: {m}", i + 1))
             }
         };
-        let result = render_frame(renderer.as_mut(), &scene, &settings, &mut frame_report)?;
+        let frame = animate_frame(
+            renderer.as_mut(),
+            &scene,
+            &settings,
+            deferred.as_ref(),
+            &mut frame_report,
+        )?;
         // One exposure for all frames (the first's unless given), so the animation does not
         // flicker as the automatic one follows each frame's highlights.
-        let exposure = *exposure.get_or_insert_with(|| auto_exposure(&result.image));
-        write_png(staged.temp_path(png)?, &result.image, exposure)?;
-        gif.encode_frame(Frame::from_parts(
-            rgba(&result.image, exposure),
-            0,
-            0,
-            delay,
-        ))
-        .with_context(|| format!("encoding frame {i} of {gif_name}"))?;
-        gpu_ms.push(result.stats.frame_ms);
-        wall_ms.push(result.stats.wall_ms);
+        let exposure = *exposure.get_or_insert_with(|| auto_exposure(&frame.image));
+        write_png(staged.temp_path(png)?, &frame.image, exposure)?;
+        gif.encode_frame(Frame::from_parts(rgba(&frame.image, exposure), 0, 0, delay))
+            .with_context(|| format!("encoding frame {i} of {gif_name}"))?;
+        gpu_ms.push(frame.gpu_ms);
+        wall_ms.push(frame.wall_ms);
     }
     drop(renderer);
     drop(gif);
@@ -124,7 +136,14 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
     let files = commit_outputs(staged, bar)?;
     let summary = AnimateSummary {
         scene: name,
-        method: settings.method.name().to_owned(),
+        frame: if deferred.is_some() {
+            "deferred"
+        } else {
+            "forward"
+        },
+        method: deferred
+            .as_ref()
+            .map_or_else(|| settings.method.name().to_owned(), |d| d.method.name()),
         frames: args.frames,
         fps: args.fps,
         start: args.start,
@@ -159,6 +178,41 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
         println!("PNG exposure: {:+.2} stops", summary.exposure);
     }
     ctx.as_ref().map_or(Ok(()), super::validation_clean)
+}
+
+/// One rendered frame of the animation.
+struct AnimatedFrame {
+    image: RadianceImage,
+    gpu_ms: f64,
+    wall_ms: f64,
+}
+
+/// Frame `scene` as `--frame` says: the stochastic forward frame, or the engine's deferred
+/// frame (on `renderer`, or without one the ray tracer's exact truth).
+fn animate_frame(
+    renderer: Option<&mut Renderer>,
+    scene: &Scene,
+    settings: &crate::render::RenderSettings,
+    deferred: Option<&DeferredSettings>,
+    report: &mut dyn FnMut(&str),
+) -> anyhow::Result<AnimatedFrame> {
+    let Some(deferred) = deferred else {
+        let result = render_frame(renderer, scene, settings, report)?;
+        return Ok(AnimatedFrame {
+            image: result.image,
+            gpu_ms: result.stats.frame_ms,
+            wall_ms: result.stats.wall_ms,
+        });
+    };
+    let result = match renderer {
+        Some(renderer) => renderer.render_deferred(scene, settings, deferred, report)?,
+        None => render_truth(scene, settings, deferred, report)?,
+    };
+    Ok(AnimatedFrame {
+        image: result.image,
+        gpu_ms: result.shadow_and_mask_ms,
+        wall_ms: result.wall_ms,
+    })
 }
 
 /// The frame as the PNG shows it, with an opaque alpha channel for the GIF encoder.
