@@ -102,6 +102,12 @@ def build_args(test):
     return (args[: args.index("--")] if "--" in args else args) + ["--no-run"]
 
 
+def tests_of(mutant):
+    """The `cargo test` argument strings of a break (one string or a list, run in order)."""
+    test = mutant["test"]
+    return [test] if isinstance(test, str) else test
+
+
 def failed_tests(output):
     return re.findall(r"^test (\S+) \.\.\. FAILED", output, re.MULTILINE)
 
@@ -133,7 +139,7 @@ def main():
         sys.exit(f"uncommitted changes in files the breaks edit:\n{dirty}")
 
     if not opts.no_baseline:
-        for test in sorted({m["test"] for m in mutants}):
+        for test in sorted({t for m in mutants for t in tests_of(m)}):
             status, out, secs = cargo(test.split(), opts.timeout)
             if status != 0:
                 sys.stdout.write(out[-4000:])
@@ -153,22 +159,25 @@ def main():
                 results.append((m, "stale", str(e)))
                 print(f"    stale: {e}")
                 continue
+            verdict, detail, secs = "SURVIVED", "all tests passed", 0.0
             try:
-                status, out, _ = cargo(build_args(m["test"]))
-                if status != 0:
-                    results.append((m, "unbuildable", out[-300:].strip()))
-                    print(f"    does not build:\n{out[-2000:]}")
-                    continue
-                status, out, secs = cargo(m["test"].split(), opts.timeout)
+                for test in tests_of(m):
+                    status, out, _ = cargo(build_args(test))
+                    if status != 0:
+                        verdict, detail = "unbuildable", out[-300:].strip()
+                        print(f"    does not build:\n{out[-2000:]}")
+                        break
+                    status, out, took = cargo(test.split(), opts.timeout)
+                    secs += took
+                    if status is None:
+                        verdict, detail = "killed", f"timeout after {opts.timeout} s"
+                        break
+                    if status != 0:
+                        names = failed_tests(out)
+                        verdict, detail = "killed", ", ".join(names) or "the test run failed"
+                        break
             finally:
                 restore(originals)
-            if status is None:
-                verdict, detail = "killed", f"timeout after {opts.timeout} s"
-            elif status != 0:
-                names = failed_tests(out)
-                verdict, detail = "killed", ", ".join(names) or "the test run failed"
-            else:
-                verdict, detail = "SURVIVED", "all tests passed"
             results.append((m, verdict, detail))
             print(f"    {verdict}: {detail} ({secs:.0f} s)", flush=True)
     except KeyboardInterrupt:
