@@ -96,7 +96,10 @@ fn crossing_vertex_times_match_the_oracle() {
             }
             let want = covered_intervals(&ray, &tri);
             let ends = want.iter().filter_map(|&r| inner_end(r));
-            if ends.clone().any(|t| t < END_MARGIN || t > 1.0 - END_MARGIN) {
+            if ends
+                .clone()
+                .any(|t| !(END_MARGIN..=1.0 - END_MARGIN).contains(&t))
+            {
                 continue;
             }
             let got: Vec<Range> = map.ranges_at(x, y);
