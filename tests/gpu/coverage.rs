@@ -7,7 +7,7 @@ use crate::support::gpu::{
 };
 use glam::{Quat, Vec2, Vec3};
 use motion_shadows_app::render::{Method, RenderResult, RenderSettings};
-use motion_shadows_app::scene::{Scene, box_mesh, plane_mesh};
+use motion_shadows_app::scene::{Light, Scene, box_mesh, plane_mesh};
 
 /// The temporal method keeps static triangles in its lists here, as the coverage map's
 /// passes do, so that the two store the same fragments.
@@ -247,5 +247,51 @@ fn random_cubes_store_fewer_ranges_and_render_the_same() {
         differ * 1000 <= pixels,
         "{differ} of {pixels} pixels differ"
     );
+    assert_no_validation_messages(&ctx);
+}
+
+/// A triangulated ground sinking away from an overhead directional light, with nothing above
+/// it: the coverage map marks its texels with its own triangles, and a sample on another of
+/// its triangles in a marked texel (within a texel of the marked one's edges) is behind the
+/// mark only by the mark's depth at the sample's own time. Every pixel whose samples all see
+/// the ground must get the unshadowed Lambert radiance, albedo / pi times the irradiance (the
+/// ground faces the light, no ambient). Fails when the covering triangle's depth is taken at
+/// t = 0 instead of at the sample's time.
+#[test]
+fn a_surface_sinking_under_its_own_marks_stays_lit() {
+    let ctx = context();
+    let ground0: Vec<Vec3> = translated(&plane_mesh(Vec2::splat(12.0), 8), Vec3::Y * 2.0);
+    let ground1 = translated(&ground0, Vec3::NEG_Y * 2.0);
+    let s = scene(
+        "sinking-ground",
+        overhead_directional(8.0),
+        vec![mesh("ground", ground0, ground1, false)],
+    );
+    let result = render(&ctx, &s, &settings(Method::Coverage));
+    let stats = &result.stats;
+    assert!(
+        stats.ranges < stats.ranges_without_coverage,
+        "nothing was covered"
+    );
+    let Light::Directional(light) = &s.light else {
+        unreachable!("a directional light")
+    };
+    let unshadowed = 0.8 / std::f32::consts::PI * light.irradiance;
+    let mut checked = 0;
+    for (i, &share) in result.moving_coverage.iter().enumerate() {
+        if share < 1.0 {
+            continue;
+        }
+        checked += 1;
+        for c in 0..3 {
+            let v = result.image.rgb[3 * i + c];
+            assert!(
+                (v - unshadowed).abs() <= 1e-4 * unshadowed,
+                "pixel {i}: radiance {v}, unshadowed {unshadowed}"
+            );
+        }
+    }
+    eprintln!("{checked} pixels on the ground, all unshadowed");
+    assert!(checked > 5000, "{checked}");
     assert_no_validation_messages(&ctx);
 }

@@ -1589,6 +1589,73 @@ fn a_receivers_own_triangle_never_shadows_it() {
     host.assert_clean_teardown();
 }
 
+/// The own-triangle rule in the lit fraction: points 0.2 below the slow wide caster (the only
+/// one above them), at texel centres along a row across its path. The square's two triangles
+/// pass over such a point one after the other (its diagonal splits each pass), so with the
+/// id of one of them `ms_lit_fraction` is 1 minus the time the other covers the point, and
+/// with no id 1 minus the time the square does (closed forms from the caster's motion;
+/// tolerance 1e-3). Fails when the lit fraction counts the receiver's own ranges.
+#[test]
+fn a_receivers_own_triangle_never_darkens_its_lit_fraction() {
+    let host = new_host();
+    let (engine, frame) = interval_frame(&host);
+    // Global ids: the ground's 32 triangles, then two per caster ((0, 1, 2) is the half of
+    // the square with w > u).
+    let ground_triangles = 2 * 4 * 4;
+    let k = 1;
+    let c = &INTERVAL_CASTERS[k];
+    let first = ground_triangles + 2 * k as u32;
+    // The time during which the square's u (0 at its leading... trailing edge x0 + travel t,
+    // 1 at the other) lies in [a, b] at world x.
+    let covered = |x: f64, a: f64, b: f64| {
+        let from = ((x - c.x0 - b * c.width) / c.travel).max(0.0);
+        let to = ((x - c.x0 - a * c.width) / c.travel).min(1.0);
+        (to - from).max(0.0)
+    };
+    let (mut queries, mut expected) = (Vec::new(), Vec::new());
+    let mut decided = 0;
+    for q in lit_fraction_queries_along_texel_row(&interval_world(), Z0 + 0.37 * f64::from(SIDE)) {
+        let (x, z) = (f64::from(q.position[0]), f64::from(q.position[2]));
+        let w = (z - Z0) / f64::from(SIDE);
+        // Triangle `first` covers u < w, triangle `first + 1` u > w.
+        let (upper, lower) = (covered(x, 0.0, w), covered(x, w, 1.0));
+        if upper + lower == 0.0 {
+            continue;
+        }
+        let position = [q.position[0], (c.h0 - 0.2) as f32, q.position[2]];
+        for (own, lit) in [
+            (u32::MAX, 1.0 - (upper + lower)),
+            (first, 1.0 - lower),
+            (first + 1, 1.0 - upper),
+        ] {
+            queries.push(Query {
+                position,
+                time: -1.0,
+                normal: [0.0, 1.0, 0.0],
+                own,
+            });
+            expected.push(lit);
+        }
+        decided += usize::from(upper > 0.05) + usize::from(lower > 0.05);
+    }
+    let got = probe(&host, engine.shadow_map(frame.slot, 0), &queries);
+    for ((q, &want), &got) in queries.iter().zip(&expected).zip(&got) {
+        assert!(
+            (f64::from(got) - want).abs() <= 1e-3,
+            "point {:?}, own id {}: ms_lit_fraction {got}, closed form {want}",
+            q.position,
+            q.own
+        );
+    }
+    eprintln!(
+        "{} queries; {decided} where the own triangle covers the point 5% of the shutter or more",
+        queries.len()
+    );
+    assert!(decided >= 20, "{decided}");
+    drop(engine);
+    host.assert_clean_teardown();
+}
+
 /// The lighting pass tests a pixel's samples per texel (`ms_samples_shadowed`, glsl/
 /// temporal_samples.glsl, not part of the public include); each sample must get exactly what
 /// `ms_texel_shadowed` answers for it alone. Groups of 8 receivers around one point (within

@@ -10,6 +10,7 @@ mod baselines;
 mod bench;
 mod character;
 mod coverage;
+mod crossing_prism;
 mod deferred_host;
 mod embedding;
 mod engine_tsm;
