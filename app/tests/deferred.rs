@@ -9,7 +9,7 @@ use motion_shadows_app::compare::{MaskError, mask_error};
 use motion_shadows_app::render::deferred::{
     DeferredMethod, DeferredResult, DeferredSettings, render_truth,
 };
-use motion_shadows_app::render::{RenderSettings, Renderer};
+use motion_shadows_app::render::{ReceiverTest, RenderSettings, Renderer};
 use motion_shadows_app::scene::{
     Camera, DirectionalLight, Light, Mesh, Scene, box_mesh, plane_mesh,
 };
@@ -160,6 +160,89 @@ fn the_deferred_masks_against_the_exact_truth_with_moving_receivers() {
     );
     assert!(e_tsm[0] > e_tsm[1] && e_tsm[1] > e_tsm[2], "{e_tsm:?}");
     assert!((e_tsm[2] - e_moving.rmse).abs() < 0.01, "{e_tsm:?}");
+    let messages = ctx.validation_messages();
+    assert!(messages.is_empty(), "validation: {}", messages.join("\n"));
+}
+
+/// Ground and a cube (side 1, centred 1.2 above it) tumbling 30 degrees about the x axis over
+/// the shutter, under a slanted directional light: every face but two turns.
+fn tumbling_cube() -> Scene {
+    let ground = plane_mesh(Vec2::splat(8.0), 4);
+    let at = Vec3::new(0.0, 1.2, 0.0);
+    let cube = box_mesh(Vec3::ONE, 2);
+    let turned = glam::Quat::from_rotation_x(30f32.to_radians());
+    let t0: Vec<Vec3> = cube.iter().map(|&p| p + at).collect();
+    let t1: Vec<Vec3> = cube.iter().map(|&p| turned * p + at).collect();
+    Scene {
+        name: "tumbling-cube".into(),
+        camera: Camera {
+            position: Vec3::new(2.5, 4.0, 4.5),
+            target: Vec3::new(0.0, 0.8, 0.0),
+            up: Vec3::Y,
+            fov_y_deg: 40.0,
+            near: 0.1,
+            far: 50.0,
+        },
+        light: Light::Directional(DirectionalLight {
+            direction: Vec3::new(-0.4, -1.0, -0.3),
+            irradiance: 3.0,
+            center: Vec3::ZERO,
+            half_extent: 5.0,
+            distance: 10.0,
+            near: 0.5,
+            far: 30.0,
+        }),
+        ambient: 0.05,
+        meshes: vec![
+            mesh("ground", ground.clone(), ground),
+            Mesh {
+                closed: true,
+                ..mesh("cube", t0, t1)
+            },
+        ],
+    }
+}
+
+/// The receiver-plane test on moving receivers relies on the triangle-id image: a turning
+/// face's own triangle, at other times of the shutter, cuts through the plane the G-buffer
+/// gives it at the camera time and would shadow it. With the ids (as `render --frame
+/// deferred --receiver plane` passes them) the temporal mask of the tumbling cube stays
+/// within RMSE 0.03 of the exact truth, under 2% of the lit pixels more than 0.25 off
+/// (measured 2026-12-04: RMSE 0.016, 0.12% far off); with the mask ignoring the ids (the
+/// `mask-ignores-ids` break of scripts/mutants.toml) its turning faces shadow themselves:
+/// RMSE 0.215, 5.6% far off.
+#[test]
+fn the_plane_test_on_moving_receivers_skips_their_own_triangles() {
+    let ctx = Context::headless(&ContextOptions { validation: true })
+        .expect("GPU tests need a Vulkan device and the validation layer");
+    let scene = tumbling_cube();
+    let settings = RenderSettings {
+        receiver: ReceiverTest::Plane,
+        ..settings()
+    };
+    let truth = render_truth(
+        &scene,
+        &settings,
+        &deferred(DeferredMethod::Raytrace, true),
+        &mut |_| {},
+    )
+    .expect("truth");
+    let mut renderer = Renderer::new(&ctx).expect("renderer");
+    let temporal = renderer
+        .render_deferred(
+            &scene,
+            &settings,
+            &deferred(DeferredMethod::Temporal, true),
+            &mut |_| {},
+        )
+        .expect("deferred frame");
+    drop(renderer);
+    let e = error(&temporal, &truth);
+    let far = share_far_off(&temporal, &truth);
+    println!("tumbling cube, plane test: {e:?}, far off {far:.4}");
+    assert!(e.pixels > 5000 && e.shadowed_pixels > 300, "{e:?}");
+    assert!(far < 0.02, "{far} of the pixels far off the truth");
+    assert!(e.rmse < 0.03, "{e:?}");
     let messages = ctx.validation_messages();
     assert!(messages.is_empty(), "validation: {}", messages.join("\n"));
 }
