@@ -280,8 +280,10 @@ mod tests {
     fn documented() {
         let doc = include_str!("../../../../docs/scene-format.md");
         let readme = include_str!("../../../../README.md");
+        let cli = include_str!("../../../../docs/src/cli.md");
         assert!(doc.contains("- `game-level`"), "docs/scene-format.md");
         assert!(readme.contains("- `game-level`"), "README.md built-in list");
-        assert!(readme.contains("| `game`"), "README.md preset table");
+        assert!(readme.contains("`game`"), "README.md preset list");
+        assert!(cli.contains("| `game`"), "docs/src/cli.md preset table");
     }
 }
