@@ -165,11 +165,13 @@ pub const MIN_ANIMATE_FPS: f64 = 1.0 / MAX_GIF_DELAY_S;
 #[command(mut_arg("scene", |a| a.default_value("walker-toward-light")))]
 pub struct AnimateArgs {
     /// Number of frames, 1 to 600.
-    #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u32).range(1..=MAX_ANIMATE_FRAMES as i64))]
+    // Hyphen values allowed here and on --fps: `--frames -3` is then refused as a value of
+    // this option, not as an unknown flag `-3`.
+    #[arg(long, default_value_t = 24, allow_hyphen_values = true, value_parser = clap::value_parser!(u32).range(1..=MAX_ANIMATE_FRAMES as i64))]
     pub frames: u32,
     /// Frames per second: frame i's shutter opens at START + i / FPS; from 0.001526 (one frame
     /// in 655.35 s, the longest a GIF frame lasts) to 100.
-    #[arg(long, default_value_t = 24.0, value_parser = parse_fps)]
+    #[arg(long, default_value_t = 24.0, allow_hyphen_values = true, value_parser = parse_fps)]
     pub fps: f32,
     /// Animation time of frame 0's shutter opening, seconds (default: the scene's own time,
     /// for a scene file each glTF model's `time`).

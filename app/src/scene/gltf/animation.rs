@@ -28,7 +28,18 @@ pub(super) fn channels(
     let mut out = Vec::new();
     for (i, channel) in animation.channels().enumerate() {
         let sampler = channel.sampler();
-        let property = channel.target().property();
+        // The gltf crate's validation does not look at a channel's target path, and
+        // `Target::property` unwraps it: an unknown path would panic there.
+        let path = &document.as_json().animations[animation.index()].channels[i]
+            .target
+            .path;
+        let gltf::json::validation::Checked::Valid(property) = *path else {
+            return Err(format!(
+                "animation {} channel {i}: its target path is not translation, rotation, \
+                 scale or weights",
+                animation.index()
+            ));
+        };
         let path = match property {
             Property::Translation => "translation",
             Property::Rotation => "rotation",
