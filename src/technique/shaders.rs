@@ -36,8 +36,6 @@ pub const RESOLVE_COMP: &[u8] = spirv!("resolve.comp");
 pub const SHADOW_DEPTH_VERT: &[u8] = spirv!("shadow_depth.vert");
 /// SPIR-V of `glsl/shadow_depth.frag`.
 pub const SHADOW_DEPTH_FRAG: &[u8] = spirv!("shadow_depth.frag");
-/// SPIR-V of `glsl/layout_probe.comp`.
-pub const LAYOUT_PROBE_COMP: &[u8] = spirv!("layout_probe.comp");
 /// SPIR-V of `glsl/coverage_caps.vert`.
 pub const COVERAGE_CAPS_VERT: &[u8] = spirv!("coverage_caps.vert");
 /// SPIR-V of `glsl/coverage.frag`.

@@ -2,15 +2,51 @@
 //! `glsl/motion_shadows.glsl` and `glsl/shared.glsl`: a probe shader reads every struct the
 //! host writes (headers, draw record, camera, push constants) field by field and dumps the
 //! scalars, which must equal the host's fields in declaration order; and it writes known
-//! values through the structs shaders write (Node, MsRange, Counters).
+//! values through the structs shaders write (Node, MsRange, Counters). The probe is a test
+//! shader (`tests/glsl/layout_probe.comp`), compiled here with the library's own includes and
+//! generated constants, not one of the library's shaders.
 
 use crate::support::gpu::{assert_no_validation_messages, context};
 use glam::{Mat4, UVec4, Vec4};
 use motion_shadows::gpu::{Access, Buffer, BufferUsage, OneShot, compute_pipeline, memory_barrier};
 use motion_shadows::technique::{
     CameraParams, Counters, DrawRecord, GpuLight, Node, PassConstants, PlainMapHeader, Range,
-    ShadowMapHeader, shaders,
+    ShadowMapHeader, gpu_constants,
 };
+
+/// SPIR-V of the probe, its `#include`s resolved from `glsl/` (and the generated constants).
+fn probe_spirv() -> Vec<u8> {
+    let glsl = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("glsl");
+    let compiler = shaderc::Compiler::new().expect("shaderc");
+    let mut options = shaderc::CompileOptions::new().expect("shaderc options");
+    options.set_target_env(
+        shaderc::TargetEnv::Vulkan,
+        shaderc::EnvVersion::Vulkan1_2 as u32,
+    );
+    options.set_include_callback(move |name, _kind, _from, _depth| {
+        let content = if name == "gpu_constants.glsl" {
+            gpu_constants::glsl_header()
+        } else {
+            std::fs::read_to_string(glsl.join(name)).map_err(|e| format!("{name}: {e}"))?
+        };
+        Ok(shaderc::ResolvedInclude {
+            resolved_name: name.to_owned(),
+            content,
+        })
+    });
+    let source = include_str!("../glsl/layout_probe.comp");
+    compiler
+        .compile_into_spirv(
+            source,
+            shaderc::ShaderKind::Compute,
+            "layout_probe.comp",
+            "main",
+            Some(&options),
+        )
+        .unwrap_or_else(|e| panic!("{e}"))
+        .as_binary_u8()
+        .to_vec()
+}
 
 /// Distinct values for every field, so that a shifted field cannot pass.
 struct Values(u32);
@@ -91,7 +127,7 @@ fn shared_structs_match_glsl() {
         &ctx,
         std::mem::size_of::<PassConstants>() as u32,
         "layout_probe.comp",
-        shaders::LAYOUT_PROBE_COMP,
+        &probe_spirv(),
     )
     .unwrap();
 

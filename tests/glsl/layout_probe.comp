@@ -1,6 +1,6 @@
 #version 450
-// Test-only (tests/gpu/layout.rs): checks that the Rust mirrors in technique::gpu_types have
-// the layouts of the GLSL structs. The host writes every struct it sends to shaders with
+// Test-only (tests/gpu/layout.rs compiles it): checks that the Rust mirrors in
+// technique::gpu_types have the layouts of the GLSL structs. The host writes every struct it sends to shaders with
 // distinct values; this shader reads them field by field, in declaration order, and dumps the
 // scalars into a flat array that the host compares with its own fields. For the structs
 // shaders write (Node, MsRange, Counters), it writes known values the host reads back.
