@@ -32,9 +32,11 @@ fn temp_name(name: &str, pid: u32) -> String {
 }
 
 impl StagedFiles {
-    /// Creates `dir` if needed and a temporary file for each of `names` (plain file names,
-    /// no separators). Fails before anything is written when a target is not a regular file
-    /// or the directory is not writable.
+    /// Creates `dir` if needed and checks that a temporary file for each of `names` (plain
+    /// file names, no separators) can be made there. Fails before anything is written when a
+    /// target is not a regular file or the directory is not writable. The temporary files
+    /// are made by their writers ([`Self::temp_path`]); [`Self::commit`] fails naming one
+    /// that was never written.
     pub fn prepare(dir: &Path, names: &[String]) -> Result<Self, OutputError> {
         std::fs::create_dir_all(dir).map_err(|e| OutputError::io(dir, e))?;
         if !dir.is_dir() {
@@ -67,7 +69,11 @@ impl StagedFiles {
             let temp = dir.join(temp_name(name, std::process::id()));
             // Registered first, so Drop removes it even if creating it half-fails.
             staged.entries.push((temp.clone(), target));
+            // Made once to prove the directory takes it, then removed: the writer makes it
+            // again when the frame is done, so a run killed while it renders (an abort, a
+            // signal) leaves nothing behind.
             File::create(&temp).map_err(|e| OutputError::io(&temp, e))?;
+            std::fs::remove_file(&temp).map_err(|e| OutputError::io(&temp, e))?;
         }
         Ok(staged)
     }

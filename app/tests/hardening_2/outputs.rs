@@ -124,3 +124,32 @@ fn bench_names_an_output_directory_it_cannot_use() {
     r.refused(&[s(&out)]);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A run killed while it renders (SIGKILL: as an out-of-memory abort would end it) leaves
+/// nothing in its output directory: the temporary files are made by their writers once the
+/// frame is done, not when the run starts (they were, as empty `.partial-PID` files that
+/// only the next run into the directory removed).
+#[test]
+fn a_run_killed_while_it_renders_leaves_no_partial_files() {
+    let out = temp_dir("killed");
+    let mut args = vec!["render", "--method", "raytrace", "--out", s(&out)];
+    args.extend(["--width", "320", "--height", "240", "--spp", "64"]);
+    let mut child = spawn(&args);
+    let stderr = BufReader::new(child.stderr.take().unwrap());
+    let mut seen = Vec::new();
+    for line in stderr.lines() {
+        let line = line.unwrap();
+        let rendering = line.contains("raytrace: rows");
+        seen.push(line);
+        if rendering {
+            break;
+        }
+    }
+    assert!(
+        seen.iter().any(|l| l.contains("raytrace: rows")),
+        "the run never started rendering: {seen:?}"
+    );
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert_eq!(listing(&out), Vec::<String>::new(), "after {seen:?}");
+}
