@@ -106,7 +106,13 @@ fn checked_bytes(what: &'static str, count: u64, element: u64, limit: u64) -> Re
 
 impl TemporalShadowMap {
     /// A map of `width` x `height` pixels with room for the given numbers of fragments and
-    /// ranges. Too small is never wrong, only slower: see [`Self::needs_more_room`].
+    /// ranges. Too small is never undefined behaviour, and a frame that overflows is never
+    /// silently wrong either, but it is incomplete: fragments and ranges past the capacities
+    /// are counted and dropped, so that frame's shadows miss casters.
+    /// [`Self::needs_more_room`] says so after the frame's fence; grow the map then
+    /// ([`Self::grow_to_fit`], [`Self::reserve`]) and use the next frame (or record the frame
+    /// again, as the standalone renderer does). Start near the counts a typical frame needs
+    /// to avoid that frame.
     pub fn new(
         ctx: &Context,
         width: u32,
