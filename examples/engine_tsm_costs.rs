@@ -259,7 +259,7 @@ fn main() -> Result<()> {
                 if redraw {
                     map.forget_static_map();
                 }
-                timestamps.clear();
+                unsafe { timestamps.clear() };
                 let cpu = cpu_ms();
                 one_shot.run(|cmd| unsafe {
                     image_barrier(

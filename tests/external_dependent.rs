@@ -41,7 +41,14 @@ const APP_CRATES: &[&str] = &[
 ];
 
 /// The only crates motion-shadows itself may depend on (normal dependencies).
-const LIBRARY_DEPENDENCIES: &[&str] = &["ash", "gpu-allocator", "glam", "thiserror", "log"];
+const LIBRARY_DEPENDENCIES: &[&str] = &[
+    "ash",
+    "gpu-allocator",
+    "glam",
+    "bytemuck",
+    "thiserror",
+    "log",
+];
 
 /// The dependent's build script: finds the library's GLSL through the `links` metadata and
 /// compiles the host's own compute shader, which includes `motion_shadows.glsl`.

@@ -75,12 +75,16 @@ impl TimestampQueries {
         self.off
     }
 
-    /// Forgets earlier marks (host-side reset; the pool must not be in use by the GPU).
-    pub fn clear(&mut self) {
+    /// Forgets earlier marks (a host-side reset of the pool).
+    ///
+    /// # Safety
+    /// No command buffer with marks recorded from this pool is pending execution.
+    pub unsafe fn clear(&mut self) {
         self.labels.clear();
         if self.off.is_some() {
             return;
         }
+        // SAFETY: the caller's contract; hostQueryReset is enabled (else `off`).
         unsafe {
             self.shared
                 .device
@@ -90,10 +94,15 @@ impl TimestampQueries {
 
     /// Records a timestamp after all earlier commands; `label` names the span since the last.
     /// Marks beyond the capacity are ignored (timing is best effort, never a failure).
-    pub fn mark(&mut self, cmd: vk::CommandBuffer, label: &str) {
+    ///
+    /// # Safety
+    /// `cmd` is a command buffer of the context's device in the recording state, on a queue
+    /// family that supports timestamps, and this object outlives its execution.
+    pub unsafe fn mark(&mut self, cmd: vk::CommandBuffer, label: &str) {
         if !self.supported() || self.labels.len() as u32 >= self.capacity {
             return;
         }
+        // SAFETY: the caller's contract; the query was reset (new or `clear`).
         unsafe {
             self.shared.device.cmd_write_timestamp2(
                 cmd,

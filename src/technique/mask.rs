@@ -216,9 +216,10 @@ impl MaskInputs {
     }
 }
 
-/// The mask shader's push constants (104 bytes).
+/// The mask shader's push constants (104 bytes, and 8 of padding up to Mat4's 16-byte
+/// alignment).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
 struct MaskConstants {
     inv_view_proj: Mat4,
     map: u64,
@@ -231,6 +232,8 @@ struct MaskConstants {
     loop_budget: u32,
     /// [`MaskInputs::time`].
     time: f32,
+    /// Zero: the struct's tail padding, explicit so that it is plain data (`Pod`).
+    padding: [u32; 2],
 }
 
 use super::gpu_constants::{
@@ -361,6 +364,7 @@ impl VisibilityMaskPass {
             over_budget: bindings.over_budget.device_address(),
             loop_budget: self.loop_budget,
             time: inputs.time,
+            padding: [0; 2],
         };
         let variant = usize::from(inputs.motion.is_some());
         let counter = bindings.over_budget.raw();

@@ -243,8 +243,9 @@ impl TemporalShadowMap {
                 0
             },
             tiles: self.tiles.device_address(),
+            reserved: 0,
         };
-        memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE);
+        unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
         // SAFETY: plain data of the header's size; recording outside a render pass (the
         // collection pass's contract).
         unsafe { self.header.record_write(device, cmd, &[header]) };
@@ -417,7 +418,7 @@ impl TemporalShadowMap {
     /// Synchronization: waits for the compute stage's counter writes (the generation pass);
     /// leaves the copy visible to host reads once the submission's fence has signalled.
     pub unsafe fn record_counter_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
-        memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ);
+        unsafe { memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ) };
         let region = [vk::BufferCopy {
             src_offset: 0,
             dst_offset: 0,
@@ -431,7 +432,7 @@ impl TemporalShadowMap {
                 &region,
             )
         };
-        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ) };
     }
 
     /// The counters copied by [`Self::record_counter_readback`], once that submission has
@@ -479,7 +480,7 @@ impl TemporalShadowMap {
 }
 
 /// Copies the first `count` elements of a device-local buffer to the host.
-pub(crate) fn download<T: Copy + Default>(
+pub(crate) fn download<T: bytemuck::Pod>(
     ctx: &Context,
     buffer: &Buffer,
     count: usize,
@@ -491,21 +492,23 @@ pub(crate) fn download<T: Copy + Default>(
     let staging = Buffer::new(ctx, "download", bytes, BufferUsage::Readback)?;
     let device = ctx.device();
     OneShot::new(ctx)?.run(|cmd| {
-        memory_barrier(
-            device,
-            cmd,
-            Access::ANY_SHADER_READ
-                .and(Access::COMPUTE_RW)
-                .and(Access::FRAGMENT_RW),
-            Access::TRANSFER_READ,
-        );
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::ANY_SHADER_READ
+                    .and(Access::COMPUTE_RW)
+                    .and(Access::FRAGMENT_RW),
+                Access::TRANSFER_READ,
+            )
+        };
         let region = [vk::BufferCopy {
             src_offset: 0,
             dst_offset: 0,
             size: bytes,
         }];
         unsafe { device.cmd_copy_buffer(cmd, buffer.raw(), staging.raw(), &region) };
-        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ) };
         Ok(())
     })?;
     staging.read(count)

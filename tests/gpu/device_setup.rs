@@ -105,12 +105,12 @@ fn without_host_query_reset_timestamps_are_off_and_say_so() {
     let why = timestamps.unsupported_reason().expect("a reason");
     assert!(why.contains("hostQueryReset"), "{why}");
     host.record_and_wait(|cmd| {
-        timestamps.mark(cmd, "start");
-        timestamps.mark(cmd, "end");
+        unsafe { timestamps.mark(cmd, "start") };
+        unsafe { timestamps.mark(cmd, "end") };
     })
     .expect("submission");
     assert_eq!(timestamps.spans_ms().expect("spans"), Vec::new());
-    timestamps.clear();
+    unsafe { timestamps.clear() };
     drop((timestamps, ctx));
     // The validation layer would report vkResetQueryPool on a device without hostQueryReset.
     host.assert_clean_teardown();
@@ -128,8 +128,8 @@ fn with_host_query_reset_timestamps_time() {
     let mut timestamps = TimestampQueries::new(&ctx, 4).expect("timestamps");
     assert_eq!(timestamps.unsupported_reason(), None);
     host.record_and_wait(|cmd| {
-        timestamps.mark(cmd, "start");
-        timestamps.mark(cmd, "end");
+        unsafe { timestamps.mark(cmd, "start") };
+        unsafe { timestamps.mark(cmd, "end") };
     })
     .expect("submission");
     let spans = timestamps.spans_ms().expect("spans");
