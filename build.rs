@@ -2,6 +2,11 @@
 //! build with the file and line. Files ending in `.glsl` are includes, not stages. The
 //! constants shared with the Rust side are generated first, from the one table in
 //! `src/technique/gpu_constants.rs`, as the include `gpu_constants.glsl`.
+//!
+//! For hosts that compile their own shaders at build time, it exports the absolute path of
+//! `glsl/` (which holds the public include `motion_shadows.glsl`, self-contained) as the
+//! `links` metadata `glsl_dir` and `include`: a direct dependent's build script reads
+//! `DEP_MOTION_SHADOWS_GLSL_DIR` (or `DEP_MOTION_SHADOWS_INCLUDE`).
 
 use std::path::{Path, PathBuf};
 // Links shaderc where the distribution's libshaderc.so cannot be linked as it is (Debian 12);
@@ -29,6 +34,10 @@ fn main() {
     let glsl_dir = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").unwrap()).join("glsl");
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").unwrap());
     println!("cargo:rerun-if-changed={}", glsl_dir.display());
+    // `cargo:KEY=VALUE` of a `links` package: DEP_MOTION_SHADOWS_<KEY> in the build scripts
+    // of the crates that depend on it directly.
+    println!("cargo:glsl_dir={}", glsl_dir.display());
+    println!("cargo:include={}", glsl_dir.display());
     println!("cargo:rerun-if-changed=src/technique/gpu_constants.rs");
     let constants = gpu_constants::glsl_header();
     std::fs::write(out_dir.join(GENERATED_CONSTANTS), &constants).expect("write constants");

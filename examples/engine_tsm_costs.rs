@@ -242,8 +242,8 @@ fn main() -> Result<()> {
     let pass = EngineTsmPass::new(&ctx)?;
     let mut bindings = pass.bindings()?;
     let mut timestamps = TimestampQueries::new(&ctx, 8)?;
-    if !timestamps.supported() {
-        println!("the queue has no timestamps");
+    if let Some(why) = timestamps.unsupported_reason() {
+        println!("no timing: {why}");
         return Ok(());
     }
     // One frame of `maps` maps over a `size` mask, the static map drawn first if `redraw`:
@@ -259,7 +259,7 @@ fn main() -> Result<()> {
                 if redraw {
                     map.forget_static_map();
                 }
-                timestamps.clear();
+                unsafe { timestamps.clear() };
                 let cpu = cpu_ms();
                 one_shot.run(|cmd| unsafe {
                     image_barrier(

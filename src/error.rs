@@ -24,6 +24,18 @@ pub enum Error {
     #[error("no suitable Vulkan device: {0}")]
     MissingFeatures(String),
 
+    /// A host's device (`Context::from_raw`) was created without features the library
+    /// requires.
+    #[error(
+        "the device was created without {detail}; enable them when creating it (gpu::DeviceRequirements lists what to chain into VkDeviceCreateInfo)"
+    )]
+    FeaturesNotEnabled {
+        /// The Vulkan names of the features that are off (`geometryShader`, ...).
+        missing: Vec<&'static str>,
+        /// Each with what the library uses it for.
+        detail: String,
+    },
+
     /// The Khronos validation layer was requested but is not installed.
     #[error(
         "the Vulkan validation layer VK_LAYER_KHRONOS_validation is not installed (Debian: `apt-get install vulkan-validationlayers`)"

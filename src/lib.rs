@@ -19,7 +19,7 @@
 //! ```no_run
 //! use motion_shadows::ash::vk;
 //! use motion_shadows::glam::Vec3;
-//! use motion_shadows::gpu::{Context, OptionalFeatures};
+//! use motion_shadows::gpu::{Context, DeviceFeatures};
 //! use motion_shadows::technique::{
 //!     CollectionPass, Draw, DrawList, GenerationPass, Indices, IndexStream, LightView,
 //!     PositionStream, TemporalShadowMap,
@@ -30,16 +30,19 @@
 //! struct HostMesh { previous: u64, current: u64, indices: u64, vertices: u32, triangles: u32 }
 //!
 //! # fn host_objects() -> (motion_shadows::ash::Instance, vk::PhysicalDevice,
-//! #     motion_shadows::ash::Device, u32, vk::Queue, vk::CommandBuffer, HostMesh) {
+//! #     motion_shadows::ash::Device, u32, vk::Queue, vk::CommandBuffer, HostMesh,
+//! #     DeviceFeatures) {
 //! #     unimplemented!()
 //! # }
 //! fn main() -> motion_shadows::Result<()> {
-//!     let (instance, physical, device, family, queue, cmd, mesh) = host_objects();
-//!     // SAFETY: the host created `device` with the features `from_raw` lists and keeps it
-//!     // alive longer than `ctx`.
+//!     // `enabled`: the features the host created `device` with, e.g. those of
+//!     // `gpu::DeviceRequirements::for_device(&instance, physical)` chained into its
+//!     // VkDeviceCreateInfo.
+//!     let (instance, physical, device, family, queue, cmd, mesh, enabled) = host_objects();
+//!     // SAFETY: the host created `device` from `physical` with the features in `enabled`
+//!     // and keeps it alive longer than `ctx`.
 //!     let ctx = unsafe {
-//!         Context::from_raw(&instance, physical, device.clone(), family, queue,
-//!                           OptionalFeatures::default())?
+//!         Context::from_raw(&instance, physical, device.clone(), family, queue, &enabled)?
 //!     };
 //!     // Once: the passes (shared by every frame in flight and light).
 //!     let collection = CollectionPass::new(&ctx)?;

@@ -7,7 +7,10 @@
 //!   shaderc and compiles the GLSL) and its program, which uses library items, links and runs.
 //!   This is what the `motion-shadows-shaderc-link` build-dependency is for: on Debian 12 the
 //!   default shaderc link fails, and a `.cargo/config.toml` in this repository would not apply
-//!   to a dependent.
+//!   to a dependent. The crate's own build script compiles a shader of its own that includes
+//!   `motion_shadows.glsl`, found through `DEP_MOTION_SHADOWS_GLSL_DIR` (the library's `links`
+//!   metadata), with shaderc linked the way a host links it: the
+//!   `motion-shadows-shaderc-link` build-dependency, named once in its build script.
 //!
 //! The temporary crates live under `CARGO_TARGET_TMPDIR` with their own target directories
 //! (cargo holds the lock on the workspace's target directory during `cargo test`). Cargo is run
@@ -38,7 +41,71 @@ const APP_CRATES: &[&str] = &[
 ];
 
 /// The only crates motion-shadows itself may depend on (normal dependencies).
-const LIBRARY_DEPENDENCIES: &[&str] = &["ash", "gpu-allocator", "glam", "thiserror", "log"];
+const LIBRARY_DEPENDENCIES: &[&str] = &[
+    "ash",
+    "gpu-allocator",
+    "glam",
+    "bytemuck",
+    "thiserror",
+    "log",
+];
+
+/// The dependent's build script: finds the library's GLSL through the `links` metadata and
+/// compiles the host's own compute shader, which includes `motion_shadows.glsl`.
+const BUILD_RS: &str = r##"use std::path::PathBuf;
+// Links shaderc where the distribution's libshaderc.so cannot be linked as it is (Debian 12).
+use motion_shadows_shaderc_link as _;
+
+const PROBE: &str = r#"#version 450
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_buffer_reference : require
+#include "motion_shadows.glsl"
+layout(local_size_x = 64) in;
+layout(buffer_reference, std430, buffer_reference_align = 4) writeonly buffer Results {
+    float v[];
+};
+layout(push_constant) uniform Push { uint64_t map; uint64_t results; } pc;
+void main() {
+    vec3 p = vec3(gl_GlobalInvocationID);
+    Results(pc.results).v[gl_GlobalInvocationID.x] =
+        ms_visibility(MsShadowMap(pc.map), p, vec3(0.0, 1.0, 0.0), 0.5, MS_NO_TRIANGLE);
+}
+"#;
+
+fn main() {
+    println!("cargo:rerun-if-env-changed=DEP_MOTION_SHADOWS_GLSL_DIR");
+    let glsl_dir = PathBuf::from(
+        std::env::var("DEP_MOTION_SHADOWS_GLSL_DIR")
+            .expect("motion-shadows exports DEP_MOTION_SHADOWS_GLSL_DIR (links metadata)"),
+    );
+    assert!(glsl_dir.is_absolute(), "{} is not absolute", glsl_dir.display());
+    assert_eq!(
+        std::env::var("DEP_MOTION_SHADOWS_INCLUDE").ok().map(PathBuf::from),
+        Some(glsl_dir.clone()),
+        "DEP_MOTION_SHADOWS_INCLUDE names the same directory"
+    );
+    let header = glsl_dir.join("motion_shadows.glsl");
+    assert!(header.is_file(), "no {}", header.display());
+
+    let compiler = shaderc::Compiler::new().expect("shaderc compiler");
+    let mut options = shaderc::CompileOptions::new().expect("shaderc options");
+    options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_2 as u32);
+    options.set_include_callback(move |name, _kind, _from, _depth| {
+        let path = glsl_dir.join(name);
+        std::fs::read_to_string(&path)
+            .map(|content| shaderc::ResolvedInclude {
+                resolved_name: path.display().to_string(),
+                content,
+            })
+            .map_err(|e| format!("cannot include {}: {e}", path.display()))
+    });
+    let spirv = compiler
+        .compile_into_spirv(PROBE, shaderc::ShaderKind::Compute, "probe.comp", "main", Some(&options))
+        .unwrap_or_else(|e| panic!("the host's shader does not compile: {e}"));
+    let out = PathBuf::from(std::env::var("OUT_DIR").unwrap()).join("probe.spv");
+    std::fs::write(out, spirv.as_binary_u8()).expect("write probe.spv");
+}
+"##;
 
 const MAIN_RS: &str = r#"use motion_shadows::gpu::{Context, ContextOptions};
 use motion_shadows::technique::shaders;
@@ -53,6 +120,12 @@ fn main() {
     assert!(spirv.len() >= 20 && spirv.len() % 4 == 0, "SPIR-V of {} bytes", spirv.len());
     assert_eq!(spirv[..4], 0x0723_0203u32.to_le_bytes(), "SPIR-V magic number");
     println!("scene.vert: {} bytes of SPIR-V", spirv.len());
+
+    // The host's own shader, compiled by its build script against the library's include.
+    let probe: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/probe.spv"));
+    assert!(probe.len() >= 20 && probe.len() % 4 == 0, "SPIR-V of {} bytes", probe.len());
+    assert_eq!(probe[..4], 0x0723_0203u32.to_le_bytes(), "SPIR-V magic number");
+    println!("host probe.comp: {} bytes of SPIR-V", probe.len());
 }
 "#;
 
@@ -83,6 +156,11 @@ publish = false
 [dependencies]
 motion-shadows = {{ path = {library:?}, default-features = false }}
 
+# The host compiles its own shaders at build time, as an engine does.
+[build-dependencies]
+shaderc = "0.10.1"
+motion-shadows-shaderc-link = {{ path = {shaderc_link:?} }}
+
 [profile.dev]
 debug = false
 
@@ -90,9 +168,14 @@ debug = false
 [workspace]
 "#,
         library = library.display().to_string(),
+        shaderc_link = library
+            .join("build-support/shaderc-link")
+            .display()
+            .to_string(),
     );
     std::fs::write(dir.join("Cargo.toml"), manifest).unwrap();
     std::fs::write(dir.join("src/main.rs"), MAIN_RS).unwrap();
+    std::fs::write(dir.join("build.rs"), BUILD_RS).unwrap();
     // The versions this repository is tested with, and no need for the registry index.
     if let Ok(lock) = std::fs::read(library.join("Cargo.lock")) {
         std::fs::write(dir.join("Cargo.lock"), lock).unwrap();
@@ -228,7 +311,7 @@ fn dependent_builds_and_links() {
     );
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(
-        stdout.contains("bytes of SPIR-V"),
+        stdout.contains("scene.vert: ") && stdout.contains("host probe.comp: "),
         "unexpected output: {stdout}"
     );
 }

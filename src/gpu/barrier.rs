@@ -108,19 +108,43 @@ impl Access {
 }
 
 /// Makes the memory accesses `before` visible to `after`.
-pub fn memory_barrier(device: &ash::Device, cmd: vk::CommandBuffer, before: Access, after: Access) {
+///
+/// Unsafe to call: `cmd` is a raw handle the function cannot check.
+///
+/// ```compile_fail,E0133
+/// # use motion_shadows::{ash, ash::vk, gpu::{Access, memory_barrier}};
+/// # fn f(device: &ash::Device, cmd: vk::CommandBuffer) {
+/// memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+/// # }
+/// ```
+///
+/// # Safety
+/// `cmd` is a command buffer of `device` in the recording state, and the stages in `before`
+/// and `after` are supported by its queue family (and, inside a render pass, allowed there).
+pub unsafe fn memory_barrier(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    before: Access,
+    after: Access,
+) {
     let barrier = [vk::MemoryBarrier2::default()
         .src_stage_mask(before.stages)
         .src_access_mask(before.access)
         .dst_stage_mask(after.stages)
         .dst_access_mask(after.access)];
     let dependency = vk::DependencyInfo::default().memory_barriers(&barrier);
+    // SAFETY: the caller's contract.
     unsafe { device.cmd_pipeline_barrier2(cmd, &dependency) };
 }
 
 /// Moves `range` of `image` from layout `old` to `new`, ordering the accesses `before` ahead of
 /// `after`. `old` = UNDEFINED discards the contents (a pass that clears them anyway).
-pub fn image_barrier(
+///
+/// # Safety
+/// As [`memory_barrier`], outside a render pass; `image` is an image of `device` that
+/// outlives the execution of `cmd`, `range` lies within it, and `old` is its layout in
+/// `range` when the barrier executes (or UNDEFINED).
+pub unsafe fn image_barrier(
     device: &ash::Device,
     cmd: vk::CommandBuffer,
     image: vk::Image,
@@ -141,5 +165,6 @@ pub fn image_barrier(
         .image(image)
         .subresource_range(range)];
     let dependency = vk::DependencyInfo::default().image_memory_barriers(&barrier);
+    // SAFETY: the caller's contract.
     unsafe { device.cmd_pipeline_barrier2(cmd, &dependency) };
 }

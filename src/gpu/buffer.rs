@@ -115,7 +115,7 @@ impl Buffer {
     }
 
     /// A host-visible buffer holding `data`.
-    pub fn with_data<T: Copy>(
+    pub fn with_data<T: bytemuck::Pod>(
         ctx: &Context,
         name: &str,
         usage: BufferUsage,
@@ -147,7 +147,7 @@ impl Buffer {
     }
 
     /// Writes `data` at the start of a host-visible buffer.
-    pub fn write<T: Copy>(&mut self, data: &[T]) -> Result<()> {
+    pub fn write<T: bytemuck::Pod>(&mut self, data: &[T]) -> Result<()> {
         let bytes = std::mem::size_of_val(data);
         let name = self.name.clone();
         let slice = self
@@ -161,16 +161,23 @@ impl Buffer {
                 slice.len()
             )));
         }
-        // SAFETY: T is Copy (plain data) and the destination is at least `bytes` long.
-        unsafe {
-            std::ptr::copy_nonoverlapping(data.as_ptr() as *const u8, slice.as_mut_ptr(), bytes)
-        };
+        slice[..bytes].copy_from_slice(bytemuck::cast_slice(data));
         Ok(())
     }
 
-    /// Reads `count` elements from the start of a host-visible buffer. The caller must have
-    /// waited for the GPU and made its writes available to the host.
-    pub fn read<T: Copy + Default>(&self, count: usize) -> Result<Vec<T>> {
+    /// Reads `count` elements from the start of a host-visible buffer. Any bytes are a valid
+    /// `T` (`Pod`); for the GPU's values, the caller must have waited for the GPU and made its
+    /// writes available to the host.
+    ///
+    /// A type some bytes are not a value of does not compile (before `Pod`, this was
+    /// undefined behaviour from safe code):
+    ///
+    /// ```compile_fail,E0277
+    /// # fn f(buffer: &motion_shadows::gpu::Buffer) {
+    /// let flags = buffer.read::<bool>(4);
+    /// # }
+    /// ```
+    pub fn read<T: bytemuck::Pod>(&self, count: usize) -> Result<Vec<T>> {
         let bytes = count * std::mem::size_of::<T>();
         let slice = self
             .allocation
@@ -184,11 +191,8 @@ impl Buffer {
                 slice.len()
             )));
         }
-        let mut out = vec![T::default(); count];
-        // SAFETY: bounds checked above; T is plain data.
-        unsafe {
-            std::ptr::copy_nonoverlapping(slice.as_ptr(), out.as_mut_ptr() as *mut u8, bytes)
-        };
+        let mut out = vec![T::zeroed(); count];
+        bytemuck::cast_slice_mut::<T, u8>(&mut out).copy_from_slice(&slice[..bytes]);
         Ok(out)
     }
 
@@ -208,18 +212,16 @@ impl Buffer {
     /// of at most 65,536 bytes). The caller puts the barriers around it.
     ///
     /// # Safety
-    /// `cmd` is recording, outside a render pass; `data` is plain data whose size is a
-    /// multiple of 4 and fits the buffer, which was made with transfer-destination usage.
-    pub unsafe fn record_write<T: Copy>(
+    /// `cmd` is a command buffer of the buffer's device, recording, outside a render pass;
+    /// `data`'s size is a multiple of 4 and fits the buffer, which was made with
+    /// transfer-destination usage and outlives the execution of `cmd`.
+    pub unsafe fn record_write<T: bytemuck::Pod>(
         &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
         data: &[T],
     ) {
-        // SAFETY: T is plain data (the caller's promise).
-        let bytes = unsafe {
-            std::slice::from_raw_parts(data.as_ptr() as *const u8, std::mem::size_of_val(data))
-        };
+        let bytes: &[u8] = bytemuck::cast_slice(data);
         debug_assert!(bytes.len() % 4 == 0 && bytes.len() as u64 <= self.size);
         for (i, piece) in bytes.chunks(65536).enumerate() {
             unsafe { device.cmd_update_buffer(cmd, self.raw, i as u64 * 65536, piece) };

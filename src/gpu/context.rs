@@ -2,6 +2,7 @@
 
 use super::debug::{self, MessageSink, Messenger};
 use super::device_select;
+use super::requirements::{DeviceFeatures, describe};
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
@@ -23,15 +24,6 @@ impl ContextOptions {
             validation: std::env::var("MOTION_SHADOWS_VALIDATION").is_ok_and(|v| v == "1"),
         }
     }
-}
-
-/// Optional device features the host enabled on its device (what was enabled cannot be
-/// queried from a `VkDevice`, so a host says it). Each unlocks one pass.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct OptionalFeatures {
-    /// shaderStorageImageWriteWithoutFormat: the visibility-mask pass
-    /// (`technique::VisibilityMaskPass`) writes any single-channel output format with it.
-    pub storage_image_write_without_format: bool,
 }
 
 /// What the library knows about the device it runs on.
@@ -56,6 +48,10 @@ pub struct DeviceInfo {
     /// shaderStorageImageWriteWithoutFormat is enabled (a headless context enables it where
     /// supported; a host says so in [`Context::from_raw`]): the visibility-mask pass needs it.
     pub storage_image_write_without_format: bool,
+    /// hostQueryReset is enabled (a headless context enables it where supported; a host says
+    /// so in [`Context::from_raw`]): without it [`super::TimestampQueries`] records nothing
+    /// and says why.
+    pub host_query_reset: bool,
     /// Loop iterations a shader invocation may run in all before the driver leaves its loops
     /// (silently): 65,535 on lavapipe (llvmpipe's loop limiter, shared by every loop of an
     /// invocation, counted per SIMD group); `None` where the driver has no such limit.
@@ -133,7 +129,12 @@ pub struct Context {
     messages: MessageSink,
 }
 
-fn device_info(instance: &ash::Instance, pd: vk::PhysicalDevice, family: u32) -> DeviceInfo {
+fn device_info(
+    instance: &ash::Instance,
+    pd: vk::PhysicalDevice,
+    family: u32,
+    enabled: &DeviceFeatures,
+) -> DeviceInfo {
     let mut p11 = vk::PhysicalDeviceMaintenance3Properties::default();
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
     let mut p2 = vk::PhysicalDeviceProperties2::default()
@@ -162,9 +163,8 @@ fn device_info(instance: &ash::Instance, pd: vk::PhysicalDevice, family: u32) ->
             .get(family as usize)
             .map_or(0, |f| f.timestamp_valid_bits),
         sub_pixel_precision_bits: props.limits.sub_pixel_precision_bits,
-        storage_image_write_without_format: device_select::supports_storage_write_without_format(
-            instance, pd,
-        ),
+        storage_image_write_without_format: enabled.storage_image_write_without_format(),
+        host_query_reset: enabled.host_query_reset(),
         attachment_format_features: [vk::Format::D32_SFLOAT, vk::Format::R32_UINT].map(|f| {
             unsafe { instance.get_physical_device_format_properties(pd, f) }.optimal_tiling_features
         }),
@@ -240,6 +240,7 @@ impl Context {
             }
         };
         let (chosen, (device, queue)) = chosen;
+        let enabled = chosen.requirements.features;
         let owned = Owned {
             _entry: entry,
             instance,
@@ -254,6 +255,7 @@ impl Context {
                 device,
                 chosen.queue_family,
                 queue,
+                &enabled,
                 Some(owned),
                 messages,
             )
@@ -262,13 +264,19 @@ impl Context {
 
     /// Wraps a host engine's Vulkan objects. The library then never destroys them.
     ///
+    /// `enabled` is what the host enabled when it created `device` (what was enabled cannot be
+    /// queried from a `VkDevice`): the features it chained into `VkDeviceCreateInfo`, e.g.
+    /// [`super::DeviceRequirements::features`] when it chained those. Refused
+    /// ([`Error::FeaturesNotEnabled`], naming each) when a required feature is off there, or
+    /// ([`Error::MissingFeatures`]) when it is on there but the device does not support it.
+    /// Optional features: hostQueryReset (off: [`super::TimestampQueries`] records nothing
+    /// and says so), shaderStorageImageWriteWithoutFormat (off:
+    /// `technique::VisibilityMaskPass::new` fails).
+    ///
     /// # Safety
-    /// - `device` was created from `physical` of `instance`, with a queue of `queue_family`
-    ///   supporting graphics and compute, Vulkan 1.3, and these features enabled:
-    ///   geometryShader, fragmentStoresAndAtomics, shaderInt64, shaderBufferInt64Atomics,
-    ///   dynamicRendering, synchronization2, hostQueryReset, bufferDeviceAddress; and, for
-    ///   the visibility-mask pass (`technique::VisibilityMaskPass`), also
-    ///   shaderStorageImageWriteWithoutFormat, enabled exactly when `optional` says so.
+    /// - `device` was created from `physical` of `instance` (Vulkan 1.3), with a queue of
+    ///   `queue_family` supporting graphics and compute, and with every feature that is on in
+    ///   `enabled` enabled ([`super::DeviceRequirements`] lists them).
     /// - `instance` and `device` outlive the returned context and every object made from it.
     /// - The library submits to `queue` only through [`super::OneShot`] (which the standalone
     ///   renderer uses); passes only record into command buffers the host gives them.
@@ -280,42 +288,51 @@ impl Context {
         device: ash::Device,
         queue_family: u32,
         queue: vk::Queue,
-        optional: OptionalFeatures,
+        enabled: &DeviceFeatures,
     ) -> Result<Self> {
-        // What was enabled cannot be queried, but what the device lacks can be refused.
-        let missing = device_select::missing_features(instance, physical);
+        let not_enabled = enabled.missing_required();
+        if !not_enabled.is_empty() {
+            return Err(Error::FeaturesNotEnabled {
+                detail: describe(&not_enabled),
+                missing: not_enabled,
+            });
+        }
+        // A host cannot have enabled what the device does not support.
+        // SAFETY: the caller's contract (`physical` of `instance`, Vulkan 1.3).
+        let supported = unsafe { DeviceFeatures::supported(instance, physical) };
+        let missing = supported.missing_required();
         if !missing.is_empty() {
             return Err(Error::MissingFeatures(format!(
                 "the host's device lacks {}",
-                missing.join(", ")
+                describe(&missing)
             )));
         }
-        let mut ctx = unsafe {
+        unsafe {
             Self::assemble(
                 instance,
                 physical,
                 device,
                 queue_family,
                 queue,
+                enabled,
                 None,
                 Arc::new(Mutex::new(Vec::new())),
             )
-        }?;
-        // The host's word, not the device's support: enabling is the host's choice.
-        ctx.info.storage_image_write_without_format = optional.storage_image_write_without_format;
-        Ok(ctx)
+        }
     }
 
+    #[allow(clippy::too_many_arguments)]
     unsafe fn assemble(
         instance: &ash::Instance,
         physical: vk::PhysicalDevice,
         device: ash::Device,
         queue_family: u32,
         queue: vk::Queue,
+        enabled: &DeviceFeatures,
         owned: Option<Owned>,
         messages: MessageSink,
     ) -> Result<Self> {
-        let info = device_info(instance, physical, queue_family);
+        let info = device_info(instance, physical, queue_family, enabled);
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: instance.clone(),
             device: device.clone(),

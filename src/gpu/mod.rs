@@ -1,7 +1,7 @@
 //! Layer 1: a thin, honest layer over ash. Nothing here knows about shadows.
 //!
 //! [`Context`] owns (or borrows, see [`Context::from_raw`]) the instance, device and queue,
-//! and a gpu-allocator. [`Buffer`]s free themselves. [`OneShot`] records and submits a
+//! and a gpu-allocator; [`DeviceRequirements`] is what a host enables on its device for it. [`Buffer`]s free themselves. [`OneShot`] records and submits a
 //! command buffer and waits for it. [`TimestampQueries`] times passes.
 
 mod barrier;
@@ -13,13 +13,14 @@ mod device_select;
 mod image;
 mod image_bindings;
 mod pipeline;
+mod requirements;
 mod timestamps;
 mod variants;
 
 pub use barrier::{Access, image_barrier, memory_barrier};
 pub use buffer::{Buffer, BufferUsage};
 pub use commands::OneShot;
-pub use context::{Context, ContextOptions, DeviceInfo, OptionalFeatures};
+pub use context::{Context, ContextOptions, DeviceInfo};
 pub use image::Image;
 pub use image_bindings::{ImageBindingLayout, ImageBindings};
 pub use pipeline::{
@@ -27,5 +28,6 @@ pub use pipeline::{
     begin_rendering, begin_rendering_colors, compute_pipeline, compute_pipeline_with_sets,
     graphics_pipeline, pipeline_layout, pipeline_layout_with_sets, specialized_compute_pipeline,
 };
+pub use requirements::{DeviceFeatures, DeviceRequirements};
 pub use timestamps::TimestampQueries;
 pub use variants::ComputeVariants;

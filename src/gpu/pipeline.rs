@@ -64,16 +64,28 @@ impl Drop for Pipeline {
 
 impl Pipeline {
     /// Binds the pipeline.
-    pub fn bind(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+    ///
+    /// # Safety
+    /// `device` is the device the pipeline was made on, `cmd` one of its command buffers in
+    /// the recording state, and the pipeline outlives every submission of `cmd`.
+    pub unsafe fn bind(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        // SAFETY: the caller's contract.
         unsafe { device.cmd_bind_pipeline(cmd, self.bind_point, self.raw) };
     }
 
-    /// Pushes `constants` (plain data) to every stage of the layout.
-    pub fn push<T: Copy>(&self, device: &ash::Device, cmd: vk::CommandBuffer, constants: &T) {
-        // SAFETY: T is plain data; the layout's range covers size_of::<T>() (see pipeline_layout).
-        let bytes = unsafe {
-            std::slice::from_raw_parts(constants as *const T as *const u8, std::mem::size_of::<T>())
-        };
+    /// Pushes `constants` to every stage of the layout.
+    ///
+    /// # Safety
+    /// As [`Self::bind`]; and the layout's push-constant range covers `size_of::<T>()` bytes
+    /// (it was made by [`pipeline_layout`] with at least that many).
+    pub unsafe fn push<T: bytemuck::Pod>(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        constants: &T,
+    ) {
+        let bytes = bytemuck::bytes_of(constants);
+        // SAFETY: the caller's contract.
         unsafe { device.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::ALL, 0, bytes) };
     }
 }
@@ -303,15 +315,29 @@ pub fn graphics_pipeline(
 }
 
 /// Begins attachment-less dynamic rendering over `width` x `height` with matching viewport.
-pub fn begin_attachmentless(device: &ash::Device, cmd: vk::CommandBuffer, width: u32, height: u32) {
-    begin_rendering(device, cmd, width, height, None, None);
+///
+/// # Safety
+/// `cmd` is a command buffer of `device` in the recording state, outside a render pass (the
+/// caller ends the rendering it begins with `cmd_end_rendering`).
+pub unsafe fn begin_attachmentless(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    width: u32,
+    height: u32,
+) {
+    // SAFETY: the caller's contract.
+    unsafe { begin_rendering(device, cmd, width, height, None, None) };
 }
 
 /// Begins dynamic rendering over `width` x `height` with matching viewport, into `depth` (a
 /// view in DEPTH_ATTACHMENT_OPTIMAL, cleared to the given depth) and `color` (a view of an
 /// unsigned-integer format in COLOR_ATTACHMENT_OPTIMAL, cleared to the given value), each
 /// stored at the end.
-pub fn begin_rendering(
+///
+/// # Safety
+/// As [`begin_attachmentless`]; the views are of `device`, in those layouts, with the
+/// attachment usages, `width` x `height` or larger, and outlive the execution of `cmd`.
+pub unsafe fn begin_rendering(
     device: &ash::Device,
     cmd: vk::CommandBuffer,
     width: u32,
@@ -320,12 +346,16 @@ pub fn begin_rendering(
     color: Option<(vk::ImageView, u32)>,
 ) {
     let colors: Vec<_> = color.into_iter().collect();
-    begin_rendering_colors(device, cmd, width, height, depth, &colors);
+    // SAFETY: the caller's contract.
+    unsafe { begin_rendering_colors(device, cmd, width, height, depth, &colors) };
 }
 
 /// [`begin_rendering`] into any number of colour attachments, each cleared to the bits of its
 /// value in every channel (0 is 0.0 in float formats).
-pub fn begin_rendering_colors(
+///
+/// # Safety
+/// As [`begin_rendering`], for every view in `colors`.
+pub unsafe fn begin_rendering_colors(
     device: &ash::Device,
     cmd: vk::CommandBuffer,
     width: u32,
@@ -378,6 +408,7 @@ pub fn begin_rendering_colors(
         min_depth: 0.0,
         max_depth: 1.0,
     };
+    // SAFETY: the caller's contract.
     unsafe {
         device.cmd_begin_rendering(cmd, &info);
         device.cmd_set_viewport(cmd, 0, &[viewport]);

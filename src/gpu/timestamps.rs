@@ -6,10 +6,14 @@ use crate::error::{Result, VkContext};
 use ash::vk;
 use std::sync::Arc;
 
-/// A timestamp query pool with a label per mark.
+/// A timestamp query pool with a label per mark. Timing is best effort: where the device
+/// cannot time ([`Self::unsupported_reason`]), marks record nothing and there are no spans.
 pub struct TimestampQueries {
     shared: Arc<Shared>,
+    /// Null when timing is off.
     pool: vk::QueryPool,
+    /// Why timing is off, if it is.
+    off: Option<&'static str>,
     capacity: u32,
     labels: Vec<String>,
     period_ns: f64,
@@ -17,17 +21,38 @@ pub struct TimestampQueries {
 }
 
 impl TimestampQueries {
-    /// Room for `capacity` marks.
+    /// Room for `capacity` marks. Never fails for want of timing support: see
+    /// [`Self::unsupported_reason`].
     pub fn new(ctx: &Context, capacity: u32) -> Result<Self> {
-        let info = vk::QueryPoolCreateInfo::default()
-            .query_type(vk::QueryType::TIMESTAMP)
-            .query_count(capacity);
-        let pool =
-            unsafe { ctx.device().create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
         let bits = ctx.info().timestamp_valid_bits;
-        let this = Self {
+        let off = if !ctx.info().host_query_reset {
+            Some("the device was created without hostQueryReset, which the timestamps need")
+        } else if bits == 0 {
+            Some("the queue has no timestamps (timestampValidBits is 0)")
+        } else if capacity == 0 {
+            Some("room for no marks")
+        } else {
+            None
+        };
+        if let Some(why) = off {
+            log::info!("timestamps are off: {why}");
+        }
+        let pool = if off.is_some() {
+            vk::QueryPool::null()
+        } else {
+            let info = vk::QueryPoolCreateInfo::default()
+                .query_type(vk::QueryType::TIMESTAMP)
+                .query_count(capacity);
+            let pool =
+                unsafe { ctx.device().create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
+            // SAFETY: a new pool, not in use; hostQueryReset is enabled.
+            unsafe { ctx.device().reset_query_pool(pool, 0, capacity) };
+            pool
+        };
+        Ok(Self {
             shared: ctx.shared.clone(),
             pool,
+            off,
             capacity,
             labels: Vec::new(),
             period_ns: ctx.info().timestamp_period_ns as f64,
@@ -36,32 +61,48 @@ impl TimestampQueries {
             } else {
                 (1u64 << bits) - 1
             },
-        };
-        unsafe { ctx.device().reset_query_pool(pool, 0, capacity) };
-        Ok(this)
+        })
     }
 
-    /// Whether the queue can time at all (timestampValidBits > 0).
+    /// Whether marks record timestamps: the queue can time (timestampValidBits > 0) and the
+    /// device has hostQueryReset enabled.
     pub fn supported(&self) -> bool {
-        self.valid_mask != 0
+        self.off.is_none()
     }
 
-    /// Forgets earlier marks (host-side reset; the pool must not be in use by the GPU).
-    pub fn clear(&mut self) {
+    /// Why timing is off (no hostQueryReset, no timestamps on the queue), or `None`.
+    pub fn unsupported_reason(&self) -> Option<&'static str> {
+        self.off
+    }
+
+    /// Forgets earlier marks (a host-side reset of the pool).
+    ///
+    /// # Safety
+    /// No command buffer with marks recorded from this pool is pending execution.
+    pub unsafe fn clear(&mut self) {
+        self.labels.clear();
+        if self.off.is_some() {
+            return;
+        }
+        // SAFETY: the caller's contract; hostQueryReset is enabled (else `off`).
         unsafe {
             self.shared
                 .device
                 .reset_query_pool(self.pool, 0, self.capacity)
         };
-        self.labels.clear();
     }
 
     /// Records a timestamp after all earlier commands; `label` names the span since the last.
     /// Marks beyond the capacity are ignored (timing is best effort, never a failure).
-    pub fn mark(&mut self, cmd: vk::CommandBuffer, label: &str) {
+    ///
+    /// # Safety
+    /// `cmd` is a command buffer of the context's device in the recording state, on a queue
+    /// family that supports timestamps, and this object outlives its execution.
+    pub unsafe fn mark(&mut self, cmd: vk::CommandBuffer, label: &str) {
         if !self.supported() || self.labels.len() as u32 >= self.capacity {
             return;
         }
+        // SAFETY: the caller's contract; the query was reset (new or `clear`).
         unsafe {
             self.shared.device.cmd_write_timestamp2(
                 cmd,

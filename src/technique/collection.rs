@@ -119,7 +119,7 @@ impl PrismPipelines {
             }
             let pipeline = pipeline_of(record);
             if bound != Some(pipeline.raw) {
-                pipeline.bind(device, cmd);
+                unsafe { pipeline.bind(device, cmd) };
                 bound = Some(pipeline.raw);
             }
             draw_one(device, cmd, pipeline, draws, i, record, constants);
@@ -179,7 +179,7 @@ fn draw_one(
         draw_count: draws.draw_count(),
         ..constants
     };
-    pipeline.push(device, cmd, &constants);
+    unsafe { pipeline.push(device, cmd, &constants) };
     unsafe { device.cmd_draw(cmd, 3 * record.triangle_count, 1, 0, 0) };
 }
 
@@ -262,16 +262,18 @@ impl CollectionPass {
         let redraw_layer = static_layer && !keep;
         let collects_ranges = map.collects_ranges(light, coverage);
         // Earlier frames may still read these lists.
-        memory_barrier(
-            device,
-            cmd,
-            Access::ANY_SHADER_READ
-                .and(Access::COMPUTE_RW)
-                .and(Access::FRAGMENT_RW)
-                .and(Access::TRANSFER_READ)
-                .and(Access::INDIRECT_READ),
-            Access::TRANSFER_WRITE,
-        );
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::ANY_SHADER_READ
+                    .and(Access::COMPUTE_RW)
+                    .and(Access::FRAGMENT_RW)
+                    .and(Access::TRANSFER_READ)
+                    .and(Access::INDIRECT_READ),
+                Access::TRANSFER_WRITE,
+            )
+        };
         map.record_header(device, cmd, light, coverage);
         let counters = Counters {
             node_capacity: map.node_capacity(),
@@ -291,15 +293,17 @@ impl CollectionPass {
                 device.cmd_fill_buffer(cmd, c.nearest.raw(), 0, vk::WHOLE_SIZE, u32::MAX);
             }
         }
-        memory_barrier(
-            device,
-            cmd,
-            Access::TRANSFER_WRITE,
-            Access::ANY_SHADER_READ
-                .and(Access::FRAGMENT_RW)
-                .and(Access::COMPUTE_RW),
-        );
-        begin_attachmentless(device, cmd, map.width(), map.height());
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::TRANSFER_WRITE,
+                Access::ANY_SHADER_READ
+                    .and(Access::FRAGMENT_RW)
+                    .and(Access::COMPUTE_RW),
+            )
+        };
+        unsafe { begin_attachmentless(device, cmd, map.width(), map.height()) };
         let constants = PassConstants {
             map: map.header_address(),
             flags: COUNT_INVALID,
@@ -321,12 +325,14 @@ impl CollectionPass {
         if collects_ranges {
             // No generation pass pairs these ranges, and no coverage map drops any: what the
             // range count would be without one is the count itself.
-            memory_barrier(
-                device,
-                cmd,
-                Access::FRAGMENT_RW,
-                Access::TRANSFER_READ.and(Access::TRANSFER_WRITE),
-            );
+            unsafe {
+                memory_barrier(
+                    device,
+                    cmd,
+                    Access::FRAGMENT_RW,
+                    Access::TRANSFER_READ.and(Access::TRANSFER_WRITE),
+                )
+            };
             let count = std::mem::offset_of!(Counters, range_count) as u64;
             let without = std::mem::offset_of!(Counters, ranges_without_coverage) as u64;
             let region = [vk::BufferCopy {
@@ -337,14 +343,16 @@ impl CollectionPass {
             let counters = map.counters.raw();
             unsafe { device.cmd_copy_buffer(cmd, counters, counters, &region) };
         }
-        memory_barrier(
-            device,
-            cmd,
-            Access::FRAGMENT_RW
-                .and(Access::GEOMETRY_RW)
-                .and(Access::TRANSFER_WRITE),
-            Access::COMPUTE_RW.and(Access::FRAGMENT_RW),
-        );
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::FRAGMENT_RW
+                    .and(Access::GEOMETRY_RW)
+                    .and(Access::TRANSFER_WRITE),
+                Access::COMPUTE_RW.and(Access::FRAGMENT_RW),
+            )
+        };
         Ok(())
     }
 }

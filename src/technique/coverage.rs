@@ -145,19 +145,21 @@ impl CoveragePass {
         map: &TemporalShadowMap,
         coverage: &CoverageMap,
     ) {
-        memory_barrier(
-            device,
-            cmd,
-            Access::ANY_SHADER_READ.and(Access::FRAGMENT_RW),
-            Access::TRANSFER_WRITE,
-        );
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::ANY_SHADER_READ.and(Access::FRAGMENT_RW),
+                Access::TRANSFER_WRITE,
+            )
+        };
         unsafe {
             device.cmd_fill_buffer(cmd, coverage.coverage.raw(), 0, vk::WHOLE_SIZE, u32::MAX);
             device.cmd_fill_buffer(cmd, coverage.cover_depth.raw(), 0, vk::WHOLE_SIZE, 0);
         }
-        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::FRAGMENT_RW);
-        begin_attachmentless(device, cmd, coverage.width, coverage.height);
-        self.caps.bind(device, cmd);
+        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::FRAGMENT_RW) };
+        unsafe { begin_attachmentless(device, cmd, coverage.width, coverage.height) };
+        unsafe { self.caps.bind(device, cmd) };
         for time in [0.0, 1.0] {
             let constants = PassConstants {
                 map: map.header_address(),
@@ -169,8 +171,8 @@ impl CoveragePass {
         }
         unsafe { device.cmd_end_rendering(cmd) };
         // The reset pass reads what the caps wrote, in other fragment invocations.
-        memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::FRAGMENT_RW);
-        begin_attachmentless(device, cmd, coverage.width, coverage.height);
+        unsafe { memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::FRAGMENT_RW) };
+        unsafe { begin_attachmentless(device, cmd, coverage.width, coverage.height) };
         let constants = PassConstants {
             map: map.header_address(),
             ..PassConstants::default()
@@ -178,11 +180,13 @@ impl CoveragePass {
         self.reset
             .draw(device, cmd, light.prisms, draws, constants, true, false);
         unsafe { device.cmd_end_rendering(cmd) };
-        memory_barrier(
-            device,
-            cmd,
-            Access::FRAGMENT_RW,
-            Access::COMPUTE_RW.and(Access::ANY_SHADER_READ),
-        );
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::FRAGMENT_RW,
+                Access::COMPUTE_RW.and(Access::ANY_SHADER_READ),
+            )
+        };
     }
 }

@@ -405,10 +405,10 @@ impl DrawList {
             }
         }
         // Earlier passes of this or an earlier frame may still read the list.
-        memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE);
+        unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
         // SAFETY: the caller's contract; the buffer holds `capacity` records.
         unsafe { self.buffer.record_write(device, cmd, &records) };
-        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ);
+        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ) };
         self.records = records;
         Ok(())
     }

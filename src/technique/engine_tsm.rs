@@ -262,7 +262,7 @@ fn check_map_format(features: impl Fn(vk::Format) -> vk::FormatFeatureFlags) -> 
 /// The mask shader's push constants (`Push` in glsl/tsm_mask.comp, 120 bytes; 128 here, the
 /// last 8 bytes never read).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
 struct TsmConstants {
     inv_view_proj: Mat4,
     light: u64,
@@ -434,41 +434,45 @@ impl EngineTsmPass {
             depths: 0,
             ids: 0,
         };
-        memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE);
+        unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
         // SAFETY: plain data of the header's size; outside a render pass (the contract).
         unsafe { map.header.record_write(device, cmd, &[header]) };
-        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ);
+        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ) };
 
         // The static map, unless the one kept from an earlier frame still holds these draws.
         let source = StaticLayerSource::of(light, draws);
         if map.take_static_redraw(source, light.keep_static_layer) {
-            image_barrier(
-                device,
-                cmd,
-                map.static_map.raw(),
-                map.static_map.layers_range(0, 1),
-                (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                ),
-                static_reads,
-                Access::DEPTH_ATTACHMENT,
-            );
+            unsafe {
+                image_barrier(
+                    device,
+                    cmd,
+                    map.static_map.raw(),
+                    map.static_map.layers_range(0, 1),
+                    (
+                        vk::ImageLayout::UNDEFINED,
+                        vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                    ),
+                    static_reads,
+                    Access::DEPTH_ATTACHMENT,
+                )
+            };
             let view = map.static_map.layer_view(0);
             // SAFETY: the caller's contract; the view is in the attachment layout.
             unsafe { begin_depth(device, cmd, view, map.width, map.height, true) };
-            self.depth_only.bind(device, cmd);
+            unsafe { self.depth_only.bind(device, cmd) };
             draw_where(device, cmd, &self.depth_only, draws, map, 0.0, true);
             unsafe { device.cmd_end_rendering(cmd) };
-            image_barrier(
-                device,
-                cmd,
-                map.static_map.raw(),
-                map.static_map.layers_range(0, 1),
-                (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, static_layout),
-                Access::DEPTH_ATTACHMENT,
-                static_reads,
-            );
+            unsafe {
+                image_barrier(
+                    device,
+                    cmd,
+                    map.static_map.raw(),
+                    map.static_map.layers_range(0, 1),
+                    (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, static_layout),
+                    Access::DEPTH_ATTACHMENT,
+                    static_reads,
+                )
+            };
         }
 
         // The host's images and the maps, for every dispatch below.
@@ -511,47 +515,53 @@ impl EngineTsmPass {
             let batch = map.layers.min(maps - first);
             // The working layers: their reads by the previous dispatch (or frame) are done.
             if second_lookup {
-                image_barrier(
-                    device,
-                    cmd,
-                    working,
-                    all_layers,
-                    (
-                        vk::ImageLayout::UNDEFINED,
-                        vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                    ),
-                    COMPUTE_SAMPLED_READ,
-                    Access::DEPTH_ATTACHMENT,
-                );
+                unsafe {
+                    image_barrier(
+                        device,
+                        cmd,
+                        working,
+                        all_layers,
+                        (
+                            vk::ImageLayout::UNDEFINED,
+                            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                        ),
+                        COMPUTE_SAMPLED_READ,
+                        Access::DEPTH_ATTACHMENT,
+                    )
+                };
             } else {
-                image_barrier(
-                    device,
-                    cmd,
-                    working,
-                    all_layers,
-                    (
-                        vk::ImageLayout::UNDEFINED,
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    ),
-                    COMPUTE_SAMPLED_READ,
-                    Access::TRANSFER_WRITE,
-                );
+                unsafe {
+                    image_barrier(
+                        device,
+                        cmd,
+                        working,
+                        all_layers,
+                        (
+                            vk::ImageLayout::UNDEFINED,
+                            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        ),
+                        COMPUTE_SAMPLED_READ,
+                        Access::TRANSFER_WRITE,
+                    )
+                };
                 // SAFETY: both images are the map's, in the layouts named.
                 unsafe { copy_static(device, cmd, map, batch) };
-                image_barrier(
-                    device,
-                    cmd,
-                    working,
-                    all_layers,
-                    (
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                    ),
-                    Access::TRANSFER_WRITE,
-                    Access::DEPTH_ATTACHMENT,
-                );
+                unsafe {
+                    image_barrier(
+                        device,
+                        cmd,
+                        working,
+                        all_layers,
+                        (
+                            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                        ),
+                        Access::TRANSFER_WRITE,
+                        Access::DEPTH_ATTACHMENT,
+                    )
+                };
             }
-            self.depth_only.bind(device, cmd);
+            unsafe { self.depth_only.bind(device, cmd) };
             for layer in 0..batch {
                 let t = ((first + layer) as f32 + 0.5) * inv_maps;
                 let view = map.working.layer_view(layer);
@@ -560,18 +570,20 @@ impl EngineTsmPass {
                 draw_where(device, cmd, &self.depth_only, draws, map, t, false);
                 unsafe { device.cmd_end_rendering(cmd) };
             }
-            image_barrier(
-                device,
-                cmd,
-                working,
-                all_layers,
-                (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, read_only),
-                Access::DEPTH_ATTACHMENT,
-                COMPUTE_SAMPLED_READ,
-            );
+            unsafe {
+                image_barrier(
+                    device,
+                    cmd,
+                    working,
+                    all_layers,
+                    (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, read_only),
+                    Access::DEPTH_ATTACHMENT,
+                    COMPUTE_SAMPLED_READ,
+                )
+            };
             if first > 0 {
                 // The previous batch's count, read and rewritten by this one.
-                memory_barrier(device, cmd, COMPUTE_STORAGE_RW, COMPUTE_STORAGE_RW);
+                unsafe { memory_barrier(device, cmd, COMPUTE_STORAGE_RW, COMPUTE_STORAGE_RW) };
             }
             let flags = normal_flags
                 | if first == 0 { FIRST_BATCH } else { 0 }
@@ -590,7 +602,7 @@ impl EngineTsmPass {
                 batch,
                 reserved: [0; 3],
             };
-            mask.bind(device, cmd);
+            unsafe { mask.bind(device, cmd) };
             // SAFETY: the set was written above; its views are valid (the caller's contract).
             unsafe {
                 device.cmd_bind_descriptor_sets(
@@ -602,7 +614,7 @@ impl EngineTsmPass {
                     &[],
                 );
             }
-            mask.push(device, cmd, &constants);
+            unsafe { mask.push(device, cmd, &constants) };
             let groups = (inputs.size.0.div_ceil(8), inputs.size.1.div_ceil(8));
             unsafe { device.cmd_dispatch(cmd, groups.0, groups.1, 1) };
         }
@@ -760,7 +772,7 @@ fn draw_where(
             time: t,
             ..PassConstants::default()
         };
-        pipeline.push(device, cmd, &constants);
+        unsafe { pipeline.push(device, cmd, &constants) };
         unsafe { device.cmd_draw(cmd, 3 * record.triangle_count, 1, 0, 0) };
     }
 }

@@ -185,31 +185,37 @@ impl GBuffer {
             let range = image.layers_range(0, 1);
             let before = Access::COMPUTE_SAMPLED_READ;
             let transfer = (layout, vk::ImageLayout::TRANSFER_SRC_OPTIMAL);
-            image_barrier(
-                device,
-                cmd,
-                image.raw(),
-                range,
-                transfer,
-                before,
-                Access::TRANSFER_READ,
-            );
+            unsafe {
+                image_barrier(
+                    device,
+                    cmd,
+                    image.raw(),
+                    range,
+                    transfer,
+                    before,
+                    Access::TRANSFER_READ,
+                )
+            };
             // SAFETY: the caller's contract; the buffer holds every image (4 + 3 x 16 bytes a
             // pixel) and is the G-buffer's own.
             unsafe { image.record_copy_to_buffer(device, cmd, self.readback.raw(), offset) };
             let back = (vk::ImageLayout::TRANSFER_SRC_OPTIMAL, layout);
-            image_barrier(
-                device,
-                cmd,
-                image.raw(),
-                range,
-                back,
-                Access::TRANSFER_READ,
-                before,
-            );
+            unsafe {
+                image_barrier(
+                    device,
+                    cmd,
+                    image.raw(),
+                    range,
+                    back,
+                    Access::TRANSFER_READ,
+                    before,
+                )
+            };
             offset += pixels * if offset == 0 { 4 } else { 16 };
         }
-        crate::gpu::memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+        unsafe {
+            crate::gpu::memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ)
+        };
     }
 
     /// The contents copied by [`Self::record_readback`] (after its command buffer completed).
@@ -236,7 +242,7 @@ impl GBuffer {
 
 /// The G-buffer shaders' push constants (96 bytes).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
 struct GBufferConstants {
     view_proj: Mat4,
     eye: Vec4,
@@ -323,7 +329,7 @@ impl GBufferPass {
             let (layout, access) = attachment(image);
             let range = image.layers_range(0, 1);
             let discard = (vk::ImageLayout::UNDEFINED, layout);
-            image_barrier(device, cmd, image.raw(), range, discard, earlier, access);
+            unsafe { image_barrier(device, cmd, image.raw(), range, discard, earlier, access) };
         }
         let [normal, albedo, motion] = target.colors.each_ref().map(|image| image.layer_view(0));
         let colors = [
@@ -333,8 +339,8 @@ impl GBufferPass {
             (target.ids.layer_view(0), u32::MAX),
         ];
         let depth = Some((target.depth.layer_view(0), 1.0));
-        begin_rendering_colors(device, cmd, target.width, target.height, depth, &colors);
-        self.pipeline.bind(device, cmd);
+        unsafe { begin_rendering_colors(device, cmd, target.width, target.height, depth, &colors) };
+        unsafe { self.pipeline.bind(device, cmd) };
         for (index, record) in draws.records().iter().enumerate() {
             if record.triangle_count == 0 {
                 continue;
@@ -346,7 +352,7 @@ impl GBufferPass {
                 draw_index: index as u32,
                 time,
             };
-            self.pipeline.push(device, cmd, &constants);
+            unsafe { self.pipeline.push(device, cmd, &constants) };
             // SAFETY: the caller's contract; rendering began above with the pipeline's
             // attachment formats.
             unsafe { device.cmd_draw(cmd, 3 * record.triangle_count, 1, 0, 0) };
@@ -358,7 +364,7 @@ impl GBufferPass {
             let range = image.layers_range(0, 1);
             let read = (layout, read_layout);
             let after = Access::COMPUTE_SAMPLED_READ;
-            image_barrier(device, cmd, image.raw(), range, read, access, after);
+            unsafe { image_barrier(device, cmd, image.raw(), range, read, access, after) };
         }
     }
 }

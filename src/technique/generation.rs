@@ -63,41 +63,49 @@ impl GenerationPass {
     ) {
         // Empty long-pixel list; its indirect dispatch starts at 0 x 1 x 1 groups.
         let header: [u32; 4] = [0, 0, 1, 1];
-        memory_barrier(
-            device,
-            cmd,
-            Access::COMPUTE_RW.and(Access::INDIRECT_READ),
-            Access::TRANSFER_WRITE,
-        );
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::COMPUTE_RW.and(Access::INDIRECT_READ),
+                Access::TRANSFER_WRITE,
+            )
+        };
         unsafe { map.long_pixels.record_write(device, cmd, &header) };
         // The collection's tile list is the first tier's indirect dispatch.
-        memory_barrier(
-            device,
-            cmd,
-            Access::TRANSFER_WRITE.and(Access::FRAGMENT_RW),
-            Access::COMPUTE_RW.and(Access::INDIRECT_READ),
-        );
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::TRANSFER_WRITE.and(Access::FRAGMENT_RW),
+                Access::COMPUTE_RW.and(Access::INDIRECT_READ),
+            )
+        };
         let constants = PassConstants {
             map: map.header_address(),
             ..PassConstants::default()
         };
-        self.pipeline.bind(device, cmd);
-        self.pipeline.push(device, cmd, &constants);
+        unsafe { self.pipeline.bind(device, cmd) };
+        unsafe { self.pipeline.push(device, cmd, &constants) };
         unsafe { device.cmd_dispatch_indirect(cmd, map.tiles.raw(), 0) };
-        memory_barrier(
-            device,
-            cmd,
-            Access::COMPUTE_RW,
-            Access::COMPUTE_RW.and(Access::INDIRECT_READ),
-        );
-        self.long_pipeline.bind(device, cmd);
-        self.long_pipeline.push(device, cmd, &constants);
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::COMPUTE_RW,
+                Access::COMPUTE_RW.and(Access::INDIRECT_READ),
+            )
+        };
+        unsafe { self.long_pipeline.bind(device, cmd) };
+        unsafe { self.long_pipeline.push(device, cmd, &constants) };
         unsafe { device.cmd_dispatch_indirect(cmd, map.long_pixels.raw(), 4) };
-        memory_barrier(
-            device,
-            cmd,
-            Access::COMPUTE_RW,
-            Access::ANY_SHADER_READ.and(Access::COMPUTE_RW),
-        );
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::COMPUTE_RW,
+                Access::ANY_SHADER_READ.and(Access::COMPUTE_RW),
+            )
+        };
     }
 }

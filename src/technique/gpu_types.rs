@@ -7,7 +7,7 @@ use glam::{Mat4, UVec4, Vec4};
 
 /// One fragment of a prism (16 bytes): linear light depth, shutter time, triangle id, link.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Node {
     /// Linear distance along the light's view axis.
     pub depth: f32,
@@ -22,7 +22,7 @@ pub struct Node {
 /// A depth-time range (24 bytes, `MsRange` in GLSL): the triangle `id` covers the texel
 /// from `t_s` to `t_e`, at a depth going linearly from `d_s` to `d_e`.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Range {
     /// Start of the interval (t_s <= t_e).
     pub t_s: f32,
@@ -40,7 +40,7 @@ pub struct Range {
 
 /// Fragment and range counts (written by shaders) and capacities (written when recording).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Counters {
     /// Fragments the collection pass produced (stored up to `node_capacity`; with
     /// `ranges_direct`, two per covered run and none stored).
@@ -85,7 +85,7 @@ use super::gpu_constants::{
 
 /// The light a shadow map is rendered for, as shaders read it (`MsLight`, 192 bytes).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct GpuLight {
     /// World -> light view (right-handed, looking down -z).
     pub view: Mat4,
@@ -102,10 +102,11 @@ pub struct GpuLight {
     pub bias: Vec4,
 }
 
-/// The header of a temporal shadow map (`MsShadowMap` in GLSL, 288 bytes): what a host
+/// The header of a temporal shadow map (`MsShadowMap` in GLSL, 296 bytes, and 8 reserved
+/// up to the 16-byte alignment of its matrices: 304 in Rust): what a host
 /// shader reads through the address [`super::TemporalShadowMap::header_address`].
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ShadowMapHeader {
     /// The light of the frame.
     pub light: GpuLight,
@@ -135,11 +136,14 @@ pub struct ShadowMapHeader {
     /// The generation pass's indirect dispatch over the map's 8x8-texel tiles (every tile,
     /// or none where the collection stored the ranges itself).
     pub tiles: u64,
+    /// Zero. The struct's tail padding, explicit so that it is plain data (`bytemuck::Pod`);
+    /// not in the GLSL struct.
+    pub reserved: u64,
 }
 
 /// The header of ordinary shadow maps (224 bytes); starts like [`ShadowMapHeader`].
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct PlainMapHeader {
     /// The light of the frame.
     pub light: GpuLight,
@@ -156,7 +160,7 @@ pub struct PlainMapHeader {
 /// One draw of host geometry as shaders read it (160 bytes). Built from a
 /// [`super::Draw`] by [`super::DrawList`].
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct DrawRecord {
     /// Address of vertex 0's position at shutter open (3 floats).
     pub positions0: u64,
@@ -193,7 +197,7 @@ impl DrawRecord {
 
 /// The camera and targets of the lighting pass (`CameraParams`, 208 bytes).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct CameraParams {
     /// World -> camera clip.
     pub view_proj: Mat4,
@@ -226,7 +230,7 @@ pub struct CameraParams {
 
 /// What every pass pushes (56 bytes).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct PassConstants {
     /// The header of the map built or read.
     pub map: u64,

@@ -11,7 +11,7 @@ use ash::vk;
 
 /// The shader's push constants.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
 struct OutputConstants {
     radiance: u64,
     size: [u32; 2],

@@ -55,7 +55,7 @@ impl ImagePass {
     /// # Safety
     /// `cmd` is recording, outside any render pass; `bindings` was made from this pass's
     /// layout and its views are valid until `cmd` completes.
-    pub unsafe fn record<T: Copy>(
+    pub unsafe fn record<T: bytemuck::Pod>(
         &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
@@ -65,7 +65,7 @@ impl ImagePass {
         size: (u32, u32),
     ) {
         let pipeline = &self.pipelines[variant];
-        pipeline.bind(device, cmd);
+        unsafe { pipeline.bind(device, cmd) };
         unsafe {
             device.cmd_bind_descriptor_sets(
                 cmd,
@@ -76,7 +76,7 @@ impl ImagePass {
                 &[],
             )
         };
-        pipeline.push(device, cmd, constants);
+        unsafe { pipeline.push(device, cmd, constants) };
         unsafe { device.cmd_dispatch(cmd, size.0.div_ceil(8), size.1.div_ceil(8), 1) };
     }
 }

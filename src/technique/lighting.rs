@@ -144,7 +144,7 @@ impl LightingTarget {
     /// Synchronization: waits for the compute stage's radiance writes; leaves the copies
     /// visible to host reads once the submission's fence has signalled.
     pub unsafe fn record_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
-        memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ);
+        unsafe { memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ) };
         let region = [vk::BufferCopy {
             src_offset: 0,
             dst_offset: 0,
@@ -164,7 +164,7 @@ impl LightingTarget {
                 &counter,
             );
         }
-        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ) };
     }
 
     /// Triangles the frame's lighting pass dropped because an index pointed past their draw's
@@ -409,28 +409,32 @@ impl LightingPass {
             counters: target.counters.device_address(),
             ..CameraParams::new(view, (target.width, target.height), target.spp)
         };
-        memory_barrier(
-            device,
-            cmd,
-            Access::ANY_SHADER_READ
-                .and(Access::COMPUTE_RW)
-                .and(Access::GEOMETRY_RW)
-                .and(Access::TRANSFER_READ),
-            Access::TRANSFER_WRITE,
-        );
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::ANY_SHADER_READ
+                    .and(Access::COMPUTE_RW)
+                    .and(Access::GEOMETRY_RW)
+                    .and(Access::TRANSFER_READ),
+                Access::TRANSFER_WRITE,
+            )
+        };
         unsafe {
             target.header.record_write(device, cmd, &[header]);
             device.cmd_fill_buffer(cmd, target.radiance.raw(), 0, vk::WHOLE_SIZE, 0);
             device.cmd_fill_buffer(cmd, target.counters.raw(), 0, vk::WHOLE_SIZE, 0);
         }
-        memory_barrier(
-            device,
-            cmd,
-            Access::TRANSFER_WRITE,
-            Access::ANY_SHADER_READ
-                .and(Access::COMPUTE_RW)
-                .and(Access::GEOMETRY_RW),
-        );
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::TRANSFER_WRITE,
+                Access::ANY_SHADER_READ
+                    .and(Access::COMPUTE_RW)
+                    .and(Access::GEOMETRY_RW),
+            )
+        };
     }
 
     /// Renders one chunk of samples (at most the target's samples per chunk) and adds their
@@ -479,18 +483,20 @@ impl LightingPass {
             ..PassConstants::default()
         };
         // The previous chunk's resolve read the visibility buffer.
-        memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_WRITE);
+        unsafe { memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_WRITE) };
         unsafe {
             device.cmd_fill_buffer(cmd, target.visibility.raw(), 0, vk::WHOLE_SIZE, u32::MAX)
         };
-        memory_barrier(
-            device,
-            cmd,
-            Access::TRANSFER_WRITE,
-            Access::FRAGMENT_RW.and(Access::COMPUTE_RW),
-        );
-        begin_attachmentless(device, cmd, target.width, target.height);
-        self.raster.bind(device, cmd);
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::TRANSFER_WRITE,
+                Access::FRAGMENT_RW.and(Access::COMPUTE_RW),
+            )
+        };
+        unsafe { begin_attachmentless(device, cmd, target.width, target.height) };
+        unsafe { self.raster.bind(device, cmd) };
         let raster = RasterConstants {
             pass: PassConstants {
                 map: target.visibility.device_address(),
@@ -501,33 +507,38 @@ impl LightingPass {
                 (target.width, target.height),
                 target.spp,
             )),
+            padding: 0,
         };
         // The camera stays pushed while each draw pushes its own PassConstants over the first
         // bytes.
-        self.raster.push(device, cmd, &raster);
+        unsafe { self.raster.push(device, cmd, &raster) };
         draw_each(device, cmd, &self.raster, draws, raster.pass);
         unsafe { device.cmd_end_rendering(cmd) };
         if let Some(ts) = timestamps.as_deref_mut() {
-            ts.mark(cmd, "lighting raster");
+            unsafe { ts.mark(cmd, "lighting raster") };
         }
-        memory_barrier(
-            device,
-            cmd,
-            Access::FRAGMENT_RW.and(Access::GEOMETRY_RW),
-            Access::COMPUTE_RW,
-        );
-        resolve.bind(device, cmd);
-        resolve.push(device, cmd, &constants);
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::FRAGMENT_RW.and(Access::GEOMETRY_RW),
+                Access::COMPUTE_RW,
+            )
+        };
+        unsafe { resolve.bind(device, cmd) };
+        unsafe { resolve.push(device, cmd, &constants) };
         unsafe { device.cmd_dispatch(cmd, target.width.div_ceil(8), target.height.div_ceil(8), 1) };
         if let Some(ts) = timestamps {
-            ts.mark(cmd, "lighting shade");
+            unsafe { ts.mark(cmd, "lighting shade") };
         }
-        memory_barrier(
-            device,
-            cmd,
-            Access::COMPUTE_RW,
-            Access::COMPUTE_RW.and(Access::TRANSFER_READ),
-        );
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::COMPUTE_RW,
+                Access::COMPUTE_RW.and(Access::TRANSFER_READ),
+            )
+        };
         Ok(())
     }
 }

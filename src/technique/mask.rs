@@ -93,6 +93,36 @@ pub struct TriangleIdImage {
 }
 
 /// What one mask dispatch reads and writes: the host's images and camera.
+///
+/// Build it with [`MaskInputs::new`] (the five inputs every dispatch needs) and the `with_*`
+/// methods for the optional ones, or field by field (every field is public; there is no
+/// `Default`: a depth and an output view have none):
+///
+/// ```no_run
+/// # use motion_shadows::ash::vk;
+/// # use motion_shadows::glam::Mat4;
+/// # use motion_shadows::technique::{MaskInputs, MotionImage, NormalEncoding, NormalImage};
+/// # let (depth, output, normals, motion) = (vk::ImageView::null(), vk::ImageView::null(),
+/// #     vk::ImageView::null(), vk::ImageView::null());
+/// # let inv_view_proj = Mat4::IDENTITY;
+/// let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+/// let inputs = MaskInputs::new(depth, read, output, (1280, 720), inv_view_proj)
+///     .with_normals(NormalImage { view: normals, layout: read, encoding: NormalEncoding::Unorm })
+///     .with_motion(MotionImage { view: motion, layout: read }, 1.0);
+/// ```
+///
+/// Conventions (what the pass does with them):
+/// - **Normals** may face either way: the pass turns each normal (read from `normals`, or
+///   rebuilt from the depth neighbours without them) to the light's side before it offsets
+///   the receiver along it. (`ms_visibility` and `ms_lit_fraction`, called in a host's own
+///   shader, take the normal as given: there it must face the light.)
+/// - **1 means lit**: pixels holding `background_depth` (no surface), and points outside the
+///   light's view (behind a spot light, or outside the square its projection covers; the
+///   depth is not clipped to the near and far planes), get 1.
+/// - **Visibility only**: the mask is the share of the shutter the point sees the light,
+///   nothing else. Inside the map's square but outside a spot light's cone it is still that
+///   share (the square's corners); the cone, distance falloff and `dot(n, l)` are the host's
+///   lighting, multiplied in with the mask.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MaskInputs {
     /// A view of the host's depth image (depth aspect, sampled usage), `size` texels.
@@ -124,9 +154,72 @@ pub struct MaskInputs {
     pub ids: Option<TriangleIdImage>,
 }
 
-/// The mask shader's push constants (104 bytes).
+impl MaskInputs {
+    /// The inputs every dispatch needs (see the fields), with the optional ones at their
+    /// defaults: no normal image (normals rebuilt from the depth neighbours),
+    /// `background_depth` 1 (a standard depth buffer; [`Self::with_background_depth`] for
+    /// reversed Z), no motion (every receiver stands still; `time` 1), no triangle ids.
+    pub fn new(
+        depth: vk::ImageView,
+        depth_layout: vk::ImageLayout,
+        output: vk::ImageView,
+        size: (u32, u32),
+        inv_view_proj: Mat4,
+    ) -> Self {
+        Self {
+            depth,
+            depth_layout,
+            normals: None,
+            output,
+            size,
+            inv_view_proj,
+            background_depth: 1.0,
+            motion: None,
+            time: 1.0,
+            ids: None,
+        }
+    }
+
+    /// With the host's normal image ([`Self::normals`]).
+    pub fn with_normals(self, normals: NormalImage) -> Self {
+        Self {
+            normals: Some(normals),
+            ..self
+        }
+    }
+
+    /// With the depth image's clear value ([`Self::background_depth`]: 0 for reversed Z).
+    pub fn with_background_depth(self, background_depth: f32) -> Self {
+        Self {
+            background_depth,
+            ..self
+        }
+    }
+
+    /// With the host's motion image and the shutter time its depth image shows
+    /// ([`Self::motion`], [`Self::time`]: 1 for an engine that draws its current frame at
+    /// shutter close).
+    pub fn with_motion(self, motion: MotionImage, time: f32) -> Self {
+        Self {
+            motion: Some(motion),
+            time,
+            ..self
+        }
+    }
+
+    /// With the host's triangle-id image ([`Self::ids`]).
+    pub fn with_ids(self, ids: TriangleIdImage) -> Self {
+        Self {
+            ids: Some(ids),
+            ..self
+        }
+    }
+}
+
+/// The mask shader's push constants (104 bytes, and 8 of padding up to Mat4's 16-byte
+/// alignment).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
 struct MaskConstants {
     inv_view_proj: Mat4,
     map: u64,
@@ -139,6 +232,8 @@ struct MaskConstants {
     loop_budget: u32,
     /// [`MaskInputs::time`].
     time: f32,
+    /// Zero: the struct's tail padding, explicit so that it is plain data (`Pod`).
+    padding: [u32; 2],
 }
 
 use super::gpu_constants::{
@@ -146,6 +241,12 @@ use super::gpu_constants::{
 };
 
 /// The visibility-mask pass. Immutable after creation.
+///
+/// For each pixel of the host's depth image: the fraction of the shutter during which that
+/// surface point sees the map's light, in [0, 1], written into the host's output image.
+/// What it assumes and what it writes where nothing shadows (normals may face either way;
+/// background and points outside the light's view get 1; visibility only, no spot cone or
+/// `dot(n, l)`) is listed under [`MaskInputs`].
 pub struct VisibilityMaskPass {
     pass: ImagePass,
     loop_budget: u32,
@@ -263,6 +364,7 @@ impl VisibilityMaskPass {
             over_budget: bindings.over_budget.device_address(),
             loop_budget: self.loop_budget,
             time: inputs.time,
+            padding: [0; 2],
         };
         let variant = usize::from(inputs.motion.is_some());
         let counter = bindings.over_budget.raw();
@@ -294,5 +396,63 @@ impl VisibilityMaskPass {
             );
             memory_barrier(device, cmd, Access::COMPUTE_RW, Access::HOST_READ);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ash::vk::Handle;
+
+    #[test]
+    fn new_fills_the_optional_inputs_with_the_documented_defaults() {
+        let view = |n| vk::ImageView::from_raw(n);
+        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        let m = Mat4::from_scale(glam::Vec3::splat(2.0));
+        let base = MaskInputs::new(view(1), read, view(2), (64, 32), m);
+        assert_eq!(
+            base,
+            MaskInputs {
+                depth: view(1),
+                depth_layout: read,
+                normals: None,
+                output: view(2),
+                size: (64, 32),
+                inv_view_proj: m,
+                background_depth: 1.0,
+                motion: None,
+                time: 1.0,
+                ids: None,
+            }
+        );
+        let normals = NormalImage {
+            view: view(3),
+            layout: read,
+            encoding: NormalEncoding::Unorm,
+        };
+        let motion = MotionImage {
+            view: view(4),
+            layout: read,
+        };
+        let ids = TriangleIdImage {
+            view: view(5),
+            layout: read,
+        };
+        let full = base
+            .with_normals(normals)
+            .with_background_depth(0.0)
+            .with_motion(motion, 0.25)
+            .with_ids(ids);
+        assert_eq!(
+            full,
+            MaskInputs {
+                normals: Some(normals),
+                background_depth: 0.0,
+                motion: Some(motion),
+                time: 0.25,
+                ids: Some(ids),
+                ..base
+            }
+        );
     }
 }

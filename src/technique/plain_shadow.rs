@@ -252,20 +252,22 @@ impl PlainShadowPass {
             depths: map.depths.device_address(),
             ids: map.ids.as_ref().map_or(0, |b| b.device_address()),
         };
-        memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE);
+        unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
         unsafe { map.header.record_write(device, cmd, &[header]) };
-        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ);
+        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ) };
         for image in map.attachments() {
             let (layout, access) = attachment_state(image);
-            image_barrier(
-                device,
-                cmd,
-                image.raw(),
-                image.layers_range(0, map.layers),
-                (vk::ImageLayout::UNDEFINED, layout),
-                Access::TRANSFER_READ,
-                access,
-            );
+            unsafe {
+                image_barrier(
+                    device,
+                    cmd,
+                    image.raw(),
+                    image.layers_range(0, map.layers),
+                    (vk::ImageLayout::UNDEFINED, layout),
+                    Access::TRANSFER_READ,
+                    access,
+                )
+            };
         }
         let pipeline = match map.format {
             DepthFormat::DepthOnly => &self.depth_only,
@@ -273,17 +275,19 @@ impl PlainShadowPass {
         };
         for (layer, &t) in times.iter().enumerate().take(map.layers as usize) {
             let layer = layer as u32;
-            begin_rendering(
-                device,
-                cmd,
-                map.width,
-                map.height,
-                Some((map.depth_image.layer_view(layer), 1.0)),
-                map.id_image
-                    .as_ref()
-                    .map(|ids| (ids.layer_view(layer), NO_TRIANGLE)),
-            );
-            pipeline.bind(device, cmd);
+            unsafe {
+                begin_rendering(
+                    device,
+                    cmd,
+                    map.width,
+                    map.height,
+                    Some((map.depth_image.layer_view(layer), 1.0)),
+                    map.id_image
+                        .as_ref()
+                        .map(|ids| (ids.layer_view(layer), NO_TRIANGLE)),
+                )
+            };
+            unsafe { pipeline.bind(device, cmd) };
             let constants = PassConstants {
                 map: map.header_address(),
                 first_sample: layer,
@@ -310,22 +314,24 @@ impl PlainShadowPass {
         cmd: vk::CommandBuffer,
         map: &PlainShadowMap,
     ) {
-        memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE);
+        unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
         let planes = [Some(&map.depths), map.ids.as_ref()];
         for (image, buffer) in map.attachments().zip(planes.into_iter().flatten()) {
             let (layout, access) = attachment_state(image);
-            image_barrier(
-                device,
-                cmd,
-                image.raw(),
-                image.layers_range(0, map.layers),
-                (layout, vk::ImageLayout::TRANSFER_SRC_OPTIMAL),
-                access,
-                Access::TRANSFER_READ,
-            );
+            unsafe {
+                image_barrier(
+                    device,
+                    cmd,
+                    image.raw(),
+                    image.layers_range(0, map.layers),
+                    (layout, vk::ImageLayout::TRANSFER_SRC_OPTIMAL),
+                    access,
+                    Access::TRANSFER_READ,
+                )
+            };
             unsafe { image.record_copy_to_buffer(device, cmd, buffer.raw(), 0) };
         }
-        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ);
+        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ) };
     }
 }
 

@@ -11,7 +11,7 @@ use super::gpu_types::{CameraParams, PassConstants};
 /// The camera of the lighting raster's fragment shader (68 bytes, 4-byte members only so
 /// that it packs right after [`PassConstants`] within the 128 bytes every device offers).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct RasterCamera {
     origin: [f32; 3],
     near: f32,
@@ -44,10 +44,12 @@ impl RasterCamera {
 /// What the lighting raster pushes. Its `pass.map` holds the visibility buffer's address: the
 /// raster reads no shadow map, and the address does not fit after the camera.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct RasterConstants {
     pub(crate) pass: PassConstants,
     pub(crate) camera: RasterCamera,
+    /// Zero: the tail padding up to the u64 alignment, explicit so that it is plain data.
+    pub(crate) padding: u32,
 }
 
 /// Bytes of the raster pipeline's push constant range.
@@ -57,3 +59,4 @@ const _: () = assert!(std::mem::size_of::<PassConstants>() == 56);
 const _: () = assert!(std::mem::size_of::<RasterCamera>() == 68);
 // Vulkan guarantees 128 bytes of push constants.
 const _: () = assert!(RASTER_PUSH_BYTES <= 128);
+const _: () = assert!(RASTER_PUSH_BYTES == 128);

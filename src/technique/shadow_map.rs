@@ -106,7 +106,13 @@ fn checked_bytes(what: &'static str, count: u64, element: u64, limit: u64) -> Re
 
 impl TemporalShadowMap {
     /// A map of `width` x `height` pixels with room for the given numbers of fragments and
-    /// ranges. Too small is never wrong, only slower: see [`Self::needs_more_room`].
+    /// ranges. Too small is never undefined behaviour, and a frame that overflows is never
+    /// silently wrong either, but it is incomplete: fragments and ranges past the capacities
+    /// are counted and dropped, so that frame's shadows miss casters.
+    /// [`Self::needs_more_room`] says so after the frame's fence; grow the map then
+    /// ([`Self::grow_to_fit`], [`Self::reserve`]) and use the next frame (or record the frame
+    /// again, as the standalone renderer does). Start near the counts a typical frame needs
+    /// to avoid that frame.
     pub fn new(
         ctx: &Context,
         width: u32,
@@ -237,8 +243,9 @@ impl TemporalShadowMap {
                 0
             },
             tiles: self.tiles.device_address(),
+            reserved: 0,
         };
-        memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE);
+        unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
         // SAFETY: plain data of the header's size; recording outside a render pass (the
         // collection pass's contract).
         unsafe { self.header.record_write(device, cmd, &[header]) };
@@ -411,7 +418,7 @@ impl TemporalShadowMap {
     /// Synchronization: waits for the compute stage's counter writes (the generation pass);
     /// leaves the copy visible to host reads once the submission's fence has signalled.
     pub unsafe fn record_counter_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
-        memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ);
+        unsafe { memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ) };
         let region = [vk::BufferCopy {
             src_offset: 0,
             dst_offset: 0,
@@ -425,7 +432,7 @@ impl TemporalShadowMap {
                 &region,
             )
         };
-        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ) };
     }
 
     /// The counters copied by [`Self::record_counter_readback`], once that submission has
@@ -473,7 +480,7 @@ impl TemporalShadowMap {
 }
 
 /// Copies the first `count` elements of a device-local buffer to the host.
-pub(crate) fn download<T: Copy + Default>(
+pub(crate) fn download<T: bytemuck::Pod>(
     ctx: &Context,
     buffer: &Buffer,
     count: usize,
@@ -485,21 +492,23 @@ pub(crate) fn download<T: Copy + Default>(
     let staging = Buffer::new(ctx, "download", bytes, BufferUsage::Readback)?;
     let device = ctx.device();
     OneShot::new(ctx)?.run(|cmd| {
-        memory_barrier(
-            device,
-            cmd,
-            Access::ANY_SHADER_READ
-                .and(Access::COMPUTE_RW)
-                .and(Access::FRAGMENT_RW),
-            Access::TRANSFER_READ,
-        );
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::ANY_SHADER_READ
+                    .and(Access::COMPUTE_RW)
+                    .and(Access::FRAGMENT_RW),
+                Access::TRANSFER_READ,
+            )
+        };
         let region = [vk::BufferCopy {
             src_offset: 0,
             dst_offset: 0,
             size: bytes,
         }];
         unsafe { device.cmd_copy_buffer(cmd, buffer.raw(), staging.raw(), &region) };
-        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ) };
         Ok(())
     })?;
     staging.read(count)

@@ -966,7 +966,7 @@ fn lit_fraction_matches_the_closed_form_for_a_translating_square() {
 /// host's device and in the host's command buffer.
 #[test]
 fn lighting_pass_writes_into_a_host_image() {
-    use motion_shadows::gpu::{Context, OptionalFeatures};
+    use motion_shadows::gpu::Context;
     use motion_shadows::technique::{
         CollectionPass, DrawList, GenerationPass, LightingImageOutput, LightingPass,
         LightingTarget, ShadowSource,
@@ -990,9 +990,7 @@ fn lighting_pass_writes_into_a_host_image() {
                 host.device.clone(),
                 host.queue_family,
                 host.queue,
-                OptionalFeatures {
-                    storage_image_write_without_format: true,
-                },
+                &host.enabled,
             )
         }
         .expect("from_raw");

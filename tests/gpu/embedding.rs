@@ -5,7 +5,7 @@
 
 use crate::support::gpu::{assert_no_validation_messages, context, render};
 use crate::support::host::Host;
-use motion_shadows::gpu::{Context, OptionalFeatures};
+use motion_shadows::gpu::Context;
 use motion_shadows::technique::{
     CollectionPass, Counters, DrawList, GenerationPass, LightingPass, LightingTarget, LightingView,
     MAX_SAMPLES_PER_CHUNK, ShadowSource, TemporalShadowMap,
@@ -38,7 +38,7 @@ fn render_embedded(host: &Host, scene: &Scene) -> Embedded {
             host.device.clone(),
             host.queue_family,
             host.queue,
-            OptionalFeatures::default(),
+            &host.enabled,
         )
     }
     .expect("Context::from_raw");

@@ -146,6 +146,7 @@ fn shared_structs_match_glsl() {
         nearest: val.a(),
         static_nearest: val.a(),
         tiles: val.a(),
+        reserved: 0,
     };
     let plain = PlainMapHeader {
         light: val.light(),
@@ -225,10 +226,10 @@ fn shared_structs_match_glsl() {
     OneShot::new(&ctx)
         .unwrap()
         .run(|cmd| {
-            pipeline.bind(device, cmd);
-            pipeline.push(device, cmd, &push);
+            unsafe { pipeline.bind(device, cmd) };
+            unsafe { pipeline.push(device, cmd, &push) };
             unsafe { device.cmd_dispatch(cmd, 1, 1, 1) };
-            memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ);
+            unsafe { memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ) };
             Ok(())
         })
         .unwrap();
@@ -353,7 +354,7 @@ fn shared_structs_match_glsl() {
                     size: bytes as u64,
                 }];
                 unsafe { device.cmd_copy_buffer(cmd, b.raw(), staging.raw(), &region) };
-                memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+                unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ) };
                 Ok(())
             })
             .unwrap();

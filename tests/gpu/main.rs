@@ -12,6 +12,7 @@ mod character;
 mod coverage;
 mod crossing_prism;
 mod deferred_host;
+mod device_setup;
 mod embedding;
 mod engine_tsm;
 mod errors;

@@ -30,7 +30,7 @@ use super::host::Host;
 // distribution's libshaderc.so cannot be linked as it is; see build-support/shaderc-link.
 use ash::vk;
 use glam::{DMat4, Mat4, UVec4, Vec3, Vec4};
-use motion_shadows::gpu::{Context, OptionalFeatures};
+use motion_shadows::gpu::Context;
 use motion_shadows::technique::{
     CollectionPass, Counters, Draw, DrawList, GLSL_INCLUDE, GenerationPass, IndexStream, Indices,
     LightKind, LightView, MaskBindings, MaskInputs, MotionImage, NormalEncoding, NormalImage,
@@ -563,9 +563,7 @@ impl<'h> Engine<'h> {
                 host.device.clone(),
                 host.queue_family,
                 host.queue,
-                OptionalFeatures {
-                    storage_image_write_without_format: host.storage_image_write_without_format,
-                },
+                &host.enabled,
             )
         }?;
         let mask_format = Self::pick_mask_format(host)?;

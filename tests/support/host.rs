@@ -1,11 +1,13 @@
 //! A minimal "host engine": its own `ash::Entry`, instance, device, queue, command pool and
-//! fence, created without any help from the library, so that tests and `examples/embed.rs`
-//! can check that `Context::from_raw` and the passes work inside someone else's Vulkan setup.
+//! fence, so that tests and `examples/deferred_host.rs` can check that `Context::from_raw`
+//! and the passes work inside someone else's Vulkan setup. The only help it takes from the
+//! library is `DeviceRequirements`: the features it chains into its `VkDeviceCreateInfo`.
 //!
 //! Shared by the GPU tests (`tests/support/mod.rs`) and the example (which includes this file
 //! with `#[path]`).
 
 use ash::vk;
+use motion_shadows::gpu::{DeviceFeatures, DeviceRequirements};
 use std::ffi::{CStr, c_void};
 use std::sync::{Arc, Mutex};
 
@@ -32,6 +34,8 @@ pub struct Host {
     /// Validation messages (stays empty without validation).
     pub messages: Messages,
     pub device_name: String,
+    /// The features the device was created with (what `Context::from_raw` is told).
+    pub enabled: DeviceFeatures,
     /// shaderStorageImageWriteWithoutFormat was enabled (the visibility-mask pass needs it).
     pub storage_image_write_without_format: bool,
     pool: vk::CommandPool,
@@ -79,29 +83,6 @@ fn messenger_info(sink: *mut Messages) -> vk::DebugUtilsMessengerCreateInfoEXT<'
         .user_data(sink as *mut c_void)
 }
 
-/// Whether `pd` has every feature the library's safety contract asks for.
-fn has_features(instance: &ash::Instance, pd: vk::PhysicalDevice) -> bool {
-    let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
-    let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
-    let mut f2 = vk::PhysicalDeviceFeatures2::default()
-        .push_next(&mut f12)
-        .push_next(&mut f13);
-    unsafe { instance.get_physical_device_features2(pd, &mut f2) };
-    let f = f2.features;
-    [
-        f.geometry_shader,
-        f.fragment_stores_and_atomics,
-        f.shader_int64,
-        f12.shader_buffer_int64_atomics,
-        f12.host_query_reset,
-        f12.buffer_device_address,
-        f13.dynamic_rendering,
-        f13.synchronization2,
-    ]
-    .iter()
-    .all(|&b| b == vk::TRUE)
-}
-
 /// A Vulkan 1.3 device with the features and a graphics+compute queue family; discrete GPUs
 /// first, CPU devices last (the same preference as `Context::headless`, so that a test that
 /// compares the two renders on the same device).
@@ -118,7 +99,8 @@ fn pick_device(instance: &ash::Instance) -> Result<(vk::PhysicalDevice, u32, Str
     let mut best: Option<(u32, vk::PhysicalDevice, u32, String)> = None;
     for pd in devices {
         let props = unsafe { instance.get_physical_device_properties(pd) };
-        if props.api_version < vk::API_VERSION_1_3 || !has_features(instance, pd) {
+        // SAFETY: `pd` was enumerated from `instance`.
+        if unsafe { DeviceRequirements::for_device(instance, pd) }.is_err() {
             continue;
         }
         let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
@@ -144,9 +126,19 @@ fn pick_device(instance: &ash::Instance) -> Result<(vk::PhysicalDevice, u32, Str
 impl Host {
     /// Creates the host's instance (with the Khronos validation layer, synchronization
     /// validation and a debug messenger when `validation`), picks a device and creates it
-    /// with exactly the features listed in `Context::from_raw`'s safety contract (the optional
-    /// shaderStorageImageWriteWithoutFormat included when the device has it).
+    /// with the features `DeviceRequirements::for_device` lists (the required ones, and the
+    /// optional hostQueryReset and shaderStorageImageWriteWithoutFormat where the device has
+    /// them).
     pub fn new(validation: bool) -> Result<Host, String> {
+        Self::with_features(validation, |_| {})
+    }
+
+    /// [`Host::new`], with the features to enable changed by `edit` first (a test turns one
+    /// off to see the library refuse the device).
+    pub fn with_features(
+        validation: bool,
+        edit: impl FnOnce(&mut DeviceFeatures),
+    ) -> Result<Host, String> {
         let entry = unsafe { ash::Entry::load() }.map_err(|e| format!("Vulkan loader: {e}"))?;
         if validation {
             let layers = unsafe { entry.enumerate_instance_layer_properties() }
@@ -219,29 +211,26 @@ impl Host {
         let queues = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family)
             .queue_priorities(&priorities)];
-        // Optional: the visibility-mask pass (deferred hosts) writes its single-channel output
-        // without a format qualifier. Enabled when the device has it, as the library's own
-        // headless context does.
-        let without_format = unsafe { instance.get_physical_device_features(physical) }
-            .shader_storage_image_write_without_format
-            == vk::TRUE;
-        let core = vk::PhysicalDeviceFeatures::default()
-            .geometry_shader(true)
-            .fragment_stores_and_atomics(true)
-            .shader_int64(true)
-            .shader_storage_image_write_without_format(without_format);
-        let mut f12 = vk::PhysicalDeviceVulkan12Features::default()
-            .shader_buffer_int64_atomics(true)
-            .host_query_reset(true)
-            .buffer_device_address(true);
-        let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
-            .dynamic_rendering(true)
-            .synchronization2(true);
-        let device_info = vk::DeviceCreateInfo::default()
-            .queue_create_infos(&queues)
-            .enabled_features(&core)
-            .push_next(&mut f12)
-            .push_next(&mut f13);
+        // What the library asks for on this device: its required features, and the
+        // optional ones the device has (shaderStorageImageWriteWithoutFormat for the
+        // visibility-mask pass of deferred hosts, hostQueryReset for timestamps).
+        // SAFETY: `physical` was enumerated from `instance`.
+        let mut requirements = match unsafe { DeviceRequirements::for_device(&instance, physical) }
+        {
+            Ok(r) => r,
+            Err(e) => {
+                destroy_instance(&instance, messenger);
+                return Err(e.to_string());
+            }
+        };
+        edit(&mut requirements.features);
+        let enabled = requirements.features;
+        let extensions = requirements.extension_names();
+        let device_info = requirements.chain(
+            vk::DeviceCreateInfo::default()
+                .queue_create_infos(&queues)
+                .enabled_extension_names(&extensions),
+        );
         let device = match unsafe { instance.create_device(physical, &device_info, None) } {
             Ok(d) => d,
             Err(e) => {
@@ -260,7 +249,8 @@ impl Host {
             queue,
             messages,
             device_name,
-            storage_image_write_without_format: without_format,
+            storage_image_write_without_format: enabled.storage_image_write_without_format(),
+            enabled,
             pool: vk::CommandPool::null(),
             cmd: vk::CommandBuffer::null(),
             fence: vk::Fence::null(),

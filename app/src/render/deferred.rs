@@ -358,7 +358,7 @@ impl Renderer<'_> {
             let device = this.ctx.device();
             let FrameInputs { draws, light } = frame;
             mask.record_to_storage(device, cmd);
-            ts.mark(cmd, "setup");
+            unsafe { ts.mark(cmd, "setup") };
             // SAFETY: a OneShot command buffer of this context, recording, outside
             // rendering; the map fits (built above); the G-buffer was drawn in an earlier
             // submission and left in its read layouts; the mask image is in GENERAL.
@@ -428,7 +428,7 @@ impl Renderer<'_> {
             self.run_timed(&mut spans, |this, cmd, ts| {
                 let device = this.ctx.device();
                 mask.record_to_storage(device, cmd);
-                ts.mark(cmd, "setup");
+                unsafe { ts.mark(cmd, "setup") };
                 let tsm = &this.deferred_passes_made().tsm;
                 // SAFETY: a OneShot command buffer of this context, recording, outside
                 // rendering; the G-buffer was drawn in an earlier submission and left in its
@@ -446,7 +446,7 @@ impl Renderer<'_> {
                         maps,
                     )?
                 };
-                ts.mark(cmd, "tsm maps + mask");
+                unsafe { ts.mark(cmd, "tsm maps + mask") };
                 mask.record_readback(device, cmd);
                 // SAFETY: the same command buffer; the mask pass read the G-buffer before.
                 unsafe { gbuffer.record_readback(device, cmd) };
@@ -497,15 +497,17 @@ impl MaskTarget {
 
     /// Moves the image to GENERAL for the mask's storage writes (contents discarded).
     fn record_to_storage(&self, device: &motion_shadows::ash::Device, cmd: vk::CommandBuffer) {
-        image_barrier(
-            device,
-            cmd,
-            self.image.raw(),
-            self.image.layers_range(0, 1),
-            (vk::ImageLayout::UNDEFINED, vk::ImageLayout::GENERAL),
-            Access::TRANSFER_READ,
-            Access::COMPUTE_RW,
-        );
+        unsafe {
+            image_barrier(
+                device,
+                cmd,
+                self.image.raw(),
+                self.image.layers_range(0, 1),
+                (vk::ImageLayout::UNDEFINED, vk::ImageLayout::GENERAL),
+                Access::TRANSFER_READ,
+                Access::COMPUTE_RW,
+            )
+        };
     }
 
     /// Copies the mask (written by the compute pass before) into the readback buffer.
@@ -515,21 +517,23 @@ impl MaskTarget {
             vk::ImageLayout::GENERAL,
             vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
         );
-        image_barrier(
-            device,
-            cmd,
-            self.image.raw(),
-            range,
-            layouts,
-            Access::COMPUTE_RW,
-            Access::TRANSFER_READ,
-        );
+        unsafe {
+            image_barrier(
+                device,
+                cmd,
+                self.image.raw(),
+                range,
+                layouts,
+                Access::COMPUTE_RW,
+                Access::TRANSFER_READ,
+            )
+        };
         // SAFETY: recording outside rendering; the buffer holds the image.
         unsafe {
             self.image
                 .record_copy_to_buffer(device, cmd, self.readback.raw(), 0)
         };
-        memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ) };
     }
 
     fn read(&self, (width, height): (u32, u32)) -> Result<Vec<f32>> {

@@ -197,7 +197,7 @@ impl Renderer<'_> {
                     }
                     this.generation.record(device, cmd, &map);
                 }
-                ts.mark(cmd, "generation");
+                unsafe { ts.mark(cmd, "generation") };
                 // SAFETY: the same command buffer, after the frame's passes.
                 unsafe { map.record_counter_readback(device, cmd) };
                 Ok(())
@@ -271,10 +271,10 @@ impl Renderer<'_> {
                 this.plain
                     .record_render(device, cmd, inputs.draws, inputs.light, &maps, times)
             };
-            ts.mark(cmd, label);
+            unsafe { ts.mark(cmd, label) };
             // SAFETY: the same command buffer, after the maps' rendering.
             unsafe { this.plain.record_copy_out(device, cmd, &maps) };
-            ts.mark(cmd, MAP_COPY_PASS);
+            unsafe { ts.mark(cmd, MAP_COPY_PASS) };
             Ok(())
         })?;
         Ok(maps)
@@ -329,7 +329,7 @@ impl Renderer<'_> {
                         )?;
                     }
                 }
-                ts.mark(cmd, "reference slices");
+                unsafe { ts.mark(cmd, "reference slices") };
                 Ok(())
             })?;
             first = last;

@@ -488,10 +488,10 @@ impl<'a> Renderer<'a> {
             Some(ts) => ts,
             None => TimestampQueries::new(self.ctx, 16)?,
         };
-        ts.clear();
+        unsafe { ts.clear() };
         let one_shot = OneShot::new(self.ctx)?;
         one_shot.run(|cmd| {
-            ts.mark(cmd, "start");
+            unsafe { ts.mark(cmd, "start") };
             record(self, cmd, &mut ts)
         })?;
         for (pass, gpu_ms) in ts.spans_ms()? {

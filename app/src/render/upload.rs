@@ -11,7 +11,7 @@ use motion_shadows::technique::{CameraView, Draw, Indices, LightView, PositionSt
 /// Both positions of a vertex, interleaved: the t = 0 stream reads `p0` (offset 0, stride
 /// 32), the t = 1 stream `p1` (offset 16, stride 32).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct SceneVertex {
     /// Position at t = 0 (w = 1, unused).
     pub p0: glam::Vec4,

@@ -1,0 +1,140 @@
+//! Device setup as a host does it: the host creates its device with what
+//! `DeviceRequirements::for_device` lists, and `Context::from_raw` is told what was enabled.
+//! A device created without a required feature is refused by that feature's name (before,
+//! `from_raw` only checked what the device supports and ran on such a device, with only the
+//! validation layer complaining); without the optional hostQueryReset the context works and
+//! timestamps are off and say so.
+
+use crate::support::host::Host;
+use motion_shadows::Error;
+use motion_shadows::ash::vk;
+use motion_shadows::gpu::{Context, DeviceFeatures, TimestampQueries};
+
+/// `Context::from_raw` on the host's handles, told what the host enabled.
+fn wrap(host: &Host) -> motion_shadows::Result<Context> {
+    // SAFETY: Host made `device` from `physical` of `instance` (Vulkan 1.3) with a
+    // graphics+compute queue of `queue_family` and exactly the features in `host.enabled`;
+    // `host` outlives the context (dropped before the host in each test).
+    unsafe {
+        Context::from_raw(
+            &host.instance,
+            host.physical,
+            host.device.clone(),
+            host.queue_family,
+            host.queue,
+            &host.enabled,
+        )
+    }
+}
+
+/// Turns one feature off.
+type TurnOff = fn(&mut DeviceFeatures);
+
+/// Each required feature, by its Vulkan name, and how to turn it off.
+const REQUIRED: &[(&str, TurnOff)] = &[
+    ("geometryShader", |f| f.core.geometry_shader = vk::FALSE),
+    ("fragmentStoresAndAtomics", |f| {
+        f.core.fragment_stores_and_atomics = vk::FALSE
+    }),
+    ("shaderInt64", |f| f.core.shader_int64 = vk::FALSE),
+    ("shaderBufferInt64Atomics", |f| {
+        f.vulkan12.shader_buffer_int64_atomics = vk::FALSE
+    }),
+    ("bufferDeviceAddress", |f| {
+        f.vulkan12.buffer_device_address = vk::FALSE
+    }),
+    ("dynamicRendering", |f| {
+        f.vulkan13.dynamic_rendering = vk::FALSE
+    }),
+    ("synchronization2", |f| {
+        f.vulkan13.synchronization2 = vk::FALSE
+    }),
+];
+
+#[test]
+fn a_device_created_without_a_required_feature_is_refused_by_name() {
+    for (name, turn_off) in REQUIRED {
+        let host = Host::with_features(true, turn_off).unwrap_or_else(|e| {
+            panic!("GPU tests need a Vulkan device and the validation layer: {e}")
+        });
+        match wrap(&host) {
+            Ok(_) => panic!("a device created without {name} was accepted"),
+            Err(Error::FeaturesNotEnabled { missing, detail }) => {
+                assert_eq!(missing, [*name], "{detail}");
+                let text = Error::FeaturesNotEnabled { missing, detail }.to_string();
+                assert!(
+                    text.contains(&format!("without {name} (")),
+                    "the message names the feature and its use: {text}"
+                );
+            }
+            Err(e) => panic!("refused for another reason than {name}: {e}"),
+        }
+        host.assert_clean_teardown();
+    }
+}
+
+#[test]
+fn the_required_features_alone_make_a_working_context() {
+    let host = Host::with_features(true, |f| *f = DeviceFeatures::required())
+        .unwrap_or_else(|e| panic!("GPU tests need a Vulkan device and the validation layer: {e}"));
+    let ctx = wrap(&host).expect("the required features are enough");
+    assert!(!ctx.info().host_query_reset);
+    assert!(!ctx.info().storage_image_write_without_format);
+    // The mask pass needs the optional shaderStorageImageWriteWithoutFormat, and says so.
+    let err = motion_shadows::technique::VisibilityMaskPass::new(&ctx)
+        .err()
+        .expect("no mask pass without shaderStorageImageWriteWithoutFormat");
+    assert!(
+        err.to_string()
+            .contains("shaderStorageImageWriteWithoutFormat"),
+        "{err}"
+    );
+    drop(ctx);
+    host.assert_clean_teardown();
+}
+
+#[test]
+fn without_host_query_reset_timestamps_are_off_and_say_so() {
+    let host = Host::with_features(true, |f| f.vulkan12.host_query_reset = vk::FALSE)
+        .unwrap_or_else(|e| panic!("GPU tests need a Vulkan device and the validation layer: {e}"));
+    assert!(!host.enabled.host_query_reset());
+    let ctx = wrap(&host).expect("hostQueryReset is optional");
+    assert!(!ctx.info().host_query_reset);
+    let mut timestamps = TimestampQueries::new(&ctx, 4).expect("timestamps");
+    assert!(!timestamps.supported());
+    let why = timestamps.unsupported_reason().expect("a reason");
+    assert!(why.contains("hostQueryReset"), "{why}");
+    host.record_and_wait(|cmd| {
+        unsafe { timestamps.mark(cmd, "start") };
+        unsafe { timestamps.mark(cmd, "end") };
+    })
+    .expect("submission");
+    assert_eq!(timestamps.spans_ms().expect("spans"), Vec::new());
+    unsafe { timestamps.clear() };
+    drop((timestamps, ctx));
+    // The validation layer would report vkResetQueryPool on a device without hostQueryReset.
+    host.assert_clean_teardown();
+}
+
+#[test]
+fn with_host_query_reset_timestamps_time() {
+    let host = Host::new(true)
+        .unwrap_or_else(|e| panic!("GPU tests need a Vulkan device and the validation layer: {e}"));
+    assert!(
+        host.enabled.host_query_reset(),
+        "lavapipe and desktop GPUs support hostQueryReset"
+    );
+    let ctx = wrap(&host).expect("context");
+    let mut timestamps = TimestampQueries::new(&ctx, 4).expect("timestamps");
+    assert_eq!(timestamps.unsupported_reason(), None);
+    host.record_and_wait(|cmd| {
+        unsafe { timestamps.mark(cmd, "start") };
+        unsafe { timestamps.mark(cmd, "end") };
+    })
+    .expect("submission");
+    let spans = timestamps.spans_ms().expect("spans");
+    assert_eq!(spans.len(), 1);
+    assert_eq!(spans[0].0, "end");
+    drop((timestamps, ctx));
+    host.assert_clean_teardown();
+}
