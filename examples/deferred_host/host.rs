@@ -2,8 +2,8 @@
 //! fence, created without any help from the library, so that tests and `examples/embed.rs`
 //! can check that `Context::from_raw` and the passes work inside someone else's Vulkan setup.
 //!
-//! Shared by the GPU tests (`tests/support/mod.rs`) and the example (which includes this file
-//! with `#[path]`).
+//! The `deferred_host` example's module, included with `#[path]` by the GPU tests
+//! (`tests/support/mod.rs`, `app/tests/support/mod.rs`).
 
 use ash::vk;
 use std::ffi::{CStr, c_void};
