@@ -6,7 +6,12 @@
 #[path = "../support/mod.rs"]
 mod support;
 
+mod analytic;
+mod crossing_prism;
 mod deferred_host;
 mod engine_tsm;
+mod exact_prisms;
 mod layout;
+mod prism;
+mod several_runs;
 mod validation;

@@ -7,24 +7,19 @@
 #[path = "../support/mod.rs"]
 mod support;
 
-mod analytic;
 mod analytic_estimator;
 mod baselines;
 mod bench;
 mod character;
 mod coverage;
-mod crossing_prism;
 mod deferred_host;
 mod embedding;
 mod errors;
-mod exact_prisms;
 mod filtered_lookup;
 mod generation;
 mod host_geometry;
 mod lighting;
 mod loop_limit;
-mod prism;
 mod receiver_plane;
-mod several_runs;
 mod static_layer;
 mod visibility;

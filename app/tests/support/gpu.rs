@@ -117,15 +117,3 @@ pub fn square(x: f32, z: f32, s: f32, y: f32) -> Vec<Vec3> {
 pub fn translated(points: &[Vec3], by: Vec3) -> Vec<Vec3> {
     points.iter().map(|p| *p + by).collect()
 }
-
-/// The CPU prism model's view of the scene's light, with the matrices the renderer uses.
-pub fn light_setup(s: &Scene, size: (u32, u32)) -> super::prism_model::LightSetup {
-    let light = motion_shadows_app::render::upload::light_view(s, size);
-    super::prism_model::LightSetup {
-        view: light.view,
-        proj: light.proj,
-        orthographic: !light.is_spot(),
-        width: size.0,
-        height: size.1,
-    }
-}
