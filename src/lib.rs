@@ -13,7 +13,7 @@
 //! The host owns the device, the command buffer and the geometry; the library reads the
 //! host's position buffers in place and leaves a temporal shadow map that the host's shaders
 //! query with `ms_visibility` / `ms_lit_fraction` from [`technique::GLSL_INCLUDE`] (or that
-//! [`technique::VisibilityMaskPass`] turns into a mask). `examples/deferred_host.rs` is a
+//! [`technique::VisibilityMaskPass`] turns into a mask). `examples/deferred_host/` is a
 //! whole engine; the README's "Integrating into your engine" walks through it.
 //!
 //! ```no_run

@@ -1,18 +1,17 @@
 //! Depth-time ranges against closed-form expectations.
 
-use crate::support::gpu::{
-    assert_no_validation_messages, context, light_setup, mesh, overhead_directional, scene, square,
-    temporal_map, translated,
-};
+use crate::support::gpu::{assert_no_validation_messages, context};
 use crate::support::prism_model::{edge_margin_at_pixel, prism_triangles};
+use crate::support::scene::{
+    light_setup, light_view, mesh, overhead_directional, scene, square, temporal_map, translated,
+};
 use glam::{Vec3, Vec4};
 use motion_shadows::technique::Range;
-use motion_shadows_app::render::upload::light_view;
 
 const SIZE: (u32, u32) = (64, 64);
 
 /// World x and z of the centre of shadow-map pixel (x, y), by inverting the light's matrices.
-fn pixel_centre_world(scene: &motion_shadows_app::scene::Scene, x: u32, y: u32) -> Vec3 {
+fn pixel_centre_world(scene: &crate::support::scene::Scene, x: u32, y: u32) -> Vec3 {
     let light = light_view(scene, SIZE);
     let ndc = glam::Vec2::new(
         (x as f32 + 0.5) / SIZE.0 as f32 * 2.0 - 1.0,

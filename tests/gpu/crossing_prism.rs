@@ -26,12 +26,10 @@
 use crate::support::coverage_oracle::{
     covered_intervals, margin, plane_depth, scene_triangles, texel_ray,
 };
-use crate::support::gpu::{
-    assert_no_validation_messages, context, mesh, overhead_directional, scene, temporal_map_with,
-};
+use crate::support::gpu::{assert_no_validation_messages, context};
+use crate::support::scene::{light_view, mesh, overhead_directional, scene, temporal_map_with};
 use glam::{Quat, Vec3, Vec4};
 use motion_shadows::technique::{PrismConstruction, Range};
-use motion_shadows_app::render::upload::light_view;
 
 const SIZE: (u32, u32) = (64, 64);
 /// Half the side of the light's box: the map spans [-4, 4] in x and z, 0.125 per texel.

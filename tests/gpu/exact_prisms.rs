@@ -6,14 +6,13 @@
 use crate::support::coverage_oracle::{
     MovingTriangle, TexelRay, covered_intervals, margin, plane_depth, scene_triangles, texel_ray,
 };
-use crate::support::gpu::{
-    assert_no_validation_messages, context, mesh, overhead_directional, overhead_spot, scene,
+use crate::support::gpu::{assert_no_validation_messages, context};
+use crate::support::scene::{
+    Scene, box_mesh, light_view, mesh, overhead_directional, overhead_spot, scene,
     temporal_map_with,
 };
 use glam::{Quat, Vec3};
 use motion_shadows::technique::{PrismConstruction, Range, ShadowMapContents};
-use motion_shadows_app::render::upload::light_view;
-use motion_shadows_app::scene::{Scene, box_mesh};
 
 const SIZE: (u32, u32) = (64, 64);
 /// Ranges' ends against the oracle's times: f32 roots of the edge quadratics, plus the
@@ -184,7 +183,7 @@ fn hinged_limb_matches_the_oracle() {
 #[test]
 fn casters_through_the_near_plane_and_the_light_plane_match_the_oracle() {
     let ctx = context();
-    let square = |y: f32| crate::support::gpu::square(-0.6, -0.5, 1.0, y);
+    let square = |y: f32| crate::support::scene::square(-0.6, -0.5, 1.0, y);
     let through_near: Vec<Vec3> = square(9.8);
     let sunk: Vec<Vec3> = square(8.0)
         .into_iter()

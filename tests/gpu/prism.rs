@@ -2,13 +2,11 @@
 //! (tests/support/prism_model.rs): same fragment count, times and depths at every pixel whose
 //! centre is clear of all prism edges, in the centre-vertex case and in the crossing case.
 
-use crate::support::gpu::{
-    assert_no_validation_messages, context, light_setup, mesh, overhead_spot, scene,
-    temporal_map_with,
-};
+use crate::support::gpu::{assert_no_validation_messages, context};
 use crate::support::prism_model::{
     EdgeCase, edge_cases, edge_margin_at_pixel, fragments_at_pixel, prism_triangles,
 };
+use crate::support::scene::{light_setup, mesh, overhead_spot, scene, temporal_map_with};
 use glam::{Quat, Vec3};
 use motion_shadows::technique::PrismConstruction;
 

@@ -8,14 +8,12 @@
 //! every run and its depths; both the lists (static triangles in the lists, so the collection
 //! stores nodes and the generation pairs them) and the ranges the collection stores itself.
 
-use crate::support::gpu::{
-    assert_no_validation_messages, context, mesh, overhead_directional, scene, temporal_map,
-    temporal_map_with,
+use crate::support::gpu::{assert_no_validation_messages, context};
+use crate::support::scene::{
+    Scene, light_view, mesh, overhead_directional, scene, temporal_map, temporal_map_with,
 };
 use glam::{DVec2, DVec3, Vec3, Vec4};
 use motion_shadows::technique::{PrismConstruction, Range, ShadowMapContents};
-use motion_shadows_app::render::upload::light_view;
-use motion_shadows_app::scene::Scene;
 
 const SIZE: (u32, u32) = (64, 64);
 /// The directional light's plane is at y = 10 (`overhead_directional`): depth = 10 - y.

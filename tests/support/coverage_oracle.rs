@@ -3,9 +3,9 @@
 //! intersected with each triangle at many times of the shutter (Moller-Trumbore), and every
 //! change of the answer is narrowed down by bisection. No edge functions, no quadratics.
 
+use super::scene::Scene;
 use glam::{DVec3, DVec4};
 use motion_shadows::technique::LightView;
-use motion_shadows_app::scene::Scene;
 
 /// Time steps of the scan; two changes closer than this may be missed (the tests skip
 /// intervals and gaps shorter than a few steps anyway).

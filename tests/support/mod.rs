@@ -1,7 +1,9 @@
 #![allow(dead_code)]
 pub mod coverage_oracle;
-pub mod frame;
 pub mod gpu;
+// The deferred host's device (`examples/deferred_host/`), shared with the example.
+#[path = "../../examples/deferred_host/host.rs"]
 pub mod host;
 pub mod prism_model;
 pub mod sampling;
+pub mod scene;

@@ -221,7 +221,7 @@ fn analytic_at_one_spp_beats_sampled_at_sixteen_on_builtin_static_views() {
     // moved), so that `compare --scene-file` reproduces the README's images of them.
     let view = |file: &str| {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("docs/examples")
+            .join("../docs/examples")
             .join(file);
         motion_shadows_app::scene::load_scene_file(&path).unwrap()
     };

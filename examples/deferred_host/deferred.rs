@@ -22,8 +22,9 @@
 //! last frame's positions for its motion vectors anyway, and that is exactly what the shadow
 //! pass needs. Nothing here uses the app crate (the tests use it as a reference only).
 //!
-//! Shared by `examples/deferred_host.rs` and `tests/gpu/deferred_host.rs` (included with
-//! `#[path]`; the parent module provides `host`, `tests/support/host.rs`).
+//! The `deferred_host` example's engine (`examples/deferred_host/main.rs`), included with
+//! `#[path]` by `tests/gpu/deferred_host.rs` and `app/tests/gpu/deferred_host.rs`; the parent
+//! module provides `host` (`host.rs` beside this file).
 
 use super::host::Host;
 // Links shaderc (compiled into this program to build the host's own shaders) where the
@@ -46,7 +47,7 @@ pub type Result<T> = std::result::Result<T, Error>;
 /// Frames the CPU may record ahead of the GPU: each has its own copy of everything that a
 /// frame writes (command buffer, fence, draw list, shadow maps, images, uniform buffer).
 pub const FRAMES_IN_FLIGHT: usize = 2;
-/// Lights the shading shader handles (`MAX_LIGHTS` in `tests/glsl/frame.glsl`).
+/// Lights the shading shader handles (`MAX_LIGHTS` in `glsl/frame.glsl`).
 pub const MAX_LIGHTS: usize = 2;
 
 // ---------------------------------------------------------------------------------------
@@ -1511,7 +1512,7 @@ impl Drop for Engine<'_> {
 
 // What the engine's shaders read, and where its geometry lives.
 
-/// Per-frame constants, `Frame` in `tests/glsl/frame.glsl` (std140).
+/// Per-frame constants, `Frame` in `glsl/frame.glsl` (std140).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 struct FrameConstants {
@@ -1670,15 +1671,15 @@ fn read_mask(buffer: &HostBuffer, format: vk::Format, pixels: usize) -> Result<V
 // constant `GLSL_INCLUDE` by the include callback, exactly as a host's shader system would.
 // ---------------------------------------------------------------------------------------
 
-/// The host's own shader sources (`tests/glsl/`).
+/// The host's own shader sources (`glsl/` beside this file).
 pub mod sources {
-    pub const FRAME_GLSL: &str = include_str!("../glsl/frame.glsl");
-    pub const GBUFFER_VERT: &str = include_str!("../glsl/gbuffer.vert");
-    pub const GBUFFER_FRAG: &str = include_str!("../glsl/gbuffer.frag");
-    pub const SHADE_COMP: &str = include_str!("../glsl/shade.comp");
-    pub const PROBE_COMP: &str = include_str!("../glsl/probe.comp");
-    pub const SAMPLES_PROBE_COMP: &str = include_str!("../glsl/samples_probe.comp");
-    pub const MOVING_PROBE_COMP: &str = include_str!("../glsl/moving_probe.comp");
+    pub const FRAME_GLSL: &str = include_str!("glsl/frame.glsl");
+    pub const GBUFFER_VERT: &str = include_str!("glsl/gbuffer.vert");
+    pub const GBUFFER_FRAG: &str = include_str!("glsl/gbuffer.frag");
+    pub const SHADE_COMP: &str = include_str!("glsl/shade.comp");
+    pub const PROBE_COMP: &str = include_str!("glsl/probe.comp");
+    pub const SAMPLES_PROBE_COMP: &str = include_str!("glsl/samples_probe.comp");
+    pub const MOVING_PROBE_COMP: &str = include_str!("glsl/moving_probe.comp");
     /// The library's own per-texel test of a pixel's samples (not part of the public
     /// include), for the test that holds it to `ms_texel_shadowed`.
     pub const TEMPORAL_SAMPLES_GLSL: &str = include_str!("../../glsl/temporal_samples.glsl");

@@ -2,8 +2,9 @@
 //! geometry, G-buffer (with world-space motion: this frame's position minus last frame's),
 //! frame loop (two frames in flight) and shading, and motion-shadows adds a temporal shadow
 //! map per light and a visibility mask per light that follows each receiver along its motion
-//! over the shutter. The engine is
-//! `tests/support/deferred.rs` (the tests drive the same code); read it from the top.
+//! over the shutter. The engine is `deferred.rs` beside this
+//! file (the tests include it and drive the same code); read it from the top. `host.rs` is
+//! the engine's device, `glsl/` its shaders.
 //!
 //! ```sh
 //! cargo run --example deferred_host        # MOTION_SHADOWS_VALIDATION=1: validation layer on
@@ -12,12 +13,11 @@
 //! Writes `out/deferred_host.png` and prints a summary.
 
 // The host's device (instance, device, queue; no help from the library) and the engine.
-// Shared with the tests, which use more of them than this example does.
+// The tests include both (`tests/gpu/deferred_host.rs`, `app/tests/gpu/deferred_host.rs`)
+// and use more of them than this example does.
 #[allow(dead_code)]
-#[path = "../tests/support/deferred.rs"]
 mod deferred;
 #[allow(dead_code)]
-#[path = "../tests/support/host.rs"]
 mod host;
 
 use deferred::{Engine, FrameOutput, Settings, ShadowLookup, World};

@@ -3,8 +3,8 @@
 //! and the passes work inside someone else's Vulkan setup. The only help it takes from the
 //! library is `DeviceRequirements`: the features it chains into its `VkDeviceCreateInfo`.
 //!
-//! Shared by the GPU tests (`tests/support/mod.rs`) and the example (which includes this file
-//! with `#[path]`).
+//! The `deferred_host` example's module, included with `#[path]` by the GPU tests
+//! (`tests/support/mod.rs`, `app/tests/support/mod.rs`).
 
 use ash::vk;
 use motion_shadows::gpu::{DeviceFeatures, DeviceRequirements};

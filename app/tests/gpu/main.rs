@@ -1,0 +1,25 @@
+//! GPU tests: every one runs on a real Vulkan device (lavapipe in CI) with the validation
+//! layer and synchronization validation on, and fails if either is missing. These use the
+//! app (its standalone renderer, scenes, ray tracer, compare and bench) as the library's
+//! client or as an independent reference; the tests that need only the library's public API
+//! are in the library's `tests/gpu/`.
+
+#[path = "../support/mod.rs"]
+mod support;
+
+mod analytic_estimator;
+mod baselines;
+mod bench;
+mod character;
+mod coverage;
+mod deferred_host;
+mod embedding;
+mod errors;
+mod filtered_lookup;
+mod generation;
+mod host_geometry;
+mod lighting;
+mod loop_limit;
+mod receiver_plane;
+mod static_layer;
+mod visibility;
