@@ -8,6 +8,7 @@
 
 pub mod deferred;
 mod empty_map;
+mod frame;
 mod methods;
 pub mod receiver;
 pub mod stats;
@@ -18,7 +19,6 @@ pub mod upload;
 use crate::error::{Error, Result};
 use crate::output::RadianceImage;
 use crate::scene::Scene;
-use methods::ShadowOutcome;
 use motion_shadows::gpu::{Context, OneShot, TimestampQueries};
 use motion_shadows::technique::{
     CollectionPass, CoveragePass, DrawList, GenerationPass, LightView, LightingPass,
@@ -28,7 +28,6 @@ use motion_shadows::technique::{
 pub use receiver::ReceiverTest;
 pub use stats::{FrameStats, MAP_COPY_PASS, PassTime, counted_ms, equation_2_bytes};
 use std::time::Instant;
-use upload::SceneGeometry;
 
 /// Which shadow method renders the frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -239,6 +238,11 @@ impl<'a> Renderer<'a> {
 
     /// Renders `scene`. `progress` receives a line for each step that may take a while.
     /// [`Method::Raytrace`] runs on the CPU ([`crate::raytrace::render`]), without the device.
+    ///
+    /// The steps, each in [`frame`]: upload the scene and set up the views
+    /// ([`Self::prepare_frame`]); the method's shadow pass ([`Self::shadow_pass`]); the
+    /// lighting pass, again with one sample per invocation if a device's loop limit cut it
+    /// short ([`Self::shade`]); the frame's refusals and warnings; its statistics.
     pub fn render(
         &mut self,
         scene: &Scene,
@@ -251,197 +255,31 @@ impl<'a> Renderer<'a> {
         let start = Instant::now();
         settings.validate()?;
         scene.validate()?;
-        let ctx = self.ctx;
-        let image_size = (settings.width, settings.height);
-        let shadow_size = settings.shadow_size();
-        let spp = settings.method.samples_per_pixel(settings.spp);
-
-        // The one place closed meshes around the light or camera are handled: the upload
-        // draws them open (`effective_closed`), and the user is told.
-        for exception in crate::scene::culling_exceptions(scene) {
-            progress(&format!("note: {}", exception.note(scene)));
-        }
-        progress("uploading the scene");
-        let geometry = SceneGeometry::upload(ctx, scene)?;
-        let mut draws = DrawList::new(ctx, geometry.draws.len() as u32)?;
-        self.run_timed(&mut Vec::new(), |this, cmd, _| {
-            // SAFETY: a OneShot command buffer of this context, recording, outside rendering.
-            unsafe { draws.record_update(this.ctx.device(), cmd, &geometry.draws) }
-        })?;
-        let mut light = LightView {
-            prisms: settings.prisms,
-            static_layer: settings.static_layer,
-            keep_static_layer: settings.static_layer && settings.keep_static_layer,
-            ..upload::light_view(scene, shadow_size)
-        };
-        if settings.receiver_plane() {
-            light.receiver_plane = true;
-            light.normal_offset_texels = 0.0;
-        }
-        let view = LightingView {
-            camera: upload::camera_view(scene, image_size),
-            seed: settings.seed,
-            ambient: scene.ambient,
-            estimator: settings.shadow_estimator,
-            filter: settings.shadow_filter,
-        };
-        let inputs = FrameInputs {
-            draws: &draws,
-            light: &light,
-        };
-        let max_chunk = match settings.method {
-            // One slice per chunk: each slice has a shadow map of its own.
-            Method::Reference { .. } => 1,
-            _ => settings.max_samples_per_chunk,
-        };
-        let target = LightingTarget::new(ctx, settings.width, settings.height, spp, max_chunk)?;
+        let frame = self.prepare_frame(scene, settings, progress)?;
         let mut passes = Vec::new();
-
-        let outcome = match settings.method {
-            Method::Temporal => {
-                self.temporal_shadow(inputs, settings, false, &mut passes, progress)?
-            }
-            Method::Coverage => {
-                self.temporal_shadow(inputs, settings, true, &mut passes, progress)?
-            }
-            Method::Tsm => self.time_dependent_shadow(inputs, settings, &mut passes, progress)?,
-            Method::Plain { time } => self.plain_shadow(inputs, settings, time, &mut passes)?,
-            Method::Reference { slices } => self.reference(
-                inputs,
-                &view,
-                settings,
-                slices,
-                &target,
-                &mut passes,
-                progress,
-            )?,
-            Method::Raytrace => unreachable!("traced on the CPU above"),
-        };
-        let mut target = target;
-        if let Some(shadow) = outcome.source() {
-            progress(&format!(
-                "lighting pass: {}x{} pixels, {} spp",
-                settings.width, settings.height, settings.spp
-            ));
-            self.light(&draws, &view, shadow, &target, &mut passes)?;
-            let over = target.read_over_budget_pixels()?;
-            if over > 0 && max_chunk > 1 {
-                // Each invocation shades one sample instead: its lookups then fit.
-                progress(&format!(
-                    "lighting pass: {over} pixel(s) need more loop iterations than this device \
-                     runs per invocation; again, one sample per pass"
-                ));
-                target = LightingTarget::new(ctx, settings.width, settings.height, spp, 1)?;
-                passes.retain(|p| !p.pass.starts_with("lighting"));
-                self.light(&draws, &view, shadow, &target, &mut passes)?;
-            }
-        } else {
-            self.run_timed(&mut passes, |this, cmd, _| {
-                // SAFETY: the same command buffer, after the frame's passes.
-                unsafe { target.record_readback(this.ctx.device(), cmd) };
-                Ok(())
-            })?;
-        }
-        let over = target.read_over_budget_pixels()?;
-        if over > 0 {
-            let limit = ctx.info().shader_loop_limit.unwrap_or(0);
-            return Err(motion_shadows::Error::LoopLimit {
-                pixels: over,
-                limit,
-            }
-            .into());
-        }
-        let invalid = target.read_invalid_triangles()?;
-        if invalid > 0 {
-            return Err(motion_shadows::Error::InvalidIndices { triangles: invalid }.into());
-        }
+        let target = frame.lighting_target(self.ctx, settings)?;
+        let outcome = self.shadow_pass(&frame, settings, &target, &mut passes, progress)?;
+        let target = self.shade(&frame, settings, &outcome, target, &mut passes, progress)?;
+        frame::check_target(self.ctx, &target)?;
         let image = RadianceImage::new(settings.width, settings.height, target.read_rgb()?)?;
         let moving_coverage = target.read_moving_coverage()?;
-
-        let counts = outcome.counters()?;
-        let mut warnings = Vec::new();
-        if matches!(outcome, ShadowOutcome::Temporal { .. })
-            && counts.node_count == 0
-            && geometry.triangle_count > 0
-            && !outcome.static_layer_drawn(ctx, inputs.light)?
-        {
-            warnings.push(empty_map::empty_map_warning(
-                scene,
-                inputs.light,
-                shadow_size,
-                settings.prisms,
-            ));
-        }
-        // The exact prisms' one known inexact case: said rather than passed off as exact.
-        if matches!(outcome, ShadowOutcome::Temporal { .. })
-            && settings.prisms == PrismConstruction::Exact
-            && let Some(w) = through_light::through_light_warning(scene)
-        {
-            warnings.push(w);
-        }
+        let warnings = frame::warnings(self.ctx, scene, settings, &frame, &outcome)?;
         for w in &warnings {
             progress(&format!("warning: {w}"));
         }
-        let shadow_pixels = shadow_size.0 as u64 * shadow_size.1 as u64;
-        let (fragments, ranges) = (counts.node_count as u64, counts.range_count as u64);
-        let fragments_stored = if counts.ranges_direct != 0 {
-            0
-        } else {
-            fragments
-        };
-        let temporal = matches!(outcome, ShadowOutcome::Temporal { .. });
-        let stats = FrameStats {
-            scene: scene.name.clone(),
-            method: settings.method.name().to_owned(),
-            shadow_estimator: match settings.shadow_estimator {
-                ShadowEstimator::Sampled => "sampled",
-                ShadowEstimator::Analytic => "analytic",
-            }
-            .to_owned(),
-            shadow_filter: stats::filter_name(settings.shadow_filter).to_owned(),
-            prisms: stats::prisms_name(settings.prisms).to_owned(),
-            receiver_plane: settings.receiver_plane(),
-            width: settings.width,
-            height: settings.height,
-            shadow_width: shadow_size.0,
-            shadow_height: shadow_size.1,
-            spp,
-            seed: settings.seed,
-            triangles: geometry.triangle_count,
-            fragments,
-            fragments_stored,
-            ranges,
-            ranges_without_coverage: counts.ranges_without_coverage as u64,
-            shadow_map_bytes_eq2: if temporal {
-                equation_2_bytes(fragments_stored, ranges, shadow_pixels)
-            } else {
-                0
+        let stats = frame::stats(
+            self.ctx,
+            scene,
+            settings,
+            &frame,
+            &outcome,
+            &target,
+            frame::Timing {
+                passes,
+                warnings,
+                wall_ms: start.elapsed().as_secs_f64() * 1e3,
             },
-            static_layer_bytes: outcome.static_layer_bytes(inputs.light, shadow_pixels),
-            static_layer_kept: outcome.static_layer_kept(inputs.light),
-            shadow_map_bytes_eq2_without_coverage: if temporal {
-                equation_2_bytes(
-                    fragments_stored,
-                    counts.ranges_without_coverage as u64,
-                    shadow_pixels,
-                )
-            } else {
-                0
-            },
-            coverage_map_bytes: outcome.coverage_bytes(),
-            shadow_map_bytes_allocated: outcome.allocated_bytes(),
-            shadow_pass_attempts: outcome.attempts(),
-            longest_fragment_list: counts.longest_list,
-            samples_per_chunk: target.samples_per_chunk(),
-            shadow_pass_ms: stats::counted_ms(&passes, |p| !stats::is_lighting_pass(p)),
-            lighting_pass_ms: stats::counted_ms(&passes, stats::is_lighting_pass),
-            frame_ms: stats::counted_ms(&passes, |_| true),
-            runs: 1,
-            passes,
-            warnings,
-            wall_ms: start.elapsed().as_secs_f64() * 1e3,
-            device: format!("{} ({})", ctx.info().name, ctx.info().driver),
-        };
+        )?;
         Ok(RenderResult {
             image,
             moving_coverage,

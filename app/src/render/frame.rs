@@ -1,0 +1,307 @@
+//! The steps of [`Renderer::render`]'s frame, in order: the scene uploaded and the views set
+//! up, the method's shadow pass, the lighting pass, the frame's refusals and warnings, and
+//! its statistics.
+
+use super::methods::ShadowOutcome;
+use super::stats::{self, FrameStats, PassTime, equation_2_bytes};
+use super::upload::{self, SceneGeometry};
+use super::{FrameInputs, Method, RenderSettings, Renderer, empty_map, through_light};
+use crate::error::Result;
+use crate::scene::Scene;
+use motion_shadows::gpu::Context;
+use motion_shadows::technique::{
+    DrawList, LightView, LightingTarget, LightingView, PrismConstruction, ShadowEstimator,
+};
+
+/// A frame's scene on the device and its views: what every later step reads.
+pub(super) struct PreparedFrame {
+    geometry: SceneGeometry,
+    draws: DrawList,
+    light: LightView,
+    view: LightingView,
+    /// Samples per pixel the method renders.
+    spp: u32,
+    /// The most samples one lighting chunk may hold.
+    max_chunk: u32,
+}
+
+impl PreparedFrame {
+    fn inputs(&self) -> FrameInputs<'_> {
+        FrameInputs {
+            draws: &self.draws,
+            light: &self.light,
+        }
+    }
+
+    /// The lighting pass's target for this frame's size, samples and chunking.
+    pub(super) fn lighting_target(
+        &self,
+        ctx: &Context,
+        settings: &RenderSettings,
+    ) -> Result<LightingTarget> {
+        Ok(LightingTarget::new(
+            ctx,
+            settings.width,
+            settings.height,
+            self.spp,
+            self.max_chunk,
+        )?)
+    }
+}
+
+/// What the statistics take from the frame's run.
+pub(super) struct Timing {
+    pub(super) passes: Vec<PassTime>,
+    pub(super) warnings: Vec<String>,
+    pub(super) wall_ms: f64,
+}
+
+impl Renderer<'_> {
+    /// Uploads `scene` (its draws recorded into a draw list) and sets up the light's and the
+    /// camera's views as `settings` say.
+    pub(super) fn prepare_frame(
+        &mut self,
+        scene: &Scene,
+        settings: &RenderSettings,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<PreparedFrame> {
+        let ctx = self.ctx;
+        // The one place closed meshes around the light or camera are handled: the upload
+        // draws them open (`effective_closed`), and the user is told.
+        for exception in crate::scene::culling_exceptions(scene) {
+            progress(&format!("note: {}", exception.note(scene)));
+        }
+        progress("uploading the scene");
+        let geometry = SceneGeometry::upload(ctx, scene)?;
+        let mut draws = DrawList::new(ctx, geometry.draws.len() as u32)?;
+        self.run_timed(&mut Vec::new(), |this, cmd, _| {
+            // SAFETY: a OneShot command buffer of this context, recording, outside rendering.
+            unsafe { draws.record_update(this.ctx.device(), cmd, &geometry.draws) }
+        })?;
+        let mut light = LightView {
+            prisms: settings.prisms,
+            static_layer: settings.static_layer,
+            keep_static_layer: settings.static_layer && settings.keep_static_layer,
+            ..upload::light_view(scene, settings.shadow_size())
+        };
+        if settings.receiver_plane() {
+            light.receiver_plane = true;
+            light.normal_offset_texels = 0.0;
+        }
+        let view = LightingView {
+            camera: upload::camera_view(scene, (settings.width, settings.height)),
+            seed: settings.seed,
+            ambient: scene.ambient,
+            estimator: settings.shadow_estimator,
+            filter: settings.shadow_filter,
+        };
+        let max_chunk = match settings.method {
+            // One slice per chunk: each slice has a shadow map of its own.
+            Method::Reference { .. } => 1,
+            _ => settings.max_samples_per_chunk,
+        };
+        Ok(PreparedFrame {
+            geometry,
+            draws,
+            light,
+            view,
+            spp: settings.method.samples_per_pixel(settings.spp),
+            max_chunk,
+        })
+    }
+
+    /// The method's shadow pass (the reference renders its slices into `target` here).
+    pub(super) fn shadow_pass(
+        &mut self,
+        frame: &PreparedFrame,
+        settings: &RenderSettings,
+        target: &LightingTarget,
+        passes: &mut Vec<PassTime>,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<ShadowOutcome> {
+        let inputs = frame.inputs();
+        match settings.method {
+            Method::Temporal => self.temporal_shadow(inputs, settings, false, passes, progress),
+            Method::Coverage => self.temporal_shadow(inputs, settings, true, passes, progress),
+            Method::Tsm => self.time_dependent_shadow(inputs, settings, passes, progress),
+            Method::Plain { time } => self.plain_shadow(inputs, settings, time, passes),
+            Method::Reference { slices } => self.reference(
+                inputs,
+                &frame.view,
+                settings,
+                slices,
+                target,
+                passes,
+                progress,
+            ),
+            Method::Raytrace => unreachable!("traced on the CPU, without a device"),
+        }
+    }
+
+    /// The lighting pass over `outcome`'s shadows into `target`, or (the reference, which
+    /// lit its slices already) its read-back. Where the device's loop limit cut a chunk's
+    /// lookups short, the pass runs again with one sample per invocation: returns the
+    /// target that holds the frame.
+    pub(super) fn shade(
+        &mut self,
+        frame: &PreparedFrame,
+        settings: &RenderSettings,
+        outcome: &ShadowOutcome,
+        target: LightingTarget,
+        passes: &mut Vec<PassTime>,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<LightingTarget> {
+        let Some(shadow) = outcome.source() else {
+            self.run_timed(passes, |this, cmd, _| {
+                // SAFETY: the same command buffer, after the frame's passes.
+                unsafe { target.record_readback(this.ctx.device(), cmd) };
+                Ok(())
+            })?;
+            return Ok(target);
+        };
+        progress(&format!(
+            "lighting pass: {}x{} pixels, {} spp",
+            settings.width, settings.height, settings.spp
+        ));
+        self.light(&frame.draws, &frame.view, shadow, &target, passes)?;
+        let over = target.read_over_budget_pixels()?;
+        if over == 0 || frame.max_chunk == 1 {
+            return Ok(target);
+        }
+        // Each invocation shades one sample instead: its lookups then fit.
+        progress(&format!(
+            "lighting pass: {over} pixel(s) need more loop iterations than this device runs \
+             per invocation; again, one sample per pass"
+        ));
+        let target = LightingTarget::new(self.ctx, settings.width, settings.height, frame.spp, 1)?;
+        passes.retain(|p| !p.pass.starts_with("lighting"));
+        self.light(&frame.draws, &frame.view, shadow, &target, passes)?;
+        Ok(target)
+    }
+}
+
+/// The frame's refusals: pixels whose lookups a loop limit still cut short, and triangles
+/// the collection dropped for an invalid index.
+pub(super) fn check_target(ctx: &Context, target: &LightingTarget) -> Result<()> {
+    let over = target.read_over_budget_pixels()?;
+    if over > 0 {
+        let limit = ctx.info().shader_loop_limit.unwrap_or(0);
+        return Err(motion_shadows::Error::LoopLimit {
+            pixels: over,
+            limit,
+        }
+        .into());
+    }
+    let invalid = target.read_invalid_triangles()?;
+    if invalid > 0 {
+        return Err(motion_shadows::Error::InvalidIndices { triangles: invalid }.into());
+    }
+    Ok(())
+}
+
+/// What the user should know about an image that rendered: a temporal map that received
+/// nothing, and the exact prisms' one known inexact case.
+pub(super) fn warnings(
+    ctx: &Context,
+    scene: &Scene,
+    settings: &RenderSettings,
+    frame: &PreparedFrame,
+    outcome: &ShadowOutcome,
+) -> Result<Vec<String>> {
+    let mut warnings = Vec::new();
+    let temporal = matches!(outcome, ShadowOutcome::Temporal { .. });
+    if temporal
+        && outcome.counters()?.node_count == 0
+        && frame.geometry.triangle_count > 0
+        && !outcome.static_layer_drawn(ctx, &frame.light)?
+    {
+        warnings.push(empty_map::empty_map_warning(
+            scene,
+            &frame.light,
+            settings.shadow_size(),
+            settings.prisms,
+        ));
+    }
+    // The exact prisms' one known inexact case: said rather than passed off as exact.
+    if temporal
+        && settings.prisms == PrismConstruction::Exact
+        && let Some(w) = through_light::through_light_warning(scene)
+    {
+        warnings.push(w);
+    }
+    Ok(warnings)
+}
+
+/// The frame's statistics (the `--json` summary's fields).
+pub(super) fn stats(
+    ctx: &Context,
+    scene: &Scene,
+    settings: &RenderSettings,
+    frame: &PreparedFrame,
+    outcome: &ShadowOutcome,
+    target: &LightingTarget,
+    timing: Timing,
+) -> Result<FrameStats> {
+    let counts = outcome.counters()?;
+    let shadow_size = settings.shadow_size();
+    let shadow_pixels = shadow_size.0 as u64 * shadow_size.1 as u64;
+    let (fragments, ranges) = (counts.node_count as u64, counts.range_count as u64);
+    let fragments_stored = if counts.ranges_direct != 0 {
+        0
+    } else {
+        fragments
+    };
+    let temporal = matches!(outcome, ShadowOutcome::Temporal { .. });
+    let eq2 = |ranges: u64| {
+        if temporal {
+            equation_2_bytes(fragments_stored, ranges, shadow_pixels)
+        } else {
+            0
+        }
+    };
+    let Timing {
+        passes,
+        warnings,
+        wall_ms,
+    } = timing;
+    Ok(FrameStats {
+        scene: scene.name.clone(),
+        method: settings.method.name().to_owned(),
+        shadow_estimator: match settings.shadow_estimator {
+            ShadowEstimator::Sampled => "sampled",
+            ShadowEstimator::Analytic => "analytic",
+        }
+        .to_owned(),
+        shadow_filter: stats::filter_name(settings.shadow_filter).to_owned(),
+        prisms: stats::prisms_name(settings.prisms).to_owned(),
+        receiver_plane: settings.receiver_plane(),
+        width: settings.width,
+        height: settings.height,
+        shadow_width: shadow_size.0,
+        shadow_height: shadow_size.1,
+        spp: frame.spp,
+        seed: settings.seed,
+        triangles: frame.geometry.triangle_count,
+        fragments,
+        fragments_stored,
+        ranges,
+        ranges_without_coverage: counts.ranges_without_coverage as u64,
+        shadow_map_bytes_eq2: eq2(ranges),
+        static_layer_bytes: outcome.static_layer_bytes(&frame.light, shadow_pixels),
+        static_layer_kept: outcome.static_layer_kept(&frame.light),
+        shadow_map_bytes_eq2_without_coverage: eq2(counts.ranges_without_coverage as u64),
+        coverage_map_bytes: outcome.coverage_bytes(),
+        shadow_map_bytes_allocated: outcome.allocated_bytes(),
+        shadow_pass_attempts: outcome.attempts(),
+        longest_fragment_list: counts.longest_list,
+        samples_per_chunk: target.samples_per_chunk(),
+        shadow_pass_ms: stats::counted_ms(&passes, |p| !stats::is_lighting_pass(p)),
+        lighting_pass_ms: stats::counted_ms(&passes, stats::is_lighting_pass),
+        frame_ms: stats::counted_ms(&passes, |_| true),
+        runs: 1,
+        passes,
+        warnings,
+        wall_ms,
+        device: format!("{} ({})", ctx.info().name, ctx.info().driver),
+    })
+}
