@@ -2,7 +2,7 @@
 //!
 //! [`scene`] (built-in scenes, scene files, OBJ), [`render`] (a standalone renderer that
 //! creates its own headless context and drives the passes), [`raytrace`] (the exact CPU
-//! reference every method can be judged against), [`output`] (EXR/PNG), [`compare`]
+//! reference every method can be judged against), [`frame`] (one frame by either), [`output`] (EXR/PNG), [`compare`]
 //! and [`bench`] (the papers' experiments), [`chart`] (CSV and line charts), and [`cli`] (the
 //! `motion-shadows` binary's commands).
 
@@ -11,6 +11,7 @@ pub mod chart;
 pub mod cli;
 pub mod compare;
 pub mod error;
+pub mod frame;
 pub mod output;
 pub mod raytrace;
 pub mod render;

@@ -6,9 +6,8 @@
 use glam::{Vec2, Vec3};
 use motion_shadows::gpu::{Context, ContextOptions};
 use motion_shadows_app::compare::{MaskError, mask_error};
-use motion_shadows_app::render::deferred::{
-    DeferredMethod, DeferredResult, DeferredSettings, render_truth,
-};
+use motion_shadows_app::raytrace::deferred::render_truth;
+use motion_shadows_app::render::deferred::{DeferredMethod, DeferredResult, DeferredSettings};
 use motion_shadows_app::render::{ReceiverTest, RenderSettings, Renderer};
 use motion_shadows_app::scene::{
     Camera, DirectionalLight, Light, Mesh, Scene, box_mesh, plane_mesh,

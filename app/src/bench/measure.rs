@@ -53,7 +53,7 @@ pub fn measure(
 ) -> Result<Measurement> {
     let mut best: Option<Measurement> = None;
     for _ in 0..runs.max(1) {
-        let result = renderer.render(scene, settings, &mut |_| {})?;
+        let result = crate::frame::render(Some(&mut *renderer), scene, settings, &mut |_| {})?;
         let m = Measurement {
             stats: result.stats,
             image: result.image,

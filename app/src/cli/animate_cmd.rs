@@ -17,7 +17,7 @@ use super::render_cmd::{
 };
 use crate::output::{RadianceImage, StagedFiles, auto_exposure, encode_srgb8, write_png};
 use crate::render::Renderer;
-use crate::render::deferred::{DeferredSettings, render_truth};
+use crate::render::deferred::DeferredSettings;
 use crate::scene::AnimatedScene;
 use crate::scene::Scene;
 
@@ -204,10 +204,7 @@ fn animate_frame(
             wall_ms: result.stats.wall_ms,
         });
     };
-    let result = match renderer {
-        Some(renderer) => renderer.render_deferred(scene, settings, deferred, report)?,
-        None => render_truth(scene, settings, deferred, report)?,
-    };
+    let result = crate::frame::render_deferred(renderer, scene, settings, deferred, report)?;
     Ok(AnimatedFrame {
         image: result.image,
         gpu_ms: result.shadow_and_mask_ms,

@@ -161,7 +161,12 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         if let Method::Reference { slices } = method {
             report(&format!("reference ({slices} slices)"));
         }
-        results.push(renderer.render(&scene, &settings(method), &mut report)?);
+        results.push(crate::frame::render(
+            Some(&mut renderer),
+            &scene,
+            &settings(method),
+            &mut report,
+        )?);
     }
     let truth = &results[0];
     let mask: Vec<bool> = truth

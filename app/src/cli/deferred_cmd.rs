@@ -3,6 +3,7 @@
 
 use super::args::{MethodArg, RenderArgs};
 use super::render_cmd::{commit_outputs, load_scene, progress_reporter, render_settings};
+use crate::frame;
 use crate::output::{StagedFiles, auto_exposure, write_exr, write_png, write_rgb8_png};
 use crate::render::Renderer;
 use crate::render::deferred::{DeferredMethod, DeferredSettings};
@@ -64,7 +65,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let result = match &ctx {
         Some(ctx) => {
             let mut renderer = Renderer::new(ctx)?;
-            let mut best = renderer.render_deferred(&scene, &settings, &deferred, &mut report)?;
+            let mut best = frame::render_deferred(
+                Some(&mut renderer),
+                &scene,
+                &settings,
+                &deferred,
+                &mut report,
+            )?;
             for run in 1..args.runs {
                 report(&format!("run {} of {}", run + 1, args.runs));
                 let again = renderer.render_deferred(&scene, &settings, &deferred, &mut |_| {})?;
@@ -75,7 +82,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             best
         }
         // The truth needs no device.
-        None => crate::render::deferred::render_truth(&scene, &settings, &deferred, &mut report)?,
+        None => frame::render_deferred(None, &scene, &settings, &deferred, &mut report)?,
     };
 
     report("writing images");

@@ -118,10 +118,7 @@ pub fn render_frame(
     settings: &RenderSettings,
     report: &mut dyn FnMut(&str),
 ) -> anyhow::Result<RenderResult> {
-    Ok(match renderer {
-        Some(renderer) => renderer.render(scene, settings, report)?,
-        None => crate::raytrace::render(scene, settings, report)?,
-    })
+    Ok(crate::frame::render(renderer, scene, settings, report)?)
 }
 
 /// The heat maps `--heatmaps` writes for a frame of `method` named `stem`.

@@ -14,12 +14,16 @@ use super::shade::{Shading, ShadingLight, facing_normal};
 use super::shutter;
 use super::triangles::scene_triangles;
 use crate::error::{Error, Result};
+use crate::output::RadianceImage;
 use crate::render::MAX_IMAGE_SIDE;
+use crate::render::deferred::{DeferredResult, DeferredSettings, direct_factor};
 use crate::render::upload::{camera_view, light_view};
+use crate::render::{PassTime, RenderSettings};
 use crate::scene::Scene;
 use glam::{DVec3, Vec2};
 use motion_shadows::technique::{CameraParams, LightingView};
 use rayon::prelude::*;
+use std::time::Instant;
 
 /// Progress is reported about this many times per image.
 const PROGRESS_STEPS: u32 = 16;
@@ -197,4 +201,52 @@ fn barycentrics(ray: &Ray, v: &[DVec3; 3]) -> [f64; 3] {
     let e = e.map(|x| (x / sum).max(0.0));
     let total = e[0] + e[1] + e[2];
     e.map(|x| x / total)
+}
+
+/// The deferred frame of [`crate::render::deferred::DeferredMethod::Raytrace`]: the truth, on the CPU (no device), as
+/// a [`DeferredResult`] like the device's methods give.
+pub fn render_truth(
+    scene: &Scene,
+    settings: &RenderSettings,
+    deferred: &DeferredSettings,
+    progress: &mut dyn FnMut(&str),
+) -> Result<DeferredResult> {
+    let start = Instant::now();
+    settings.validate()?;
+    deferred.validate()?;
+    scene.validate()?;
+    let truth = deferred_truth(
+        scene,
+        settings.width,
+        settings.height,
+        deferred.camera_time,
+        settings.shadow_size(),
+        progress,
+    )?;
+    let trace_ms = start.elapsed().as_secs_f64() * 1e3;
+    let light = light_view(scene, settings.shadow_size());
+    let facing = (0..truth.hit.len())
+        .map(|i| {
+            truth.hit[i]
+                && direct_factor(
+                    &light,
+                    glam::Vec3::from(truth.position[i]).as_dvec3(),
+                    glam::Vec3::from(truth.normal[i]).as_dvec3(),
+                )
+                .is_some()
+        })
+        .collect();
+    Ok(DeferredResult {
+        image: RadianceImage::new(settings.width, settings.height, truth.rgb)?,
+        lit: truth.lit,
+        hit: truth.hit,
+        facing,
+        method: deferred.method.name(),
+        passes: vec![PassTime {
+            pass: "raytrace".to_owned(),
+            gpu_ms: trace_ms,
+        }],
+        shadow_and_mask_ms: trace_ms,
+        wall_ms: trace_ms,
+    })
 }

@@ -7,7 +7,7 @@
 //!  - TSM-N: N depth maps at the strata's centres, each looked up with the receiver where it
 //!    is at that map's time, averaged ([`motion_shadows::technique::EngineTsmPass`]);
 //!  - plain: one depth map at mid-shutter (TSM-1);
-//!  - raytrace: the truth, on the CPU ([`crate::raytrace::deferred`]): the exact lit fraction
+//!  - raytrace: the truth, on the CPU ([`crate::raytrace::deferred::render_truth`]): the exact lit fraction
 //!    of each pixel's moving point, from its own camera rays.
 //!
 //! Timed as an engine runs its frames after the first: the static layer (temporal) or the
@@ -117,55 +117,10 @@ pub struct DeferredResult {
     pub wall_ms: f64,
 }
 
-/// The deferred frame of [`DeferredMethod::Raytrace`]: the truth, on the CPU (no device).
-pub fn render_truth(
-    scene: &Scene,
-    settings: &RenderSettings,
-    deferred: &DeferredSettings,
-    progress: &mut dyn FnMut(&str),
-) -> Result<DeferredResult> {
-    let start = Instant::now();
-    settings.validate()?;
-    deferred.validate()?;
-    scene.validate()?;
-    let truth = crate::raytrace::deferred::deferred_truth(
-        scene,
-        settings.width,
-        settings.height,
-        deferred.camera_time,
-        settings.shadow_size(),
-        progress,
-    )?;
-    let trace_ms = start.elapsed().as_secs_f64() * 1e3;
-    let light = upload::light_view(scene, settings.shadow_size());
-    let facing = (0..truth.hit.len())
-        .map(|i| {
-            truth.hit[i]
-                && direct_factor(
-                    &light,
-                    glam::Vec3::from(truth.position[i]).as_dvec3(),
-                    glam::Vec3::from(truth.normal[i]).as_dvec3(),
-                )
-                .is_some()
-        })
-        .collect();
-    Ok(DeferredResult {
-        image: RadianceImage::new(settings.width, settings.height, truth.rgb)?,
-        lit: truth.lit,
-        hit: truth.hit,
-        facing,
-        method: deferred.method.name(),
-        passes: vec![PassTime {
-            pass: "raytrace".to_owned(),
-            gpu_ms: trace_ms,
-        }],
-        shadow_and_mask_ms: trace_ms,
-        wall_ms: trace_ms,
-    })
-}
-
 impl Renderer<'_> {
-    /// Renders the deferred frame of `scene` ([`DeferredMethod::Raytrace`]: on the CPU).
+    /// Renders the deferred frame of `scene` on the device. [`DeferredMethod::Raytrace`] is
+    /// refused here: the truth is traced on the CPU, without a device
+    /// ([`crate::frame::render_deferred`] picks the right one).
     pub fn render_deferred(
         &mut self,
         scene: &Scene,
@@ -179,7 +134,10 @@ impl Renderer<'_> {
         scene.validate()?;
         let size = (settings.width, settings.height);
         if deferred.method == DeferredMethod::Raytrace {
-            return render_truth(scene, settings, deferred, progress);
+            return Err(Error::InvalidArgument(
+                "the deferred truth is traced on the CPU: raytrace::deferred::render_truth"
+                    .to_owned(),
+            ));
         }
         let ctx = self.ctx;
         progress("uploading the scene");
@@ -264,7 +222,7 @@ impl Renderer<'_> {
                 &mut passes,
                 progress,
             )?,
-            DeferredMethod::Raytrace => unreachable!("traced on the CPU above"),
+            DeferredMethod::Raytrace => unreachable!("refused above"),
         }
         let contents = gbuffer.read()?;
         let lit = mask.read(size)?;

@@ -134,7 +134,7 @@ impl Renderer<'_> {
                 passes,
                 progress,
             ),
-            Method::Raytrace => unreachable!("traced on the CPU, without a device"),
+            Method::Raytrace => unreachable!("refused by Renderer::render"),
         }
     }
 

@@ -237,12 +237,13 @@ impl<'a> Renderer<'a> {
     }
 
     /// Renders `scene`. `progress` receives a line for each step that may take a while.
-    /// [`Method::Raytrace`] runs on the CPU ([`crate::raytrace::render`]), without the device.
+    /// [`Method::Raytrace`] is refused here: it runs on the CPU ([`crate::raytrace::render`];
+    /// [`crate::frame::render`] picks the right one).
     ///
-    /// The steps, each in [`frame`]: upload the scene and set up the views
-    /// ([`Self::prepare_frame`]); the method's shadow pass ([`Self::shadow_pass`]); the
-    /// lighting pass, again with one sample per invocation if a device's loop limit cut it
-    /// short ([`Self::shade`]); the frame's refusals and warnings; its statistics.
+    /// The steps, each in `render/frame.rs`: upload the scene and set up the views
+    /// (`prepare_frame`); the method's shadow pass (`shadow_pass`); the lighting pass, again
+    /// with one sample per invocation if a device's loop limit cut it short (`shade`); the
+    /// frame's refusals and warnings; its statistics.
     pub fn render(
         &mut self,
         scene: &Scene,
@@ -250,7 +251,9 @@ impl<'a> Renderer<'a> {
         progress: &mut dyn FnMut(&str),
     ) -> Result<RenderResult> {
         if settings.method == Method::Raytrace {
-            return crate::raytrace::render(scene, settings, progress);
+            return Err(Error::InvalidArgument(
+                "the ray tracer runs on the CPU: raytrace::render".to_owned(),
+            ));
         }
         let start = Instant::now();
         settings.validate()?;

@@ -7,8 +7,9 @@ use super::deferred::{self, Camera, Engine, Light, Mesh, MeshIndices, Motion, Ve
 use super::{SHADOW, SIZE, app_scene, new_host, settings};
 use glam::{DMat4, DVec3, Vec3};
 use motion_shadows_app::compare::mask_error;
+use motion_shadows_app::raytrace::deferred::render_truth;
 use motion_shadows_app::render::RenderSettings;
-use motion_shadows_app::render::deferred::{DeferredMethod, DeferredSettings, render_truth};
+use motion_shadows_app::render::deferred::{DeferredMethod, DeferredSettings};
 
 /// The kept frame: its shutter runs from frame 2 (t = 0) to frame 3 (t = 1).
 const FRAME: u32 = 3;

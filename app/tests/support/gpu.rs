@@ -12,8 +12,7 @@ pub use super::device::{assert_no_validation_messages, context};
 
 pub fn render(ctx: &Context, scene: &Scene, settings: &RenderSettings) -> RenderResult {
     let mut renderer = Renderer::new(ctx).expect("renderer");
-    renderer
-        .render(scene, settings, &mut |_| {})
+    motion_shadows_app::frame::render(Some(&mut renderer), scene, settings, &mut |_| {})
         .expect("render")
 }
 

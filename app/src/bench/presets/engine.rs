@@ -17,7 +17,8 @@ use super::{Bench, bench_error, builtin_scene, chart, ratio, series, target};
 use crate::chart::{LineChart, Table, fmt_num};
 use crate::compare::{MaskError, Rgb8Image, mask_error, side_by_side};
 use crate::error::Result;
-use crate::render::deferred::{DeferredMethod, DeferredResult, DeferredSettings, render_truth};
+use crate::raytrace::deferred::render_truth;
+use crate::render::deferred::{DeferredMethod, DeferredResult, DeferredSettings};
 use crate::render::{Method, RenderSettings};
 use crate::scene::BuiltinOptions;
 
