@@ -453,6 +453,10 @@ pub struct Settings {
     /// Keep each shadow map's static layer across frames (`LightView::keep_static_layer`):
     /// the world's static meshes never change in place, and its lights do not move.
     pub keep_static_layer: bool,
+    /// Give the mask pass the G-buffer's motion (receivers followed along their path); off,
+    /// every receiver stands still where the G-buffer shows it (the mask's cheaper variant,
+    /// exact for a world whose receivers do not move).
+    pub receivers_move: bool,
 }
 
 /// A frame's results, read back once its fence signalled.
@@ -1252,7 +1256,7 @@ impl Recorder<'_> {
                 background_depth: 1.0,
                 // Receivers move: a surface point is followed from where it was at t = 0 to
                 // where the G-buffer shows it (t = 1).
-                motion: Some(MotionImage {
+                motion: self.settings.receivers_move.then_some(MotionImage {
                     view: s.motion.view,
                     layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
                 }),

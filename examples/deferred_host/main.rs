@@ -44,6 +44,7 @@ fn main() -> Result<(), deferred::Error> {
         lookup: ShadowLookup::MaskImages,
         // The static meshes never change in place and the lights stay put.
         keep_static_layer: true,
+        receivers_move: true,
     };
     let (last, include_path, layer_builds) = {
         let mut engine = Engine::new(&host, &world, settings)?;

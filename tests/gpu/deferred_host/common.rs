@@ -31,6 +31,7 @@ pub fn settings(initial_capacity: (u32, u32)) -> Settings {
         initial_capacity,
         lookup: ShadowLookup::MaskImages,
         keep_static_layer: false,
+        receivers_move: true,
     }
 }
 
