@@ -6,50 +6,20 @@
 //! characters.
 //!
 //! Seeded: the same cases every run, a fixed number of them (no wall-clock bound). Its own
-//! test binary, so the allocation counter below sees only it.
-
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+//! test binary, so the allocation counter (support/counting_alloc.rs) sees only it.
 
 use motion_shadows_app::scene::gltf::{AnimationRef, GltfOptions, load_gltf_motion_from_bytes};
 use motion_shadows_app::scene::limits::{MAX_ERROR_CHARS, MAX_SCENE_TRIANGLES};
 use serde_json::Value;
 
-/// Live heap bytes and the most seen since the last reset. Allocations that would take the
-/// live total over `CAP` fail, which aborts the test: an unbounded read cannot take the
-/// machine down, it fails here.
-struct Counting;
+#[path = "support/counting_alloc.rs"]
+mod counting_alloc;
 
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-const CAP: usize = 3 << 30;
 /// What one case may use at its peak: the model's decoded buffers and meshes take a few MiB;
 /// a document that asks for billions of elements must be refused before it allocates them.
 const CASE_PEAK_LIMIT: usize = 512 << 20;
 /// Cases run (each parses and loads the whole model: about 1 ms in the test profile).
 const CASES: usize = 4000;
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let live = LIVE.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
-        if live > CAP {
-            LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
-            return std::ptr::null_mut();
-        }
-        PEAK.fetch_max(live, Ordering::Relaxed);
-        // SAFETY: forwarded unchanged to the system allocator.
-        unsafe { System.alloc(layout) }
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
-        // SAFETY: `ptr` came from `alloc` above with this layout.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static ALLOCATOR: Counting = Counting;
 
 /// SplitMix64.
 struct Rng(u64);
@@ -252,10 +222,9 @@ fn the_gltf_loader_survives_mutated_documents() {
             mutate(&mut doc, &mut rng);
         }
         let bytes = serde_json::to_vec(&doc).unwrap();
-        PEAK.store(LIVE.load(Ordering::Relaxed), Ordering::Relaxed);
-        let base = LIVE.load(Ordering::Relaxed);
+        let base = counting_alloc::start_case();
         let outcome = check(&bytes, case);
-        let peak = PEAK.load(Ordering::Relaxed).saturating_sub(base);
+        let peak = counting_alloc::peak_since(base);
         largest_peak = largest_peak.max(peak);
         if peak > CASE_PEAK_LIMIT {
             failures.push(format!("case {case}: peak allocation {} MiB", peak >> 20));

@@ -4,50 +4,22 @@
 //! must give either a valid scene or an error of at most `MAX_ERROR_CHARS` characters.
 //!
 //! Seeded (same cases every run); runs 30,000 cases or 10 seconds, whichever ends first, and
-//! prints how many ran. Its own test binary, so the allocation counter below sees only it.
+//! prints how many ran. Its own test binary, so the allocation counter
+//! (support/counting_alloc.rs) sees only it.
 
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use motion_shadows_app::scene::limits::MAX_ERROR_CHARS;
 use motion_shadows_app::scene::parse_scene_json;
 
-/// Live heap bytes and the most seen since the last reset. Allocations that would take the
-/// live total over `CAP` fail, which aborts the test: an unbounded read or build cannot take
-/// the machine down, it fails here.
-struct Counting;
+#[path = "support/counting_alloc.rs"]
+mod counting_alloc;
 
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-const CAP: usize = 3 << 30;
 /// What one case may use at its peak: a few hundred MiB for the largest meshes the generator
 /// can ask for (boxes of 256 x 256 quads a face), far below what the probes needed (GiBs).
 const CASE_PEAK_LIMIT: usize = 1 << 30;
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let live = LIVE.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
-        if live > CAP {
-            LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
-            return std::ptr::null_mut();
-        }
-        PEAK.fetch_max(live, Ordering::Relaxed);
-        // SAFETY: forwarded unchanged to the system allocator.
-        unsafe { System.alloc(layout) }
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
-        // SAFETY: `ptr` came from `alloc` above with this layout.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static ALLOCATOR: Counting = Counting;
 
 /// SplitMix64: small, seeded, good enough to pick grammar branches.
 struct Rng(u64);
@@ -440,12 +412,11 @@ fn the_scene_parser_survives_generated_and_mutated_documents() {
         if generator.rng.chance(0.4) {
             text = generator.mutate(text);
         }
-        let baseline = LIVE.load(Ordering::Relaxed);
-        PEAK.store(baseline, Ordering::Relaxed);
+        let baseline = counting_alloc::start_case();
         let outcome = std::panic::catch_unwind(|| {
             parse_scene_json(&text, &dir, "fuzz.json").map_err(|e| e.to_string())
         });
-        let peak = PEAK.load(Ordering::Relaxed).saturating_sub(baseline);
+        let peak = counting_alloc::peak_since(baseline);
         largest_peak = largest_peak.max(peak);
         let problem = match outcome {
             Err(_) => Some("panicked".to_string()),
