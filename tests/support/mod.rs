@@ -7,3 +7,4 @@ pub mod host;
 pub mod prism_model;
 pub mod sampling;
 pub mod scene;
+pub mod test_shader;
