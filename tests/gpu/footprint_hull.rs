@@ -9,6 +9,7 @@
 //! zero-length edge grew the footprint by NaN. lavapipe never fuses, so its suite passed.
 
 use crate::support::gpu::{assert_no_validation_messages, context};
+use crate::support::rng::Rng;
 use crate::support::test_shader::compile_compute;
 use motion_shadows::gpu::{Access, Buffer, BufferUsage, OneShot, compute_pipeline, memory_barrier};
 
@@ -25,20 +26,14 @@ struct Push {
     grow: f32,
 }
 
-/// splitmix64: a seeded, reproducible stream.
-struct Rng(u64);
+/// The point sets' coordinates.
+trait Texels {
+    fn texel(&mut self) -> f32;
+    fn point(&mut self) -> [f32; 2];
+    fn ulps(&mut self, x: f32) -> f32;
+}
 
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    fn unit(&mut self) -> f32 {
-        (self.next() >> 40) as f32 / (1u64 << 24) as f32
-    }
+impl Texels for Rng {
     fn texel(&mut self) -> f32 {
         self.unit() * 1024.0
     }
@@ -80,14 +75,10 @@ fn point_set(rng: &mut Rng, i: usize) -> [[f32; 2]; 6] {
         // Edge-on all frame long: on one row, sliding along it.
         _ => {
             let y = c[0][1];
-            let mut on_row = c.map(|p| [p[0], y]);
             let slide = rng.unit() * 30.0;
-            let moved = on_row.map(|p| [p[0] + slide, y]);
-            at1 = moved;
-            return [on_row[0], on_row[1], on_row[2], at1[0], at1[1], at1[2]].map(|p| {
-                on_row[0] = p;
-                p
-            });
+            let row = c.map(|p| [p[0], y]);
+            let moved = row.map(|p| [p[0] + slide, y]);
+            return [row[0], row[1], row[2], moved[0], moved[1], moved[2]];
         }
     }
     [c[0], c[1], c[2], at1[0], at1[1], at1[2]]
