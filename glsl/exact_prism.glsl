@@ -15,8 +15,11 @@
 // e_k / (e_0 + e_1 + e_2) with e_k = cross(u_{k+1}, u_{k+2}), each a quadratic in t. Coverage
 // changes only where some e_k crosses zero (an edge passes over the centre), so the roots of
 // the three quadratics in (0, 1) cut the shutter into pieces of constant coverage; each piece
-// is tested at its midpoint. The result is a list of disjoint covered runs [t_a, t_b], each
-// emitted as two nodes (time, depth), which the generation pass pairs in time order as usual.
+// is tested at its midpoint. So do the times the triangle's plane passes through a spot
+// light's position, where the "in front of the light" test flips with no edge passing the
+// centre (light_crossing.glsl, found once per triangle by the geometry shader). The result
+// is a list of disjoint covered runs [t_a, t_b], each emitted as two nodes (time, depth),
+// which the generation pass pairs in time order as usual.
 //
 // Watertight by construction: two triangles sharing an edge compute its e from the same
 // vertex data with the operands swapped, and `precise` keeps the compiler from fusing the
