@@ -9,6 +9,8 @@
 // far plane, so a caster between the light and its near plane keeps its shadow (the
 // fragment shader keeps only what lies in front of the light itself).
 #include "shared.glsl"
+#include "exact_prism.glsl"
+#include "light_crossing.glsl"
 #define HULL_MAX_POINTS 6
 #include "convex_hull.glsl"
 
@@ -24,6 +26,9 @@ layout(location = 2) in float in_valid[];
 layout(location = 0) flat out vec4 out_at0[3];
 layout(location = 3) flat out vec4 out_at1[3];
 layout(location = 6) flat out uint out_id;
+// The times the triangle's plane passes through the light (light_crossing.glsl): cuts of
+// the fragment shader's pieces besides the edge roots, the same for every texel.
+layout(location = 7) flat out vec3 out_cuts;
 
 // How far the footprint is pushed out, in texels: far more than the rasterizer's snapping
 // (1/256 texel) and float rounding, far less than a texel.
@@ -34,6 +39,7 @@ const float FOOTPRINT_LIMIT_NDC = 64.0;
 
 vec4 corner_at0[3], corner_at1[3];
 uint triangle_id;
+vec3 light_cuts;
 
 void emit_ndc(vec2 ndc) {
     gl_Position = vec4(ndc, 0.5, 1.0);
@@ -42,6 +48,7 @@ void emit_ndc(vec2 ndc) {
         out_at1[k] = corner_at1[k];
     }
     out_id = triangle_id;
+    out_cuts = light_cuts;
     EmitVertex();
 }
 
@@ -110,9 +117,21 @@ void main() {
         texels[i] = (ndc * 0.5 + 0.5) * size;
     }
     if (!bounded) {
+        // Some corner at or behind the light: the triangle may contain the light while its
+        // plane passes through it.
+        light_cuts = vec3(EXACT_NO_ROOT);
+        if (!all_in_front) {
+            vec3 p[3], q[3];
+            for (int k = 0; k < 3; ++k) {
+                p[k] = corner_at0[k].xyz;
+                q[k] = corner_at1[k].xyz;
+            }
+            light_cuts = light_crossing_times(p, q);
+        }
         emit_whole_map();
         return;
     }
+    light_cuts = vec3(EXACT_NO_ROOT);  // all in front: never contains the light
     vec2 hull[2 * HULL_MAX_POINTS];
     float merge = hull_merge_distance(texels, 6);
     int h = convex_hull(texels, 6, merge, hull);

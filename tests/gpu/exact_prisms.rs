@@ -218,6 +218,53 @@ fn casters_through_the_near_plane_and_the_light_plane_match_the_oracle() {
     assert_no_validation_messages(&ctx);
 }
 
+/// Casters whose plane sweeps through the spot light itself while they contain it: at that
+/// instant the hit on every texel's ray passes through the light, from in front of it to
+/// behind it, at a time where no edge passes the texel's centre (the issue-25 probe, case
+/// 6). A vertical quad translating across the light, reaching further below it than above
+/// (so no piece's midpoint falls on the crossing by symmetry), and a plate turning about a
+/// horizontal axis just above the light (a chord blend of -20 and +35 degrees).
+#[test]
+fn casters_sweeping_through_the_light_itself_match_the_oracle() {
+    let ctx = context();
+    let light_y = 10.0;
+    let quad = |x: f32| {
+        let (lo, hi) = (light_y - 1.5, light_y + 1.0);
+        let p = |y: f32, z: f32| Vec3::new(x, y, z);
+        vec![
+            p(lo, -1.0),
+            p(lo, 1.0),
+            p(hi, 1.0),
+            p(lo, -1.0),
+            p(hi, 1.0),
+            p(hi, -1.0),
+        ]
+    };
+    let pivot = Vec3::new(0.0, light_y + 0.3, 0.0);
+    let plate: Vec<Vec3> = [(-2.0, -1.5), (-2.0, 1.5), (1.0, 0.0)]
+        .iter()
+        .map(|&(y, z)| pivot + Vec3::new(0.0, y, z))
+        .collect();
+    let turned = |deg: f32| rotated(&plate, pivot, Quat::from_rotation_z(deg.to_radians()));
+    let s = scene(
+        "through-light",
+        overhead_spot(light_y, 45.0),
+        vec![
+            mesh("sweeping-quad", quad(-0.4), quad(0.6), false),
+            mesh("turning-plate", turned(-20.0), turned(35.0), false),
+        ],
+    );
+    let checked = compare_with_oracle(&s, &exact_map(&ctx, &s));
+    eprintln!("through the light: {checked:?}");
+    // Nearly every texel sees the casters for part of the shutter, up to the crossing.
+    assert!(
+        checked.pairs > 3000 && checked.partial > 3000,
+        "{checked:?}"
+    );
+    assert!(checked.slivers * 100 < checked.pairs, "{checked:?}");
+    assert_no_validation_messages(&ctx);
+}
+
 /// A closed, tessellated box whose outline seen from the light never moves while the
 /// vertices inside its top face slide within the face: at every texel inside the outline
 /// the box blocks the light all frame long (the union of its ranges is [0, 1]). The papers'
