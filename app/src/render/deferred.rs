@@ -15,7 +15,7 @@
 //! shadow pass and the mask.
 
 use super::stats::PassTime;
-use super::{FrameInputs, ReceiverTest, RenderSettings, Renderer, upload};
+use super::{FrameInputs, ReceiverTest, RenderSettings, Renderer, range_bound, upload};
 use crate::error::{Error, Result};
 use crate::output::RadianceImage;
 use crate::scene::Scene;
@@ -194,8 +194,9 @@ impl Renderer<'_> {
             DeferredMethod::Temporal => {
                 // The map is built (grown until it fits) with the static layer kept, then
                 // the timed frame: the shadow pass again, and the mask.
+                let bound = range_bound::ranges_at_least(scene, &light, shadow);
                 let outcome =
-                    self.temporal_shadow(frame, settings, false, &mut Vec::new(), progress)?;
+                    self.temporal_shadow(frame, settings, false, bound, &mut Vec::new(), progress)?;
                 let map = outcome
                     .into_temporal_map()
                     .expect("the temporal shadow step makes a temporal map");

@@ -5,7 +5,7 @@
 use super::methods::ShadowOutcome;
 use super::stats::{self, FrameStats, PassTime, equation_2_bytes};
 use super::upload::{self, SceneGeometry};
-use super::{FrameInputs, Method, RenderSettings, Renderer, empty_map};
+use super::{FrameInputs, Method, RenderSettings, Renderer, empty_map, range_bound};
 use crate::error::Result;
 use crate::scene::Scene;
 use motion_shadows::gpu::Context;
@@ -23,6 +23,8 @@ pub(super) struct PreparedFrame {
     spp: u32,
     /// The most samples one lighting chunk may hold.
     max_chunk: u32,
+    /// A lower bound on the ranges of the temporal map (`range_bound.rs`; 0 when unknown).
+    ranges_at_least: u64,
 }
 
 impl PreparedFrame {
@@ -100,6 +102,10 @@ impl Renderer<'_> {
             Method::Reference { .. } => 1,
             _ => settings.max_samples_per_chunk,
         };
+        let ranges_at_least = match settings.method {
+            Method::Temporal => range_bound::ranges_at_least(scene, &light, settings.shadow_size()),
+            _ => 0,
+        };
         Ok(PreparedFrame {
             geometry,
             draws,
@@ -107,6 +113,7 @@ impl Renderer<'_> {
             view,
             spp: settings.method.samples_per_pixel(settings.spp),
             max_chunk,
+            ranges_at_least,
         })
     }
 
@@ -121,8 +128,14 @@ impl Renderer<'_> {
     ) -> Result<ShadowOutcome> {
         let inputs = frame.inputs();
         match settings.method {
-            Method::Temporal => self.temporal_shadow(inputs, settings, false, passes, progress),
-            Method::Coverage => self.temporal_shadow(inputs, settings, true, passes, progress),
+            Method::Temporal | Method::Coverage => self.temporal_shadow(
+                inputs,
+                settings,
+                settings.method == Method::Coverage,
+                frame.ranges_at_least,
+                passes,
+                progress,
+            ),
             Method::Tsm => self.time_dependent_shadow(inputs, settings, passes, progress),
             Method::Plain { time } => self.plain_shadow(inputs, settings, time, passes),
             Method::Reference { slices } => self.reference(

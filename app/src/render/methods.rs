@@ -114,17 +114,31 @@ impl ShadowOutcome {
 
 impl Renderer<'_> {
     /// Collection and generation (with the coverage passes between them when `with_coverage`);
-    /// grown and re-run until nothing overflowed.
+    /// grown and re-run until nothing overflowed. `ranges_at_least` is a lower bound on the
+    /// ranges the frame stores without the coverage map (`range_bound.rs`; 0 if unknown): the
+    /// first attempt has room for it, so a map that cannot hold it is refused before any
+    /// pass runs.
     pub(super) fn temporal_shadow(
         &mut self,
         inputs: FrameInputs<'_>,
         settings: &RenderSettings,
         with_coverage: bool,
+        ranges_at_least: u64,
         passes: &mut Vec<PassTime>,
         progress: &mut dyn FnMut(&str),
     ) -> Result<ShadowOutcome> {
         let (width, height) = settings.shadow_size();
         let pixels = width * height;
+        let bound = if with_coverage { 0 } else { ranges_at_least };
+        // Beyond u32 the map refuses the count anyway (it counts in u32).
+        let ranges = u32::try_from(bound).unwrap_or(u32::MAX).max(pixels);
+        if ranges > pixels {
+            progress(&format!(
+                "shadow pass: the moving triangles cover at least {bound} (texel, triangle) pairs \
+                 of the map during the shutter, a range each: room for them from the first \
+                 attempt"
+            ));
+        }
         // The exact construction with the static layer stores no node (its collection writes
         // the ranges): a node buffer would be memory for nothing.
         let stores_nodes = !inputs.light.collects_ranges(with_coverage);
@@ -133,11 +147,11 @@ impl Renderer<'_> {
             width,
             height,
             settings.initial_node_capacity.unwrap_or(if stores_nodes {
-                pixels.saturating_mul(2)
+                ranges.saturating_mul(2)
             } else {
                 1
             }),
-            settings.initial_range_capacity.unwrap_or(pixels),
+            settings.initial_range_capacity.unwrap_or(ranges),
         )?;
         let coverage = if with_coverage {
             if inputs.draws.id_end() >= MAX_COVERAGE_TRIANGLES as u64 {

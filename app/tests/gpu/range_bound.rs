@@ -1,0 +1,86 @@
+//! The lower bound on a temporal map's ranges that sizes its first attempt and refuses a map
+//! the device cannot hold before any pass runs (`render/range_bound.rs`; issue 25, case 11a:
+//! such a map was refused only after a whole collection, 64-77 s for the scene below).
+//!
+//! Its expectation is the renderer's own count of the ranges it stored: the bound must never
+//! exceed it, on every built-in scene (fast cubes, a skinned character, corners behind the
+//! light, a near-plane crossing, thin and deforming casters, closed meshes), with and without
+//! the static layer.
+
+use crate::support::gpu::{assert_no_validation_messages, context, render};
+use motion_shadows_app::render::range_bound::ranges_at_least;
+use motion_shadows_app::render::upload::light_view;
+use motion_shadows_app::render::{Method, RenderSettings};
+use motion_shadows_app::scene::{BUILTIN_NAMES, BuiltinOptions, builtin};
+
+fn settings(shadow: (u32, u32), static_layer: bool) -> RenderSettings {
+    RenderSettings {
+        width: 64,
+        height: 48,
+        spp: 1,
+        shadow_size: Some(shadow),
+        method: Method::Temporal,
+        static_layer,
+        ..RenderSettings::default()
+    }
+}
+
+#[test]
+fn the_bound_never_exceeds_the_ranges_stored() {
+    let ctx = context();
+    let mut checked = 0;
+    for &name in BUILTIN_NAMES {
+        let scene = builtin(name, &BuiltinOptions::default()).unwrap();
+        for static_layer in [true, false] {
+            let s = settings((512, 512), static_layer);
+            let bound = ranges_at_least(&scene, &light_view(&scene, (512, 512)), (512, 512));
+            let stored = render(&ctx, &scene, &s).stats.ranges;
+            eprintln!("{name} (static layer {static_layer}): bound {bound}, stored {stored}");
+            assert!(bound <= stored, "{name}: bound {bound} > stored {stored}");
+            checked += usize::from(bound > 0);
+        }
+    }
+    assert!(checked >= 20, "only {checked} non-zero bounds");
+    assert_no_validation_messages(&ctx);
+}
+
+/// 20,000 fast cubes at 4096x4096 need 264.7 million ranges, 6.35 GB; lavapipe addresses
+/// 2 GiB in one buffer. The bound (96 million) already exceeds it: refused with the
+/// library's own device-limit error before the collection runs once. (On a device that can
+/// hold the bound, the frame must render instead, with at least that many ranges.)
+#[test]
+fn a_map_that_cannot_hold_the_bound_is_refused_before_any_pass() {
+    let ctx = context();
+    let opts = BuiltinOptions {
+        cube_count: 20_000,
+        ..BuiltinOptions::default()
+    };
+    let scene = builtin("random-cubes", &opts).unwrap();
+    let size = (4096, 4096);
+    let bound = ranges_at_least(&scene, &light_view(&scene, size), size);
+    let range_bytes = std::mem::size_of::<motion_shadows::technique::Range>() as u64;
+    let mut renderer = motion_shadows_app::render::Renderer::new(&ctx).unwrap();
+    let mut lines = Vec::new();
+    let result = renderer.render(&scene, &settings(size, true), &mut |m| {
+        lines.push(m.to_owned())
+    });
+    let attempted = lines.iter().any(|l| l.contains("shadow pass (attempt"));
+    if bound * range_bytes > ctx.max_addressed_buffer_bytes() {
+        let e = result.err().expect("refused").to_string();
+        assert!(
+            e.contains("range buffer") && e.contains("can address at most"),
+            "{e}"
+        );
+        assert!(!attempted, "a pass ran first: {lines:?}");
+        assert!(
+            lines
+                .iter()
+                .any(|l| l.contains(&format!("at least {bound}"))),
+            "{lines:?}"
+        );
+    } else {
+        let r = result.expect("a device that holds the bound renders the frame");
+        assert!(r.stats.ranges >= bound);
+    }
+    assert_no_validation_messages(&ctx);
+}
