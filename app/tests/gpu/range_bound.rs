@@ -7,11 +7,14 @@
 //! light, a near-plane crossing, thin and deforming casters, closed meshes), with and without
 //! the static layer.
 
-use crate::support::gpu::{assert_no_validation_messages, context, render};
+use crate::support::gpu::{
+    assert_no_validation_messages, context, mesh, overhead_spot, render, scene,
+};
+use glam::Vec3;
 use motion_shadows_app::render::range_bound::ranges_at_least;
 use motion_shadows_app::render::upload::light_view;
 use motion_shadows_app::render::{Method, RenderSettings};
-use motion_shadows_app::scene::{BUILTIN_NAMES, BuiltinOptions, builtin};
+use motion_shadows_app::scene::{BUILTIN_NAMES, BuiltinOptions, box_mesh, builtin};
 
 fn settings(shadow: (u32, u32), static_layer: bool) -> RenderSettings {
     RenderSettings {
@@ -41,6 +44,32 @@ fn the_bound_never_exceeds_the_ranges_stored() {
         }
     }
     assert!(checked >= 20, "only {checked} non-zero bounds");
+    assert_no_validation_messages(&ctx);
+}
+
+/// Where the bound is tight, it must still not pass the count: a closed box of large faces
+/// drifting slowly under a spot light stores about one range per texel of its lit faces (its
+/// bottom and the sides turned away are culled). Counting the faces turned away too would
+/// pass the stored count; missing the ones facing it would leave the bound far below it.
+#[test]
+fn a_tight_bound_stays_below_the_count() {
+    let ctx = context();
+    let cube = box_mesh(Vec3::new(4.0, 1.0, 4.0), 1);
+    let at = |x: f32| -> Vec<Vec3> { cube.iter().map(|p| *p + Vec3::new(x, 1.0, 0.2)).collect() };
+    let s = scene(
+        "drifting-box",
+        overhead_spot(10.0, 50.0),
+        vec![mesh("box", at(-0.1), at(0.1), true)],
+    );
+    let size = (256, 256);
+    let bound = ranges_at_least(&s, &light_view(&s, size), size);
+    let stored = render(&ctx, &s, &settings(size, true)).stats.ranges;
+    eprintln!("drifting box: bound {bound}, stored {stored}");
+    assert!(bound <= stored, "bound {bound} > stored {stored}");
+    assert!(
+        bound * 10 > stored * 9,
+        "bound {bound} far below stored {stored}"
+    );
     assert_no_validation_messages(&ctx);
 }
 
