@@ -15,4 +15,5 @@ mod exact_prisms;
 mod layout;
 mod prism;
 mod several_runs;
+mod sorted_ranges;
 mod validation;

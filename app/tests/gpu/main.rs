@@ -20,6 +20,7 @@ mod generation;
 mod host_geometry;
 mod lighting;
 mod loop_limit;
+mod range_storage;
 mod receiver_plane;
 mod static_layer;
 mod visibility;
