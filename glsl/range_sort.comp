@@ -1,34 +1,48 @@
 #version 450
 // Sorting the collected ranges, first tier (range_sort_common.glsl, range_sort_lists.glsl):
-// one invocation per texel reserves its place with one atomic on the ranges reserved so far
-// (neighbouring texels, a SIMD batch's lanes, get neighbouring places), then every texel
-// whose list holds at most SHORT_SORT ranges (nearly all) is sorted into its place;
-// longer lists go to range_sort_long.comp through the scratch list (an indirect dispatch
-// whose group counts this tier raises), their place in the node heads.
+// every texel whose list keeps at most SHORT_SORT ranges after pruning (nearly all) is sorted
+// into places it takes; longer lists go to range_sort_long.comp through the scratch list (an
+// indirect dispatch whose group counts this tier raises). One workgroup per 8x8-texel tile.
 #define SHORT_SORT 16u
 #define SORT_CAPACITY SHORT_SORT
 #include "range_sort_lists.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-
-// Writes the one or two ranges of a list without the private arrays, which a CPU device
-// keeps in memory per lane (most texels that hold ranges hold one or two).
-void store_short(uint p, uint head, uint second, uvec2 links, uvec2 links2, uint base) {
-    uint n = second == END_OF_LIST ? 1u : 2u;
-    if (base + n > CounterRef(map.counters).c.range_capacity) {
-        UintArray(map.range_heads).v[p] = END_OF_LIST;
-        return;
-    }
+// A list of one or two ranges (most texels that hold any), written without the private
+// arrays, which a CPU device keeps in memory per lane.
+void store_short(uint p, uint head, uint second, uvec2 links, uvec2 links2) {
     Words words = Words(map.list_ranges);
     uint at = 3u * (head - 1u);
     uvec2 t0 = unpackUint2x32(words.v[at]), d0 = unpackUint2x32(words.v[at + 1u]);
     uint i0 = links.x;
+    uvec2 t1 = uvec2(0u), d1 = uvec2(0u);
+    uint i1 = links2.x;
+    bool keep1 = second != END_OF_LIST;
+    if (keep1) {
+        uint at2 = 3u * (second - 1u);
+        t1 = unpackUint2x32(words.v[at2]);
+        d1 = unpackUint2x32(words.v[at2 + 1u]);
+        keep1 = !pruned(d1);
+    }
+    if (pruned(d0)) {   // the second (if kept) alone
+        t0 = t1; d0 = d1; i0 = i1;
+        keep1 = false;
+        if (second == END_OF_LIST || pruned(d1)) {
+            UintArray(map.range_heads).v[p] = END_OF_LIST;
+            return;
+        }
+    }
+    uint n = keep1 ? 2u : 1u;
+    uint base = take_places(n);
+    // Past the capacity the frame overflowed (the counters say so, and it is recorded again
+    // with room): nothing is written out of bounds.
+    if (base + n > CounterRef(map.counters).c.range_capacity) {
+        UintArray(map.range_heads).v[p] = END_OF_LIST;
+        return;
+    }
     Words out_words = Words(map.ranges);
     if (n == 2u) {
-        uint at2 = 3u * (second - 1u);
-        uvec2 t1 = unpackUint2x32(words.v[at2]), d1 = unpackUint2x32(words.v[at2 + 1u]);
-        uint i1 = links2.x;
         if (sorts_after(t0, d0, i0, t1, d1, i1)) {
             uvec2 ts = t0, ds = d0;
             uint is = i0;
@@ -54,25 +68,21 @@ void main() {
     uint p = pixel.y * map.size.x + pixel.x;
     uint head = UintArray(map.range_heads).v[p];
     if (head == END_OF_LIST) return;
-    // The collection links at most MAX_LIST_NODES / 2 runs per texel (more is an error of
-    // the frame, counted there).
-    uint runs = min(counts.v[p], MAX_LIST_NODES / 2u);
-    uint base = atomicAdd(CounterRef(map.counters).c.sorted_count, runs);
+    open_pruning(p);
     Words words = Words(map.list_ranges);
     uvec2 links = unpackUint2x32(words.v[3u * (head - 1u) + 2u]);
     uint second = links.y;
     uvec2 links2 = second != END_OF_LIST ? unpackUint2x32(words.v[3u * (second - 1u) + 2u])
                                          : uvec2(0u);
     if (second == END_OF_LIST || links2.y == END_OF_LIST) {
-        store_short(p, head, second, links, links2, base);
+        store_short(p, head, second, links, links2);
         return;
     }
     uint n = load_ranges(head);
     if (n <= SHORT_SORT) {
-        sort_and_store(p, n, base);
+        sort_and_store(p, n);
         return;
     }
-    counts.v[p] = base;
     uint index = atomicAdd(scratch.long_count, 1u);
     // Groups of 64, in the dispatch the collection started at 0 x 1 x 1 groups (not the
     // long-pixel list's own: the generation's pairing uses that one).

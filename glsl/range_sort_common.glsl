@@ -5,7 +5,8 @@
 // buffer (an atomic on the ranges reserved so far) and copies its list there, sorted by start time and linked in that order;
 // range_sort_long.comp does the same for the few lists too long for the first tier's arrays.
 // A lookup then reads a texel's ranges from consecutive addresses, and one at time t may stop
-// at the first range that starts after t. The buffer holds exactly the ranges the lists held.
+// at the first range that starts after t. The buffer holds exactly the ranges the lists held
+// but the pruned ones.
 #include "shared.glsl"
 
 layout(push_constant) uniform Push { PassConstants pc; };
@@ -22,13 +23,14 @@ layout(buffer_reference, std430, buffer_reference_align = 16) buffer SortScratch
 // are the third of the header's `tiles` (uint LONG_SORT_ARGS on).
 const uint LONG_SORT_ROW = 65535u;
 const uint LONG_SORT_ARGS = 8u;
+// Pruning's margin, relative to the static layer's depth (range_sort_lists.glsl): 100 float
+// ulps, far above a lookup's rounding, far below the depth bias (1e-4 by default).
+const float PRUNE_MARGIN = 1e-5;
 
 MsShadowMap map;
-UintArray counts;       // the node heads: per texel its run count, then (long lists) its place
 SortScratch scratch;
 
 void open_sort() {
     map = MsShadowMap(pc.map);
-    counts = UintArray(map.heads);
     scratch = SortScratch(map.long_pixels);
 }

@@ -5,8 +5,9 @@
 //! long lists go to a second, indirect dispatch with room for `MAX_LIST_NODES`. Where the
 //! collection stored the ranges itself ([`TemporalShadowMap::collects_ranges`]) it set both
 //! dispatches to zero groups; with [`super::RangeStorage::Sorted`] the pass then sorts each
-//! texel's collected list into a contiguous run of the range buffer (one atomic per tile
-//! reserves the tile's ranges; two tiers again), and otherwise costs its barriers only.
+//! texel's collected list into a contiguous run of the range buffer (one atomic per texel
+//! takes its places; ranges behind the static layer are pruned; two tiers again), and
+//! otherwise costs its barriers only.
 
 use super::collection::PUSH_BYTES;
 use super::gpu_types::PassConstants;

@@ -70,9 +70,9 @@ pub struct Counters {
     /// [`super::TemporalShadowMap::collects_ranges`]): no node is stored, and the generation
     /// pass has nothing to do.
     pub ranges_direct: u32,
-    /// Where the map sorts the collected ranges ([`super::RangeStorage::Sorted`]): the sum
-    /// of the texels' run counts, the places the sorted buffer reserves (equal to
-    /// `range_count` in a complete frame); 0 otherwise.
+    /// Where the map sorts the collected ranges ([`super::RangeStorage::Sorted`]): the
+    /// ranges the sorted buffer holds, `range_count` less those pruned (behind the static
+    /// layer); 0 otherwise.
     pub sorted_count: u32,
     /// Unused (0).
     pub reserved: u32,

@@ -26,8 +26,10 @@ const COUNTER_BYTES: u64 = std::mem::size_of::<Counters>() as u64;
 pub enum RangeStorage {
     /// Each texel's ranges contiguous in the range buffer, in order of start time (the
     /// header's `MS_SORTED_RANGES`): the collection links them into lists in a second buffer
-    /// of the same capacity, and the generation pass sorts each list into the place a prefix
-    /// reserved with one atomic per tile gives it. Lookups read a texel's ranges from consecutive
+    /// of the same capacity, and the generation pass sorts each list into places it takes
+    /// with one atomic, leaving out the ranges behind the static layer that cannot decide a
+    /// test (pruning, `docs/src/pruning.md`; only where receivers are tested at their plane's
+    /// depth, `LightView::receiver_plane`). Lookups read a texel's ranges from consecutive
     /// addresses and stop at the first that starts after the time they test.
     #[default]
     Sorted,
@@ -550,7 +552,15 @@ impl TemporalShadowMap {
         } else {
             0
         };
-        let ranges = counts.range_count.min(self.range_capacity) as usize;
+        // Sorted ranges fill the buffer's first `sorted_count` places (fewer than the lists
+        // held where some were pruned).
+        let sorted = !lists && self.range_storage == RangeStorage::Sorted;
+        let stored = if sorted {
+            counts.sorted_count
+        } else {
+            counts.range_count
+        };
+        let ranges = stored.min(self.range_capacity) as usize;
         Ok(ShadowMapContents {
             width: self.width,
             height: self.height,

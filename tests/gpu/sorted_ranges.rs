@@ -160,3 +160,109 @@ fn sorted_storage_holds_the_lists_ranges_contiguous_and_in_start_order() {
     }
     assert_no_validation_messages(&ctx);
 }
+
+/// Pruning (docs/src/pruning.md) against a CPU model of its rule: random plates sliding and
+/// tilting above, below and through a static roof that covers part of the map, over a static
+/// ground. Per texel, the sorted map must hold exactly the lists' ranges that are not behind
+/// the texel's static-layer triangle by more than the margin (the model reads the depth and
+/// the triangle from the downloaded static layer), for every seed; and both kinds of texel
+/// must be common (ranges pruned, ranges kept under the roof).
+#[test]
+fn pruning_drops_exactly_the_ranges_behind_the_static_layer() {
+    let ctx = context();
+    let mut pruned_total = 0;
+    let mut kept_under_roof = 0;
+    for seed in 1..=3u32 {
+        let mut state = seed.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+        let mut random = move || {
+            state = state.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+            (state >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let roof = square(-3.0, -3.0, 4.0, 5.0);
+        let ground = square(-8.0, -8.0, 16.0, 0.0);
+        let mut meshes = vec![
+            mesh("ground", ground.clone(), ground, false),
+            mesh("roof", roof.clone(), roof, false),
+        ];
+        for i in 0..10 {
+            let angle = random() * std::f32::consts::TAU;
+            let step = Vec3::new(angle.cos(), 0.0, angle.sin()) * (0.3 + random());
+            // Heights from under the roof (depth 5) to above it; a tilt through it.
+            let y = 1.0 + 6.0 * random();
+            let tilt = Vec3::new(0.0, 2.0 * random() - 1.0, 0.0);
+            let plate: Vec<Vec3> = (0..16)
+                .flat_map(|k| {
+                    let (x, z) = (-2.0 + (k % 4) as f32, -2.0 + (k / 4) as f32);
+                    square(x, z, 1.0, y)
+                })
+                .map(|p| p + tilt * (p.x / 2.0))
+                .collect();
+            meshes.push(mesh(
+                &format!("plate-{i}"),
+                translated(&plate, -step),
+                translated(&plate, step),
+                false,
+            ));
+        }
+        let scene = scene("roof", overhead_directional(4.0), meshes);
+        // Receivers tested at their plane's depth (what prunes; the app's default).
+        let light = LightView {
+            receiver_plane: true,
+            normal_offset_texels: 0.0,
+            ..light_view(&scene, SIZE)
+        };
+        let pixels = SIZE.0 * SIZE.1;
+        let (lists, _) =
+            temporal_map_stored(&ctx, &scene, SIZE, &light, RangeStorage::Lists, pixels);
+        let (sorted, counts) =
+            temporal_map_stored(&ctx, &scene, SIZE, &light, RangeStorage::Sorted, pixels);
+        assert_eq!(sorted.ranges.len(), counts.sorted_count as usize);
+        let mut pruned = 0;
+        for y in 0..SIZE.1 {
+            for x in 0..SIZE.0 {
+                // The model: the rule of docs/src/pruning.md, from the downloaded layer.
+                let behind = |r: &Range| match sorted.static_at(x, y) {
+                    Some((_, d)) => r.d_s.min(r.d_e) > d + 1e-5 * d.abs().max(1.0),
+                    None => false,
+                };
+                let all = lists.ranges_at(x, y);
+                let mut expected: Vec<[u32; 5]> =
+                    all.iter().filter(|r| !behind(r)).map(key).collect();
+                let mut got: Vec<[u32; 5]> = sorted.ranges_at(x, y).iter().map(key).collect();
+                expected.sort_unstable();
+                got.sort_unstable();
+                assert_eq!(got, expected, "seed {seed}, texel ({x}, {y})");
+                pruned += all.len() - expected.len();
+                let under_roof = sorted.static_at(x, y).is_some_and(|(_, d)| d < 6.0);
+                if under_roof && !expected.is_empty() {
+                    kept_under_roof += 1;
+                }
+            }
+        }
+        assert_eq!(
+            counts.range_count as usize - pruned,
+            counts.sorted_count as usize,
+            "seed {seed}: the sorted buffer holds the kept ranges"
+        );
+        pruned_total += pruned;
+        // Receivers tested at their own depth (offset along the normal): one on the static
+        // triangle may be farther than its stored depth, so nothing is pruned.
+        let offset = LightView {
+            receiver_plane: false,
+            ..light
+        };
+        let (_, counts) =
+            temporal_map_stored(&ctx, &scene, SIZE, &offset, RangeStorage::Sorted, pixels);
+        assert_eq!(
+            counts.sorted_count, counts.range_count,
+            "seed {seed}: offset test"
+        );
+    }
+    println!("pruned {pruned_total} ranges; {kept_under_roof} roof texels keep some");
+    assert!(pruned_total > 1000, "pruned {pruned_total}");
+    assert!(
+        kept_under_roof > 100,
+        "kept under the roof: {kept_under_roof}"
+    );
+    assert_no_validation_messages(&ctx);
+}

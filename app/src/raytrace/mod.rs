@@ -125,6 +125,8 @@ pub fn render(
         ranges_without_coverage: 0,
         shadow_map_bytes_eq2: 0,
         shadow_map_bytes_transient: 0,
+        ranges_pruned: 0,
+        shadow_map_bytes_eq2_unpruned: 0,
         static_layer_bytes: 0,
         static_layer_kept: false,
         shadow_map_bytes_eq2_without_coverage: 0,

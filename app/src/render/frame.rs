@@ -289,7 +289,17 @@ pub(super) fn stats(
         fragments_stored,
         ranges,
         ranges_without_coverage: counts.ranges_without_coverage as u64,
-        shadow_map_bytes_eq2: eq2(ranges),
+        shadow_map_bytes_eq2: if sorted {
+            sorted_map_bytes(counts.sorted_count as u64, shadow_pixels)
+        } else {
+            eq2(ranges)
+        },
+        shadow_map_bytes_eq2_unpruned: eq2(ranges),
+        ranges_pruned: if sorted {
+            ranges - counts.sorted_count as u64
+        } else {
+            0
+        },
         shadow_map_bytes_transient: if sorted {
             sorted_map_bytes(ranges, shadow_pixels)
         } else {

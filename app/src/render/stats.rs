@@ -93,11 +93,18 @@ pub struct FrameStats {
     /// N_r without the coverage map (equal to `ranges` for other methods).
     pub ranges_without_coverage: u64,
     /// Equation (2): N_f * 16 + N_r * 24 + 2 * shadow pixels * 4 bytes; with sorted ranges
-    /// ([`sorted_map_bytes`]) what the map holds once sorted: N_r * 24 + shadow pixels * 4.
+    /// ([`sorted_map_bytes`]) what the map holds once sorted and pruned:
+    /// (N_r - pruned) * 24 + shadow pixels * 4.
     pub shadow_map_bytes_eq2: u64,
     /// With sorted ranges: what the frame held besides, until the sort (the collection's
     /// lists, N_r * 24, and its per-texel counts, shadow pixels * 4); 0 otherwise.
     pub shadow_map_bytes_transient: u64,
+    /// With sorted ranges: the ranges the sort left out because no lookup can be decided by
+    /// them (behind the static layer, see docs/src/pruning.md); the map holds
+    /// `ranges - ranges_pruned`. 0 otherwise.
+    pub ranges_pruned: u64,
+    /// `shadow_map_bytes_eq2` with the pruned ranges kept.
+    pub shadow_map_bytes_eq2_unpruned: u64,
     /// The static layer (8 bytes per shadow-map texel: the nearest static triangle, in place
     /// of static triangles' fragments and ranges); 0 where the frame did not use one.
     pub static_layer_bytes: u64,

@@ -1,5 +1,6 @@
-//! The sorted range storage answers every lookup as the linked lists do: on every built-in
-//! scene, the same image bit for bit with the papers' sampled test, and on scenes with
+//! The sorted range storage, pruned (docs/src/pruning.md), answers every lookup as the
+//! linked lists do: on every built-in scene and two examples (deep lists; plates under a
+//! static roof, a third of their ranges pruned), the same image bit for bit with the papers' sampled test, and on scenes with
 //! moving and static receivers also with it filtered (one texel at a time, `ms_shadowed`),
 //! with the analytic estimator (static receivers' lit fraction, the footprint filter) and in the deferred frame, whose moving receivers walk a
 //! texel's ranges once per texel crossed (`ms_lit_fraction_moving`, which stops at the first
@@ -11,7 +12,8 @@ use crate::support::gpu::{assert_no_validation_messages, context};
 use motion_shadows::technique::{RangeStorage, ShadowEstimator, ShadowFilter};
 use motion_shadows_app::render::deferred::DeferredSettings;
 use motion_shadows_app::render::{Method, RenderSettings, Renderer};
-use motion_shadows_app::scene::{BUILTIN_NAMES, BuiltinOptions, builtin};
+use motion_shadows_app::scene::{BUILTIN_NAMES, BuiltinOptions, builtin, load_scene_file};
+use std::path::Path;
 
 fn settings(range_storage: RangeStorage) -> RenderSettings {
     RenderSettings {
@@ -50,8 +52,19 @@ fn sorted_ranges_render_what_the_lists_render() {
             .expect("render")
     };
     let mut compared = 0;
-    for &name in BUILTIN_NAMES {
-        let scene = builtin(name, &options).unwrap();
+    let mut pruned = 0;
+    // Every built-in scene, and two of the docs' examples: deep lists, and plates sliding
+    // under a static roof (a third of their ranges pruned).
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/examples");
+    let files = ["stacked-plates", "plates-under-roof"];
+    let scenes = (BUILTIN_NAMES
+        .iter()
+        .map(|&name| (name, builtin(name, &options).unwrap())))
+    .chain(files.iter().map(|&name| {
+        let path = examples.join(format!("{name}.json"));
+        (name, load_scene_file(&path).unwrap())
+    }));
+    for (name, scene) in scenes {
         // Every scene with the papers' test; three with the others too.
         let all = [
             "cubes-toward-light",
@@ -80,9 +93,21 @@ fn sorted_ranges_render_what_the_lists_render() {
                 "{name}, {what}: the sorted ranges' image differs from the lists'"
             );
             compared += 1;
+            pruned += sorted.stats.ranges_pruned;
+            assert_eq!(lists.stats.ranges_pruned, 0);
+            if name == "plates-under-roof" {
+                assert!(
+                    sorted.stats.ranges_pruned * 5 > sorted.stats.ranges,
+                    "{name}"
+                );
+                assert!(
+                    sorted.stats.shadow_map_bytes_eq2 < sorted.stats.shadow_map_bytes_eq2_unpruned
+                );
+            }
         }
     }
-    assert!(compared >= BUILTIN_NAMES.len() + 9);
+    assert!(compared >= BUILTIN_NAMES.len() + 11);
+    println!("ranges pruned in all: {pruned}");
 
     // The deferred frame: receivers moving through the map.
     for name in ["cubes-toward-light", "leg-toward-light"] {
