@@ -46,7 +46,8 @@ bool sorts_after(uvec2 ta, uvec2 da, uint ia, uvec2 tb, uvec2 db, uint ib) {
 }
 
 // Copies the ranges of the list starting at `head` that are not pruned into the arrays:
-// how many, or SORT_CAPACITY + 1 if more (open_pruning first).
+// how many, or SORT_CAPACITY + 1 if the list goes on past a full array (open_pruning
+// first).
 uint load_ranges(uint head) {
     Words words = Words(map.list_ranges);
     uint n = 0u;
@@ -63,11 +64,9 @@ uint load_ranges(uint head) {
         }
         r = links.y;
     }
-    // A texel whose list still has ranges after a full array is the next tier's.
-    for (; r != END_OF_LIST; r = unpackUint2x32(words.v[3u * (r - 1u) + 2u]).y) {
-        if (!pruned(unpackUint2x32(words.v[3u * (r - 1u) + 1u]))) return SORT_CAPACITY + 1u;
-    }
-    return n;
+    // A list not finished with the array full is the next tier's (which prunes it again),
+    // whether or not what is left would be pruned: reading it here would walk it twice.
+    return r == END_OF_LIST ? n : SORT_CAPACITY + 1u;
 }
 
 // Takes n places in the range buffer (one atomic on the places taken so far: the buffer
