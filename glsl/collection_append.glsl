@@ -22,8 +22,9 @@ void append_fragment(MsShadowMap map, uint p, float depth, float time, uint id, 
 // triangle `id` over texel p (depths at its ends) to the texel's range list, as the generation
 // pass would have paired it from its two nodes. The figures stay those of the lists: two
 // fragments per run in node_count, and the texel's node head counts its runs (the list's
-// length: at most MAX_LIST_NODES fragments, more is an error as in the generation pass). A
-// range past the range capacity is counted but not linked.
+// length: at most MAX_LIST_NODES fragments, more is an error as in the generation pass; the
+// sorting of MS_SORTED_RANGES takes the texel's place in the range buffer from these counts).
+// A range past the range capacity is counted but not linked.
 void append_range(MsShadowMap map, uint p, vec2 times, vec2 depths, uint id) {
     CounterRef counters = CounterRef(map.counters);
     // The fragment count is even: 2^32 - 2 is the last before it wraps. (The range count,
@@ -38,5 +39,7 @@ void append_range(MsShadowMap map, uint p, vec2 times, vec2 depths, uint id) {
     uint index = atomicAdd(counters.c.range_count, 1u);
     if (index >= counters.c.range_capacity) return;
     uint next = atomicExchange(UintArray(map.range_heads).v[p], index + 1u);
-    store_range(map.ranges, index, MsRange(times.x, times.y, depths.x, depths.y, id, next));
+    // list_ranges: the range buffer itself, or, where the map keeps its ranges sorted, the
+    // lists the generation pass sorts them from (range_sort.comp).
+    store_range(map.list_ranges, index, MsRange(times.x, times.y, depths.x, depths.y, id, next));
 }

@@ -24,6 +24,11 @@ const uint MS_END_OF_LIST = 0u;         // list links are index + 1, so 0 ends a
 const uint MS_NO_TRIANGLE = 0xffffffffu;
 // The most ranges one texel can hold (the generation pass pairs at most 1,024 fragments).
 const uint MS_MAX_TEXEL_RANGES = 512u;
+// The header's size.z when every texel's ranges lie next to each other in the range buffer in
+// order of their start time t_s (ties in an order of their other members), each linked to the
+// one after it: the lists read the same either way, and a lookup at time t may stop at the
+// first range that starts after t. 0: the ranges are linked in no particular order.
+const uint MS_SORTED_RANGES = 1u;
 
 // Loop iterations the ms_ functions have run in this invocation (an upper bound), so that a
 // caller on a device that leaves loops after a fixed count (lavapipe: 65,535 per invocation,
@@ -75,7 +80,7 @@ layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer MsU
 // The header of a temporal shadow map (written by the collection pass each frame).
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer MsShadowMap {
     MsLight light;
-    uvec4 size;             // x, y = texels; z, w = 0
+    uvec4 size;             // x, y = texels; z = MS_SORTED_RANGES or 0 (see there); w = 0
     uint64_t range_heads;   // MsUints: per texel, index + 1 of its first range
     uint64_t ranges;        // MsRanges
     uint64_t coverage;      // 0, or with the 2017 paper's coverage map: MsUints, per texel
@@ -89,7 +94,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ms
     uint64_t nearest;
     uint64_t static_nearest;  // 0, or MsUint64s: per texel, the nearest triangle that does not
                               // move, as ms_static_key(depth) << 32 | id (all ones: none)
-    uint64_t tiles;           // the generation pass's indirect dispatch (tiles across, down)
+    uint64_t tiles;           // the generation pass's indirect dispatches (tiles across, down)
+    uint64_t list_ranges;     // where the collection links its ranges (the sorting's input)
 };
 
 // Where a world point falls in the light's image, in texels from the map's corner
@@ -272,6 +278,7 @@ struct MsMap {
     uint64_t coverage;
     uint64_t cover_depth;
     uint64_t static_nearest;
+    bool sorted;            // size.z == MS_SORTED_RANGES
 };
 
 // The same header as 64-bit words (ms_load reads it so: half the loads of its 32-bit
@@ -291,6 +298,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ms
     uint64_t long_pixels;
     uint64_t nearest;
     uint64_t static_nearest;
+    uint64_t tiles;
+    uint64_t list_ranges;
 };
 
 // The vec4 of two words (the first word's halves are x and y).
@@ -311,7 +320,8 @@ MsMap ms_load(MsShadowMap header) {
     MsShadowMapWords words = MsShadowMapWords(uint64_t(header));
     MsLight light = ms_load_light(uint64_t(header));
     return MsMap(light, unpackUint2x32(words.size), words.range_heads, words.ranges,
-                 words.coverage, words.cover_depth, words.static_nearest);
+                 words.coverage, words.cover_depth, words.static_nearest,
+                 unpackUint2x32(words.size_zw).x == MS_SORTED_RANGES);
 }
 
 // The bits of a depth as an unsigned key in the depth's order (negative depths too: a
@@ -354,12 +364,14 @@ vec2 ms_cover_depth(MsMap map, uint texel) {
 }
 
 // Is a receiver at light depth `depth`, on triangle `own`, in shadow at time t, given the
-// ranges of its texel? Ranges of the receiver's own triangle are skipped.
+// ranges of its texel? Ranges of the receiver's own triangle are skipped. Sorted ranges
+// (MS_SORTED_RANGES) are read only up to the first that starts after t.
 bool ms_ranges_shadow(MsMap map, uint texel, float depth, float t, uint own) {
     for (uint r = MsUints(map.range_heads).v[texel]; r != MS_END_OF_LIST;) {
         ++ms_loop_iterations;
         MsRange range = ms_range(map.ranges, r);
         r = range.next;
+        if (map.sorted && t < range.t_s) break;
         if (range.id == own || t < range.t_s || t > range.t_e) continue;
         float span = range.t_e - range.t_s;
         float occluder = span > 0.0 ? mix(range.d_s, range.d_e, (t - range.t_s) / span)
@@ -540,6 +552,8 @@ float ms_texel_lit_span(MsMap map, uint texel, vec2 w, vec2 r, uint own) {
     for (uint r_ = head; r_ != MS_END_OF_LIST && fits;) {
         MsRange range = ms_range(map.ranges, r_);
         r_ = range.next;
+        // Sorted ranges that start after the window (and every one after them) miss it.
+        if (map.sorted && range.t_s >= w.y) break;
         vec2 iv = ms_range_nearer(range, w, r, own);
         // Every loop iteration is counted where it runs: a moving receiver walks one list per
         // texel it crosses, and most ranges there miss its window (no scan at all).
@@ -595,6 +609,7 @@ float ms_texel_lit_span(MsMap map, uint texel, vec2 w, vec2 r, uint own) {
             ++ms_loop_iterations;
             MsRange range = ms_range(map.ranges, r_);
             r_ = range.next;
+            if (map.sorted && range.t_s >= w.y) break;
             ms_consider_next(ms_range_nearer(range, w, r, own), index, covered_to, last_start,
                              last_index, next_start, next_end, next_index);
         }

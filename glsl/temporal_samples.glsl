@@ -59,12 +59,18 @@ uint ms_samples_shadowed(MsMap map, uint candidates, uint texel[SHADE_SAMPLES],
             }
         }
 
-        // The ranges (ms_ranges_shadow), until every open sample is shadowed.
+        // The ranges (ms_ranges_shadow), until every open sample is shadowed; sorted ranges
+        // only up to the first that starts after every open sample's time.
+        float latest = -1.0;
+        [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
+            if ((open & (1u << j)) != 0u) latest = max(latest, t[j]);
+        }
         for (uint r = MsUints(map.range_heads).v[group_texel];
              r != MS_END_OF_LIST && open != 0u;) {
             ++ms_loop_iterations;
             MsRange range = ms_range(map.ranges, r);
             r = range.next;
+            if (map.sorted && latest < range.t_s) break;
             float span = range.t_e - range.t_s;
             [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
                 bool outside = t[j] < range.t_s || t[j] > range.t_e;

@@ -50,11 +50,16 @@ fn render_json_reports_the_frame_and_writes_the_files() {
     // fragments per range, none stored as a node.
     assert_eq!(nf, 2 * nr);
     assert_eq!(json["fragments_stored"], 0);
-    // Equation (2), by hand: 16 bytes per stored fragment, 24 per range, two 4-byte heads
-    // per pixel.
+    // Equation (2), by hand, for the sorted ranges (the default): 24 bytes per range, one
+    // 4-byte index per pixel; the collection's lists and counts held besides until the sort.
+    assert_eq!(json["range_storage"], "sorted");
     assert_eq!(
         json["shadow_map_bytes_eq2"].as_u64().unwrap(),
-        nr * 24 + 2 * 64 * 48 * 4
+        nr * 24 + 64 * 48 * 4
+    );
+    assert_eq!(
+        json["shadow_map_bytes_transient"].as_u64().unwrap(),
+        nr * 24 + 64 * 48 * 4
     );
     let passes: Vec<&str> = json["passes"]
         .as_array()
@@ -118,6 +123,19 @@ fn render_runs_and_static_layer_are_reported() {
     // The lists store their fragments as nodes (the generation pass pairs them).
     assert_eq!(lists["fragments_stored"], lists["fragments"]);
     assert!(lists_png == layer_png, "the static layer changed the image");
+    // `--range-storage lists`: the collection's lists as they are, equation (2) with both
+    // heads per pixel, the same image.
+    let (linked, linked_png) = render(&["--range-storage", "lists"], "linked");
+    assert_eq!(linked["range_storage"], "lists");
+    assert_eq!(layer["range_storage"], "sorted");
+    let nr = linked["ranges"].as_u64().unwrap();
+    assert_eq!(linked["ranges"], layer["ranges"]);
+    assert_eq!(linked["shadow_map_bytes_eq2"], nr * 24 + 2 * 48 * 36 * 4);
+    assert_eq!(linked["shadow_map_bytes_transient"], 0);
+    assert!(
+        linked_png == layer_png,
+        "the range storage changed the image"
+    );
     assert_eq!(layer["static_layer_kept"], false);
     // Kept from a pass before the timed one: the same image, and the timed collection draws
     // only what moves.

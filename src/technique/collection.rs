@@ -283,7 +283,12 @@ impl CollectionPass {
         };
         unsafe {
             device.cmd_fill_buffer(cmd, map.heads.raw(), 0, vk::WHOLE_SIZE, 0);
-            map.record_clear_ranges(device, cmd, collects_ranges);
+            map.record_clear_ranges(
+                device,
+                cmd,
+                collects_ranges,
+                map.sorts_ranges(light, coverage),
+            );
             if redraw_layer {
                 let empty = u32::MAX;
                 device.cmd_fill_buffer(cmd, map.static_nearest.raw(), 0, vk::WHOLE_SIZE, empty);

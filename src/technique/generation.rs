@@ -4,7 +4,10 @@
 //! every pixel with a short list (nearly all) is paired with small private arrays; the few
 //! long lists go to a second, indirect dispatch with room for `MAX_LIST_NODES`. Where the
 //! collection stored the ranges itself ([`TemporalShadowMap::collects_ranges`]) it set both
-//! dispatches to zero groups: recording the pass costs its barriers only.
+//! dispatches to zero groups; with [`super::RangeStorage::Sorted`] the pass then sorts each
+//! texel's collected list into a contiguous run of the range buffer (one atomic per texel
+//! takes its places; ranges behind the static layer are pruned; two tiers again), and
+//! otherwise costs its barriers only.
 
 use super::collection::PUSH_BYTES;
 use super::gpu_types::PassConstants;
@@ -19,12 +22,17 @@ use ash::vk;
 pub struct GenerationPass {
     pipeline: Pipeline,
     long_pipeline: Pipeline,
+    sort: Pipeline,
+    sort_long: Pipeline,
 }
 
 impl GenerationPass {
-    /// Creates the two compute pipelines.
+    /// Creates the compute pipelines.
     pub fn new(ctx: &Context) -> Result<Self> {
+        let compute = |name, spirv| compute_pipeline(ctx, PUSH_BYTES, name, spirv);
         Ok(Self {
+            sort: compute("range_sort.comp", shaders::RANGE_SORT_COMP)?,
+            sort_long: compute("range_sort_long.comp", shaders::RANGE_SORT_LONG_COMP)?,
             pipeline: compute_pipeline(
                 ctx,
                 PUSH_BYTES,
@@ -99,6 +107,26 @@ impl GenerationPass {
         unsafe { self.long_pipeline.bind(device, cmd) };
         unsafe { self.long_pipeline.push(device, cmd, &constants) };
         unsafe { device.cmd_dispatch_indirect(cmd, map.long_pixels.raw(), 4) };
+        // The sorting (zero groups unless the collection stored ranges for sorted storage;
+        // the pairing above then ran none, so the long-pixel list is still empty): the short
+        // lists (which append the long ones to the long-pixel list and count their groups),
+        // then the long ones.
+        for (pipeline, args, offset) in [
+            (&self.sort, &map.tiles, 16),
+            (&self.sort_long, &map.tiles, 32),
+        ] {
+            unsafe {
+                memory_barrier(
+                    device,
+                    cmd,
+                    Access::COMPUTE_RW,
+                    Access::COMPUTE_RW.and(Access::INDIRECT_READ),
+                )
+            };
+            unsafe { pipeline.bind(device, cmd) };
+            unsafe { pipeline.push(device, cmd, &constants) };
+            unsafe { device.cmd_dispatch_indirect(cmd, args.raw(), offset) };
+        }
         unsafe {
             memory_barrier(
                 device,

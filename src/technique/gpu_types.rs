@@ -70,8 +70,12 @@ pub struct Counters {
     /// [`super::TemporalShadowMap::collects_ranges`]): no node is stored, and the generation
     /// pass has nothing to do.
     pub ranges_direct: u32,
+    /// Where the map sorts the collected ranges ([`super::RangeStorage::Sorted`]): the
+    /// ranges the sorted buffer holds, `range_count` less those pruned (behind the static
+    /// layer); 0 otherwise.
+    pub sorted_count: u32,
     /// Unused (0).
-    pub reserved: [u32; 2],
+    pub reserved: u32,
 }
 
 pub use super::gpu_constants::{
@@ -102,8 +106,7 @@ pub struct GpuLight {
     pub bias: Vec4,
 }
 
-/// The header of a temporal shadow map (`MsShadowMap` in GLSL, 296 bytes, and 8 reserved
-/// up to the 16-byte alignment of its matrices: 304 in Rust): what a host
+/// The header of a temporal shadow map (`MsShadowMap` in GLSL, 304 bytes): what a host
 /// shader reads through the address [`super::TemporalShadowMap::header_address`].
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -133,12 +136,13 @@ pub struct ShadowMapHeader {
     /// The static layer (u64 per texel: the nearest static triangle, depth key << 32 | id),
     /// 0 where static triangles are in the lists (the papers' prisms, the coverage map).
     pub static_nearest: u64,
-    /// The generation pass's indirect dispatch over the map's 8x8-texel tiles (every tile,
-    /// or none where the collection stored the ranges itself).
+    /// The generation pass's indirect dispatches: over the map's 8x8-texel tiles (every
+    /// tile, or none where the collection stored the ranges itself), then the sorting's
+    /// ([`super::RangeStorage::Sorted`]).
     pub tiles: u64,
-    /// Zero. The struct's tail padding, explicit so that it is plain data (`bytemuck::Pod`);
-    /// not in the GLSL struct.
-    pub reserved: u64,
+    /// Where the collection links the ranges it stores itself: `ranges`, or with
+    /// [`super::RangeStorage::Sorted`] the lists the generation pass sorts into `ranges`.
+    pub list_ranges: u64,
 }
 
 /// The header of ordinary shadow maps (224 bytes); starts like [`ShadowMapHeader`].

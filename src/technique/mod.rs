@@ -59,7 +59,7 @@ pub use mask::{
 };
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
 pub use sampling::{pixel_key, pixel_sample};
-pub use shadow_map::{ShadowMapContents, TemporalShadowMap};
+pub use shadow_map::{RangeStorage, ShadowMapContents, TemporalShadowMap};
 pub use view::{
     CameraView, DEFAULT_DEPTH_BIAS, DEFAULT_NORMAL_OFFSET_TEXELS, LightKind, LightView,
     LightingView, PrismConstruction, ShadowEstimator, ShadowFilter,

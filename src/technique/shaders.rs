@@ -26,6 +26,10 @@ pub const COLLECTION_STATIC_FRAG: &[u8] = spirv!("collection_static.frag");
 pub const GENERATION_COMP: &[u8] = spirv!("generation.comp");
 /// SPIR-V of `glsl/generation_long.comp`.
 pub const GENERATION_LONG_COMP: &[u8] = spirv!("generation_long.comp");
+/// SPIR-V of `glsl/range_sort.comp`.
+pub const RANGE_SORT_COMP: &[u8] = spirv!("range_sort.comp");
+/// SPIR-V of `glsl/range_sort_long.comp`.
+pub const RANGE_SORT_LONG_COMP: &[u8] = spirv!("range_sort_long.comp");
 /// SPIR-V of `glsl/lighting.geom`.
 pub const LIGHTING_GEOM: &[u8] = spirv!("lighting.geom");
 /// SPIR-V of `glsl/lighting.frag`.

@@ -19,6 +19,24 @@ use std::sync::atomic::{AtomicU32, Ordering};
 
 const COUNTER_BYTES: u64 = std::mem::size_of::<Counters>() as u64;
 
+/// How a map keeps the ranges its collection pass stores itself
+/// ([`TemporalShadowMap::collects_ranges`]; frames that store nodes are paired by the
+/// generation pass into per-texel runs either way).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum RangeStorage {
+    /// Each texel's ranges contiguous in the range buffer, in order of start time (the
+    /// header's `MS_SORTED_RANGES`): the collection links them into lists in a second buffer
+    /// of the same capacity, and the generation pass sorts each list into places it takes
+    /// with one atomic, leaving out the ranges behind the static layer that cannot decide a
+    /// test (pruning, `docs/src/pruning.md`; only where receivers are tested at their plane's
+    /// depth, `LightView::receiver_plane`). Lookups read a texel's ranges from consecutive
+    /// addresses and stop at the first that starts after the time they test.
+    #[default]
+    Sorted,
+    /// Per-texel linked lists in the order the collection's atomics ran (one range buffer).
+    Lists,
+}
+
 /// One temporal shadow map: one light's view for one frame in flight. Create one per light
 /// and per frame in flight; the passes that fill and read it are shared by all.
 ///
@@ -30,6 +48,7 @@ pub struct TemporalShadowMap {
     height: u32,
     node_capacity: u32,
     range_capacity: u32,
+    range_storage: RangeStorage,
     /// The header (`MsShadowMap`): light and buffer addresses, written by the collection pass.
     pub header: Buffer,
     /// Per pixel: index + 1 of the newest node, 0 for none.
@@ -42,15 +61,20 @@ pub struct TemporalShadowMap {
     pub range_heads: Buffer,
     /// The ranges ([`Range`]).
     pub ranges: Buffer,
+    /// With [`RangeStorage::Sorted`], the lists the collection links its ranges into before
+    /// the generation pass sorts them into `ranges` (the range capacity); one range otherwise.
+    pub range_lists: Buffer,
     /// The generation pass's list of pixels with long fragment lists (a count, indirect
-    /// dispatch arguments, then up to one index per pixel).
+    /// dispatch arguments, then up to one index per pixel); the sorting's long lists too.
     pub long_pixels: Buffer,
     /// The static layer: per pixel, the nearest triangle of a static draw (depth key << 32 |
     /// id), in place of their fragments in the lists (see [`Self::uses_static_layer`]).
     pub static_nearest: Buffer,
-    /// The generation pass's indirect dispatch (x, y, z group counts and a pad), set by the
-    /// collection: every 8x8-texel tile of the map where the lists hold fragments, none
-    /// where the collection stored the ranges itself ([`Self::collects_ranges`]).
+    /// The generation pass's indirect dispatches (x, y, z group counts and a pad each), set
+    /// by the collection: every 8x8-texel tile of the map where the lists hold fragments,
+    /// none where the collection stored the ranges itself ([`Self::collects_ranges`]); then
+    /// the sorting's ([`RangeStorage::Sorted`], only where the collection stored the
+    /// ranges).
     pub tiles: Buffer,
     counters_readback: Buffer,
     /// What the static layer was last drawn for, when it may be kept
@@ -88,6 +112,10 @@ impl StaticLayerSource {
 
 use super::gpu_constants::TILE_TEXELS;
 
+/// The header's `size.z` for sorted ranges (`MS_SORTED_RANGES` in
+/// `glsl/motion_shadows.glsl`, which a host includes without the generated constants).
+pub const MS_SORTED_RANGES: u32 = 1;
+
 /// Bytes of a buffer of `count` elements, if the device can hold it: `limit` is what one
 /// descriptor can address, or (for buffers reached by address) one allocation.
 fn checked_bytes(what: &'static str, count: u64, element: u64, limit: u64) -> Result<u64> {
@@ -120,6 +148,25 @@ impl TemporalShadowMap {
         node_capacity: u32,
         range_capacity: u32,
     ) -> Result<Self> {
+        Self::with_storage(
+            ctx,
+            width,
+            height,
+            node_capacity,
+            range_capacity,
+            RangeStorage::default(),
+        )
+    }
+
+    /// [`Self::new`] with the given [`RangeStorage`] (`new` takes the default, sorted).
+    pub fn with_storage(
+        ctx: &Context,
+        width: u32,
+        height: u32,
+        node_capacity: u32,
+        range_capacity: u32,
+        range_storage: RangeStorage,
+    ) -> Result<Self> {
         if width == 0 || height == 0 {
             return Err(Error::InvalidArgument(format!(
                 "shadow map size {width}x{height}"
@@ -140,11 +187,16 @@ impl TemporalShadowMap {
             24,
             addressed,
         )?;
+        let list_bytes = match range_storage {
+            RangeStorage::Sorted => range_bytes,
+            RangeStorage::Lists => 24,
+        };
         Ok(Self {
             width,
             height,
             node_capacity: node_capacity.max(1),
             range_capacity: range_capacity.max(1),
+            range_storage,
             header: Buffer::new(
                 ctx,
                 "shadow map header",
@@ -156,6 +208,7 @@ impl TemporalShadowMap {
             counters: Buffer::new(ctx, "counters", COUNTER_BYTES, BufferUsage::Storage)?,
             range_heads: Buffer::new(ctx, "range heads", head_bytes, BufferUsage::Storage)?,
             ranges: Buffer::new(ctx, "ranges", range_bytes, BufferUsage::Storage)?,
+            range_lists: Buffer::new(ctx, "range lists", list_bytes, BufferUsage::Storage)?,
             long_pixels: Buffer::new(
                 ctx,
                 "long-list pixels",
@@ -163,7 +216,7 @@ impl TemporalShadowMap {
                 BufferUsage::Storage,
             )?,
             static_nearest: Buffer::new(ctx, "static layer", 2 * head_bytes, BufferUsage::Storage)?,
-            tiles: Buffer::new(ctx, "generation dispatch", 16, BufferUsage::Storage)?,
+            tiles: Buffer::new(ctx, "generation dispatches", 48, BufferUsage::Storage)?,
             counters_readback: Buffer::new(
                 ctx,
                 "counters readback",
@@ -190,6 +243,17 @@ impl TemporalShadowMap {
     /// Ranges the map has room for.
     pub fn range_capacity(&self) -> u32 {
         self.range_capacity
+    }
+    /// How the map keeps the ranges its collection stores itself.
+    pub fn range_storage(&self) -> RangeStorage {
+        self.range_storage
+    }
+
+    /// Whether a frame lit by `light` (with or without a coverage map) leaves each texel's
+    /// ranges contiguous and in order of start time (the header's `MS_SORTED_RANGES`): with
+    /// [`RangeStorage::Sorted`] where the collection stores the ranges itself.
+    pub fn sorts_ranges(&self, light: &LightView, coverage: Option<&CoverageMap>) -> bool {
+        self.range_storage == RangeStorage::Sorted && self.collects_ranges(light, coverage)
     }
 
     /// The device address of the map's header (`MsShadowMap` in `glsl/motion_shadows.glsl`):
@@ -225,9 +289,10 @@ impl TemporalShadowMap {
         light: &LightView,
         coverage: Option<&CoverageMap>,
     ) {
+        let sorted = self.sorts_ranges(light, coverage);
         let header = ShadowMapHeader {
             light: light.gpu(),
-            size: UVec4::new(self.width, self.height, 0, 0),
+            size: UVec4::new(self.width, self.height, sorted as u32 * MS_SORTED_RANGES, 0),
             range_heads: self.range_heads.device_address(),
             ranges: self.ranges.device_address(),
             coverage: coverage.map_or(0, |c| c.coverage.device_address()),
@@ -243,7 +308,11 @@ impl TemporalShadowMap {
                 0
             },
             tiles: self.tiles.device_address(),
-            reserved: 0,
+            list_ranges: if sorted {
+                self.range_lists.device_address()
+            } else {
+                self.ranges.device_address()
+            },
         };
         unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
         // SAFETY: plain data of the header's size; recording outside a render pass (the
@@ -286,29 +355,35 @@ impl TemporalShadowMap {
             .unwrap_or_else(|e| e.into_inner()) = source;
     }
 
-    /// Records clearing the range heads and setting the generation's dispatch: every tile,
-    /// or none when the collection stores the ranges itself (`collects_ranges`). Transfer
-    /// writes; the caller orders them with its barriers.
+    /// Records clearing the range heads and setting the generation's dispatches: every tile,
+    /// or none when the collection stores the ranges itself (`collects_ranges`); the
+    /// sorting's only then, with [`RangeStorage::Sorted`] (`sorts`). Transfer writes; the
+    /// caller orders them with its barriers.
     pub(crate) fn record_clear_ranges(
         &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
         collects_ranges: bool,
+        sorts: bool,
     ) {
-        let groups: [u32; 4] = if collects_ranges {
-            [0, 1, 1, 0]
-        } else {
-            [
-                self.width.div_ceil(TILE_TEXELS),
-                self.height.div_ceil(TILE_TEXELS),
-                1,
-                0,
-            ]
+        let tiles = [
+            self.width.div_ceil(TILE_TEXELS),
+            self.height.div_ceil(TILE_TEXELS),
+            1,
+            0,
+        ];
+        let none = [0, 1, 1, 0];
+        // Pairing, sorting each texel's list, sorting the long lists (its first tier counts
+        // their groups).
+        let groups: [[u32; 4]; 3] = match (collects_ranges, sorts) {
+            (false, _) => [tiles, none, none],
+            (true, false) => [none; 3],
+            (true, true) => [none, tiles, none],
         };
         // SAFETY: recording outside a render pass (the collection pass's contract).
         unsafe {
             device.cmd_fill_buffer(cmd, self.range_heads.raw(), 0, vk::WHOLE_SIZE, 0);
-            self.tiles.record_write(device, cmd, &groups);
+            self.tiles.record_write(device, cmd, groups.as_flattened());
         }
     }
 
@@ -321,6 +396,7 @@ impl TemporalShadowMap {
             &self.counters,
             &self.range_heads,
             &self.ranges,
+            &self.range_lists,
             &self.long_pixels,
             &self.static_nearest,
             &self.tiles,
@@ -374,7 +450,14 @@ impl TemporalShadowMap {
         let nodes = nodes.max(self.node_capacity);
         let ranges = ranges.max(self.range_capacity);
         if (nodes, ranges) != (self.node_capacity, self.range_capacity) {
-            *self = Self::new(ctx, self.width, self.height, nodes, ranges)?;
+            *self = Self::with_storage(
+                ctx,
+                self.width,
+                self.height,
+                nodes,
+                ranges,
+                self.range_storage,
+            )?;
         }
         Ok(())
     }
@@ -404,7 +487,14 @@ impl TemporalShadowMap {
             0
         };
         let ranges = counts.range_count.max(self.range_capacity).max(estimate);
-        *self = Self::new(ctx, self.width, self.height, nodes, ranges)?;
+        *self = Self::with_storage(
+            ctx,
+            self.width,
+            self.height,
+            nodes,
+            ranges,
+            self.range_storage,
+        )?;
         Ok(())
     }
 
@@ -462,7 +552,15 @@ impl TemporalShadowMap {
         } else {
             0
         };
-        let ranges = counts.range_count.min(self.range_capacity) as usize;
+        // Sorted ranges fill the buffer's first `sorted_count` places (fewer than the lists
+        // held where some were pruned).
+        let sorted = !lists && self.range_storage == RangeStorage::Sorted;
+        let stored = if sorted {
+            counts.sorted_count
+        } else {
+            counts.range_count
+        };
+        let ranges = stored.min(self.range_capacity) as usize;
         Ok(ShadowMapContents {
             width: self.width,
             height: self.height,

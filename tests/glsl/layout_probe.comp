@@ -61,7 +61,7 @@ void main() {
     MsShadowMap m = MsShadowMap(table.shadow_header);
     put(m.light); put(m.size); put(m.range_heads); put(m.ranges); put(m.coverage);
     put(m.cover_depth); put(m.heads); put(m.nodes); put(m.counters); put(m.long_pixels);
-    put(m.nearest); put(m.static_nearest); put(m.tiles);
+    put(m.nearest); put(m.static_nearest); put(m.tiles); put(m.list_ranges);
 
     PlainHeader p = PlainHeader(table.plain_header);
     put(p.light); put(p.size); put(p.depths); put(p.ids);

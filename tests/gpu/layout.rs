@@ -121,7 +121,7 @@ fn shared_structs_match_glsl() {
         nearest: val.a(),
         static_nearest: val.a(),
         tiles: val.a(),
-        reserved: 0,
+        list_ranges: val.a(),
     };
     let plain = PlainMapHeader {
         light: val.light(),
@@ -224,6 +224,7 @@ fn shared_structs_match_glsl() {
         shadow.nearest,
         shadow.static_nearest,
         shadow.tiles,
+        shadow.list_ranges,
     ] {
         expected.a(a);
     }
@@ -396,7 +397,8 @@ fn shared_structs_match_glsl() {
             invalid_triangles: 34,
             wrapped: 35,
             ranges_direct: 36,
-            reserved: [37, 38],
+            sorted_count: 37,
+            reserved: 38,
         }
     );
     drop(pipeline);

@@ -16,4 +16,5 @@ mod footprint_hull;
 mod layout;
 mod prism;
 mod several_runs;
+mod sorted_ranges;
 mod validation;

@@ -8,8 +8,8 @@
 use glam::{Vec3, Vec4};
 use motion_shadows::gpu::{Buffer, BufferUsage, Context, OneShot};
 use motion_shadows::technique::{
-    CollectionPass, Draw, DrawList, GenerationPass, Indices, LightView, PositionStream,
-    PrismConstruction, ShadowMapContents, TemporalShadowMap,
+    CollectionPass, Counters, Draw, DrawList, GenerationPass, Indices, LightView, PositionStream,
+    PrismConstruction, RangeStorage, ShadowMapContents, TemporalShadowMap,
 };
 
 pub struct Scene {
@@ -106,6 +106,34 @@ pub fn temporal_map_with(
     prisms: PrismConstruction,
     static_layer: bool,
 ) -> ShadowMapContents {
+    let pixels = shadow_size.0 * shadow_size.1;
+    let light = LightView {
+        prisms,
+        static_layer,
+        ..light_view(scene, shadow_size)
+    };
+    temporal_map_stored(
+        ctx,
+        scene,
+        shadow_size,
+        &light,
+        RangeStorage::default(),
+        pixels,
+    )
+    .0
+}
+
+/// The temporal map of `scene` lit by `light` (made for `shadow_size`), its collected ranges
+/// kept as `storage` says, starting with room for `range_capacity` ranges (grown and run
+/// again until nothing overflowed), and the counters of its last run.
+pub fn temporal_map_stored(
+    ctx: &Context,
+    scene: &Scene,
+    shadow_size: (u32, u32),
+    light: &LightView,
+    storage: RangeStorage,
+    range_capacity: u32,
+) -> (ShadowMapContents, Counters) {
     let vertices: Vec<[Vec4; 2]> = (scene.meshes.iter())
         .flat_map(|m| m.t0.iter().zip(&m.t1))
         .map(|(p0, p1)| [p0.extend(1.0), p1.extend(1.0)])
@@ -139,11 +167,6 @@ pub fn temporal_map_with(
         first_vertex += u64::from(count);
         first_id += count / 3;
     }
-    let light = LightView {
-        prisms,
-        static_layer,
-        ..light_view(scene, shadow_size)
-    };
     let device = ctx.device();
     let collection = CollectionPass::new(ctx).expect("collection pass");
     let generation = GenerationPass::new(ctx).expect("generation pass");
@@ -154,8 +177,15 @@ pub fn temporal_map_with(
     } else {
         pixels.saturating_mul(2)
     };
-    let mut map = TemporalShadowMap::new(ctx, shadow_size.0, shadow_size.1, nodes, pixels)
-        .expect("temporal shadow map");
+    let mut map = TemporalShadowMap::with_storage(
+        ctx,
+        shadow_size.0,
+        shadow_size.1,
+        nodes,
+        range_capacity,
+        storage,
+    )
+    .expect("temporal shadow map");
     loop {
         OneShot::new(ctx)
             .expect("command buffer")
@@ -164,7 +194,7 @@ pub fn temporal_map_with(
                 // every object outlives the submission, which `run` waits for.
                 unsafe {
                     list.record_update(device, cmd, &draws)?;
-                    collection.record(device, cmd, &list, &light, &map, None)?;
+                    collection.record(device, cmd, &list, light, &map, None)?;
                     generation.record(device, cmd, &map);
                     map.record_counter_readback(device, cmd);
                 }
@@ -174,7 +204,7 @@ pub fn temporal_map_with(
         let counts = map.read_counters().expect("counters");
         if !map.needs_more_room(&counts) {
             map.check_complete(&counts).expect("complete map");
-            return map.download(ctx).expect("download");
+            return (map.download(ctx).expect("download"), counts);
         }
         map.grow_to_fit(ctx, &counts).expect("grow");
     }

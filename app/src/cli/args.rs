@@ -124,6 +124,11 @@ pub struct CompareArgs {
     /// shadow pass, which draws only what moves (an engine's frames after the first).
     #[arg(long, value_enum, default_value_t = StaticLayerArg::On)]
     pub static_layer: StaticLayerArg,
+    /// Temporal: how the ranges the collection stores are kept: `sorted` (each texel's
+    /// ranges contiguous, in order of start time) or `lists` (per-texel linked lists in the
+    /// order the collection appended them).
+    #[arg(long, value_enum, default_value_t = RangeStorageArg::Sorted)]
+    pub range_storage: RangeStorageArg,
     /// What the other methods are measured against: the brute-force reference, or the ray
     /// tracer (then the reference is one more method measured against it).
     #[arg(long, value_enum, default_value_t = TruthArg::Reference)]
@@ -285,6 +290,24 @@ pub enum PrismsArg {
     Paper,
 }
 
+/// `--range-storage`: how the temporal map keeps the ranges its collection stores.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum RangeStorageArg {
+    /// Each texel's ranges contiguous, in order of start time.
+    Sorted,
+    /// Per-texel linked lists in the order the collection appended them.
+    Lists,
+}
+
+impl RangeStorageArg {
+    pub fn storage(self) -> motion_shadows::technique::RangeStorage {
+        match self {
+            Self::Sorted => motion_shadows::technique::RangeStorage::Sorted,
+            Self::Lists => motion_shadows::technique::RangeStorage::Lists,
+        }
+    }
+}
+
 impl PrismsArg {
     pub fn construction(self) -> motion_shadows::technique::PrismConstruction {
         match self {
@@ -435,6 +458,11 @@ pub struct RenderArgs {
     /// shadow pass, which draws only what moves (an engine's frames after the first).
     #[arg(long, value_enum, default_value_t = StaticLayerArg::On)]
     pub static_layer: StaticLayerArg,
+    /// Temporal: how the ranges the collection stores are kept: `sorted` (each texel's
+    /// ranges contiguous, in order of start time) or `lists` (per-texel linked lists in the
+    /// order the collection appended them).
+    #[arg(long, value_enum, default_value_t = RangeStorageArg::Sorted)]
+    pub range_storage: RangeStorageArg,
     /// Render the frame this many times (1 to 100) and report the fastest, as `bench` does:
     /// the first frame's GPU times include first-use costs (lavapipe compiles shader variants
     /// at the first draw).

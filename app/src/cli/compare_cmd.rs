@@ -129,6 +129,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         },
         static_layer: args.static_layer.settings().0,
         keep_static_layer: args.static_layer.settings().1,
+        range_storage: args.range_storage.storage(),
         ..RenderSettings::default()
     };
     // Checked before anything is loaded or rendered.

@@ -93,6 +93,7 @@ pub fn render_settings(args: &RenderArgs) -> RenderSettings {
         shadow_filter: args.shadow_filter.filter(),
         static_layer: args.static_layer.settings().0,
         keep_static_layer: args.static_layer.settings().1,
+        range_storage: args.range_storage.storage(),
         ..RenderSettings::default()
     }
 }

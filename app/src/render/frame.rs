@@ -3,14 +3,14 @@
 //! its statistics.
 
 use super::methods::ShadowOutcome;
-use super::stats::{self, FrameStats, PassTime, equation_2_bytes};
+use super::stats::{self, FrameStats, PassTime, equation_2_bytes, sorted_map_bytes};
 use super::upload::{self, SceneGeometry};
 use super::{FrameInputs, Method, RenderSettings, Renderer, empty_map, range_bound};
 use crate::error::Result;
 use crate::scene::Scene;
 use motion_shadows::gpu::Context;
 use motion_shadows::technique::{
-    DrawList, LightView, LightingTarget, LightingView, ShadowEstimator,
+    DrawList, LightView, LightingTarget, LightingView, RangeStorage, ShadowEstimator,
 };
 
 /// A frame's scene on the device and its views: what every later step reads.
@@ -258,12 +258,13 @@ pub(super) fn stats(
         fragments
     };
     let temporal = matches!(outcome, ShadowOutcome::Temporal { .. });
-    let eq2 = |ranges: u64| {
-        if temporal {
-            equation_2_bytes(fragments_stored, ranges, shadow_pixels)
-        } else {
-            0
-        }
+    // The collection stored the ranges and the map sorted them.
+    let sorted =
+        temporal && counts.ranges_direct != 0 && settings.range_storage == RangeStorage::Sorted;
+    let eq2 = |ranges: u64| match (temporal, sorted) {
+        (false, _) => 0,
+        (true, false) => equation_2_bytes(fragments_stored, ranges, shadow_pixels),
+        (true, true) => sorted_map_bytes(ranges, shadow_pixels),
     };
     let Timing {
         passes,
@@ -280,6 +281,7 @@ pub(super) fn stats(
         .to_owned(),
         shadow_filter: stats::filter_name(settings.shadow_filter).to_owned(),
         prisms: stats::prisms_name(settings.prisms).to_owned(),
+        range_storage: if sorted { "sorted" } else { "lists" }.to_owned(),
         receiver_plane: settings.receiver_plane(),
         width: settings.width,
         height: settings.height,
@@ -292,7 +294,22 @@ pub(super) fn stats(
         fragments_stored,
         ranges,
         ranges_without_coverage: counts.ranges_without_coverage as u64,
-        shadow_map_bytes_eq2: eq2(ranges),
+        shadow_map_bytes_eq2: if sorted {
+            sorted_map_bytes(counts.sorted_count as u64, shadow_pixels)
+        } else {
+            eq2(ranges)
+        },
+        shadow_map_bytes_eq2_unpruned: eq2(ranges),
+        ranges_pruned: if sorted {
+            ranges - counts.sorted_count as u64
+        } else {
+            0
+        },
+        shadow_map_bytes_transient: if sorted {
+            sorted_map_bytes(ranges, shadow_pixels)
+        } else {
+            0
+        },
         static_layer_bytes: outcome.static_layer_bytes(&frame.light, shadow_pixels),
         static_layer_kept: outcome.static_layer_kept(&frame.light),
         shadow_map_bytes_eq2_without_coverage: eq2(counts.ranges_without_coverage as u64),

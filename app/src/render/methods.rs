@@ -142,7 +142,7 @@ impl Renderer<'_> {
         // The exact construction with the static layer stores no node (its collection writes
         // the ranges): a node buffer would be memory for nothing.
         let stores_nodes = !inputs.light.collects_ranges(with_coverage);
-        let mut map = TemporalShadowMap::new(
+        let mut map = TemporalShadowMap::with_storage(
             self.ctx,
             width,
             height,
@@ -152,6 +152,7 @@ impl Renderer<'_> {
                 1
             }),
             settings.initial_range_capacity.unwrap_or(ranges),
+            settings.range_storage,
         )?;
         let coverage = if with_coverage {
             if inputs.draws.id_end() >= MAX_COVERAGE_TRIANGLES as u64 {

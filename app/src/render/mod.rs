@@ -23,10 +23,12 @@ use motion_shadows::gpu::{Context, OneShot, TimestampQueries};
 use motion_shadows::technique::{
     CollectionPass, CoveragePass, DrawList, GenerationPass, LightView, LightingPass,
     LightingTarget, LightingView, MAX_SAMPLES_PER_CHUNK, PlainShadowPass, PrismConstruction,
-    ShadowEstimator, ShadowFilter, TemporalShadowMap,
+    RangeStorage, ShadowEstimator, ShadowFilter, TemporalShadowMap,
 };
 pub use receiver::ReceiverTest;
-pub use stats::{FrameStats, MAP_COPY_PASS, PassTime, counted_ms, equation_2_bytes};
+pub use stats::{
+    FrameStats, MAP_COPY_PASS, PassTime, counted_ms, equation_2_bytes, sorted_map_bytes,
+};
 use std::time::Instant;
 
 /// Which shadow method renders the frame.
@@ -111,6 +113,8 @@ pub struct RenderSettings {
     /// drawn in a shadow pass before the timed one (not timed, not counted), and the timed
     /// pass draws only what moves. The image is the same.
     pub keep_static_layer: bool,
+    /// How the temporal map keeps the ranges its collection stores (`--range-storage`).
+    pub range_storage: RangeStorage,
 }
 
 impl Default for RenderSettings {
@@ -131,6 +135,7 @@ impl Default for RenderSettings {
             receiver: ReceiverTest::Auto,
             static_layer: true,
             keep_static_layer: false,
+            range_storage: RangeStorage::Sorted,
         }
     }
 }

@@ -68,6 +68,10 @@ pub struct FrameStats {
     pub shadow_filter: String,
     /// "exact" or "paper" (`--prisms`; only the temporal and coverage methods use it).
     pub prisms: String,
+    /// "sorted" or "lists" (`--range-storage`): how the temporal map kept the ranges its
+    /// collection stored; "sorted" only where the frame sorted them (the exact construction
+    /// with the static layer), "lists" for every other frame and method.
+    pub range_storage: String,
     /// Whether this frame's method tested receivers at their plane's depth at the texel
     /// centre (`--receiver`: `auto` gives it to every method but TSM; never the ray tracer).
     pub receiver_plane: bool,
@@ -88,8 +92,19 @@ pub struct FrameStats {
     pub ranges: u64,
     /// N_r without the coverage map (equal to `ranges` for other methods).
     pub ranges_without_coverage: u64,
-    /// Equation (2): N_f * 16 + N_r * 24 + 2 * shadow pixels * 4 bytes.
+    /// Equation (2): N_f * 16 + N_r * 24 + 2 * shadow pixels * 4 bytes; with sorted ranges
+    /// ([`sorted_map_bytes`]) what the map holds once sorted and pruned:
+    /// (N_r - pruned) * 24 + shadow pixels * 4.
     pub shadow_map_bytes_eq2: u64,
+    /// With sorted ranges: what the frame held besides, until the sort (the collection's
+    /// lists, N_r * 24, and its per-texel counts, shadow pixels * 4); 0 otherwise.
+    pub shadow_map_bytes_transient: u64,
+    /// With sorted ranges: the ranges the sort left out because no lookup can be decided by
+    /// them (behind the static layer, see docs/src/pruning.md); the map holds
+    /// `ranges - ranges_pruned`. 0 otherwise.
+    pub ranges_pruned: u64,
+    /// `shadow_map_bytes_eq2` with the pruned ranges kept.
+    pub shadow_map_bytes_eq2_unpruned: u64,
     /// The static layer (8 bytes per shadow-map texel: the nearest static triangle, in place
     /// of static triangles' fragments and ranges); 0 where the frame did not use one.
     pub static_layer_bytes: u64,
@@ -128,4 +143,10 @@ pub struct FrameStats {
 /// Equation (2) of the 2018 paper, for the fragments stored as nodes and the ranges.
 pub fn equation_2_bytes(fragments: u64, ranges: u64, shadow_pixels: u64) -> u64 {
     fragments * NODE_BYTES + ranges * RANGE_BYTES + 2 * shadow_pixels * 4
+}
+
+/// Equation (2) for a map whose ranges are sorted (`RangeStorage::Sorted`): no node, and one
+/// index per texel (the range heads; the per-texel counts are the frame's, like its lists).
+pub fn sorted_map_bytes(ranges: u64, shadow_pixels: u64) -> u64 {
+    ranges * RANGE_BYTES + shadow_pixels * 4
 }

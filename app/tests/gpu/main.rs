@@ -21,6 +21,7 @@ mod host_geometry;
 mod lighting;
 mod loop_limit;
 mod range_bound;
+mod range_storage;
 mod receiver_plane;
 mod static_layer;
 mod through_light;

@@ -1,0 +1,137 @@
+//! The sorted range storage, pruned (docs/src/pruning.md), answers every lookup as the
+//! linked lists do: on every built-in scene and two examples (deep lists; plates under a
+//! static roof, a third of their ranges pruned), the same image bit for bit with the papers' sampled test, and on scenes with
+//! moving and static receivers also with it filtered (one texel at a time, `ms_shadowed`),
+//! with the analytic estimator (static receivers' lit fraction, the footprint filter) and in the deferred frame, whose moving receivers walk a
+//! texel's ranges once per texel crossed (`ms_lit_fraction_moving`, which stops at the first
+//! sorted range past its window). The lists are the oracle here: the sorted map holds exactly
+//! their ranges (tests/gpu/sorted_ranges.rs), so any difference is a lookup that read the
+//! order wrongly (stopped too early).
+
+use crate::support::gpu::{assert_no_validation_messages, context};
+use motion_shadows::technique::{RangeStorage, ShadowEstimator, ShadowFilter};
+use motion_shadows_app::render::deferred::DeferredSettings;
+use motion_shadows_app::render::{Method, RenderSettings, Renderer};
+use motion_shadows_app::scene::{BUILTIN_NAMES, BuiltinOptions, builtin, load_scene_file};
+use std::path::Path;
+
+fn settings(range_storage: RangeStorage) -> RenderSettings {
+    RenderSettings {
+        width: 64,
+        height: 48,
+        spp: 4,
+        seed: 5,
+        shadow_size: Some((128, 128)),
+        method: Method::Temporal,
+        range_storage,
+        ..RenderSettings::default()
+    }
+}
+
+#[test]
+fn sorted_ranges_render_what_the_lists_render() {
+    let ctx = context();
+    let options = BuiltinOptions {
+        cube_count: 300,
+        ..BuiltinOptions::default()
+    };
+    let variants = [
+        ("sampled", ShadowEstimator::Sampled, ShadowFilter::None),
+        ("bilinear", ShadowEstimator::Sampled, ShadowFilter::Bilinear),
+        ("analytic", ShadowEstimator::Analytic, ShadowFilter::None),
+        (
+            "footprint",
+            ShadowEstimator::Analytic,
+            ShadowFilter::Footprint,
+        ),
+    ];
+    // One renderer for every frame (its pipelines are made once).
+    let mut renderer = Renderer::new(&ctx).expect("renderer");
+    let mut render = |scene: &motion_shadows_app::scene::Scene, settings: &RenderSettings| {
+        motion_shadows_app::frame::render(Some(&mut renderer), scene, settings, &mut |_| {})
+            .expect("render")
+    };
+    let mut compared = 0;
+    let mut pruned = 0;
+    // Every built-in scene, and two of the docs' examples: deep lists, and plates sliding
+    // under a static roof (a third of their ranges pruned).
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/examples");
+    let files = ["stacked-plates", "plates-under-roof"];
+    let scenes = (BUILTIN_NAMES
+        .iter()
+        .map(|&name| (name, builtin(name, &options).unwrap())))
+    .chain(files.iter().map(|&name| {
+        let path = examples.join(format!("{name}.json"));
+        (name, load_scene_file(&path).unwrap())
+    }));
+    for (name, scene) in scenes {
+        // Every scene with the papers' test; three with the others too.
+        let all = [
+            "cubes-toward-light",
+            "leg-toward-light",
+            "hard-rotating-triangle",
+        ];
+        for (what, estimator, filter) in variants {
+            if what != "sampled" && !all.contains(&name) {
+                continue;
+            }
+            let at = |storage| RenderSettings {
+                shadow_estimator: estimator,
+                shadow_filter: filter,
+                ..settings(storage)
+            };
+            let lists = render(&scene, &at(RangeStorage::Lists));
+            let sorted = render(&scene, &at(RangeStorage::Sorted));
+            assert_eq!(lists.stats.range_storage, "lists");
+            assert_eq!(sorted.stats.range_storage, "sorted", "{name}");
+            assert_eq!(
+                lists.stats.ranges, sorted.stats.ranges,
+                "{name}: the same frame"
+            );
+            assert!(
+                lists.image.rgb == sorted.image.rgb,
+                "{name}, {what}: the sorted ranges' image differs from the lists'"
+            );
+            compared += 1;
+            pruned += sorted.stats.ranges_pruned;
+            assert_eq!(lists.stats.ranges_pruned, 0);
+            if name == "plates-under-roof" {
+                assert!(
+                    sorted.stats.ranges_pruned * 5 > sorted.stats.ranges,
+                    "{name}"
+                );
+                assert!(
+                    sorted.stats.shadow_map_bytes_eq2 < sorted.stats.shadow_map_bytes_eq2_unpruned
+                );
+            }
+        }
+    }
+    assert!(compared >= BUILTIN_NAMES.len() + 11);
+    println!("ranges pruned in all: {pruned}");
+
+    // The deferred frame: receivers moving through the map.
+    for name in ["cubes-toward-light", "leg-toward-light"] {
+        let scene = builtin(name, &options).unwrap();
+        let mut lit = |storage| {
+            motion_shadows_app::frame::render_deferred(
+                Some(&mut renderer),
+                &scene,
+                &settings(storage),
+                &DeferredSettings::default(),
+                &mut |_| {},
+            )
+            .expect("deferred frame")
+            .lit
+        };
+        let lists = lit(RangeStorage::Lists);
+        assert!(
+            lists.iter().any(|&l| l > 0.0 && l < 1.0),
+            "{name}: partly lit pixels"
+        );
+        assert!(
+            lists == lit(RangeStorage::Sorted),
+            "{name}: the deferred frame's lit shares differ"
+        );
+    }
+    assert_no_validation_messages(&ctx);
+}

@@ -1,0 +1,96 @@
+#version 450
+// Sorting the collected ranges, first tier (range_sort_common.glsl, range_sort_lists.glsl):
+// every texel whose list keeps at most SHORT_SORT ranges after pruning (nearly all) is sorted
+// into places it takes; longer lists go to range_sort_long.comp through the scratch list (an
+// indirect dispatch whose group counts this tier raises). One workgroup per 8x8-texel tile.
+#define SHORT_SORT 16u
+#define SORT_CAPACITY SHORT_SORT
+#include "range_sort_lists.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+// A list of one or two ranges (most texels that hold any), written without the private
+// arrays, which a CPU device keeps in memory per lane.
+void store_short(uint p, uint head, uint second, uvec2 links, uvec2 links2) {
+    Words words = Words(map.list_ranges);
+    uint at = 3u * (head - 1u);
+    uvec2 t0 = unpackUint2x32(words.v[at]), d0 = unpackUint2x32(words.v[at + 1u]);
+    uint i0 = links.x;
+    uvec2 t1 = uvec2(0u), d1 = uvec2(0u);
+    uint i1 = links2.x;
+    bool keep1 = second != END_OF_LIST;
+    if (keep1) {
+        uint at2 = 3u * (second - 1u);
+        t1 = unpackUint2x32(words.v[at2]);
+        d1 = unpackUint2x32(words.v[at2 + 1u]);
+        keep1 = !pruned(d1);
+    }
+    if (pruned(d0)) {   // the second (if kept) alone
+        t0 = t1; d0 = d1; i0 = i1;
+        keep1 = false;
+        if (second == END_OF_LIST || pruned(d1)) {
+            UintArray(map.range_heads).v[p] = END_OF_LIST;
+            return;
+        }
+    }
+    uint n = keep1 ? 2u : 1u;
+    uint base = take_places(n);
+    // Past the capacity the frame overflowed (the counters say so, and it is recorded again
+    // with room): nothing is written out of bounds.
+    if (base + n > CounterRef(map.counters).c.range_capacity) {
+        UintArray(map.range_heads).v[p] = END_OF_LIST;
+        return;
+    }
+    Words out_words = Words(map.ranges);
+    if (n == 2u) {
+        if (sorts_after(t0, d0, i0, t1, d1, i1)) {
+            uvec2 ts = t0, ds = d0;
+            uint is = i0;
+            t0 = t1; d0 = d1; i0 = i1;
+            t1 = ts; d1 = ds; i1 = is;
+        }
+        uint out2 = 3u * (base + 1u);
+        out_words.v[out2] = packUint2x32(t1);
+        out_words.v[out2 + 1u] = packUint2x32(d1);
+        out_words.v[out2 + 2u] = packUint2x32(uvec2(i1, END_OF_LIST));
+    }
+    uint out1 = 3u * base;
+    out_words.v[out1] = packUint2x32(t0);
+    out_words.v[out1 + 1u] = packUint2x32(d0);
+    out_words.v[out1 + 2u] = packUint2x32(uvec2(i0, n == 2u ? base + 2u : END_OF_LIST));
+    UintArray(map.range_heads).v[p] = base + 1u;
+}
+
+void main() {
+    open_sort();
+    uvec2 pixel = gl_WorkGroupID.xy * TILE_TEXELS + gl_LocalInvocationID.xy;
+    if (pixel.x >= map.size.x || pixel.y >= map.size.y) return;
+    uint p = pixel.y * map.size.x + pixel.x;
+    uint head = UintArray(map.range_heads).v[p];
+    if (head == END_OF_LIST) return;
+    open_pruning(p);
+    Words words = Words(map.list_ranges);
+    uvec2 links = unpackUint2x32(words.v[3u * (head - 1u) + 2u]);
+    uint second = links.y;
+    uvec2 links2 = second != END_OF_LIST ? unpackUint2x32(words.v[3u * (second - 1u) + 2u])
+                                         : uvec2(0u);
+    if (second == END_OF_LIST || links2.y == END_OF_LIST) {
+        store_short(p, head, second, links, links2);
+        return;
+    }
+    uint n = load_ranges(head);
+    if (n <= SHORT_SORT) {
+        sort_and_store(p, n);
+        return;
+    }
+    uint index = atomicAdd(scratch.long_count, 1u);
+    // Groups of 64, in the dispatch the collection started at 0 x 1 x 1 groups (not the
+    // long-pixel list's own: the generation's pairing uses that one).
+    UintArray dispatch = UintArray(map.tiles);
+    uint group = index / 64u;
+    if (index % 64u == 0u && group < LONG_SORT_ROW) atomicAdd(dispatch.v[LONG_SORT_ARGS], 1u);
+    if (index % (64u * LONG_SORT_ROW) == 0u && index != 0u) {
+        atomicAdd(dispatch.v[LONG_SORT_ARGS + 1u], 1u);
+    }
+    scratch.v[index] = p;
+}

@@ -1,0 +1,119 @@
+// Sorting the collected ranges (range_sort_common.glsl): the sort itself, shared by
+// range_sort.comp (lists of up to SHORT_SORT ranges, nearly all) and range_sort_long.comp (the
+// rest, up to MAX_LIST_NODES / 2): a texel's list is copied into private arrays, without the
+// ranges behind the static layer (pruned, see below), Shell-sorted by (t_s, t_e, d_s, d_e,
+// id), a total order on what a range holds, so the order does not depend on the order the
+// collection's atomics ran in, and written to the texel's place.
+// The includer defines SORT_CAPACITY.
+#include "range_sort_common.glsl"
+
+uvec2 times[SORT_CAPACITY];
+uvec2 depths[SORT_CAPACITY];
+uint ids[SORT_CAPACITY];
+
+// Pruning (docs/src/pruning.md): a range farther from the light than the texel's nearest
+// static triangle S all along its interval never decides a test when receivers are tested at
+// their plane's depth (the light's bias.w): a receiver S does not shadow is either at most
+// S's depth (then the range is behind it too) or on S itself (then its plane's depth at the
+// centre is S's, less the depth bias). The margin covers the rounding of a lookup's
+// interpolated depth and of the plane's depth against the stored one.
+float prune_beyond = uintBitsToFloat(0x7f800000u);     // +inf: keep every range
+
+void open_pruning(uint p) {
+    prune_beyond = uintBitsToFloat(0x7f800000u);
+    if (map.static_nearest == 0UL || map.light.bias.w <= 0.5) return;
+    uint64_t nearest = MsUint64s(map.static_nearest).v[p];
+    if (uint(nearest & 0xffffffffUL) == NO_TRIANGLE) return;
+    float d = ms_static_depth(uint(nearest >> 32));
+    prune_beyond = d + PRUNE_MARGIN * max(abs(d), 1.0);
+}
+
+// Is a range whose depths at its ends are `depths` pruned?
+bool pruned(uvec2 depths) {
+    vec2 d = uintBitsToFloat(depths);
+    return min(d.x, d.y) > prune_beyond;
+}
+
+// Does local range a sort after local range b?
+bool sorts_after(uvec2 ta, uvec2 da, uint ia, uvec2 tb, uvec2 db, uint ib) {
+    vec2 a = uintBitsToFloat(ta), b = uintBitsToFloat(tb);
+    if (a.x != b.x) return a.x > b.x;
+    if (a.y != b.y) return a.y > b.y;
+    vec2 c = uintBitsToFloat(da), d = uintBitsToFloat(db);
+    if (c.x != d.x) return c.x > d.x;
+    if (c.y != d.y) return c.y > d.y;
+    return ia > ib;
+}
+
+// Copies the ranges of the list starting at `head` that are not pruned into the arrays:
+// how many, or SORT_CAPACITY + 1 if the list goes on past a full array (open_pruning
+// first).
+uint load_ranges(uint head) {
+    Words words = Words(map.list_ranges);
+    uint n = 0u;
+    uint r = head;
+    while (r != END_OF_LIST && n < SORT_CAPACITY) {
+        uint at = 3u * (r - 1u);
+        uvec2 d = unpackUint2x32(words.v[at + 1u]);
+        uvec2 links = unpackUint2x32(words.v[at + 2u]);
+        if (!pruned(d)) {
+            times[n] = unpackUint2x32(words.v[at]);
+            depths[n] = d;
+            ids[n] = links.x;
+            ++n;
+        }
+        r = links.y;
+    }
+    // A list not finished with the array full is the next tier's (which prunes it again),
+    // whether or not what is left would be pruned: reading it here would walk it twice.
+    return r == END_OF_LIST ? n : SORT_CAPACITY + 1u;
+}
+
+// Takes n places in the range buffer (one atomic on the places taken so far: the buffer
+// ends up exactly full), the first of them.
+uint take_places(uint n) {
+    return atomicAdd(CounterRef(map.counters).c.sorted_count, n);
+}
+
+// Sorts the n ranges loaded for texel p and writes them to places it takes, each linked to
+// the next.
+void sort_and_store(uint p, uint n) {
+    const uint gaps[5] = uint[5](57u, 23u, 10u, 4u, 1u);
+    for (int g = 0; g < 5; ++g) {
+        uint gap = gaps[g];
+        for (uint i = gap; i < n; ++i) {
+            uvec2 t = times[i], d = depths[i];
+            uint id = ids[i];
+            uint j = i;
+            while (j >= gap && sorts_after(times[j - gap], depths[j - gap], ids[j - gap], t, d, id)) {
+                times[j] = times[j - gap];
+                depths[j] = depths[j - gap];
+                ids[j] = ids[j - gap];
+                j -= gap;
+            }
+            times[j] = t;
+            depths[j] = d;
+            ids[j] = id;
+        }
+    }
+    UintArray heads = UintArray(map.range_heads);
+    if (n == 0u) {
+        heads.v[p] = END_OF_LIST;
+        return;
+    }
+    uint base = take_places(n);
+    // Past the capacity the frame overflowed (the counters say so, and it is recorded again
+    // with room): nothing is written out of bounds.
+    if (base + n > CounterRef(map.counters).c.range_capacity) {
+        heads.v[p] = END_OF_LIST;
+        return;
+    }
+    Words out_words = Words(map.ranges);
+    for (uint i = 0u; i < n; ++i) {
+        uint at = 3u * (base + i);
+        out_words.v[at] = packUint2x32(times[i]);
+        out_words.v[at + 1u] = packUint2x32(depths[i]);
+        out_words.v[at + 2u] = packUint2x32(uvec2(ids[i], i + 1u < n ? base + i + 2u : END_OF_LIST));
+    }
+    heads.v[p] = base + 1u;
+}

@@ -1,0 +1,268 @@
+//! The sorted range storage (`RangeStorage::Sorted`) against the linked lists it is sorted
+//! from: the same frame collected into a map of each kind must hold, per texel, the same
+//! ranges (bit for bit, in any order), and the sorted map must hold them as the header's
+//! `MS_SORTED_RANGES` says: each texel's ranges in consecutive places of the range buffer,
+//! in order of (t_s, t_e, d_s, d_e, id), linked in that order, every place of the buffer
+//! used exactly once (no room left between texels, none past the count).
+
+use crate::support::gpu::{assert_no_validation_messages, context};
+use crate::support::scene::{
+    Scene, light_view, mesh, overhead_directional, scene, square, temporal_map_stored, translated,
+};
+use glam::Vec3;
+use motion_shadows::technique::{LightView, Range, RangeStorage};
+
+const SIZE: (u32, u32) = (64, 64);
+
+/// A static ground and 12 stacked plates of 6 x 6 small squares, each sliding 1.5 units in
+/// its own direction: texels under the stack hold dozens of ranges (the sort's second tier),
+/// its edges a few, the plates' outskirts one or two.
+fn stacked_plates() -> Scene {
+    let mut meshes = vec![mesh(
+        "ground",
+        square(-8.0, -8.0, 16.0, 0.0),
+        square(-8.0, -8.0, 16.0, 0.0),
+        false,
+    )];
+    for i in 0..12 {
+        let angle = i as f32 * std::f32::consts::TAU / 12.0;
+        let step = Vec3::new(angle.cos(), 0.0, angle.sin()) * 0.75;
+        let y = 1.0 + 0.25 * i as f32;
+        let plate: Vec<Vec3> = (0..36)
+            .flat_map(|k| {
+                square(
+                    -1.5 + 0.5 * (k % 6) as f32,
+                    -1.5 + 0.5 * (k / 6) as f32,
+                    0.5,
+                    y,
+                )
+            })
+            .collect();
+        meshes.push(mesh(
+            &format!("plate-{i}"),
+            translated(&plate, -step),
+            translated(&plate, step),
+            false,
+        ));
+    }
+    scene("stacked-plates", overhead_directional(4.0), meshes)
+}
+
+/// A range's contents without its link, as bits (so that equal means bit for bit).
+fn key(r: &Range) -> [u32; 5] {
+    [
+        r.t_s.to_bits(),
+        r.t_e.to_bits(),
+        r.d_s.to_bits(),
+        r.d_e.to_bits(),
+        r.id,
+    ]
+}
+
+/// The sort's order on contents.
+fn order(r: &Range) -> (f32, f32, f32, f32, u32) {
+    (r.t_s, r.t_e, r.d_s, r.d_e, r.id)
+}
+
+#[test]
+fn sorted_storage_holds_the_lists_ranges_contiguous_and_in_start_order() {
+    let ctx = context();
+    let scene = stacked_plates();
+    let light = light_view(&scene, SIZE);
+    let pixels = SIZE.0 * SIZE.1;
+    let (lists, list_counts) =
+        temporal_map_stored(&ctx, &scene, SIZE, &light, RangeStorage::Lists, pixels);
+    // The sorted map starts with room for one range: its first run overflows, and the sort
+    // must leave that run alone (the frame is recorded again with room).
+    let (sorted, counts) = temporal_map_stored(&ctx, &scene, SIZE, &light, RangeStorage::Sorted, 1);
+    assert_eq!(
+        list_counts.range_count, counts.range_count,
+        "the same frame"
+    );
+    assert_eq!(list_counts.sorted_count, 0, "lists are not sorted");
+    assert_eq!(
+        counts.sorted_count, counts.range_count,
+        "places reserved = ranges"
+    );
+    assert_eq!(sorted.ranges.len(), counts.range_count as usize);
+
+    let mut used = vec![false; sorted.ranges.len()];
+    let mut lengths = [0u32; 3]; // texels holding 1-2, 3-16, more than 16 ranges
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let mut expected: Vec<[u32; 5]> = lists.ranges_at(x, y).iter().map(key).collect();
+            let got = sorted.ranges_at(x, y);
+            let mut got_keys: Vec<[u32; 5]> = got.iter().map(key).collect();
+            expected.sort_unstable();
+            got_keys.sort_unstable();
+            assert_eq!(got_keys, expected, "texel ({x}, {y}): the lists' ranges");
+            if got.is_empty() {
+                continue;
+            }
+            lengths[match got.len() {
+                1..=2 => 0,
+                3..=16 => 1,
+                _ => 2,
+            }] += 1;
+            let first = sorted.range_heads[(y * SIZE.0 + x) as usize] as usize - 1;
+            for (i, r) in got.iter().enumerate() {
+                let place = first + i;
+                assert_eq!(sorted.ranges[place], *r, "texel ({x}, {y}): contiguous");
+                assert!(!used[place], "place {place} used twice");
+                used[place] = true;
+            }
+            for pair in got.windows(2) {
+                assert!(
+                    order(&pair[0]) <= order(&pair[1]),
+                    "texel ({x}, {y}): {:?} before {:?}",
+                    pair[0],
+                    pair[1]
+                );
+            }
+        }
+    }
+    assert!(used.iter().all(|&u| u), "every place holds a texel's range");
+    println!("texels with 1-2, 3-16, more ranges: {lengths:?}");
+    assert!(
+        lengths.iter().all(|&n| n > 50),
+        "every tier sorts many texels: {lengths:?}"
+    );
+
+    // Where the generation pairs nodes (static triangles in the lists), a map made for sorted
+    // storage holds what a map of lists holds: the sorting runs only on collected ranges, and
+    // leaves the generation's own long-list dispatch alone.
+    let nodes = LightView {
+        static_layer: false,
+        ..light
+    };
+    let (paired_lists, _) =
+        temporal_map_stored(&ctx, &scene, SIZE, &nodes, RangeStorage::Lists, pixels);
+    let (paired, paired_counts) =
+        temporal_map_stored(&ctx, &scene, SIZE, &nodes, RangeStorage::Sorted, pixels);
+    assert_eq!(paired_counts.sorted_count, 0, "nothing sorted");
+    assert!(
+        paired_counts.longest_list > 32,
+        "the generation's second tier pairs lists"
+    );
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let keys = |map: &motion_shadows::technique::ShadowMapContents| {
+                let mut k: Vec<[u32; 5]> = map.ranges_at(x, y).iter().map(key).collect();
+                k.sort_unstable();
+                k
+            };
+            assert_eq!(
+                keys(&paired),
+                keys(&paired_lists),
+                "texel ({x}, {y}), paired"
+            );
+        }
+    }
+    assert_no_validation_messages(&ctx);
+}
+
+/// Pruning (docs/src/pruning.md) against a CPU model of its rule: random plates sliding and
+/// tilting above, below and through a static roof that covers part of the map, over a static
+/// ground. Per texel, the sorted map must hold exactly the lists' ranges that are not behind
+/// the texel's static-layer triangle by more than the margin (the model reads the depth and
+/// the triangle from the downloaded static layer), for every seed; and both kinds of texel
+/// must be common (ranges pruned, ranges kept under the roof).
+#[test]
+fn pruning_drops_exactly_the_ranges_behind_the_static_layer() {
+    let ctx = context();
+    let mut pruned_total = 0;
+    let mut kept_under_roof = 0;
+    for seed in 1..=3u32 {
+        let mut state = seed.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+        let mut random = move || {
+            state = state.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+            (state >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let roof = square(-3.0, -3.0, 4.0, 5.0);
+        let ground = square(-8.0, -8.0, 16.0, 0.0);
+        let mut meshes = vec![
+            mesh("ground", ground.clone(), ground, false),
+            mesh("roof", roof.clone(), roof, false),
+        ];
+        for i in 0..10 {
+            let angle = random() * std::f32::consts::TAU;
+            let step = Vec3::new(angle.cos(), 0.0, angle.sin()) * (0.3 + random());
+            // Heights from under the roof (depth 5) to above it; a tilt through it.
+            let y = 1.0 + 6.0 * random();
+            let tilt = Vec3::new(0.0, 2.0 * random() - 1.0, 0.0);
+            let plate: Vec<Vec3> = (0..16)
+                .flat_map(|k| {
+                    let (x, z) = (-2.0 + (k % 4) as f32, -2.0 + (k / 4) as f32);
+                    square(x, z, 1.0, y)
+                })
+                .map(|p| p + tilt * (p.x / 2.0))
+                .collect();
+            meshes.push(mesh(
+                &format!("plate-{i}"),
+                translated(&plate, -step),
+                translated(&plate, step),
+                false,
+            ));
+        }
+        let scene = scene("roof", overhead_directional(4.0), meshes);
+        // Receivers tested at their plane's depth (what prunes; the app's default).
+        let light = LightView {
+            receiver_plane: true,
+            normal_offset_texels: 0.0,
+            ..light_view(&scene, SIZE)
+        };
+        let pixels = SIZE.0 * SIZE.1;
+        let (lists, _) =
+            temporal_map_stored(&ctx, &scene, SIZE, &light, RangeStorage::Lists, pixels);
+        let (sorted, counts) =
+            temporal_map_stored(&ctx, &scene, SIZE, &light, RangeStorage::Sorted, pixels);
+        assert_eq!(sorted.ranges.len(), counts.sorted_count as usize);
+        let mut pruned = 0;
+        for y in 0..SIZE.1 {
+            for x in 0..SIZE.0 {
+                // The model: the rule of docs/src/pruning.md, from the downloaded layer.
+                let behind = |r: &Range| match sorted.static_at(x, y) {
+                    Some((_, d)) => r.d_s.min(r.d_e) > d + 1e-5 * d.abs().max(1.0),
+                    None => false,
+                };
+                let all = lists.ranges_at(x, y);
+                let mut expected: Vec<[u32; 5]> =
+                    all.iter().filter(|r| !behind(r)).map(key).collect();
+                let mut got: Vec<[u32; 5]> = sorted.ranges_at(x, y).iter().map(key).collect();
+                expected.sort_unstable();
+                got.sort_unstable();
+                assert_eq!(got, expected, "seed {seed}, texel ({x}, {y})");
+                pruned += all.len() - expected.len();
+                let under_roof = sorted.static_at(x, y).is_some_and(|(_, d)| d < 6.0);
+                if under_roof && !expected.is_empty() {
+                    kept_under_roof += 1;
+                }
+            }
+        }
+        assert_eq!(
+            counts.range_count as usize - pruned,
+            counts.sorted_count as usize,
+            "seed {seed}: the sorted buffer holds the kept ranges"
+        );
+        pruned_total += pruned;
+        // Receivers tested at their own depth (offset along the normal): one on the static
+        // triangle may be farther than its stored depth, so nothing is pruned.
+        let offset = LightView {
+            receiver_plane: false,
+            ..light
+        };
+        let (_, counts) =
+            temporal_map_stored(&ctx, &scene, SIZE, &offset, RangeStorage::Sorted, pixels);
+        assert_eq!(
+            counts.sorted_count, counts.range_count,
+            "seed {seed}: offset test"
+        );
+    }
+    println!("pruned {pruned_total} ranges; {kept_under_roof} roof texels keep some");
+    assert!(pruned_total > 1000, "pruned {pruned_total}");
+    assert!(
+        kept_under_roof > 100,
+        "kept under the roof: {kept_under_roof}"
+    );
+    assert_no_validation_messages(&ctx);
+}
