@@ -89,5 +89,5 @@ pub mod gpu;
 pub mod technique;
 
 pub use error::{Error, Result};
-/// The ash (Vulkan) and glam (math) versions the library's API uses.
-pub use {ash, glam};
+/// The ash (Vulkan), glam (math) and gpu-allocator versions the library's API uses.
+pub use {ash, glam, gpu_allocator};

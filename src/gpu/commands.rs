@@ -35,8 +35,10 @@ impl<'a> OneShot<'a> {
         Ok(Self { ctx, cmd, fence })
     }
 
-    /// Records with `record`, submits, and waits until the GPU is done.
+    /// Records with `record`, submits, and waits until the GPU is done. Objects dropped
+    /// meanwhile (in `record`, say) are destroyed after the wait, not at once.
     pub fn run(&self, record: impl FnOnce(vk::CommandBuffer) -> Result<()>) -> Result<()> {
+        let _under_way = UnderWay::begin(self.ctx);
         let device = self.ctx.device();
         unsafe {
             device
@@ -63,6 +65,29 @@ impl<'a> OneShot<'a> {
                 .vk("vkWaitForFences")?;
         }
         Ok(())
+    }
+}
+
+/// A OneShot's recording and run, for retirement (`retire.rs`): a headless context keeps
+/// what is dropped meanwhile and destroys it at the end, once the run has waited or failed
+/// (an error after the submission has waited for nothing: the fence wait is the last step,
+/// and a failed wait leaves the device lost).
+struct UnderWay<'a>(&'a Context);
+
+impl<'a> UnderWay<'a> {
+    fn begin(ctx: &'a Context) -> Self {
+        ctx.shared.retirement().one_shot_begins();
+        Self(ctx)
+    }
+}
+
+impl Drop for UnderWay<'_> {
+    fn drop(&mut self) {
+        if self.0.shared.retirement().one_shot_ends() {
+            // SAFETY: a headless context's queue runs only OneShots, and none is under way:
+            // each waited for its work (or never submitted it).
+            unsafe { self.0.shared.collect(None) };
+        }
     }
 }
 

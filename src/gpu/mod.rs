@@ -14,12 +14,14 @@ mod image;
 mod image_bindings;
 mod pipeline;
 mod requirements;
+mod retire;
 mod timestamps;
 mod variants;
 
 pub use barrier::{Access, image_barrier, memory_barrier};
 pub use buffer::{Buffer, BufferUsage};
 pub use commands::OneShot;
+pub(crate) use context::Shared;
 pub use context::{Context, ContextOptions, DeviceInfo};
 pub use image::Image;
 pub use image_bindings::{ImageBindingLayout, ImageBindings};
@@ -29,5 +31,6 @@ pub use pipeline::{
     graphics_pipeline, pipeline_layout, pipeline_layout_with_sets, specialized_compute_pipeline,
 };
 pub use requirements::{DeviceFeatures, DeviceRequirements};
+pub(crate) use retire::{Doomed, Handle};
 pub use timestamps::TimestampQueries;
 pub use variants::ComputeVariants;

@@ -5,6 +5,7 @@
 //! push constants, so a pipeline never needs anything rewritten between frames.
 
 use super::context::{Context, Shared};
+use super::retire::{Doomed, Handle};
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
 use std::sync::Arc;
@@ -52,13 +53,12 @@ pub struct Pipeline {
 }
 
 impl Drop for Pipeline {
+    /// Retires the pipeline and its layout: destroyed once no pending frame can use them.
     fn drop(&mut self) {
-        unsafe {
-            self.shared.device.destroy_pipeline(self.raw, None);
-            self.shared
-                .device
-                .destroy_pipeline_layout(self.layout, None);
-        }
+        self.shared.retire(Doomed::handles(vec![
+            Handle::Pipeline(self.raw),
+            Handle::PipelineLayout(self.layout),
+        ]));
     }
 }
 

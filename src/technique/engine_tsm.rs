@@ -41,6 +41,7 @@ use crate::gpu::{
     Access, Attachments, Buffer, BufferUsage, Context, Image, ImageBindingLayout, ImageBindings,
     Pipeline, graphics_pipeline, image_barrier, memory_barrier, specialized_compute_pipeline,
 };
+use crate::gpu::{Doomed, Handle};
 use ash::vk;
 use glam::{Mat4, UVec4};
 use std::sync::Mutex;
@@ -82,7 +83,7 @@ const HEADER_BYTES: u64 = std::mem::size_of::<PlainMapHeader>() as u64;
 /// across frames, and the working depth maps (an array of [`Self::layers`]) the N times are
 /// drawn into, a batch at a time.
 pub struct EngineTsmMap {
-    device: ash::Device,
+    shared: std::sync::Arc<crate::gpu::Shared>,
     width: u32,
     height: u32,
     layers: u32,
@@ -162,7 +163,7 @@ impl EngineTsmMap {
             BufferUsage::Storage,
         );
         let map = Self {
-            device: ctx.device().clone(),
+            shared: ctx.shared.clone(),
             width,
             height,
             layers,
@@ -238,9 +239,9 @@ impl EngineTsmMap {
 
 impl Drop for EngineTsmMap {
     fn drop(&mut self) {
-        // SAFETY: the view is the map's own; the caller keeps the map alive until no command
-        // buffer using it is pending (the record's contract). The images drop after this.
-        unsafe { self.device.destroy_image_view(self.working_array, None) };
+        // Retired before the images (which drop after this), destroyed in that order.
+        self.shared
+            .retire(Doomed::handles(vec![Handle::ImageView(self.working_array)]));
     }
 }
 

@@ -330,6 +330,26 @@ impl TemporalShadowMap {
         .sum()
     }
 
+    /// Each buffer the map allocated, by its allocation's name, with the bytes of its
+    /// allocation (what a host's allocator counts: [`crate::gpu::Context::from_raw_with_allocator`]).
+    pub fn allocations(&self) -> Vec<(&str, u64)> {
+        [
+            &self.header,
+            &self.heads,
+            &self.nodes,
+            &self.counters,
+            &self.range_heads,
+            &self.ranges,
+            &self.long_pixels,
+            &self.static_nearest,
+            &self.tiles,
+            &self.counters_readback,
+        ]
+        .iter()
+        .map(|b| (b.name(), b.allocated_bytes()))
+        .collect()
+    }
+
     /// Whether a frame with these counts overflowed this map (its output is then incomplete
     /// and the frame must be recorded again after [`Self::grow_to_fit`]).
     pub fn needs_more_room(&self, counts: &Counters) -> bool {
@@ -369,7 +389,9 @@ impl TemporalShadowMap {
     /// Reallocates to the given capacities (at least the current ones): an engine that
     /// grows between frames may keep headroom above the last frame's counts, e.g.
     /// `map.reserve(ctx, counts.node_count / 4 * 5, counts.range_count / 4 * 5)`. Like
-    /// [`Self::grow_to_fit`], it frees the old buffers at once.
+    /// [`Self::grow_to_fit`], it retires the old buffers: they are destroyed once no pending
+    /// frame can use them ([`Context::begin_frame`], [`Context::collect`]), so it may be
+    /// called while frames that use the map are in flight.
     pub fn reserve(&mut self, ctx: &Context, nodes: u32, ranges: u32) -> Result<()> {
         let nodes = nodes.max(self.node_capacity);
         let ranges = ranges.max(self.range_capacity);
@@ -381,7 +403,7 @@ impl TemporalShadowMap {
 
     /// Reallocates to hold exactly what `counts` says a frame needs (and at least the
     /// current capacities). Errors with the figures if the device cannot address that much.
-    /// The old buffers are freed at once: call only when no submission using them is pending.
+    /// The old buffers are retired, not freed at once (see [`Self::reserve`]).
     pub fn grow_to_fit(&mut self, ctx: &Context, counts: &Counters) -> Result<()> {
         if counts.wrapped != 0 {
             return Err(Error::FragmentCountOverflow);

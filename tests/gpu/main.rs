@@ -12,6 +12,7 @@ mod deferred_host;
 mod device_setup;
 mod engine_tsm;
 mod exact_prisms;
+mod host_memory;
 mod layout;
 mod prism;
 mod several_runs;
