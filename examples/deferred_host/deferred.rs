@@ -1095,6 +1095,10 @@ impl<'h> Engine<'h> {
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(s.cmd)];
         let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
         unsafe { device.queue_submit2(host.queue, &submit, s.fence) }.vk("vkQueueSubmit2")?;
+        // The maps' static layers drawn by this frame may be kept by the slot's next one.
+        for map in &s.maps {
+            map.static_layer_submitted();
+        }
         s.pending = Some(frame);
         s.attempts += 1;
         Ok(())

@@ -15,6 +15,7 @@ pub struct OneShot<'a> {
 impl<'a> OneShot<'a> {
     /// A command buffer from the context's pool and an unsignalled fence.
     pub fn new(ctx: &'a Context) -> Result<Self> {
+        let _pool = ctx.one_shot_lock();
         let device = ctx.device();
         let info = vk::CommandBufferAllocateInfo::default()
             .command_pool(ctx.command_pool())
@@ -38,6 +39,9 @@ impl<'a> OneShot<'a> {
     /// Records with `record`, submits, and waits until the GPU is done. Objects dropped
     /// meanwhile (in `record`, say) are destroyed after the wait, not at once.
     pub fn run(&self, record: impl FnOnce(vk::CommandBuffer) -> Result<()>) -> Result<()> {
+        // The pool and queue, for the whole recording, submission and wait. (So a OneShot
+        // run inside another's `record` on the same context waits forever: run it after.)
+        let _locked = self.ctx.one_shot_lock();
         let _under_way = UnderWay::begin(self.ctx);
         let device = self.ctx.device();
         unsafe {
@@ -93,6 +97,7 @@ impl Drop for UnderWay<'_> {
 
 impl Drop for OneShot<'_> {
     fn drop(&mut self) {
+        let _pool = self.ctx.one_shot_lock();
         let device = self.ctx.device();
         unsafe {
             device.destroy_fence(self.fence, None);

@@ -46,6 +46,8 @@ pub struct DeviceInfo {
     pub timestamp_valid_bits: u32,
     /// Bits of sub-pixel precision the rasterizer snaps vertex positions to.
     pub sub_pixel_precision_bits: u32,
+    /// maxPushConstantsSize: the most push-constant bytes a pipeline layout may have.
+    pub max_push_constants_size: u32,
     /// shaderStorageImageWriteWithoutFormat is enabled (a headless context enables it where
     /// supported; a host says so in [`Context::from_raw`]): the visibility-mask pass needs it.
     pub storage_image_write_without_format: bool,
@@ -84,6 +86,8 @@ impl DeviceInfo {
 /// (retired objects, then the allocator, before the device; the device before the instance).
 pub(crate) struct Shared {
     pub device: ash::Device,
+    /// maxPushConstantsSize: pipeline layouts are checked against it.
+    pub max_push_constants_size: u32,
     /// The context's own allocator, or the host's ([`Context::from_raw_with_allocator`]).
     pub allocator: ManuallyDrop<Arc<Mutex<Allocator>>>,
     retirement: Retirement,
@@ -157,7 +161,13 @@ impl Drop for Shared {
 /// wrapped around a host engine's handles ([`Context::from_raw`]).
 pub struct Context {
     pub(crate) shared: Arc<Shared>,
+    /// For format queries (the caller keeps it alive: `from_raw`'s contract).
+    instance: ash::Instance,
     physical: vk::PhysicalDevice,
+    /// Held while a [`super::OneShot`] allocates, records, submits and waits, or frees: the
+    /// command pool and the queue need external synchronization, and the context may be
+    /// shared between threads.
+    one_shot: Mutex<()>,
     queue: vk::Queue,
     queue_family: u32,
     command_pool: vk::CommandPool,
@@ -199,6 +209,7 @@ fn device_info(
             .get(family as usize)
             .map_or(0, |f| f.timestamp_valid_bits),
         sub_pixel_precision_bits: props.limits.sub_pixel_precision_bits,
+        max_push_constants_size: props.limits.max_push_constants_size,
         storage_image_write_without_format: enabled.storage_image_write_without_format(),
         host_query_reset: enabled.host_query_reset(),
         attachment_format_features: [vk::Format::D32_SFLOAT, vk::Format::R32_UINT].map(|f| {
@@ -344,7 +355,10 @@ impl Context {
     ///   `enabled` enabled ([`super::DeviceRequirements`] lists them).
     /// - `instance` and `device` outlive the returned context and every object made from it.
     /// - The library submits to `queue` only through [`super::OneShot`] (which the standalone
-    ///   renderer uses); passes only record into command buffers the host gives them.
+    ///   renderer and `TemporalShadowMap::download` use); passes only record into command
+    ///   buffers the host gives them. The host does not use `queue` from another thread
+    ///   while a `OneShot` of this context runs (Vulkan's external synchronization of
+    ///   queues: the context serializes its own OneShots, not the host's submissions).
     /// - No work using the context's objects is pending when the context and the last of
     ///   its objects are gone (the context does not wait on a host's device). Objects
     ///   dropped before that wait for the host's fences: see [`Self::begin_frame`] and
@@ -441,6 +455,7 @@ impl Context {
         let host = owned.is_none();
         let shared = Arc::new(Shared {
             device,
+            max_push_constants_size: info.max_push_constants_size,
             allocator: ManuallyDrop::new(allocator),
             retirement: Retirement::new(host),
             owned,
@@ -452,7 +467,9 @@ impl Context {
             .vk("vkCreateCommandPool")?;
         Ok(Self {
             shared,
+            instance: instance.clone(),
             physical,
+            one_shot: Mutex::new(()),
             queue,
             queue_family,
             command_pool,
@@ -484,11 +501,48 @@ impl Context {
     pub(crate) fn command_pool(&self) -> vk::CommandPool {
         self.command_pool
     }
+    /// The lock of the command pool and queue that [`super::OneShot`] uses.
+    pub(crate) fn one_shot_lock(&self) -> std::sync::MutexGuard<'_, ()> {
+        self.one_shot.lock().unwrap_or_else(|e| e.into_inner())
+    }
 
-    /// The allocator the library's buffers and images come from: the context's own, or the
-    /// host's ([`Self::from_raw_with_allocator`]).
-    pub fn allocator(&self) -> &Arc<Mutex<Allocator>> {
-        &self.shared.allocator
+    /// Whether a 2D optimal-tiling image of `format` with `usage` and `layers` layers of
+    /// `width` x `height` can be made on this device.
+    pub(crate) fn image_supported(
+        &self,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        (width, height, layers): (u32, u32, u32),
+    ) -> bool {
+        // SAFETY: `physical` is of `instance`, which outlives the context.
+        let properties = unsafe {
+            self.instance.get_physical_device_image_format_properties(
+                self.physical,
+                format,
+                vk::ImageType::TYPE_2D,
+                vk::ImageTiling::OPTIMAL,
+                usage,
+                vk::ImageCreateFlags::empty(),
+            )
+        };
+        properties.is_ok_and(|p| {
+            width > 0
+                && height > 0
+                && layers > 0
+                && width <= p.max_extent.width
+                && height <= p.max_extent.height
+                && layers <= p.max_array_layers
+        })
+    }
+
+    /// Optimal-tiling features of any format.
+    pub(crate) fn format_features(&self, format: vk::Format) -> vk::FormatFeatureFlags {
+        // SAFETY: as above.
+        unsafe {
+            self.instance
+                .get_physical_device_format_properties(self.physical, format)
+        }
+        .optimal_tiling_features
     }
 
     /// Tells the context that the host now records frame `frame` (numbers that never

@@ -38,6 +38,11 @@ impl Image {
             }
             _ => vk::ImageAspectFlags::COLOR,
         };
+        if !ctx.image_supported(format, usage, (width, height, layers)) {
+            return Err(crate::Error::InvalidArgument(format!(
+                "{name}: the device cannot make a {width}x{height}x{layers} {format:?} image for {usage:?}"
+            )));
+        }
         let device = &ctx.shared.device;
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)

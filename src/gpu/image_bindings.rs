@@ -37,6 +37,14 @@ impl ImageBindingLayout {
     /// `types` may hold `COMBINED_IMAGE_SAMPLER` (read with `texelFetch`; the layout's own
     /// nearest sampler is used) and `STORAGE_IMAGE`.
     pub fn new(ctx: &Context, types: &[vk::DescriptorType]) -> Result<Self> {
+        if let Some(ty) = types.iter().find(|&&ty| {
+            ty != vk::DescriptorType::COMBINED_IMAGE_SAMPLER
+                && ty != vk::DescriptorType::STORAGE_IMAGE
+        }) {
+            return Err(Error::InvalidArgument(format!(
+                "image bindings of type {ty:?}: only COMBINED_IMAGE_SAMPLER and STORAGE_IMAGE"
+            )));
+        }
         let device = ctx.device();
         let bindings: Vec<_> = types
             .iter()

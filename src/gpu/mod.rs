@@ -26,7 +26,7 @@ pub use context::{Context, ContextOptions, DeviceInfo};
 pub use image::Image;
 pub use image_bindings::{ImageBindingLayout, ImageBindings};
 pub use pipeline::{
-    Attachments, Pipeline, ShaderModule, attachmentless_pipeline, begin_attachmentless,
+    Attachments, Pipeline, ShaderModule, Spirv, attachmentless_pipeline, begin_attachmentless,
     begin_rendering, begin_rendering_colors, compute_pipeline, compute_pipeline_with_sets,
     graphics_pipeline, pipeline_layout, pipeline_layout_with_sets, specialized_compute_pipeline,
 };

@@ -31,11 +31,11 @@ pub struct CoverageMap {
     width: u32,
     height: u32,
     /// Per pixel: depth bits << 32 | surface << 30 | triangle id of the nearest fragment.
-    pub nearest: Buffer,
+    pub(crate) nearest: Buffer,
     /// Per pixel: the covering triangle's id, or u32::MAX for none (the paper's -1).
-    pub coverage: Buffer,
+    pub(crate) coverage: Buffer,
     /// Per pixel: the covering triangle's depth at t = 0 and at t = 1 (two floats).
-    pub cover_depth: Buffer,
+    pub(crate) cover_depth: Buffer,
 }
 
 impl CoverageMap {

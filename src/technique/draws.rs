@@ -435,6 +435,11 @@ impl DrawList {
         self.buffer.device_address()
     }
 
+    /// The draw table's buffer.
+    pub(crate) fn buffer(&self) -> &Buffer {
+        &self.buffer
+    }
+
     pub(crate) fn draw_count(&self) -> u32 {
         self.records.len() as u32
     }

@@ -346,7 +346,7 @@ impl EngineTsmPass {
             .map(|constants| {
                 specialized_compute_pipeline(
                     ctx,
-                    &[layout.raw()],
+                    &[&layout],
                     std::mem::size_of::<TsmConstants>() as u32,
                     "tsm_mask.comp",
                     shaders::TSM_MASK_COMP,
@@ -609,7 +609,7 @@ impl EngineTsmPass {
                 device.cmd_bind_descriptor_sets(
                     cmd,
                     vk::PipelineBindPoint::COMPUTE,
-                    mask.layout,
+                    mask.layout(),
                     0,
                     &[bindings.images.raw()],
                     &[],

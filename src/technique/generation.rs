@@ -19,6 +19,9 @@ use ash::vk;
 pub struct GenerationPass {
     pipeline: Pipeline,
     long_pipeline: Pipeline,
+    /// Records its entry and exit barriers (off: the host issues them from
+    /// [`Self::accesses`], see `accesses.rs`).
+    pub(crate) outer_barriers: bool,
 }
 
 impl GenerationPass {
@@ -37,6 +40,7 @@ impl GenerationPass {
                 "generation_long.comp",
                 shaders::GENERATION_LONG_COMP,
             )?,
+            outer_barriers: true,
         })
     }
 
@@ -63,21 +67,29 @@ impl GenerationPass {
     ) {
         // Empty long-pixel list; its indirect dispatch starts at 0 x 1 x 1 groups.
         let header: [u32; 4] = [0, 0, 1, 1];
-        unsafe {
-            memory_barrier(
-                device,
-                cmd,
-                Access::COMPUTE_RW.and(Access::INDIRECT_READ),
-                Access::TRANSFER_WRITE,
-            )
-        };
+        // Entry: earlier generations' reads of the long-pixel list, and (below) the
+        // collection's writes; the host's when `outer_barriers` is off.
+        if self.outer_barriers {
+            unsafe {
+                memory_barrier(
+                    device,
+                    cmd,
+                    Access::COMPUTE_RW.and(Access::INDIRECT_READ),
+                    Access::TRANSFER_WRITE,
+                )
+            };
+        }
         unsafe { map.long_pixels.record_write(device, cmd, &header) };
         // The collection's tile list is the first tier's indirect dispatch.
         unsafe {
             memory_barrier(
                 device,
                 cmd,
-                Access::TRANSFER_WRITE.and(Access::FRAGMENT_RW),
+                if self.outer_barriers {
+                    Access::TRANSFER_WRITE.and(Access::FRAGMENT_RW)
+                } else {
+                    Access::TRANSFER_WRITE
+                },
                 Access::COMPUTE_RW.and(Access::INDIRECT_READ),
             )
         };
@@ -99,13 +111,15 @@ impl GenerationPass {
         unsafe { self.long_pipeline.bind(device, cmd) };
         unsafe { self.long_pipeline.push(device, cmd, &constants) };
         unsafe { device.cmd_dispatch_indirect(cmd, map.long_pixels.raw(), 4) };
-        unsafe {
-            memory_barrier(
-                device,
-                cmd,
-                Access::COMPUTE_RW,
-                Access::ANY_SHADER_READ.and(Access::COMPUTE_RW),
-            )
-        };
+        if self.outer_barriers {
+            unsafe {
+                memory_barrier(
+                    device,
+                    cmd,
+                    Access::COMPUTE_RW,
+                    Access::ANY_SHADER_READ.and(Access::COMPUTE_RW),
+                )
+            };
+        }
     }
 }

@@ -17,6 +17,7 @@
 //! times, for the time-dependent shadow maps and the brute-force reference that the papers
 //! compare against.
 
+mod accesses;
 mod collection;
 mod coverage;
 mod draws;
@@ -36,6 +37,7 @@ pub mod shaders;
 mod shadow_map;
 mod view;
 
+pub use accesses::{AccessData, PassAccesses, Resource, ResourceUse};
 pub use collection::CollectionPass;
 pub use coverage::{CoverageMap, CoveragePass, MAX_COVERAGE_TRIANGLES};
 pub use draws::{Draw, DrawList, IndexStream, Indices, PositionStream};

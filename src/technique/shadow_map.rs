@@ -31,33 +31,44 @@ pub struct TemporalShadowMap {
     node_capacity: u32,
     range_capacity: u32,
     /// The header (`MsShadowMap`): light and buffer addresses, written by the collection pass.
-    pub header: Buffer,
+    pub(crate) header: Buffer,
     /// Per pixel: index + 1 of the newest node, 0 for none.
-    pub heads: Buffer,
+    pub(crate) heads: Buffer,
     /// The fragments ([`Node`]).
-    pub nodes: Buffer,
+    pub(crate) nodes: Buffer,
     /// [`Counters`]: counts written by the passes, capacities by the collection pass.
-    pub counters: Buffer,
+    pub(crate) counters: Buffer,
     /// Per pixel: index + 1 of the first range, 0 for none.
-    pub range_heads: Buffer,
+    pub(crate) range_heads: Buffer,
     /// The ranges ([`Range`]).
-    pub ranges: Buffer,
+    pub(crate) ranges: Buffer,
     /// The generation pass's list of pixels with long fragment lists (a count, indirect
     /// dispatch arguments, then up to one index per pixel).
-    pub long_pixels: Buffer,
+    pub(crate) long_pixels: Buffer,
     /// The static layer: per pixel, the nearest triangle of a static draw (depth key << 32 |
     /// id), in place of their fragments in the lists (see [`Self::uses_static_layer`]).
-    pub static_nearest: Buffer,
+    pub(crate) static_nearest: Buffer,
     /// The generation pass's indirect dispatch (x, y, z group counts and a pad), set by the
     /// collection: every 8x8-texel tile of the map where the lists hold fragments, none
     /// where the collection stored the ranges itself ([`Self::collects_ranges`]).
-    pub tiles: Buffer,
+    pub(crate) tiles: Buffer,
     counters_readback: Buffer,
-    /// What the static layer was last drawn for, when it may be kept
-    /// ([`LightView::keep_static_layer`]).
-    static_layer_source: Mutex<Option<StaticLayerSource>>,
+    /// What the static layer holds, as far as the host has said it submitted
+    /// ([`Self::static_layer_submitted`]).
+    static_layer_source: Mutex<StaticLayerState>,
     /// Times the collection pass has drawn the static layer into this map.
     static_layer_builds: AtomicU32,
+}
+
+/// What the static layer holds for keeping: nothing is kept on the strength of a recording
+/// alone, so a recorded pass that is never submitted needs no undoing.
+#[derive(Default)]
+struct StaticLayerState {
+    /// What the layer holds, drawn by a submitted pass: later passes may keep it.
+    kept: Option<StaticLayerSource>,
+    /// What the last recorded pass that drew the layer drew it for, until the host says that
+    /// pass was submitted.
+    recorded: Option<StaticLayerSource>,
 }
 
 /// What a static layer's contents follow from: the light's view and projection and the
@@ -170,7 +181,7 @@ impl TemporalShadowMap {
                 COUNTER_BYTES,
                 BufferUsage::Readback,
             )?,
-            static_layer_source: Mutex::new(None),
+            static_layer_source: Mutex::new(StaticLayerState::default()),
             static_layer_builds: AtomicU32::new(0),
         })
     }
@@ -224,6 +235,7 @@ impl TemporalShadowMap {
         cmd: vk::CommandBuffer,
         light: &LightView,
         coverage: Option<&CoverageMap>,
+        outer_barriers: bool,
     ) {
         let header = ShadowMapHeader {
             light: light.gpu(),
@@ -245,7 +257,9 @@ impl TemporalShadowMap {
             tiles: self.tiles.device_address(),
             reserved: 0,
         };
-        unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
+        if outer_barriers {
+            unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
+        }
         // SAFETY: plain data of the header's size; recording outside a render pass (the
         // collection pass's contract).
         unsafe { self.header.record_write(device, cmd, &[header]) };
@@ -258,32 +272,47 @@ impl TemporalShadowMap {
         self.static_layer_builds.load(Ordering::Relaxed)
     }
 
-    /// Makes the next collection pass redraw the static layer, kept or not: call it when a
-    /// recorded collection pass was not submitted, or when a static draw's buffer contents
-    /// changed in place.
-    pub fn forget_static_layer(&self) {
-        *self
-            .static_layer_source
+    fn static_layer_state(&self) -> std::sync::MutexGuard<'_, StaticLayerState> {
+        self.static_layer_source
             .lock()
-            .unwrap_or_else(|e| e.into_inner()) = None;
+            .unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Makes the next collection pass redraw the static layer, kept or not: call it when a
+    /// static draw's buffer contents changed in place.
+    pub fn forget_static_layer(&self) {
+        *self.static_layer_state() = StaticLayerState::default();
+    }
+
+    /// Tells the map that the command buffer with its last recorded collection pass was
+    /// submitted: a static layer that pass drew may then be kept by later passes (with
+    /// [`LightView::keep_static_layer`]). Recording alone never marks a layer as kept, so a
+    /// recorded pass that is not submitted needs nothing undone; without this call the layer
+    /// is redrawn by every pass (slower, never wrong).
+    ///
+    /// Call it after the submission and before recording this map's next collection pass.
+    /// (Saying so of a pass that was not submitted makes later passes keep a layer that was
+    /// never drawn: wrong shadows, though no memory is misused.)
+    pub fn static_layer_submitted(&self) {
+        let mut state = self.static_layer_state();
+        if let Some(recorded) = state.recorded.take() {
+            state.kept = Some(recorded);
+        }
     }
 
     /// Whether the static layer holds what `source` would draw (a kept layer).
     pub(crate) fn static_layer_is(&self, source: &StaticLayerSource) -> bool {
-        let kept = self
-            .static_layer_source
-            .lock()
-            .unwrap_or_else(|e| e.into_inner());
-        kept.as_ref() == Some(source)
+        self.static_layer_state().kept.as_ref() == Some(source)
     }
 
-    /// Notes that the static layer was just drawn for `source` (`None`: not to be kept).
+    /// Notes that a recorded pass draws the static layer for `source` (`None`: not to be
+    /// kept). What the layer held is not kept any more; `source` is, once the pass is
+    /// submitted ([`Self::static_layer_submitted`]).
     pub(crate) fn static_layer_drawn(&self, source: Option<StaticLayerSource>) {
         self.static_layer_builds.fetch_add(1, Ordering::Relaxed);
-        *self
-            .static_layer_source
-            .lock()
-            .unwrap_or_else(|e| e.into_inner()) = source;
+        let mut state = self.static_layer_state();
+        state.kept = None;
+        state.recorded = source;
     }
 
     /// Records clearing the range heads and setting the generation's dispatch: every tile,

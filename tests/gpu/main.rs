@@ -16,4 +16,5 @@ mod host_memory;
 mod layout;
 mod prism;
 mod several_runs;
+mod static_layer;
 mod validation;
