@@ -232,8 +232,9 @@ impl CollectionPass {
     /// Synchronization: waits, with a global barrier, for earlier shader reads and writes and
     /// transfers of any buffer of the map; leaves the lists (or the ranges) and the counters
     /// written by the fragment and transfer stages and made visible to later fragment and
-    /// compute shader reads and writes. State changed: the bound graphics pipeline, its push
-    /// constants, viewport and scissor.
+    /// compute shader reads and writes. A pass made [`Self::with_host_barriers`] records
+    /// neither of those two barriers: the caller orders [`Self::accesses`] itself. State
+    /// changed: the bound graphics pipeline, its push constants, viewport and scissor.
     pub unsafe fn record(
         &self,
         device: &ash::Device,

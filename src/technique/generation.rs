@@ -57,8 +57,9 @@ impl GenerationPass {
     /// barrier) and earlier compute and indirect reads of the map; leaves the ranges written
     /// by the compute stage and made visible to shader reads in every stage (vertex, geometry,
     /// fragment, compute: a host's own passes may read the map with no barrier of their own)
-    /// and to later compute writes. State changed: the bound compute pipeline and its push
-    /// constants.
+    /// and to later compute writes. A pass made [`Self::with_host_barriers`] records neither
+    /// the entry nor the exit barrier: the caller orders [`Self::accesses`] itself. State
+    /// changed: the bound compute pipeline and its push constants.
     pub unsafe fn record(
         &self,
         device: &ash::Device,
