@@ -21,6 +21,8 @@ mod variants;
 pub use barrier::{Access, image_barrier, memory_barrier};
 pub use buffer::{Buffer, BufferUsage};
 pub use commands::OneShot;
+// For the research passes' objects that retire raw handles of their own.
+#[cfg(feature = "research")]
 pub(crate) use context::Shared;
 pub use context::{Context, ContextOptions, DeviceInfo};
 pub use image::Image;
@@ -31,6 +33,7 @@ pub use pipeline::{
     graphics_pipeline, pipeline_layout, pipeline_layout_with_sets, specialized_compute_pipeline,
 };
 pub use requirements::{DeviceFeatures, DeviceRequirements};
+#[cfg(feature = "research")]
 pub(crate) use retire::{Doomed, Handle};
 pub use timestamps::TimestampQueries;
 pub use variants::ComputeVariants;

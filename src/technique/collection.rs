@@ -154,6 +154,7 @@ fn prism_pipeline(
 /// Records one non-indexed draw of 3 vertices per triangle for every draw of the list (the
 /// vertex shader fetches through the draw's own indices), pushing `constants` with each
 /// draw's index. Inside dynamic rendering, with `pipeline` bound.
+#[cfg_attr(not(feature = "research"), allow(dead_code))]
 pub(crate) fn draw_each(
     device: &ash::Device,
     cmd: vk::CommandBuffer,
