@@ -14,6 +14,7 @@ mod engine_tsm;
 mod exact_prisms;
 mod host_memory;
 mod layout;
+mod minimal_host;
 mod pass_accesses;
 mod prism;
 mod several_runs;
