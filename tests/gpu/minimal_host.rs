@@ -16,11 +16,22 @@ fn the_minimal_host_matches_the_closed_form_with_validation_silent() {
     // Lit for the whole shutter, for half of it (the square's side over its travel), and the
     // ramps between: the row holds both plateaus (the half-lit one: x in [-0.5, 0.5]).
     assert!(outcome.row.iter().any(|&v| v > 0.99));
-    assert!(outcome.row.iter().filter(|&&v| (v - 0.5).abs() < 0.02).count() >= 12);
+    assert!(
+        outcome
+            .row
+            .iter()
+            .filter(|&&v| (v - 0.5).abs() < 0.02)
+            .count()
+            >= 12
+    );
 }
 
 #[test]
 fn the_minimal_host_is_at_most_400_lines() {
     let source = include_str!("../../examples/minimal_host.rs");
-    assert!(source.lines().count() <= 400, "{} lines", source.lines().count());
+    assert!(
+        source.lines().count() <= 400,
+        "{} lines",
+        source.lines().count()
+    );
 }
