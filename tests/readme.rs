@@ -14,7 +14,7 @@ type AnyResult = Result<(), Box<dyn std::error::Error>>;
 /// "Integrating into your engine", the frame.
 #[rustfmt::skip]
 fn one_frame(
-    instance: ash::Instance, physical: vk::PhysicalDevice, queues: &[vk::DeviceQueueCreateInfo],
+    instance: ash::Instance, physical: vk::PhysicalDevice, queues: Vec<vk::DeviceQueueCreateInfo>,
     queue_family: u32, queue: vk::Queue, cmd: vk::CommandBuffer, position: Vec3, direction: Vec3,
     previous_positions: u64, current_positions: u64, indices: u64, vertex_count: u32,
     triangle_count: u32, first_triangle_id: u32, n: u64,
@@ -75,7 +75,7 @@ Ok(())
 #[rustfmt::skip]
 fn deferred_mask(
     device: ash::Device, cmd: vk::CommandBuffer, mask: &VisibilityMaskPass,
-    mut mask_bindings: MaskBindings, map: &TemporalShadowMap, depth: vk::ImageView,
+    mut mask_bindings: MaskBindings, map: TemporalShadowMap, depth: vk::ImageView,
     depth_layout: vk::ImageLayout, mask_view: vk::ImageView, size: (u32, u32),
     inv_view_proj: Mat4, normals: NormalImage, motion_view: vk::ImageView,
 ) {
