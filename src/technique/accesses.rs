@@ -32,10 +32,11 @@ pub enum Resource {
     },
     /// The draw list's position and index streams: the host's buffers, read by address.
     DrawStreams,
-    /// An image of the host's, in `layout` during the pass.
-    Image {
-        /// The handle.
-        image: vk::Image,
+    /// An image of the host's, through the view the host gave, in `layout` during the pass
+    /// (the host's barriers move it there before and on after).
+    ImageView {
+        /// The view.
+        view: vk::ImageView,
         /// Its layout while the pass uses it.
         layout: vk::ImageLayout,
     },
@@ -276,6 +277,44 @@ impl GenerationPass {
             (&map.long_pixels, "long-list pixels"),
             Access::TRANSFER_WRITE,
             rw.and(Access::INDIRECT_READ),
+            true,
+        );
+        a
+    }
+}
+
+impl super::VisibilityMaskPass {
+    /// What [`Self::record`] with these inputs reads and writes of the host's images and of
+    /// `map` (its own counter it orders itself). The images' barriers and layout transitions
+    /// are always the host's (the record function's contract); the map's ranges must be
+    /// visible to compute reads, which the generation pass's exit barrier (or the host's,
+    /// from [`GenerationPass::accesses`]) does.
+    pub fn accesses(&self, inputs: &super::MaskInputs, map: &TemporalShadowMap) -> PassAccesses {
+        let sampled = Access::COMPUTE_SAMPLED_READ;
+        let mut a = map.lookup_accesses(vk::PipelineStageFlags2::COMPUTE_SHADER);
+        let image = |view, layout| Resource::ImageView { view, layout };
+        a.add(
+            image(inputs.depth, inputs.depth_layout),
+            sampled,
+            sampled,
+            false,
+        );
+        let optional = [
+            inputs.normals.map(|n| (n.view, n.layout)),
+            inputs.motion.map(|m| (m.view, m.layout)),
+            inputs.ids.map(|i| (i.view, i.layout)),
+        ];
+        for (view, layout) in optional.into_iter().flatten() {
+            a.add(image(view, layout), sampled, sampled, false);
+        }
+        let write = Access {
+            stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
+            access: vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        };
+        a.add(
+            image(inputs.output, vk::ImageLayout::GENERAL),
+            write,
+            write,
             true,
         );
         a

@@ -142,3 +142,57 @@ fn a_missing_host_barrier_is_a_reported_hazard() {
         "synchronization validation did not report the missing barrier: {messages:?}"
     );
 }
+
+/// The mask pass publishes the host's images it reads and writes, each in the layout the
+/// inputs give (the host's barriers move them there), and the map's buffers it reads.
+#[test]
+fn the_mask_pass_publishes_the_hosts_images_and_layouts() {
+    use motion_shadows::ash::vk::{self, Handle};
+    use motion_shadows::technique::{MaskInputs, MotionImage, Resource, VisibilityMaskPass};
+    let ctx = context();
+    let mask = VisibilityMaskPass::new(&ctx).expect("mask pass");
+    let map = TemporalShadowMap::new(&ctx, 16, 16, 16, 16).expect("map");
+    let view = |n: u64| vk::ImageView::from_raw(n);
+    let depth_layout = vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL;
+    let motion = MotionImage {
+        view: view(3),
+        layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+    };
+    let inputs = MaskInputs::new(view(1), depth_layout, view(2), (16, 16), Default::default())
+        .with_motion(motion, 1.0);
+    let accesses = mask.accesses(&inputs, &map);
+    let images: Vec<(Resource, vk::AccessFlags2, bool)> = accesses
+        .uses
+        .iter()
+        .filter(|u| matches!(u.resource, Resource::ImageView { .. }))
+        .map(|u| (u.resource, u.first.access, u.writes))
+        .collect();
+    let sampled = vk::AccessFlags2::SHADER_SAMPLED_READ;
+    let image = |view, layout| Resource::ImageView { view, layout };
+    assert_eq!(
+        images,
+        [
+            (image(view(1), depth_layout), sampled, false),
+            (image(view(3), motion.layout), sampled, false),
+            (
+                image(view(2), vk::ImageLayout::GENERAL),
+                vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                true
+            ),
+        ]
+    );
+    // The ranges, read by the compute shader: what the generation's exit barrier must reach.
+    assert!(accesses.uses.iter().any(|u| matches!(
+        u.resource,
+        Resource::Buffer { name: "ranges", .. }
+    ) && u.first.stages
+        == vk::PipelineStageFlags2::COMPUTE_SHADER));
+    assert!(
+        accesses
+            .first()
+            .stages
+            .contains(vk::PipelineStageFlags2::COMPUTE_SHADER)
+    );
+    drop((mask, map));
+    assert_no_validation_messages(&ctx);
+}
