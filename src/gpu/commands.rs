@@ -15,10 +15,10 @@ pub struct OneShot<'a> {
 impl<'a> OneShot<'a> {
     /// A command buffer from the context's pool and an unsignalled fence.
     pub fn new(ctx: &'a Context) -> Result<Self> {
-        let _pool = ctx.one_shot_lock();
+        let pool = ctx.one_shot_lock()?;
         let device = ctx.device();
         let info = vk::CommandBufferAllocateInfo::default()
-            .command_pool(ctx.command_pool())
+            .command_pool(*pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
         let cmd =
@@ -26,7 +26,7 @@ impl<'a> OneShot<'a> {
         let fence = match unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) } {
             Ok(f) => f,
             Err(result) => {
-                unsafe { device.free_command_buffers(ctx.command_pool(), &[cmd]) };
+                unsafe { device.free_command_buffers(*pool, &[cmd]) };
                 return Err(crate::Error::Vulkan {
                     call: "vkCreateFence",
                     result,
@@ -41,7 +41,7 @@ impl<'a> OneShot<'a> {
     pub fn run(&self, record: impl FnOnce(vk::CommandBuffer) -> Result<()>) -> Result<()> {
         // The pool and queue, for the whole recording, submission and wait. (So a OneShot
         // run inside another's `record` on the same context waits forever: run it after.)
-        let _locked = self.ctx.one_shot_lock();
+        let _locked = self.ctx.one_shot_lock()?;
         let _under_way = UnderWay::begin(self.ctx);
         let device = self.ctx.device();
         unsafe {
@@ -97,11 +97,14 @@ impl Drop for UnderWay<'_> {
 
 impl Drop for OneShot<'_> {
     fn drop(&mut self) {
-        let _pool = self.ctx.one_shot_lock();
+        // The pool exists: this OneShot's command buffer came from it.
+        let Ok(pool) = self.ctx.one_shot_lock() else {
+            return;
+        };
         let device = self.ctx.device();
         unsafe {
             device.destroy_fence(self.fence, None);
-            device.free_command_buffers(self.ctx.command_pool(), &[self.cmd]);
+            device.free_command_buffers(*pool, &[self.cmd]);
         }
     }
 }

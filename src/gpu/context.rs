@@ -167,10 +167,11 @@ pub struct Context {
     /// Held while a [`super::OneShot`] allocates, records, submits and waits, or frees: the
     /// command pool and the queue need external synchronization, and the context may be
     /// shared between threads.
-    one_shot: Mutex<()>,
+    /// The command pool, made by the first OneShot (a host that records only into its own
+    /// command buffers gets none).
+    one_shot: Mutex<vk::CommandPool>,
     queue: vk::Queue,
     queue_family: u32,
-    command_pool: vk::CommandPool,
     info: DeviceInfo,
     messages: MessageSink,
 }
@@ -460,19 +461,13 @@ impl Context {
             retirement: Retirement::new(host),
             owned,
         });
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        let command_pool = unsafe { shared.device.create_command_pool(&pool_info, None) }
-            .vk("vkCreateCommandPool")?;
         Ok(Self {
             shared,
             instance: instance.clone(),
             physical,
-            one_shot: Mutex::new(()),
+            one_shot: Mutex::new(vk::CommandPool::null()),
             queue,
             queue_family,
-            command_pool,
             info,
             messages,
         })
@@ -498,12 +493,18 @@ impl Context {
     pub fn info(&self) -> &DeviceInfo {
         &self.info
     }
-    pub(crate) fn command_pool(&self) -> vk::CommandPool {
-        self.command_pool
-    }
-    /// The lock of the command pool and queue that [`super::OneShot`] uses.
-    pub(crate) fn one_shot_lock(&self) -> std::sync::MutexGuard<'_, ()> {
-        self.one_shot.lock().unwrap_or_else(|e| e.into_inner())
+    /// The command pool of [`super::OneShot`] (made now if this is the first), locked: the
+    /// pool and the queue need external synchronization.
+    pub(crate) fn one_shot_lock(&self) -> Result<std::sync::MutexGuard<'_, vk::CommandPool>> {
+        let mut pool = self.one_shot.lock().unwrap_or_else(|e| e.into_inner());
+        if *pool == vk::CommandPool::null() {
+            let info = vk::CommandPoolCreateInfo::default()
+                .queue_family_index(self.queue_family)
+                .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+            *pool = unsafe { self.shared.device.create_command_pool(&info, None) }
+                .vk("vkCreateCommandPool")?;
+        }
+        Ok(pool)
     }
 
     /// Whether a 2D optimal-tiling image of `format` with `usage` and `layers` layers of
@@ -637,9 +638,10 @@ impl Drop for Context {
             if self.shared.owned.is_some() {
                 let _ = self.shared.device.device_wait_idle();
             }
-            self.shared
-                .device
-                .destroy_command_pool(self.command_pool, None);
+            let pool = *self.one_shot.get_mut().unwrap_or_else(|e| e.into_inner());
+            if pool != vk::CommandPool::null() {
+                self.shared.device.destroy_command_pool(pool, None);
+            }
         }
     }
 }
