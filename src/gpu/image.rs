@@ -91,6 +91,11 @@ impl Image {
         Ok(image)
     }
 
+    /// Bytes of its memory allocation.
+    pub fn allocated_bytes(&self) -> u64 {
+        self.allocation.as_ref().map_or(0, |a| a.size())
+    }
+
     /// The image handle.
     pub fn raw(&self) -> vk::Image {
         self.raw

@@ -223,6 +223,25 @@ fn the_hosts_allocator_counts_the_librarys_allocations() {
         "allocations hold at least the buffers' bytes"
     );
 
+    // The draw list and the mask's bindings report theirs the same way.
+    let draws = motion_shadows::technique::DrawList::new(&ctx, 8).expect("draw list");
+    let mask = motion_shadows::technique::VisibilityMaskPass::new(&ctx).expect("mask pass");
+    let bindings = mask.bindings(&ctx).expect("bindings");
+    let host_view = allocations(&allocator);
+    for (name, bytes) in draws
+        .allocations()
+        .into_iter()
+        .chain(bindings.allocations())
+    {
+        assert!(
+            host_view
+                .iter()
+                .any(|(n, b)| n == name && (bytes..bytes + 256).contains(b)),
+            "{name} ({bytes} bytes) in the host's allocator: {host_view:?}"
+        );
+    }
+    drop((draws, bindings, mask));
+
     drop(map);
     // No frame was submitted: nothing pending uses the map.
     // SAFETY: no submission at all.
