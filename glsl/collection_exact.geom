@@ -9,9 +9,13 @@
 // far plane, so a caster between the light and its near plane keeps its shadow (the
 // fragment shader keeps only what lies in front of the light itself).
 #include "shared.glsl"
+#include "exact_prism.glsl"
+#include "light_crossing.glsl"
+#define HULL_MAX_POINTS 6
+#include "convex_hull.glsl"
 
 layout(triangles) in;
-layout(triangle_strip, max_vertices = 6) out;
+layout(triangle_strip, max_vertices = 12) out;
 
 layout(push_constant) uniform Push { PassConstants pc; };
 
@@ -22,6 +26,9 @@ layout(location = 2) in float in_valid[];
 layout(location = 0) flat out vec4 out_at0[3];
 layout(location = 3) flat out vec4 out_at1[3];
 layout(location = 6) flat out uint out_id;
+// The times the triangle's plane passes through the light (light_crossing.glsl): cuts of
+// the fragment shader's pieces besides the edge roots, the same for every texel.
+layout(location = 7) flat out vec3 out_cuts;
 
 // How far the footprint is pushed out, in texels: far more than the rasterizer's snapping
 // (1/256 texel) and float rounding, far less than a texel.
@@ -32,6 +39,7 @@ const float FOOTPRINT_LIMIT_NDC = 64.0;
 
 vec4 corner_at0[3], corner_at1[3];
 uint triangle_id;
+vec3 light_cuts;
 
 void emit_ndc(vec2 ndc) {
     gl_Position = vec4(ndc, 0.5, 1.0);
@@ -40,6 +48,7 @@ void emit_ndc(vec2 ndc) {
         out_at1[k] = corner_at1[k];
     }
     out_id = triangle_id;
+    out_cuts = light_cuts;
     EmitVertex();
 }
 
@@ -51,45 +60,15 @@ void emit_whole_map() {
     EndPrimitive();
 }
 
-float cross2(vec2 x, vec2 y) { return x.x * y.y - x.y * y.x; }
-
-// The convex hull of six points (Andrew's monotone chain), counter-clockwise in the sense of
-// cross2; returns its size (below 3: no area).
-int convex_hull(vec2 p[6], out vec2 hull[7]) {
-    for (int i = 1; i < 6; ++i) {
-        vec2 key = p[i];
-        int j = i;
-        for (; j > 0 && (p[j - 1].x > key.x || (p[j - 1].x == key.x && p[j - 1].y > key.y)); --j)
-            p[j] = p[j - 1];
-        p[j] = key;
-    }
-    vec2 chain[12];
-    int h = 0;
-    for (int i = 0; i < 6; ++i) {
-        while (h >= 2 && cross2(chain[h - 1] - chain[h - 2], p[i] - chain[h - 2]) <= 0.0) --h;
-        chain[h++] = p[i];
-    }
-    int lower = h + 1;
-    for (int i = 4; i >= 0; --i) {
-        while (h >= lower && cross2(chain[h - 1] - chain[h - 2], p[i] - chain[h - 2]) <= 0.0) --h;
-        chain[h++] = p[i];
-    }
-    --h;  // the chain ends where it started
-    for (int i = 0; i < 7; ++i) hull[i] = chain[min(i, 11)];
-    return h;
-}
-
-// Each corner of the convex polygon pushed out so that every edge moves out by `by` (the
-// miter, bounded at sharp corners).
-void dilate(inout vec2 hull[7], int h, float by) {
-    vec2 moved[7];
-    for (int i = 0; i < h; ++i) {
-        vec2 prev = hull[(i + h - 1) % h], here = hull[i], next = hull[(i + 1) % h];
-        vec2 e1 = normalize(here - prev), e2 = normalize(next - here);
-        vec2 n1 = vec2(e1.y, -e1.x), n2 = vec2(e2.y, -e2.x);
-        moved[i] = here + by * (n1 + n2) / max(1.0 + dot(n1, n2), 0.125);
-    }
-    for (int i = 0; i < h; ++i) hull[i] = moved[i];
+// A quad `by` around the segment a-b (a square where a == b), in texels.
+void emit_around_segment(vec2 a, vec2 b, float by, vec2 size) {
+    vec2 along = a != b ? normalize(b - a) * by : vec2(by, 0.0);
+    vec2 across = vec2(-along.y, along.x);
+    emit_ndc((a - along - across) / size * 2.0 - 1.0);
+    emit_ndc((b + along - across) / size * 2.0 - 1.0);
+    emit_ndc((a - along + across) / size * 2.0 - 1.0);
+    emit_ndc((b + along + across) / size * 2.0 - 1.0);
+    EndPrimitive();
 }
 
 void main() {
@@ -138,13 +117,33 @@ void main() {
         texels[i] = (ndc * 0.5 + 0.5) * size;
     }
     if (!bounded) {
+        // Some corner at or behind the light: the triangle may contain the light while its
+        // plane passes through it.
+        light_cuts = vec3(EXACT_NO_ROOT);
+        if (!all_in_front) {
+            vec3 p[3], q[3];
+            for (int k = 0; k < 3; ++k) {
+                p[k] = corner_at0[k].xyz;
+                q[k] = corner_at1[k].xyz;
+            }
+            light_cuts = light_crossing_times(p, q);
+        }
         emit_whole_map();
         return;
     }
-    vec2 hull[7];
-    int h = convex_hull(texels, hull);
-    if (h < 3) return;  // seen edge-on all frame long: covers no texel centre
-    dilate(hull, h, DILATION_TEXELS);
+    light_cuts = vec3(EXACT_NO_ROOT);  // all in front: never contains the light
+    vec2 hull[2 * HULL_MAX_POINTS];
+    float merge = hull_merge_distance(texels, 6);
+    int h = convex_hull(texels, 6, merge, hull);
+    // The hull may miss up to `merge` of the footprint (convex_hull.glsl): grown by that too.
+    float grow = DILATION_TEXELS + 1.5 * merge;
+    if (h < 3) {
+        // A point or a segment: seen edge-on all frame long, or smaller than `merge`. A thin
+        // quad around it; the fragment shader finds whatever it covers (nothing edge-on).
+        emit_around_segment(hull[0], hull[h - 1], grow, size);
+        return;
+    }
+    h = hull_grow(hull, h, grow);
     // A convex polygon as one strip: 0, 1, h-1, 2, h-2, ...
     int lo = 0, hi = h - 1;
     emit_ndc(hull[lo++] / size * 2.0 - 1.0);

@@ -13,6 +13,7 @@ layout(push_constant) uniform Push { PassConstants pc; };
 layout(location = 0) flat in vec4 in_at0[3];
 layout(location = 3) flat in vec4 in_at1[3];
 layout(location = 6) flat in uint in_id;
+layout(location = 7) flat in vec3 in_cuts;
 
 void main() {
     MsShadowMap map = MsShadowMap(pc.map);
@@ -22,7 +23,7 @@ void main() {
     for (int k = 0; k < 3; ++k) corners[k] = ExactCorner(in_at0[k], in_at1[k]);
     uint p = pixel.y * map.size.x + pixel.x;
     vec2 a[3], d[3];
-    ExactRuns runs = exact_prism_runs(corners, ndc, a, d);
+    ExactRuns runs = exact_prism_runs(corners, ndc, in_cuts, a, d);
     for (int i = 0; i < runs.count; ++i) {
         vec2 times, depths;
         exact_run_nodes(a, d, corners, runs, i, times, depths);

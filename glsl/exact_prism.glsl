@@ -15,8 +15,11 @@
 // e_k / (e_0 + e_1 + e_2) with e_k = cross(u_{k+1}, u_{k+2}), each a quadratic in t. Coverage
 // changes only where some e_k crosses zero (an edge passes over the centre), so the roots of
 // the three quadratics in (0, 1) cut the shutter into pieces of constant coverage; each piece
-// is tested at its midpoint. The result is a list of disjoint covered runs [t_a, t_b], each
-// emitted as two nodes (time, depth), which the generation pass pairs in time order as usual.
+// is tested at its midpoint. So do the times the triangle's plane passes through a spot
+// light's position, where the "in front of the light" test flips with no edge passing the
+// centre (light_crossing.glsl, found once per triangle by the geometry shader). The result
+// is a list of disjoint covered runs [t_a, t_b], each emitted as two nodes (time, depth),
+// which the generation pass pairs in time order as usual.
 //
 // Watertight by construction: two triangles sharing an edge compute its e from the same
 // vertex data with the operands swapped, and `precise` keeps the compiler from fusing the
@@ -32,8 +35,9 @@ struct ExactCorner {
     vec4 at1;
 };
 
-// At most 6 roots cut [0, 1] into 7 pieces, so at most 4 covered runs: 8 nodes.
-const int EXACT_MAX_RUNS = 4;
+// At most 6 edge roots and 3 light crossings (light_crossing.glsl) cut [0, 1] into 10
+// pieces, so at most 5 covered runs: 10 nodes.
+const int EXACT_MAX_RUNS = 5;
 
 // The covered runs of a texel: run i from start[i] to end[i] (covered throughout), `inner`
 // a time inside it (where the triangle is not seen edge-on, for the depths at its ends).
@@ -73,15 +77,25 @@ vec2 exact_roots01(float a, float b, float c) {
     return roots;
 }
 
-// Sorts six values in place with a fixed network of compare-exchanges: no indexing by
-// run-time values (which a CPU device turns into per-lane gathers).
-void exact_sort6(inout float r[6]) {
 #define EXACT_SWAP(i, j) { float lo = min(r[i], r[j]); r[j] = max(r[i], r[j]); r[i] = lo; }
+// Sorts the first six values in place with a fixed network of compare-exchanges: no
+// indexing by run-time values (which a CPU device turns into per-lane gathers).
+void exact_sort6(inout float r[9]) {
     EXACT_SWAP(1, 2) EXACT_SWAP(4, 5) EXACT_SWAP(0, 2) EXACT_SWAP(3, 5)
     EXACT_SWAP(0, 1) EXACT_SWAP(3, 4) EXACT_SWAP(1, 4) EXACT_SWAP(0, 3)
     EXACT_SWAP(2, 5) EXACT_SWAP(1, 3) EXACT_SWAP(2, 4) EXACT_SWAP(2, 3)
-#undef EXACT_SWAP
 }
+
+// Merges the ascending r[6..8] into the sorted r[0..5] (insertion, fixed indices).
+void exact_merge3(inout float r[9]) {
+    EXACT_SWAP(5, 6) EXACT_SWAP(4, 5) EXACT_SWAP(3, 4) EXACT_SWAP(2, 3) EXACT_SWAP(1, 2)
+    EXACT_SWAP(0, 1)
+    EXACT_SWAP(6, 7) EXACT_SWAP(5, 6) EXACT_SWAP(4, 5) EXACT_SWAP(3, 4) EXACT_SWAP(2, 3)
+    EXACT_SWAP(1, 2)
+    EXACT_SWAP(7, 8) EXACT_SWAP(6, 7) EXACT_SWAP(5, 6) EXACT_SWAP(4, 5) EXACT_SWAP(3, 4)
+    EXACT_SWAP(2, 3)
+}
+#undef EXACT_SWAP
 
 struct ExactState {
     vec3 e;       // e_k: the (unnormalised) barycentric weight of corner k
@@ -138,8 +152,10 @@ float exact_depth_at(ExactState at_end, ExactState inside) {
     return at_end.depth / area;
 }
 
-// The covered runs of the texel whose centre is `ndc`.
-ExactRuns exact_prism_runs(ExactCorner c[3], vec2 ndc, out vec2 a[3], out vec2 d[3]) {
+// The covered runs of the texel whose centre is `ndc`; `cuts` are the times the triangle's
+// plane passes through the light (light_crossing.glsl), ascending, EXACT_NO_ROOT unused.
+ExactRuns exact_prism_runs(ExactCorner c[3], vec2 ndc, vec3 cuts, out vec2 a[3],
+                           out vec2 d[3]) {
     bool moving = false;
     for (int k = 0; k < 3; ++k) {
         precise vec2 u0 = c[k].at0.xy - ndc * c[k].at0.z;
@@ -151,7 +167,10 @@ ExactRuns exact_prism_runs(ExactCorner c[3], vec2 ndc, out vec2 a[3], out vec2 d
     }
     // A triangle that does not move has no roots: one piece, tested at t = 0.5 (d is zero,
     // so u = a exactly), [0, 1] or nothing.
-    float roots[6];
+    float roots[9];
+    roots[6] = cuts.x;
+    roots[7] = cuts.y;
+    roots[8] = cuts.z;
     for (int k = 0; k < 3; ++k) {
         int i = (k + 1) % 3, j = (k + 2) % 3;
         precise float qa = exact_cross(d[i], d[j]);
@@ -162,8 +181,10 @@ ExactRuns exact_prism_runs(ExactCorner c[3], vec2 ndc, out vec2 a[3], out vec2 d
         roots[2 * k + 1] = r.y;
     }
     exact_sort6(roots);
+    // The same for every fragment of the triangle: most never take this.
+    if (cuts.x < EXACT_NO_ROOT) exact_merge3(roots);
     int n = 0;
-    for (int k = 0; k < 6; ++k) n += roots[k] < EXACT_NO_ROOT ? 1 : 0;
+    for (int k = 0; k < 9; ++k) n += roots[k] < EXACT_NO_ROOT ? 1 : 0;
 
     ExactRuns runs;
     runs.count = 0;

@@ -25,7 +25,10 @@ layout(location = 3) flat out vec3 out_p1[3];
 
 CameraParams camera;
 
-const int MAX_CLIPPED = 12;  // corners in front of the near plane and crossings of it
+// Corners in front of the near plane and crossings of it.
+#define HULL_MAX_POINTS 12
+#include "convex_hull.glsl"
+const int MAX_CLIPPED = HULL_MAX_POINTS;
 // Grown hull points: one per hull vertex plus the pixel-square corners where the outward
 // normal crosses a quadrant boundary, 4 in all around a convex polygon: at most
 // MAX_CLIPPED + 4 = 16. Floating-point wobble on near-collinear edges could add a few;
@@ -34,10 +37,6 @@ const int MAX_POINTS = 32;
 
 vec2 to_pixels(vec4 clip) {
     return (clip.xy / clip.w * 0.5 + 0.5) * vec2(camera.image.xy);
-}
-
-float cross_z(vec2 o, vec2 a, vec2 b) {
-    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
 }
 
 // Quadrant of a direction, counter-clockwise from +x+y; the pixel-square corner with those
@@ -91,28 +90,11 @@ void main() {
     }
     if (n == 0) return;
 
-    // Convex hull of the points (Andrew's monotone chain), counter-clockwise.
-    for (int i = 1; i < n; ++i) {
-        vec2 key = pts[i];
-        int j = i - 1;
-        while (j >= 0 && (pts[j].x > key.x || (pts[j].x == key.x && pts[j].y > key.y))) {
-            pts[j + 1] = pts[j];
-            --j;
-        }
-        pts[j + 1] = key;
-    }
-    vec2 hull[2 * MAX_CLIPPED + 1];
-    int k = 0;
-    for (int i = 0; i < n; ++i) {
-        while (k >= 2 && cross_z(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
-        hull[k++] = pts[i];
-    }
-    int lower = k + 1;
-    for (int i = n - 2; i >= 0; --i) {
-        while (k >= lower && cross_z(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
-        hull[k++] = pts[i];
-    }
-    int h = max(k - 1, 1);  // the last point repeats the first; all points equal: just one
+    // Convex hull of the points, counter-clockwise (convex_hull.glsl: equal and nearly equal
+    // points merged, which the growth below makes up for).
+    float merge = hull_merge_distance(pts, n);
+    vec2 hull[2 * HULL_MAX_POINTS];
+    int h = convex_hull(pts, n, merge, hull);
 
     // Grown by the pixel square (half a pixel, plus a margin for rounding), so that a pixel is
     // rasterized iff any point of it may be hit. Each edge moves out by the square's support
@@ -120,9 +102,9 @@ void main() {
     // vertices: the rasterizer's cost grows with the triangles of the strip); where the edges
     // meet at a sharp angle, that point lies far out, and the exact sum is used instead: the
     // square corners supporting the outward normals between the two edges.
-    const float r = 0.5 + 1.0 / 64.0;
+    float r = 0.5 + 1.0 / 64.0 + 1.5 * merge;
     const float MITER_LIMIT = 2.0;  // pixels from the hull vertex
-    const vec2 corner[4] = vec2[4](vec2(r, r), vec2(-r, r), vec2(-r, -r), vec2(r, -r));
+    vec2 corner[4] = vec2[4](vec2(r, r), vec2(-r, r), vec2(-r, -r), vec2(r, -r));
     vec2 poly[MAX_POINTS];
     int count = 0;
     bool overflow = false;

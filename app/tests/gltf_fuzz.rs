@@ -21,21 +21,10 @@ const CASE_PEAK_LIMIT: usize = 512 << 20;
 /// Cases run (each parses and loads the whole model: about 1 ms in the test profile).
 const CASES: usize = 4000;
 
-/// SplitMix64.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-}
+#[allow(dead_code)]
+#[path = "../../tests/support/rng.rs"]
+mod rng;
+use rng::Rng;
 
 /// The top-level arrays whose fields decide how much the loader reads and builds.
 const SECTIONS: &[&str] = &[

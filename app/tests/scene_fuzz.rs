@@ -21,27 +21,10 @@ mod counting_alloc;
 /// can ask for (boxes of 256 x 256 quads a face), far below what the probes needed (GiBs).
 const CASE_PEAK_LIMIT: usize = 1 << 30;
 
-/// SplitMix64: small, seeded, good enough to pick grammar branches.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-    fn chance(&mut self, p: f64) -> bool {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64 > 1.0 - p
-    }
-    fn pick<'a>(&mut self, items: &[&'a str]) -> &'a str {
-        items[self.below(items.len())]
-    }
-}
+#[allow(dead_code)]
+#[path = "../../tests/support/rng.rs"]
+mod rng;
+use rng::Rng;
 
 struct Generator {
     rng: Rng,

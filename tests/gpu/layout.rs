@@ -7,47 +7,22 @@
 //! generated constants, not one of the library's shaders.
 
 use crate::support::gpu::{assert_no_validation_messages, context};
+use crate::support::test_shader::compile_compute;
 use glam::{Mat4, UVec4, Vec4};
 use motion_shadows::gpu::{
     Access, Buffer, BufferUsage, OneShot, Spirv, compute_pipeline, memory_barrier,
 };
 use motion_shadows::technique::{
     CameraParams, Counters, DrawRecord, GpuLight, Node, PassConstants, PlainMapHeader, Range,
-    ShadowMapHeader, gpu_constants,
+    ShadowMapHeader,
 };
 
 /// SPIR-V of the probe, its `#include`s resolved from `glsl/` (and the generated constants).
 fn probe_spirv() -> Vec<u8> {
-    let glsl = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("glsl");
-    let compiler = shaderc::Compiler::new().expect("shaderc");
-    let mut options = shaderc::CompileOptions::new().expect("shaderc options");
-    options.set_target_env(
-        shaderc::TargetEnv::Vulkan,
-        shaderc::EnvVersion::Vulkan1_2 as u32,
-    );
-    options.set_include_callback(move |name, _kind, _from, _depth| {
-        let content = if name == "gpu_constants.glsl" {
-            gpu_constants::glsl_header()
-        } else {
-            std::fs::read_to_string(glsl.join(name)).map_err(|e| format!("{name}: {e}"))?
-        };
-        Ok(shaderc::ResolvedInclude {
-            resolved_name: name.to_owned(),
-            content,
-        })
-    });
-    let source = include_str!("../glsl/layout_probe.comp");
-    compiler
-        .compile_into_spirv(
-            source,
-            shaderc::ShaderKind::Compute,
-            "layout_probe.comp",
-            "main",
-            Some(&options),
-        )
-        .unwrap_or_else(|e| panic!("{e}"))
-        .as_binary_u8()
-        .to_vec()
+    compile_compute(
+        "layout_probe.comp",
+        include_str!("../glsl/layout_probe.comp"),
+    )
 }
 
 /// Distinct values for every field, so that a shifted field cannot pass.

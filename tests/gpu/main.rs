@@ -12,6 +12,7 @@ mod deferred_host;
 mod device_setup;
 mod engine_tsm;
 mod exact_prisms;
+mod footprint_hull;
 mod host_memory;
 mod layout;
 mod minimal_host;

@@ -5,5 +5,7 @@ pub mod gpu;
 #[path = "../../examples/deferred_host/host.rs"]
 pub mod host;
 pub mod prism_model;
+pub mod rng;
 pub mod sampling;
 pub mod scene;
+pub mod test_shader;

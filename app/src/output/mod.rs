@@ -3,6 +3,7 @@
 
 mod dir_lock;
 mod exr;
+mod partials;
 mod png;
 mod staged;
 mod target;

@@ -7,15 +7,17 @@
 //! writable), and a target that exists and is not a regular file (a directory, a device, a
 //! FIFO, a socket, a symbolic link) is an error (`target.rs`). The renames happen under a
 //! lock of the directory (`dir_lock.rs`), so two runs' sets never mix. Temporary files are named
-//! `.<target name>.partial-<pid>`; they are removed when the run fails, and a later run into
-//! the same directory removes those a killed run left (on Linux, where it can tell that
-//! their process is gone).
+//! `.<target name>.partial-<owner>` (`partials.rs`); they are removed when the run fails, and
+//! the next run into the same directory removes, under the lock and naming each, those that
+//! a run killed before its commit left (on Linux, where it can tell that their process is
+//! gone): a crash leaves nothing there once the directory is used again.
 
 use std::fs::File;
 use std::path::{Path, PathBuf};
 
 use super::OutputError;
 use super::dir_lock::DirLock;
+use super::partials::{remove_stale, temp_name};
 use super::target::check_replaceable;
 
 /// The files of one run, staged in one directory.
@@ -23,12 +25,6 @@ pub struct StagedFiles {
     entries: Vec<(PathBuf, PathBuf)>,
     dir: PathBuf,
     committed: bool,
-}
-
-const PARTIAL: &str = ".partial-";
-
-fn temp_name(name: &str, pid: u32) -> String {
-    format!(".{name}{PARTIAL}{pid}")
 }
 
 impl StagedFiles {
@@ -63,10 +59,10 @@ impl StagedFiles {
             }
             check_replaceable(&dir.join(name))?;
         }
+        sweep(dir)?;
         for name in names {
             let target = dir.join(name);
-            remove_stale_partials(dir, name);
-            let temp = dir.join(temp_name(name, std::process::id()));
+            let temp = dir.join(temp_name(name));
             // Registered first, so Drop removes it even if creating it half-fails.
             staged.entries.push((temp.clone(), target));
             // Made once to prove the directory takes it, then removed: the writer makes it
@@ -135,28 +131,18 @@ impl Drop for StagedFiles {
     }
 }
 
-/// Removes `.<name>.partial-<pid>` files whose process no longer runs (Linux only: elsewhere
-/// there is no cheap way to tell, and they are left alone).
-fn remove_stale_partials(dir: &Path, name: &str) {
-    if !Path::new("/proc/self").exists() {
-        return;
+/// Removes, under the directory's lock, the temporary files that runs killed before their
+/// commit left in `dir`, and says which on stderr.
+fn sweep(dir: &Path) -> Result<(), OutputError> {
+    let _lock = DirLock::acquire(dir)?;
+    for path in remove_stale(dir) {
+        eprintln!(
+            "note: removed {}, a temporary file left by a run that was killed before it \
+             committed its outputs",
+            path.display()
+        );
     }
-    let prefix = format!(".{name}{PARTIAL}");
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for entry in entries.flatten() {
-        let file_name = entry.file_name();
-        let Some(pid) = file_name.to_str().and_then(|n| n.strip_prefix(&prefix)) else {
-            continue;
-        };
-        let alive = pid
-            .parse::<u32>()
-            .is_ok_and(|p| Path::new("/proc").join(p.to_string()).exists());
-        if !alive {
-            let _ = std::fs::remove_file(entry.path());
-        }
-    }
+    Ok(())
 }
 
 /// Writes `bytes` to `path` through a temporary file and a rename: a failure leaves any
@@ -246,19 +232,6 @@ mod tests {
                 "{bad}"
             );
         }
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
-
-    #[test]
-    fn partial_files_of_dead_runs_are_removed() {
-        let dir = temp_path("staged-stale");
-        std::fs::create_dir_all(&dir).unwrap();
-        // No process has pid 4294967295 (Linux pids stay below 2^22).
-        let stale = dir.join(temp_name("a.png", u32::MAX));
-        std::fs::write(&stale, b"half").unwrap();
-        let staged = StagedFiles::prepare(&dir, &["a.png".into()]).unwrap();
-        assert_eq!(stale.exists(), !Path::new("/proc/self").exists());
-        drop(staged);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -5,12 +5,12 @@
 use super::methods::ShadowOutcome;
 use super::stats::{self, FrameStats, PassTime, equation_2_bytes};
 use super::upload::{self, SceneGeometry};
-use super::{FrameInputs, Method, RenderSettings, Renderer, empty_map, through_light};
+use super::{FrameInputs, Method, RenderSettings, Renderer, empty_map};
 use crate::error::Result;
 use crate::scene::Scene;
 use motion_shadows::gpu::Context;
 use motion_shadows::technique::{
-    DrawList, LightView, LightingTarget, LightingView, PrismConstruction, ShadowEstimator,
+    DrawList, LightView, LightingTarget, LightingView, ShadowEstimator,
 };
 
 /// A frame's scene on the device and its views: what every later step reads.
@@ -221,13 +221,6 @@ pub(super) fn warnings(
             settings.shadow_size(),
             settings.prisms,
         ));
-    }
-    // The exact prisms' one known inexact case: said rather than passed off as exact.
-    if temporal
-        && settings.prisms == PrismConstruction::Exact
-        && let Some(w) = through_light::through_light_warning(scene)
-    {
-        warnings.push(w);
     }
     Ok(warnings)
 }

@@ -12,7 +12,6 @@ mod frame;
 mod methods;
 pub mod receiver;
 pub mod stats;
-mod through_light;
 pub mod times;
 pub mod upload;
 

@@ -22,4 +22,5 @@ mod lighting;
 mod loop_limit;
 mod receiver_plane;
 mod static_layer;
+mod through_light;
 mod visibility;

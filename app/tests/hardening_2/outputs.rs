@@ -153,3 +153,67 @@ fn a_run_killed_while_it_renders_leaves_no_partial_files() {
     child.wait().unwrap();
     assert_eq!(listing(&out), Vec::<String>::new(), "after {seen:?}");
 }
+
+/// A run killed after its writers made their temporary files (SIGKILL; an allocation
+/// failure's abort ends a run as abruptly) leaves them behind: nothing can remove them as
+/// the process dies. The next run into the directory, whatever it writes, removes them under
+/// the directory's lock and names each: the directory then holds what a clean run leaves.
+/// (`animate` makes its GIF's temporary file before the first frame and renames it only
+/// after the last, so a kill lands in that window without racing the run.)
+#[test]
+fn files_a_killed_run_was_writing_are_removed_by_the_next_run() {
+    let out = temp_dir("killed-writing");
+    let mut args = vec![
+        "animate",
+        "--scene",
+        "fox-run",
+        "--frames",
+        "50",
+        "--out",
+        s(&out),
+    ];
+    args.extend(SMALL);
+    let mut child = spawn(&args);
+    let stderr = super::drain(child.stderr.take().unwrap());
+    let start = std::time::Instant::now();
+    let partial = |out: &Path| listing(out).iter().any(|n| n.contains(".partial-"));
+    while !partial(&out) && start.elapsed() < std::time::Duration::from_secs(120) {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the run ended before it wrote anything"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let stderr = String::from_utf8_lossy(&stderr.join().unwrap()).into_owned();
+    let left = listing(&out);
+    assert!(!left.is_empty(), "{stderr}");
+    assert!(
+        left.iter()
+            .all(|n| n.starts_with(".fox-run") && n.contains(".partial-")),
+        "{left:?}"
+    );
+
+    // Another run, other names: the killed run's files go, named, and its own arrive.
+    let mut args = vec!["render", "--out", s(&out)];
+    args.extend(SMALL);
+    let r = run(&args);
+    assert!(r.succeeded(), "{}", r.stderr());
+    for name in &left {
+        assert!(
+            r.stderr()
+                .contains(&format!("note: removed {}", s(&out.join(name)))),
+            "{name} not named: {}",
+            r.stderr()
+        );
+    }
+    assert_eq!(
+        listing(&out),
+        [
+            "cubes-toward-light-temporal.exr",
+            "cubes-toward-light-temporal.png"
+        ]
+    );
+    std::fs::remove_dir_all(&out).ok();
+}
