@@ -146,6 +146,11 @@ impl Buffer {
     pub fn name(&self) -> &str {
         &self.name
     }
+    /// Whether the buffer was made with `ctx` (its device): a safe function that records a
+    /// buffer into a command buffer of a context checks it first.
+    pub fn is_of(&self, ctx: &Context) -> bool {
+        Arc::ptr_eq(&self.shared, &ctx.shared)
+    }
     /// Bytes of its memory allocation (at least [`Self::size`]: the device's requirements
     /// may round it up).
     pub fn allocated_bytes(&self) -> u64 {

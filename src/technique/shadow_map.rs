@@ -536,6 +536,12 @@ pub(crate) fn download<T: bytemuck::Pod>(
     buffer: &Buffer,
     count: usize,
 ) -> Result<Vec<T>> {
+    if !buffer.is_of(ctx) {
+        return Err(Error::InvalidArgument(format!(
+            "{} was made with another context than the one given to copy it",
+            buffer.name()
+        )));
+    }
     let bytes = (count * std::mem::size_of::<T>()) as u64;
     if bytes == 0 {
         return Ok(Vec::new());

@@ -275,3 +275,23 @@ fn a_hosts_context_retires_even_before_its_first_frame() {
     drop(allocator);
     host.assert_clean_teardown();
 }
+
+/// A safe function never records one context's buffer into another's command buffer (a
+/// foreign handle is undefined behaviour): downloading a map with another context than its
+/// own is refused by name.
+#[test]
+fn a_map_is_not_copied_with_another_context() {
+    let (ctx, other) = (
+        crate::support::gpu::context(),
+        crate::support::gpu::context(),
+    );
+    let map = TemporalShadowMap::new(&ctx, 8, 8, 16, 16).expect("map");
+    let err = map
+        .download_static_layer(&other)
+        .expect_err("a foreign context is refused");
+    assert!(err.to_string().contains("another context"), "{err}");
+    assert!(map.download_static_layer(&ctx).is_ok());
+    drop(map);
+    crate::support::gpu::assert_no_validation_messages(&ctx);
+    crate::support::gpu::assert_no_validation_messages(&other);
+}
