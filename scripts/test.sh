@@ -30,6 +30,9 @@ export MOTION_SHADOWS_VALIDATION=1
 
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets -- -D warnings
+# The engine core alone (no research passes), as an engine with default-features = false
+# builds it.
+cargo clippy -p motion-shadows --lib --no-default-features -- -D warnings
 if [[ $quick == 1 ]]; then
     skips=()
     while read -r name; do

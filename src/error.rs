@@ -6,15 +6,11 @@ use ash::vk;
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// The Vulkan loader (`libvulkan.so.1`) could not be opened.
-    #[error(
-        "cannot load the Vulkan loader: {0}. Install it (Debian: `apt-get install libvulkan1 mesa-vulkan-drivers`, or run scripts/setup.sh)"
-    )]
+    #[error("cannot load the Vulkan loader (libvulkan.so.1 / vulkan-1.dll): {0}")]
     Loader(String),
 
     /// No Vulkan device is visible at all.
-    #[error(
-        "no Vulkan device found{detail}. For a CPU device install lavapipe (Debian: `apt-get install mesa-vulkan-drivers`, or run scripts/setup.sh); check VK_DRIVER_FILES / VK_ICD_FILENAMES if set"
-    )]
+    #[error("no Vulkan device found{detail}; a GPU driver or lavapipe (a CPU device) provides one")]
     NoDevice {
         /// What the loader said, if anything.
         detail: String,
@@ -37,9 +33,7 @@ pub enum Error {
     },
 
     /// The Khronos validation layer was requested but is not installed.
-    #[error(
-        "the Vulkan validation layer VK_LAYER_KHRONOS_validation is not installed (Debian: `apt-get install vulkan-validationlayers`)"
-    )]
+    #[error("the Vulkan validation layer VK_LAYER_KHRONOS_validation is not installed")]
     ValidationLayerMissing,
 
     /// A Vulkan call failed.

@@ -64,7 +64,9 @@
 //!             0,
 //!         )
 //!     };
-//!     // Each frame, in the host's command buffer (recording, outside any render pass):
+//!     // Each frame (here frame 1), in the host's command buffer (recording, outside any
+//!     // render pass):
+//!     ctx.begin_frame(1);
 //!     unsafe {
 //!         draws.record_update(&device, cmd, &[draw])?;
 //!         collection.record(&device, cmd, &draws, &light, &map, None)?;
@@ -72,7 +74,10 @@
 //!         map.record_counter_readback(&device, cmd);
 //!     }
 //!     // ... the host's shading passes `map.header_address()` to `ms_visibility` ...
-//!     // After the frame's fence: grow for the next frame if this one overflowed.
+//!     // After the frame's fence: destroy what was dropped while it was in flight (the old
+//!     // buffers of a map that grows wait for this), and grow if this frame overflowed.
+//!     // SAFETY: frame 1's fence has signalled.
+//!     unsafe { ctx.collect(1) };
 //!     let counts = map.read_counters()?;
 //!     if map.needs_more_room(&counts) {
 //!         map.reserve(&ctx, counts.node_count / 4 * 5, counts.range_count / 4 * 5)?;
@@ -89,5 +94,5 @@ pub mod gpu;
 pub mod technique;
 
 pub use error::{Error, Result};
-/// The ash (Vulkan) and glam (math) versions the library's API uses.
-pub use {ash, glam};
+/// The ash (Vulkan), glam (math) and gpu-allocator versions the library's API uses.
+pub use {ash, glam, gpu_allocator};

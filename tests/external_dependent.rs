@@ -116,7 +116,7 @@ fn main() {
     let headless: fn(&ContextOptions) -> motion_shadows::Result<Context> = Context::headless;
     std::hint::black_box(headless);
 
-    let spirv = shaders::SCENE_VERT;
+    let spirv = shaders::SCENE_VERT.bytes();
     assert!(spirv.len() >= 20 && spirv.len() % 4 == 0, "SPIR-V of {} bytes", spirv.len());
     assert_eq!(spirv[..4], 0x0723_0203u32.to_le_bytes(), "SPIR-V magic number");
     println!("scene.vert: {} bytes of SPIR-V", spirv.len());

@@ -37,6 +37,9 @@ fn main() -> ExitCode {
                     eprintln!("    {i}: {}", clip(&cause.to_string(), MAX_ERROR_CHARS));
                 }
             }
+            if let Some(hint) = motion_shadows_app::cli::install_hint::for_chain(&error) {
+                eprintln!("\nTo fix: {hint}");
+            }
             ExitCode::FAILURE
         }
     }

@@ -491,6 +491,9 @@ pub struct Engine<'h> {
     geometry: Geometry,
     slots: Vec<Slot>,
     passes: Passes,
+    /// Submissions so far: the frame number the library is told (`Context::begin_frame`),
+    /// counting re-rendered frames again, so that it only grows.
+    submissions: u64,
     // Last: every library object above must go before the context.
     ctx: Context,
 }
@@ -520,6 +523,9 @@ struct Slot {
     fence: vk::Fence,
     /// The frame submitted with this slot and not yet retired.
     pending: Option<u32>,
+    /// Its submission's number (`Engine::submissions`): what `Context::collect` is told once
+    /// the slot's fence has signalled.
+    submission: u64,
     attempts: u32,
     frame_constants: HostBuffer,
     /// Last frame's and this frame's positions of the deformed meshes.
@@ -598,6 +604,7 @@ impl<'h> Engine<'h> {
             pipelines,
             geometry,
             slots: Vec::new(),
+            submissions: 0,
             passes: Passes {
                 collection: CollectionPass::new(&ctx)?,
                 generation: GenerationPass::new(&ctx)?,
@@ -695,6 +702,7 @@ impl<'h> Engine<'h> {
                 cmd,
                 fence,
                 pending: None,
+                submission: 0,
                 attempts: 0,
                 frame_constants: HostBuffer::new(
                     host,
@@ -921,6 +929,9 @@ impl<'h> Engine<'h> {
             unsafe { device.wait_for_fences(&[self.slots[slot].fence], true, u64::MAX) }
                 .vk("vkWaitForFences")?;
             self.slots[slot].pending = None;
+            // SAFETY: this slot's submission has completed, and with it every earlier one on
+            // the queue: what was dropped while recording them can go.
+            unsafe { self.ctx.collect(self.slots[slot].submission) };
             let (s, ctx) = (&mut self.slots[slot], &self.ctx);
             let mut complete = true;
             for map in &mut s.maps {
@@ -995,6 +1006,10 @@ impl<'h> Engine<'h> {
     /// Writes the slot's per-frame buffers, records frame `frame` into its command buffer and
     /// submits it with its fence. The slot must be idle (retired).
     fn submit(&mut self, world: &World, slot: usize, frame: u32) -> Result<()> {
+        // Library objects dropped from here on (a map that grows) wait for this submission.
+        self.submissions += 1;
+        self.ctx.begin_frame(self.submissions);
+        self.slots[slot].submission = self.submissions;
         let host = self.host;
         let device = &host.device;
         let f = frame as f64;
@@ -1080,6 +1095,10 @@ impl<'h> Engine<'h> {
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(s.cmd)];
         let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
         unsafe { device.queue_submit2(host.queue, &submit, s.fence) }.vk("vkQueueSubmit2")?;
+        // The maps' static layers drawn by this frame may be kept by the slot's next one.
+        for map in &s.maps {
+            map.static_layer_submitted();
+        }
         s.pending = Some(frame);
         s.attempts += 1;
         Ok(())

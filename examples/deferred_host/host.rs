@@ -280,6 +280,14 @@ impl Host {
     /// Records `f` into the host's own command buffer, submits it on the host's queue with
     /// the host's fence, and waits for it.
     pub fn record_and_wait(&self, f: impl FnOnce(vk::CommandBuffer)) -> Result<(), String> {
+        self.record_and_submit(f)?;
+        self.wait()
+    }
+
+    /// Records `f` into the host's own command buffer and submits it on the host's queue with
+    /// the host's fence, without waiting: the frame is in flight until [`Self::wait`]. The
+    /// previous submission must have been waited for.
+    pub fn record_and_submit(&self, f: impl FnOnce(vk::CommandBuffer)) -> Result<(), String> {
         let d = &self.device;
         unsafe {
             d.reset_command_buffer(self.cmd, vk::CommandBufferResetFlags::empty())
@@ -299,10 +307,14 @@ impl Host {
             let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
             d.queue_submit2(self.queue, &submit, self.fence)
                 .map_err(|e| format!("vkQueueSubmit2: {e}"))?;
-            d.wait_for_fences(&[self.fence], true, u64::MAX)
-                .map_err(|e| format!("vkWaitForFences: {e}"))?;
         }
         Ok(())
+    }
+
+    /// Waits for the host's fence (the last submission).
+    pub fn wait(&self) -> Result<(), String> {
+        unsafe { self.device.wait_for_fences(&[self.fence], true, u64::MAX) }
+            .map_err(|e| format!("vkWaitForFences: {e}"))
     }
 
     /// Destroys the host's device and instance and asserts that the validation layer heard

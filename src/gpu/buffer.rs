@@ -1,6 +1,7 @@
 //! Buffers that free their memory and handle exactly once, when dropped.
 
 use super::context::{Context, Shared};
+use super::retire::{Doomed, Handle};
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
@@ -141,9 +142,19 @@ impl Buffer {
     pub fn size(&self) -> u64 {
         self.size
     }
-    /// The name it was created with.
+    /// The name it was created with (also its allocation's name in the allocator).
     pub fn name(&self) -> &str {
         &self.name
+    }
+    /// Whether the buffer was made with `ctx` (its device): a safe function that records a
+    /// buffer into a command buffer of a context checks it first.
+    pub fn is_of(&self, ctx: &Context) -> bool {
+        Arc::ptr_eq(&self.shared, &ctx.shared)
+    }
+    /// Bytes of its memory allocation (at least [`Self::size`]: the device's requirements
+    /// may round it up).
+    pub fn allocated_bytes(&self) -> u64 {
+        self.allocation.as_ref().map_or(0, |a| a.size())
     }
 
     /// Writes `data` at the start of a host-visible buffer.
@@ -239,14 +250,13 @@ impl Buffer {
 }
 
 impl Drop for Buffer {
+    /// Retires the buffer: destroyed once no pending frame can use it (see
+    /// [`Context::begin_frame`]).
     fn drop(&mut self) {
-        unsafe { self.shared.device.destroy_buffer(self.raw, None) };
-        if let Some(allocation) = self.allocation.take() {
-            if let Ok(mut allocator) = self.shared.allocator.lock() {
-                if let Err(e) = allocator.free(allocation) {
-                    log::error!("freeing {}: {e}", self.name);
-                }
-            }
-        }
+        self.shared.retire(Doomed {
+            handles: vec![Handle::Buffer(self.raw)],
+            allocation: self.allocation.take(),
+            name: std::mem::take(&mut self.name),
+        });
     }
 }

@@ -15,9 +15,10 @@ pub struct OneShot<'a> {
 impl<'a> OneShot<'a> {
     /// A command buffer from the context's pool and an unsignalled fence.
     pub fn new(ctx: &'a Context) -> Result<Self> {
+        let pool = ctx.one_shot_lock()?;
         let device = ctx.device();
         let info = vk::CommandBufferAllocateInfo::default()
-            .command_pool(ctx.command_pool())
+            .command_pool(*pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
         let cmd =
@@ -25,7 +26,7 @@ impl<'a> OneShot<'a> {
         let fence = match unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) } {
             Ok(f) => f,
             Err(result) => {
-                unsafe { device.free_command_buffers(ctx.command_pool(), &[cmd]) };
+                unsafe { device.free_command_buffers(*pool, &[cmd]) };
                 return Err(crate::Error::Vulkan {
                     call: "vkCreateFence",
                     result,
@@ -35,8 +36,13 @@ impl<'a> OneShot<'a> {
         Ok(Self { ctx, cmd, fence })
     }
 
-    /// Records with `record`, submits, and waits until the GPU is done.
+    /// Records with `record`, submits, and waits until the GPU is done. Objects dropped
+    /// meanwhile (in `record`, say) are destroyed after the wait, not at once.
     pub fn run(&self, record: impl FnOnce(vk::CommandBuffer) -> Result<()>) -> Result<()> {
+        // The pool and queue, for the whole recording, submission and wait. (So a OneShot
+        // run inside another's `record` on the same context waits forever: run it after.)
+        let _locked = self.ctx.one_shot_lock()?;
+        let _under_way = UnderWay::begin(self.ctx);
         let device = self.ctx.device();
         unsafe {
             device
@@ -66,12 +72,39 @@ impl<'a> OneShot<'a> {
     }
 }
 
+/// A OneShot's recording and run, for retirement (`retire.rs`): a headless context keeps
+/// what is dropped meanwhile and destroys it at the end, once the run has waited or failed
+/// (an error after the submission has waited for nothing: the fence wait is the last step,
+/// and a failed wait leaves the device lost).
+struct UnderWay<'a>(&'a Context);
+
+impl<'a> UnderWay<'a> {
+    fn begin(ctx: &'a Context) -> Self {
+        ctx.shared.retirement().one_shot_begins();
+        Self(ctx)
+    }
+}
+
+impl Drop for UnderWay<'_> {
+    fn drop(&mut self) {
+        if self.0.shared.retirement().one_shot_ends() {
+            // SAFETY: a headless context's queue runs only OneShots, and none is under way:
+            // each waited for its work (or never submitted it).
+            unsafe { self.0.shared.collect(None) };
+        }
+    }
+}
+
 impl Drop for OneShot<'_> {
     fn drop(&mut self) {
+        // The pool exists: this OneShot's command buffer came from it.
+        let Ok(pool) = self.ctx.one_shot_lock() else {
+            return;
+        };
         let device = self.ctx.device();
         unsafe {
             device.destroy_fence(self.fence, None);
-            device.free_command_buffers(self.ctx.command_pool(), &[self.cmd]);
+            device.free_command_buffers(*pool, &[self.cmd]);
         }
     }
 }

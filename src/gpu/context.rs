@@ -3,6 +3,7 @@
 use super::debug::{self, MessageSink, Messenger};
 use super::device_select;
 use super::requirements::{DeviceFeatures, describe};
+use super::retire::{Doomed, Retirement};
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
@@ -45,6 +46,8 @@ pub struct DeviceInfo {
     pub timestamp_valid_bits: u32,
     /// Bits of sub-pixel precision the rasterizer snaps vertex positions to.
     pub sub_pixel_precision_bits: u32,
+    /// maxPushConstantsSize: the most push-constant bytes a pipeline layout may have.
+    pub max_push_constants_size: u32,
     /// shaderStorageImageWriteWithoutFormat is enabled (a headless context enables it where
     /// supported; a host says so in [`Context::from_raw`]): the visibility-mask pass needs it.
     pub storage_image_write_without_format: bool,
@@ -80,11 +83,43 @@ impl DeviceInfo {
 }
 
 /// Objects that must outlive every buffer and pipeline: freed last, in the right order
-/// (allocator before device, device before instance).
+/// (retired objects, then the allocator, before the device; the device before the instance).
 pub(crate) struct Shared {
     pub device: ash::Device,
-    pub allocator: ManuallyDrop<Mutex<Allocator>>,
+    /// maxPushConstantsSize: pipeline layouts are checked against it.
+    pub max_push_constants_size: u32,
+    /// The context's own allocator, or the host's ([`Context::from_raw_with_allocator`]).
+    pub allocator: ManuallyDrop<Arc<Mutex<Allocator>>>,
+    retirement: Retirement,
     owned: Option<Owned>,
+}
+
+impl Shared {
+    /// Destroys `doomed` once no pending work can use it (see `retire.rs`).
+    pub(crate) fn retire(&self, doomed: Doomed) {
+        // SAFETY: objects made on this device, from this allocator, retired once (by their
+        // Drop).
+        unsafe {
+            self.retirement
+                .retire(doomed, &self.device, &self.allocator)
+        };
+    }
+
+    /// Destroys what waits for frames up to `completed` (everything: `None`).
+    ///
+    /// # Safety
+    /// Those frames' work has completed (`None`: no work is pending).
+    pub(crate) unsafe fn collect(&self, completed: Option<u64>) -> usize {
+        // SAFETY: the caller's contract.
+        unsafe {
+            self.retirement
+                .collect(completed, &self.device, &self.allocator)
+        }
+    }
+
+    pub(crate) fn retirement(&self) -> &Retirement {
+        &self.retirement
+    }
 }
 
 struct Owned {
@@ -103,9 +138,14 @@ unsafe impl Sync for Owned {}
 
 impl Drop for Shared {
     fn drop(&mut self) {
-        // SAFETY: every resource holding an Arc<Shared> is gone; the allocator must be dropped
-        // before the device is destroyed (it frees its memory blocks then).
-        unsafe { ManuallyDrop::drop(&mut self.allocator) };
+        // SAFETY: every resource holding an Arc<Shared> is gone, and no work is pending (the
+        // contracts of `from_raw` and of a headless context's drop, which waits): what waits
+        // for its frame can go. The allocator must be dropped before the device is destroyed
+        // (it frees its memory blocks then); a host's allocator stays with the host.
+        unsafe {
+            self.collect(None);
+            ManuallyDrop::drop(&mut self.allocator);
+        }
         if let Some(owned) = self.owned.take() {
             unsafe {
                 self.device.destroy_device(None);
@@ -121,10 +161,17 @@ impl Drop for Shared {
 /// wrapped around a host engine's handles ([`Context::from_raw`]).
 pub struct Context {
     pub(crate) shared: Arc<Shared>,
+    /// For format queries (the caller keeps it alive: `from_raw`'s contract).
+    instance: ash::Instance,
     physical: vk::PhysicalDevice,
+    /// Held while a [`super::OneShot`] allocates, records, submits and waits, or frees: the
+    /// command pool and the queue need external synchronization, and the context may be
+    /// shared between threads.
+    /// The command pool, made by the first OneShot (a host that records only into its own
+    /// command buffers gets none).
+    one_shot: Mutex<vk::CommandPool>,
     queue: vk::Queue,
     queue_family: u32,
-    command_pool: vk::CommandPool,
     info: DeviceInfo,
     messages: MessageSink,
 }
@@ -163,12 +210,34 @@ fn device_info(
             .get(family as usize)
             .map_or(0, |f| f.timestamp_valid_bits),
         sub_pixel_precision_bits: props.limits.sub_pixel_precision_bits,
+        max_push_constants_size: props.limits.max_push_constants_size,
         storage_image_write_without_format: enabled.storage_image_write_without_format(),
         host_query_reset: enabled.host_query_reset(),
         attachment_format_features: [vk::Format::D32_SFLOAT, vk::Format::R32_UINT].map(|f| {
             unsafe { instance.get_physical_device_format_properties(pd, f) }.optimal_tiling_features
         }),
     }
+}
+
+/// A gpu-allocator of the library's own on `device`.
+fn new_allocator(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+    device: &ash::Device,
+) -> Result<Arc<Mutex<Allocator>>> {
+    let allocator = Allocator::new(&AllocatorCreateDesc {
+        instance: instance.clone(),
+        device: device.clone(),
+        physical_device: physical,
+        debug_settings: Default::default(),
+        buffer_device_address: true,
+        allocation_sizes: Default::default(),
+    })
+    .map_err(|source| Error::Allocation {
+        what: "the allocator".into(),
+        source,
+    })?;
+    Ok(Arc::new(Mutex::new(allocator)))
 }
 
 impl Context {
@@ -247,6 +316,13 @@ impl Context {
             messenger,
             creation_sink,
         };
+        let allocator = match new_allocator(&owned.instance, chosen.physical, &device) {
+            Ok(a) => a,
+            Err(e) => {
+                unsafe { device.destroy_device(None) };
+                return Err(e);
+            }
+        };
         // SAFETY: the handles were just created by us, and `owned` destroys them.
         unsafe {
             Self::assemble(
@@ -256,6 +332,7 @@ impl Context {
                 chosen.queue_family,
                 queue,
                 &enabled,
+                allocator,
                 Some(owned),
                 messages,
             )
@@ -279,9 +356,17 @@ impl Context {
     ///   `enabled` enabled ([`super::DeviceRequirements`] lists them).
     /// - `instance` and `device` outlive the returned context and every object made from it.
     /// - The library submits to `queue` only through [`super::OneShot`] (which the standalone
-    ///   renderer uses); passes only record into command buffers the host gives them.
-    /// - No work using the context's objects is pending when they, or the context, are
-    ///   dropped (the context does not wait on a host's device).
+    ///   renderer and `TemporalShadowMap::download` use); passes only record into command
+    ///   buffers the host gives them. The host does not use `queue` from another thread
+    ///   while a `OneShot` of this context runs (Vulkan's external synchronization of
+    ///   queues: the context serializes its own OneShots, not the host's submissions).
+    /// - No work using the context's objects is pending when the context and the last of
+    ///   its objects are gone (the context does not wait on a host's device). Objects
+    ///   dropped before that wait for the host's fences: see [`Self::begin_frame`] and
+    ///   [`Self::collect`].
+    ///
+    /// The context makes its memory with a gpu-allocator of its own on `device`; to count
+    /// it in the host's budget, give the host's with [`Self::from_raw_with_allocator`].
     pub unsafe fn from_raw(
         instance: &ash::Instance,
         physical: vk::PhysicalDevice,
@@ -289,6 +374,39 @@ impl Context {
         queue_family: u32,
         queue: vk::Queue,
         enabled: &DeviceFeatures,
+    ) -> Result<Self> {
+        let allocator = new_allocator(instance, physical, &device)?;
+        // SAFETY: the caller's contract.
+        unsafe {
+            Self::from_raw_with_allocator(
+                instance,
+                physical,
+                device,
+                queue_family,
+                queue,
+                enabled,
+                allocator,
+            )
+        }
+    }
+
+    /// [`Self::from_raw`], with the host's gpu-allocator: every buffer and image the library
+    /// makes is an allocation of the host's, named after what it holds (e.g. `"nodes"`,
+    /// `"ranges"`), so the host's `Allocator::generate_report` counts it in the host's
+    /// budget. The library frees each allocation into the same allocator once no pending
+    /// frame can use it ([`Self::collect`]).
+    ///
+    /// # Safety
+    /// As [`Self::from_raw`]; and `allocator` was made for `device` with
+    /// `buffer_device_address` on (the library's buffers are reached by address).
+    pub unsafe fn from_raw_with_allocator(
+        instance: &ash::Instance,
+        physical: vk::PhysicalDevice,
+        device: ash::Device,
+        queue_family: u32,
+        queue: vk::Queue,
+        enabled: &DeviceFeatures,
+        allocator: Arc<Mutex<Allocator>>,
     ) -> Result<Self> {
         let not_enabled = enabled.missing_required();
         if !not_enabled.is_empty() {
@@ -315,6 +433,7 @@ impl Context {
                 queue_family,
                 queue,
                 enabled,
+                allocator,
                 None,
                 Arc::new(Mutex::new(Vec::new())),
             )
@@ -329,38 +448,26 @@ impl Context {
         queue_family: u32,
         queue: vk::Queue,
         enabled: &DeviceFeatures,
+        allocator: Arc<Mutex<Allocator>>,
         owned: Option<Owned>,
         messages: MessageSink,
     ) -> Result<Self> {
         let info = device_info(instance, physical, queue_family, enabled);
-        let allocator = Allocator::new(&AllocatorCreateDesc {
-            instance: instance.clone(),
-            device: device.clone(),
-            physical_device: physical,
-            debug_settings: Default::default(),
-            buffer_device_address: true,
-            allocation_sizes: Default::default(),
-        })
-        .map_err(|source| Error::Allocation {
-            what: "the allocator".into(),
-            source,
-        })?;
+        let host = owned.is_none();
         let shared = Arc::new(Shared {
             device,
-            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            max_push_constants_size: info.max_push_constants_size,
+            allocator: ManuallyDrop::new(allocator),
+            retirement: Retirement::new(host),
             owned,
         });
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        let command_pool = unsafe { shared.device.create_command_pool(&pool_info, None) }
-            .vk("vkCreateCommandPool")?;
         Ok(Self {
             shared,
+            instance: instance.clone(),
             physical,
+            one_shot: Mutex::new(vk::CommandPool::null()),
             queue,
             queue_family,
-            command_pool,
             info,
             messages,
         })
@@ -386,8 +493,85 @@ impl Context {
     pub fn info(&self) -> &DeviceInfo {
         &self.info
     }
-    pub(crate) fn command_pool(&self) -> vk::CommandPool {
-        self.command_pool
+    /// The command pool of [`super::OneShot`] (made now if this is the first), locked: the
+    /// pool and the queue need external synchronization.
+    pub(crate) fn one_shot_lock(&self) -> Result<std::sync::MutexGuard<'_, vk::CommandPool>> {
+        let mut pool = self.one_shot.lock().unwrap_or_else(|e| e.into_inner());
+        if *pool == vk::CommandPool::null() {
+            let info = vk::CommandPoolCreateInfo::default()
+                .queue_family_index(self.queue_family)
+                .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+            *pool = unsafe { self.shared.device.create_command_pool(&info, None) }
+                .vk("vkCreateCommandPool")?;
+        }
+        Ok(pool)
+    }
+
+    /// Whether a 2D optimal-tiling image of `format` with `usage` and `layers` layers of
+    /// `width` x `height` can be made on this device.
+    pub(crate) fn image_supported(
+        &self,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        (width, height, layers): (u32, u32, u32),
+    ) -> bool {
+        // SAFETY: `physical` is of `instance`, which outlives the context.
+        let properties = unsafe {
+            self.instance.get_physical_device_image_format_properties(
+                self.physical,
+                format,
+                vk::ImageType::TYPE_2D,
+                vk::ImageTiling::OPTIMAL,
+                usage,
+                vk::ImageCreateFlags::empty(),
+            )
+        };
+        properties.is_ok_and(|p| {
+            width > 0
+                && height > 0
+                && layers > 0
+                && width <= p.max_extent.width
+                && height <= p.max_extent.height
+                && layers <= p.max_array_layers
+        })
+    }
+
+    /// Optimal-tiling features of any format.
+    pub(crate) fn format_features(&self, format: vk::Format) -> vk::FormatFeatureFlags {
+        // SAFETY: as above.
+        unsafe {
+            self.instance
+                .get_physical_device_format_properties(self.physical, format)
+        }
+        .optimal_tiling_features
+    }
+
+    /// Tells the context that the host now records frame `frame` (numbers that never
+    /// decrease; a smaller one is taken as the largest so far). Every object of this context
+    /// dropped from now on, whose handles that frame's commands may use, waits until
+    /// [`Self::collect`] is told that `frame` completed. A host's context
+    /// ([`Self::from_raw`]) always retires dropped objects this way, frame 0 until the first
+    /// call; a headless one only after the first call (before it, its objects go at once
+    /// when no [`super::OneShot`] runs: that is the only work it submits, and it waits).
+    pub fn begin_frame(&self, frame: u64) {
+        self.shared.retirement().begin_frame(frame);
+    }
+
+    /// Destroys every object dropped while the host recorded frames up to `completed` (see
+    /// [`Self::begin_frame`]); returns how many. Call it once `completed`'s fence has
+    /// signalled: on one queue that frame and every earlier one have completed.
+    ///
+    /// # Safety
+    /// Every submission recorded while the host recorded frames `<= completed` (and before
+    /// its first [`Self::begin_frame`]) has completed execution.
+    pub unsafe fn collect(&self, completed: u64) -> usize {
+        // SAFETY: the caller's contract.
+        unsafe { self.shared.collect(Some(completed)) }
+    }
+
+    /// Objects dropped whose frame has not been collected yet ([`Self::collect`]).
+    pub fn retired_objects(&self) -> usize {
+        self.shared.retirement().waiting()
     }
 
     /// Every warning and error the validation layer reported so far: empty without the layer,
@@ -454,9 +638,10 @@ impl Drop for Context {
             if self.shared.owned.is_some() {
                 let _ = self.shared.device.device_wait_idle();
             }
-            self.shared
-                .device
-                .destroy_command_pool(self.command_pool, None);
+            let pool = *self.one_shot.get_mut().unwrap_or_else(|e| e.into_inner());
+            if pool != vk::CommandPool::null() {
+                self.shared.device.destroy_command_pool(pool, None);
+            }
         }
     }
 }

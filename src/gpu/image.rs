@@ -2,6 +2,7 @@
 //! attachments of depth-tested passes.
 
 use super::context::{Context, Shared};
+use super::retire::{Doomed, Handle};
 use crate::error::{Result, VkContext};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
@@ -37,6 +38,11 @@ impl Image {
             }
             _ => vk::ImageAspectFlags::COLOR,
         };
+        if !ctx.image_supported(format, usage, (width, height, layers)) {
+            return Err(crate::Error::InvalidArgument(format!(
+                "{name}: the device cannot make a {width}x{height}x{layers} {format:?} image for {usage:?}"
+            )));
+        }
         let device = &ctx.shared.device;
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
@@ -83,6 +89,11 @@ impl Image {
             image.layer_views.push(view);
         }
         Ok(image)
+    }
+
+    /// Bytes of its memory allocation.
+    pub fn allocated_bytes(&self) -> u64 {
+        self.allocation.as_ref().map_or(0, |a| a.size())
     }
 
     /// The image handle.
@@ -160,18 +171,14 @@ impl Image {
 }
 
 impl Drop for Image {
+    /// Retires the image and its views: destroyed once no pending frame can use them.
     fn drop(&mut self) {
-        let device = &self.shared.device;
-        unsafe {
-            for &view in &self.layer_views {
-                device.destroy_image_view(view, None);
-            }
-            device.destroy_image(self.raw, None);
-        }
-        if let Some(allocation) = self.allocation.take() {
-            if let Ok(mut allocator) = self.shared.allocator.lock() {
-                let _ = allocator.free(allocation);
-            }
-        }
+        let mut handles: Vec<Handle> = self.layer_views.drain(..).map(Handle::ImageView).collect();
+        handles.push(Handle::Image(self.raw));
+        self.shared.retire(Doomed {
+            handles,
+            allocation: self.allocation.take(),
+            name: "image".into(),
+        });
     }
 }

@@ -2,13 +2,15 @@
 //! be: a pass that reads or writes a host's image binds a set of image descriptors, rewritten
 //! for each use. One [`ImageBindings`] per use that may be pending at the same time.
 
-use super::context::Context;
+use super::context::{Context, Shared};
+use super::retire::{Doomed, Handle};
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
 use std::sync::Arc;
 
 /// Objects the bindings borrow: freed when the last of them goes.
 struct Inner {
+    shared: Arc<Shared>,
     device: ash::Device,
     set_layout: vk::DescriptorSetLayout,
     /// Nearest-neighbour, clamped: for `texelFetch` of combined image samplers.
@@ -17,12 +19,12 @@ struct Inner {
 }
 
 impl Drop for Inner {
+    /// Retires the sampler and layout: destroyed once no pending frame can use them.
     fn drop(&mut self) {
-        unsafe {
-            self.device.destroy_sampler(self.sampler, None);
-            self.device
-                .destroy_descriptor_set_layout(self.set_layout, None);
-        }
+        self.shared.retire(Doomed::handles(vec![
+            Handle::Sampler(self.sampler),
+            Handle::DescriptorSetLayout(self.set_layout),
+        ]));
     }
 }
 
@@ -35,6 +37,14 @@ impl ImageBindingLayout {
     /// `types` may hold `COMBINED_IMAGE_SAMPLER` (read with `texelFetch`; the layout's own
     /// nearest sampler is used) and `STORAGE_IMAGE`.
     pub fn new(ctx: &Context, types: &[vk::DescriptorType]) -> Result<Self> {
+        if let Some(ty) = types.iter().find(|&&ty| {
+            ty != vk::DescriptorType::COMBINED_IMAGE_SAMPLER
+                && ty != vk::DescriptorType::STORAGE_IMAGE
+        }) {
+            return Err(Error::InvalidArgument(format!(
+                "image bindings of type {ty:?}: only COMBINED_IMAGE_SAMPLER and STORAGE_IMAGE"
+            )));
+        }
         let device = ctx.device();
         let bindings: Vec<_> = types
             .iter()
@@ -69,6 +79,7 @@ impl ImageBindingLayout {
         };
         Ok(Self {
             inner: Arc::new(Inner {
+                shared: ctx.shared.clone(),
                 device: device.clone(),
                 set_layout,
                 sampler,
@@ -174,6 +185,9 @@ impl ImageBindings {
 
 impl Drop for ImageBindings {
     fn drop(&mut self) {
-        unsafe { self.inner.device.destroy_descriptor_pool(self.pool, None) };
+        // Retired: destroyed (with its set) once no pending frame can use the set.
+        self.inner
+            .shared
+            .retire(Doomed::handles(vec![Handle::DescriptorPool(self.pool)]));
     }
 }

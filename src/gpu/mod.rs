@@ -14,20 +14,26 @@ mod image;
 mod image_bindings;
 mod pipeline;
 mod requirements;
+mod retire;
 mod timestamps;
 mod variants;
 
 pub use barrier::{Access, image_barrier, memory_barrier};
 pub use buffer::{Buffer, BufferUsage};
 pub use commands::OneShot;
+// For the research passes' objects that retire raw handles of their own.
+#[cfg(feature = "research")]
+pub(crate) use context::Shared;
 pub use context::{Context, ContextOptions, DeviceInfo};
 pub use image::Image;
 pub use image_bindings::{ImageBindingLayout, ImageBindings};
 pub use pipeline::{
-    Attachments, Pipeline, ShaderModule, attachmentless_pipeline, begin_attachmentless,
+    Attachments, Pipeline, ShaderModule, Spirv, attachmentless_pipeline, begin_attachmentless,
     begin_rendering, begin_rendering_colors, compute_pipeline, compute_pipeline_with_sets,
     graphics_pipeline, pipeline_layout, pipeline_layout_with_sets, specialized_compute_pipeline,
 };
 pub use requirements::{DeviceFeatures, DeviceRequirements};
+#[cfg(feature = "research")]
+pub(crate) use retire::{Doomed, Handle};
 pub use timestamps::TimestampQueries;
 pub use variants::ComputeVariants;

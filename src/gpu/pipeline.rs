@@ -5,9 +5,49 @@
 //! push constants, so a pipeline never needs anything rewritten between frames.
 
 use super::context::{Context, Shared};
+use super::image_bindings::ImageBindingLayout;
+use super::retire::{Doomed, Handle};
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
 use std::sync::Arc;
+
+/// SPIR-V that may be handed to Vulkan: a module of valid SPIR-V for the device is a valid
+/// usage rule of `vkCreateShaderModule` and of pipeline creation, which the library cannot
+/// check, so making one from bytes is `unsafe`. The library's own shaders
+/// ([`crate::technique::shaders`]) are already `Spirv`.
+///
+/// ```compile_fail,E0133
+/// # use motion_shadows::gpu::Spirv;
+/// let bytes = [0u8; 8];
+/// let spirv = Spirv::new(&bytes);
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub struct Spirv<'a>(&'a [u8]);
+
+impl<'a> Spirv<'a> {
+    /// Bytes of a SPIR-V module.
+    ///
+    /// # Safety
+    /// `bytes` is a valid SPIR-V module (as `spirv-val` for the Vulkan 1.3 environment would
+    /// accept) that uses only capabilities and extensions the device has enabled, with an
+    /// entry point `main` for each stage it is used as; its push-constant block fits in the
+    /// bytes the pipeline's layout gives ([`pipeline_layout`]'s `push_bytes`), its
+    /// descriptor bindings match the set layouts given with it, and its specialization
+    /// constants (`constant_id = i`) are 32-bit scalars.
+    pub const unsafe fn new(bytes: &'a [u8]) -> Self {
+        Self(bytes)
+    }
+
+    /// The library's own SPIR-V, compiled from `glsl/` by build.rs.
+    pub(crate) const fn trusted(bytes: &'a [u8]) -> Self {
+        Self(bytes)
+    }
+
+    /// The bytes.
+    pub fn bytes(&self) -> &'a [u8] {
+        self.0
+    }
+}
 
 /// A SPIR-V module, destroyed on drop.
 pub struct ShaderModule {
@@ -17,8 +57,8 @@ pub struct ShaderModule {
 
 impl ShaderModule {
     /// A module of `spirv` (`name` only for error messages).
-    pub fn new(ctx: &Context, name: &str, spirv: &[u8]) -> Result<Self> {
-        let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv))
+    pub fn new(ctx: &Context, name: &str, spirv: Spirv<'_>) -> Result<Self> {
+        let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv.bytes()))
             .map_err(|e| Error::InvalidArgument(format!("SPIR-V of {name}: {e}")))?;
         let info = vk::ShaderModuleCreateInfo::default().code(&words);
         let raw =
@@ -40,29 +80,39 @@ impl Drop for ShaderModule {
     }
 }
 
-/// A pipeline and its layout, destroyed together.
+/// A pipeline and its layout, destroyed together (retired: once no pending frame can use
+/// them). The handles are private: a handle replaced from outside would be destroyed here.
 pub struct Pipeline {
     shared: Arc<Shared>,
-    /// The pipeline.
-    pub raw: vk::Pipeline,
-    /// Its layout (push constants only).
-    pub layout: vk::PipelineLayout,
-    /// Graphics or compute.
-    pub bind_point: vk::PipelineBindPoint,
+    raw: vk::Pipeline,
+    layout: vk::PipelineLayout,
+    bind_point: vk::PipelineBindPoint,
 }
 
 impl Drop for Pipeline {
+    /// Retires the pipeline and its layout: destroyed once no pending frame can use them.
     fn drop(&mut self) {
-        unsafe {
-            self.shared.device.destroy_pipeline(self.raw, None);
-            self.shared
-                .device
-                .destroy_pipeline_layout(self.layout, None);
-        }
+        self.shared.retire(Doomed::handles(vec![
+            Handle::Pipeline(self.raw),
+            Handle::PipelineLayout(self.layout),
+        ]));
     }
 }
 
 impl Pipeline {
+    /// The pipeline.
+    pub fn raw(&self) -> vk::Pipeline {
+        self.raw
+    }
+    /// Its layout (push constants, and the set layouts it was made with).
+    pub fn layout(&self) -> vk::PipelineLayout {
+        self.layout
+    }
+    /// Graphics or compute.
+    pub fn bind_point(&self) -> vk::PipelineBindPoint {
+        self.bind_point
+    }
+
     /// Binds the pipeline.
     ///
     /// # Safety
@@ -97,25 +147,34 @@ pub fn pipeline_layout(ctx: &Context, push_bytes: u32) -> Result<vk::PipelineLay
 
 /// A layout with the given descriptor set layouts (for passes that read a host's images,
 /// which cannot be reached by address) and `push_bytes` of push constants for all stages.
+/// The caller destroys the layout it returns.
 pub fn pipeline_layout_with_sets(
     ctx: &Context,
-    set_layouts: &[vk::DescriptorSetLayout],
+    set_layouts: &[&ImageBindingLayout],
     push_bytes: u32,
 ) -> Result<vk::PipelineLayout> {
-    layout_on(ctx.device(), set_layouts, push_bytes)
+    layout_on(&ctx.shared, set_layouts, push_bytes)
 }
 
 fn layout_on(
-    device: &ash::Device,
-    set_layouts: &[vk::DescriptorSetLayout],
+    shared: &Shared,
+    set_layouts: &[&ImageBindingLayout],
     push_bytes: u32,
 ) -> Result<vk::PipelineLayout> {
+    let device = &shared.device;
+    let limit = shared.max_push_constants_size;
+    if push_bytes % 4 != 0 || push_bytes > limit {
+        return Err(Error::InvalidArgument(format!(
+            "{push_bytes} bytes of push constants: a multiple of 4 up to {limit} (the device's maxPushConstantsSize)"
+        )));
+    }
+    let set_layouts: Vec<vk::DescriptorSetLayout> = set_layouts.iter().map(|l| l.raw()).collect();
     let ranges = [vk::PushConstantRange {
         stage_flags: vk::ShaderStageFlags::ALL,
         offset: 0,
         size: push_bytes,
     }];
-    let mut info = vk::PipelineLayoutCreateInfo::default().set_layouts(set_layouts);
+    let mut info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
     if push_bytes > 0 {
         info = info.push_constant_ranges(&ranges);
     }
@@ -127,7 +186,7 @@ pub fn compute_pipeline(
     ctx: &Context,
     push_bytes: u32,
     name: &str,
-    spirv: &[u8],
+    spirv: Spirv<'_>,
 ) -> Result<Pipeline> {
     compute_pipeline_with_sets(ctx, &[], push_bytes, name, spirv)
 }
@@ -135,10 +194,10 @@ pub fn compute_pipeline(
 /// A compute pipeline whose layout also has `set_layouts`.
 pub fn compute_pipeline_with_sets(
     ctx: &Context,
-    set_layouts: &[vk::DescriptorSetLayout],
+    set_layouts: &[&ImageBindingLayout],
     push_bytes: u32,
     name: &str,
-    spirv: &[u8],
+    spirv: Spirv<'_>,
 ) -> Result<Pipeline> {
     specialized_compute_pipeline(ctx, set_layouts, push_bytes, name, spirv, &[])
 }
@@ -148,10 +207,10 @@ pub fn compute_pipeline_with_sets(
 /// this way cost nothing at run time: the compiler folds them and drops the paths not taken.
 pub fn specialized_compute_pipeline(
     ctx: &Context,
-    set_layouts: &[vk::DescriptorSetLayout],
+    set_layouts: &[&ImageBindingLayout],
     push_bytes: u32,
     name: &str,
-    spirv: &[u8],
+    spirv: Spirv<'_>,
     constants: &[u32],
 ) -> Result<Pipeline> {
     let module = ShaderModule::new(ctx, name, spirv)?;
@@ -162,7 +221,7 @@ pub fn specialized_compute_pipeline(
 /// `constant_id = i` set to `constants[i]`.
 pub(crate) fn compute_of_module(
     shared: &Arc<Shared>,
-    set_layouts: &[vk::DescriptorSetLayout],
+    set_layouts: &[&ImageBindingLayout],
     push_bytes: u32,
     module: &ShaderModule,
     constants: &[u32],
@@ -179,7 +238,7 @@ pub(crate) fn compute_of_module(
     let specialization = vk::SpecializationInfo::default()
         .map_entries(&entries)
         .data(&data);
-    let layout = layout_on(device, set_layouts, push_bytes)?;
+    let layout = layout_on(shared, set_layouts, push_bytes)?;
     let mut stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module.raw())
@@ -222,9 +281,52 @@ pub struct Attachments<'a> {
 pub fn attachmentless_pipeline(
     ctx: &Context,
     push_bytes: u32,
-    stages: &[(vk::ShaderStageFlags, &str, &[u8])],
+    stages: &[(vk::ShaderStageFlags, &str, Spirv<'_>)],
 ) -> Result<Pipeline> {
     graphics_pipeline(ctx, push_bytes, stages, Attachments::default())
+}
+
+/// Refuses what pipeline creation would not accept: stages other than one vertex shader and
+/// at most one geometry and one fragment shader, attachment formats the device cannot
+/// render to.
+fn check_graphics(
+    ctx: &Context,
+    stages: &[(vk::ShaderStageFlags, &str, Spirv<'_>)],
+    attachments: Attachments<'_>,
+) -> Result<()> {
+    let count = |s| stages.iter().filter(|(stage, _, _)| *stage == s).count();
+    let (vertex, geometry, fragment) = (
+        count(vk::ShaderStageFlags::VERTEX),
+        count(vk::ShaderStageFlags::GEOMETRY),
+        count(vk::ShaderStageFlags::FRAGMENT),
+    );
+    if vertex != 1 || geometry > 1 || fragment > 1 || vertex + geometry + fragment != stages.len() {
+        let names: Vec<_> = stages
+            .iter()
+            .map(|(s, n, _)| format!("{n} ({s:?})"))
+            .collect();
+        return Err(Error::InvalidArgument(format!(
+            "a graphics pipeline takes one vertex shader and at most one geometry and one fragment shader, not {}",
+            names.join(", ")
+        )));
+    }
+    let formats = attachments
+        .colors
+        .iter()
+        .map(|&f| (f, vk::FormatFeatureFlags::COLOR_ATTACHMENT))
+        .chain(
+            attachments
+                .depth
+                .map(|f| (f, vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT)),
+        );
+    for (format, needed) in formats {
+        if !ctx.format_features(format).contains(needed) {
+            return Err(Error::InvalidArgument(format!(
+                "the device cannot render to {format:?} ({needed:?})"
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// A graphics pipeline drawing triangle lists into `attachments`, viewport and scissor
@@ -232,12 +334,13 @@ pub fn attachmentless_pipeline(
 pub fn graphics_pipeline(
     ctx: &Context,
     push_bytes: u32,
-    stages: &[(vk::ShaderStageFlags, &str, &[u8])],
+    stages: &[(vk::ShaderStageFlags, &str, Spirv<'_>)],
     attachments: Attachments<'_>,
 ) -> Result<Pipeline> {
+    check_graphics(ctx, stages, attachments)?;
     let modules = stages
         .iter()
-        .map(|(_, name, spirv)| ShaderModule::new(ctx, name, spirv))
+        .map(|(_, name, spirv)| ShaderModule::new(ctx, name, *spirv))
         .collect::<Result<Vec<_>>>()?;
     let stage_infos: Vec<_> = stages
         .iter()

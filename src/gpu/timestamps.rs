@@ -2,6 +2,7 @@
 //! the time since the previous mark under that name.
 
 use super::context::{Context, Shared};
+use super::retire::{Doomed, Handle};
 use crate::error::{Result, VkContext};
 use ash::vk;
 use std::sync::Arc;
@@ -146,7 +147,11 @@ impl TimestampQueries {
 }
 
 impl Drop for TimestampQueries {
+    /// Retires the pool: destroyed once no pending frame can write it.
     fn drop(&mut self) {
-        unsafe { self.shared.device.destroy_query_pool(self.pool, None) };
+        if self.pool != vk::QueryPool::null() {
+            self.shared
+                .retire(Doomed::handles(vec![Handle::QueryPool(self.pool)]));
+        }
     }
 }

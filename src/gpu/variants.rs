@@ -3,7 +3,7 @@
 //! so a pass whose shader has dozens of variants makes only those its frames use.
 
 use super::context::{Context, Shared};
-use super::pipeline::{Pipeline, ShaderModule, compute_of_module};
+use super::pipeline::{Pipeline, ShaderModule, Spirv, compute_of_module};
 use crate::error::Result;
 use std::sync::{Arc, Mutex};
 
@@ -20,7 +20,7 @@ pub struct ComputeVariants {
 impl ComputeVariants {
     /// Variants of the compute shader `spirv` (`name` for error messages) whose layout has
     /// `push_bytes` of push constants and no descriptor sets. Makes no pipeline yet.
-    pub fn new(ctx: &Context, push_bytes: u32, name: &str, spirv: &[u8]) -> Result<Self> {
+    pub fn new(ctx: &Context, push_bytes: u32, name: &str, spirv: Spirv<'_>) -> Result<Self> {
         Ok(Self {
             shared: ctx.shared.clone(),
             module: ShaderModule::new(ctx, name, spirv)?,

@@ -11,6 +11,7 @@ use super::shaders;
 use super::shadow_map::{StaticLayerSource, TemporalShadowMap};
 use super::view::{LightView, PrismConstruction};
 use crate::error::{Error, Result};
+use crate::gpu::Spirv;
 use crate::gpu::{
     Access, Context, Pipeline, attachmentless_pipeline, begin_attachmentless, memory_barrier,
 };
@@ -20,6 +21,9 @@ use ash::vk;
 /// every light.
 pub struct CollectionPass {
     pipelines: PrismPipelines,
+    /// Records its entry and exit barriers (off: the host issues them from
+    /// [`Self::accesses`], see `accesses.rs`).
+    pub(crate) outer_barriers: bool,
 }
 
 /// Bytes of push constants every pipeline of the technique takes.
@@ -29,12 +33,12 @@ pub(crate) const PUSH_BYTES: u32 = std::mem::size_of::<PassConstants>() as u32;
 /// into the construction's fragment shader of a pass: the collection pass and the coverage
 /// map's reset pass draw the same prisms.
 pub(crate) struct PrismShaders {
-    pub paper_fragment: (&'static str, &'static [u8]),
-    pub exact_fragment: (&'static str, &'static [u8]),
+    pub paper_fragment: (&'static str, Spirv<'static>),
+    pub exact_fragment: (&'static str, Spirv<'static>),
     /// The exact construction's static draws (`collection_static.vert`, no geometry shader).
-    pub static_fragment: (&'static str, &'static [u8]),
+    pub static_fragment: (&'static str, Spirv<'static>),
     /// The exact construction storing each run as its range (the collection pass only).
-    pub ranges_fragment: Option<(&'static str, &'static [u8])>,
+    pub ranges_fragment: Option<(&'static str, Spirv<'static>)>,
 }
 
 /// One pipeline per [`PrismConstruction`] (and one for the exact construction's static
@@ -118,9 +122,9 @@ impl PrismPipelines {
                 continue;
             }
             let pipeline = pipeline_of(record);
-            if bound != Some(pipeline.raw) {
+            if bound != Some(pipeline.raw()) {
                 unsafe { pipeline.bind(device, cmd) };
-                bound = Some(pipeline.raw);
+                bound = Some(pipeline.raw());
             }
             draw_one(device, cmd, pipeline, draws, i, record, constants);
         }
@@ -129,8 +133,8 @@ impl PrismPipelines {
 
 fn prism_pipeline(
     ctx: &Context,
-    (geometry_name, geometry): (&str, &[u8]),
-    (fragment_name, fragment): (&str, &[u8]),
+    (geometry_name, geometry): (&str, Spirv<'_>),
+    (fragment_name, fragment): (&str, Spirv<'_>),
 ) -> Result<Pipeline> {
     attachmentless_pipeline(
         ctx,
@@ -150,6 +154,7 @@ fn prism_pipeline(
 /// Records one non-indexed draw of 3 vertices per triangle for every draw of the list (the
 /// vertex shader fetches through the draw's own indices), pushing `constants` with each
 /// draw's index. Inside dynamic rendering, with `pipeline` bound.
+#[cfg_attr(not(feature = "research"), allow(dead_code))]
 pub(crate) fn draw_each(
     device: &ash::Device,
     cmd: vk::CommandBuffer,
@@ -195,7 +200,10 @@ impl CollectionPass {
                 ranges_fragment: Some(("collection_ranges.frag", shaders::COLLECTION_RANGES_FRAG)),
             },
         )?;
-        Ok(Self { pipelines })
+        Ok(Self {
+            pipelines,
+            outer_barriers: true,
+        })
     }
 
     /// Records the collection sub-pass of `map` for the frame lit by `light`: writes the map's
@@ -225,8 +233,9 @@ impl CollectionPass {
     /// Synchronization: waits, with a global barrier, for earlier shader reads and writes and
     /// transfers of any buffer of the map; leaves the lists (or the ranges) and the counters
     /// written by the fragment and transfer stages and made visible to later fragment and
-    /// compute shader reads and writes. State changed: the bound graphics pipeline, its push
-    /// constants, viewport and scissor.
+    /// compute shader reads and writes. A pass made [`Self::with_host_barriers`] records
+    /// neither of those two barriers: the caller orders [`Self::accesses`] itself. State
+    /// changed: the bound graphics pipeline, its push constants, viewport and scissor.
     pub unsafe fn record(
         &self,
         device: &ash::Device,
@@ -262,19 +271,21 @@ impl CollectionPass {
         let redraw_layer = static_layer && !keep;
         let collects_ranges = map.collects_ranges(light, coverage);
         // Earlier frames may still read these lists.
-        unsafe {
-            memory_barrier(
-                device,
-                cmd,
-                Access::ANY_SHADER_READ
-                    .and(Access::COMPUTE_RW)
-                    .and(Access::FRAGMENT_RW)
-                    .and(Access::TRANSFER_READ)
-                    .and(Access::INDIRECT_READ),
-                Access::TRANSFER_WRITE,
-            )
-        };
-        map.record_header(device, cmd, light, coverage);
+        if self.outer_barriers {
+            unsafe {
+                memory_barrier(
+                    device,
+                    cmd,
+                    Access::ANY_SHADER_READ
+                        .and(Access::COMPUTE_RW)
+                        .and(Access::FRAGMENT_RW)
+                        .and(Access::TRANSFER_READ)
+                        .and(Access::INDIRECT_READ),
+                    Access::TRANSFER_WRITE,
+                )
+            };
+        }
+        map.record_header(device, cmd, light, coverage, self.outer_barriers);
         let counters = Counters {
             node_capacity: map.node_capacity(),
             range_capacity: map.range_capacity(),
@@ -348,16 +359,18 @@ impl CollectionPass {
             let counters = map.counters.raw();
             unsafe { device.cmd_copy_buffer(cmd, counters, counters, &region) };
         }
-        unsafe {
-            memory_barrier(
-                device,
-                cmd,
-                Access::FRAGMENT_RW
-                    .and(Access::GEOMETRY_RW)
-                    .and(Access::TRANSFER_WRITE),
-                Access::COMPUTE_RW.and(Access::FRAGMENT_RW),
-            )
-        };
+        if self.outer_barriers {
+            unsafe {
+                memory_barrier(
+                    device,
+                    cmd,
+                    Access::FRAGMENT_RW
+                        .and(Access::GEOMETRY_RW)
+                        .and(Access::TRANSFER_WRITE),
+                    Access::COMPUTE_RW.and(Access::FRAGMENT_RW),
+                )
+            };
+        }
         Ok(())
     }
 }

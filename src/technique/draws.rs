@@ -435,6 +435,17 @@ impl DrawList {
         self.buffer.device_address()
     }
 
+    /// The list's one allocation, by name, with its bytes (see
+    /// [`super::TemporalShadowMap::allocations`]).
+    pub fn allocations(&self) -> Vec<(&str, u64)> {
+        vec![(self.buffer.name(), self.buffer.allocated_bytes())]
+    }
+
+    /// The draw table's buffer.
+    pub(crate) fn buffer(&self) -> &Buffer {
+        &self.buffer
+    }
+
     pub(crate) fn draw_count(&self) -> u32 {
         self.records.len() as u32
     }

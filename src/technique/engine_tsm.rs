@@ -41,6 +41,7 @@ use crate::gpu::{
     Access, Attachments, Buffer, BufferUsage, Context, Image, ImageBindingLayout, ImageBindings,
     Pipeline, graphics_pipeline, image_barrier, memory_barrier, specialized_compute_pipeline,
 };
+use crate::gpu::{Doomed, Handle};
 use ash::vk;
 use glam::{Mat4, UVec4};
 use std::sync::Mutex;
@@ -82,7 +83,7 @@ const HEADER_BYTES: u64 = std::mem::size_of::<PlainMapHeader>() as u64;
 /// across frames, and the working depth maps (an array of [`Self::layers`]) the N times are
 /// drawn into, a batch at a time.
 pub struct EngineTsmMap {
-    device: ash::Device,
+    shared: std::sync::Arc<crate::gpu::Shared>,
     width: u32,
     height: u32,
     layers: u32,
@@ -97,8 +98,10 @@ pub struct EngineTsmMap {
     working_array: vk::ImageView,
     /// [`PlainMapHeader`]: the light (read by `shadow_depth.vert` and the mask shader).
     header: Buffer,
-    /// What the static map holds, when it may be kept ([`LightView::keep_static_layer`]).
-    static_source: Mutex<Option<StaticLayerSource>>,
+    /// What the static map holds for keeping ([`LightView::keep_static_layer`]): `.0` drawn
+    /// by a pass the host said it submitted, `.1` by the last recorded pass that drew it,
+    /// until then ([`Self::static_map_submitted`]).
+    static_source: Mutex<(Option<StaticLayerSource>, Option<StaticLayerSource>)>,
     /// Times [`EngineTsmPass::record`] has drawn the static map.
     static_builds: AtomicU32,
 }
@@ -162,7 +165,7 @@ impl EngineTsmMap {
             BufferUsage::Storage,
         );
         let map = Self {
-            device: ctx.device().clone(),
+            shared: ctx.shared.clone(),
             width,
             height,
             layers,
@@ -178,7 +181,7 @@ impl EngineTsmMap {
                     return Err(e);
                 }
             },
-            static_source: Mutex::new(None),
+            static_source: Mutex::new((None, None)),
             static_builds: AtomicU32::new(0),
         };
         Ok(map)
@@ -217,20 +220,32 @@ impl EngineTsmMap {
         self.static_builds.load(Ordering::Relaxed)
     }
 
-    /// Makes the next record redraw the static map, kept or not: call it when a recorded
-    /// pass was not submitted, or when a static draw's buffer contents changed in place.
+    /// Makes the next record redraw the static map, kept or not: call it when a static
+    /// draw's buffer contents changed in place.
     pub fn forget_static_map(&self) {
-        *self.static_source.lock().unwrap_or_else(|e| e.into_inner()) = None;
+        *self.static_source.lock().unwrap_or_else(|e| e.into_inner()) = (None, None);
     }
 
-    /// Whether the static map must be drawn for `source` (and notes it as drawn, kept only
-    /// if `keep`).
+    /// Tells the map that the command buffer with its last recorded [`EngineTsmPass::record`]
+    /// was submitted: a static map that pass drew may then be kept by later records (with
+    /// [`LightView::keep_static_layer`]). As `TemporalShadowMap::static_layer_submitted`: a
+    /// recorded pass that is not submitted needs nothing undone; without the call the static
+    /// map is redrawn by every record.
+    pub fn static_map_submitted(&self) {
+        let mut state = self.static_source.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(recorded) = state.1.take() {
+            state.0 = Some(recorded);
+        }
+    }
+
+    /// Whether the static map must be drawn for `source` (and notes it as drawn, kept once
+    /// submitted if `keep`).
     fn take_static_redraw(&self, source: StaticLayerSource, keep: bool) -> bool {
-        let mut kept = self.static_source.lock().unwrap_or_else(|e| e.into_inner());
-        if keep && kept.as_ref() == Some(&source) {
+        let mut state = self.static_source.lock().unwrap_or_else(|e| e.into_inner());
+        if keep && state.0.as_ref() == Some(&source) {
             return false;
         }
-        *kept = keep.then_some(source);
+        *state = (None, keep.then_some(source));
         self.static_builds.fetch_add(1, Ordering::Relaxed);
         true
     }
@@ -238,9 +253,9 @@ impl EngineTsmMap {
 
 impl Drop for EngineTsmMap {
     fn drop(&mut self) {
-        // SAFETY: the view is the map's own; the caller keeps the map alive until no command
-        // buffer using it is pending (the record's contract). The images drop after this.
-        unsafe { self.device.destroy_image_view(self.working_array, None) };
+        // Retired before the images (which drop after this), destroyed in that order.
+        self.shared
+            .retire(Doomed::handles(vec![Handle::ImageView(self.working_array)]));
     }
 }
 
@@ -345,7 +360,7 @@ impl EngineTsmPass {
             .map(|constants| {
                 specialized_compute_pipeline(
                     ctx,
-                    &[layout.raw()],
+                    &[&layout],
                     std::mem::size_of::<TsmConstants>() as u32,
                     "tsm_mask.comp",
                     shaders::TSM_MASK_COMP,
@@ -371,7 +386,8 @@ impl EngineTsmPass {
     /// and the lit fraction of the N times into the host's `inputs.output`. First the static
     /// map, when it must be drawn: at every record, or with [`LightView::keep_static_layer`]
     /// only when the light's view or projection or the static draws' descriptions changed
-    /// since its last build (or after [`EngineTsmMap::forget_static_map`]). Then, per batch
+    /// since its last submitted build ([`EngineTsmMap::static_map_submitted`]; or after
+    /// [`EngineTsmMap::forget_static_map`]). Then, per batch
     /// of [`EngineTsmMap::layers`] maps: each layer started from the static map (a copy, or a
     /// clear), the moving draws drawn into it at its time, and one mask dispatch. Errors,
     /// recording nothing, when `maps` is 0 or above [`MAX_TSM_MAPS`], when `inputs.size` is
@@ -384,8 +400,7 @@ impl EngineTsmPass {
     ///   it bound in `cmd` (its set is rewritten here).
     /// - No other command buffer recording `map` is pending unless it was submitted earlier
     ///   to the same queue (its header and working map are rewritten; one map per frame in
-    ///   flight and light). If this record is not submitted, call
-    ///   [`EngineTsmMap::forget_static_map`] (the map counts its static map as drawn).
+    ///   flight and light).
     /// - The views are valid, of the device, with the sizes and layouts [`MaskInputs`]
     ///   states, and stay alive until `cmd` completes; here the output must be an
     ///   `R32_SFLOAT` image with storage usage (the shader reads back its count between
@@ -608,7 +623,7 @@ impl EngineTsmPass {
                 device.cmd_bind_descriptor_sets(
                     cmd,
                     vk::PipelineBindPoint::COMPUTE,
-                    mask.layout,
+                    mask.layout(),
                     0,
                     &[bindings.images.raw()],
                     &[],

@@ -24,6 +24,9 @@ pub struct GenerationPass {
     long_pipeline: Pipeline,
     sort: Pipeline,
     sort_long: Pipeline,
+    /// Records its entry and exit barriers (off: the host issues them from
+    /// [`Self::accesses`], see `accesses.rs`).
+    pub(crate) outer_barriers: bool,
 }
 
 impl GenerationPass {
@@ -45,6 +48,7 @@ impl GenerationPass {
                 "generation_long.comp",
                 shaders::GENERATION_LONG_COMP,
             )?,
+            outer_barriers: true,
         })
     }
 
@@ -61,8 +65,9 @@ impl GenerationPass {
     /// barrier) and earlier compute and indirect reads of the map; leaves the ranges written
     /// by the compute stage and made visible to shader reads in every stage (vertex, geometry,
     /// fragment, compute: a host's own passes may read the map with no barrier of their own)
-    /// and to later compute writes. State changed: the bound compute pipeline and its push
-    /// constants.
+    /// and to later compute writes. A pass made [`Self::with_host_barriers`] records neither
+    /// the entry nor the exit barrier: the caller orders [`Self::accesses`] itself. State
+    /// changed: the bound compute pipeline and its push constants.
     pub unsafe fn record(
         &self,
         device: &ash::Device,
@@ -71,21 +76,29 @@ impl GenerationPass {
     ) {
         // Empty long-pixel list; its indirect dispatch starts at 0 x 1 x 1 groups.
         let header: [u32; 4] = [0, 0, 1, 1];
-        unsafe {
-            memory_barrier(
-                device,
-                cmd,
-                Access::COMPUTE_RW.and(Access::INDIRECT_READ),
-                Access::TRANSFER_WRITE,
-            )
-        };
+        // Entry: earlier generations' reads of the long-pixel list, and (below) the
+        // collection's writes; the host's when `outer_barriers` is off.
+        if self.outer_barriers {
+            unsafe {
+                memory_barrier(
+                    device,
+                    cmd,
+                    Access::COMPUTE_RW.and(Access::INDIRECT_READ),
+                    Access::TRANSFER_WRITE,
+                )
+            };
+        }
         unsafe { map.long_pixels.record_write(device, cmd, &header) };
         // The collection's tile list is the first tier's indirect dispatch.
         unsafe {
             memory_barrier(
                 device,
                 cmd,
-                Access::TRANSFER_WRITE.and(Access::FRAGMENT_RW),
+                if self.outer_barriers {
+                    Access::TRANSFER_WRITE.and(Access::FRAGMENT_RW)
+                } else {
+                    Access::TRANSFER_WRITE
+                },
                 Access::COMPUTE_RW.and(Access::INDIRECT_READ),
             )
         };
@@ -127,13 +140,15 @@ impl GenerationPass {
             unsafe { pipeline.push(device, cmd, &constants) };
             unsafe { device.cmd_dispatch_indirect(cmd, args.raw(), offset) };
         }
-        unsafe {
-            memory_barrier(
-                device,
-                cmd,
-                Access::COMPUTE_RW,
-                Access::ANY_SHADER_READ.and(Access::COMPUTE_RW),
-            )
-        };
+        if self.outer_barriers {
+            unsafe {
+                memory_barrier(
+                    device,
+                    cmd,
+                    Access::COMPUTE_RW,
+                    Access::ANY_SHADER_READ.and(Access::COMPUTE_RW),
+                )
+            };
+        }
     }
 }

@@ -24,7 +24,7 @@ impl ImagePass {
         what: &str,
         bindings: &[vk::DescriptorType],
         push_bytes: u32,
-        (name, spirv): (&str, &[u8]),
+        (name, spirv): (&str, crate::gpu::Spirv<'_>),
         variants: &[&[u32]],
     ) -> Result<Self> {
         if !ctx.info().storage_image_write_without_format {
@@ -36,14 +36,7 @@ impl ImagePass {
         let pipelines = variants
             .iter()
             .map(|constants| {
-                specialized_compute_pipeline(
-                    ctx,
-                    &[layout.raw()],
-                    push_bytes,
-                    name,
-                    spirv,
-                    constants,
-                )
+                specialized_compute_pipeline(ctx, &[&layout], push_bytes, name, spirv, constants)
             })
             .collect::<Result<_>>()?;
         Ok(Self { layout, pipelines })
@@ -70,7 +63,7 @@ impl ImagePass {
             device.cmd_bind_descriptor_sets(
                 cmd,
                 vk::PipelineBindPoint::COMPUTE,
-                pipeline.layout,
+                pipeline.layout(),
                 0,
                 &[bindings.raw()],
                 &[],

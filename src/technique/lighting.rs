@@ -38,13 +38,13 @@ pub struct LightingTarget {
     spp: u32,
     samples_per_chunk: u32,
     /// The header (`CameraParams`): camera, sampling and this target's buffer addresses.
-    pub header: Buffer,
+    pub(crate) header: Buffer,
     /// Per pixel and sample of a chunk: the nearest hit (depth bits << 32 | triangle id).
-    pub visibility: Buffer,
+    pub(crate) visibility: Buffer,
     /// Per pixel: accumulated radiance (rgb) and moving share (a).
-    pub radiance: Buffer,
+    pub(crate) radiance: Buffer,
     /// u32: triangles the lighting pass dropped for an invalid index.
-    pub counters: Buffer,
+    pub(crate) counters: Buffer,
     readback: Buffer,
     counters_readback: Buffer,
 }

@@ -32,6 +32,19 @@ pub struct MaskBindings {
 }
 
 impl MaskBindings {
+    /// The bindings' allocations, by name, with their bytes (see
+    /// [`super::TemporalShadowMap::allocations`]); the descriptor pool is not memory of the
+    /// allocator.
+    pub fn allocations(&self) -> Vec<(&str, u64)> {
+        vec![
+            (self.over_budget.name(), self.over_budget.allocated_bytes()),
+            (
+                "visibility-mask stand-in id image",
+                self.no_ids.allocated_bytes(),
+            ),
+        ]
+    }
+
     /// Pixels of the last dispatch recorded with these bindings whose lookups ran so many
     /// loop iterations that a device with a loop limit
     /// ([`crate::gpu::DeviceInfo::shader_loop_limit`], lavapipe) may have cut them short:

@@ -16,29 +16,47 @@
 //! the 2017 paper's coverage map; [`PlainShadowPass`] renders ordinary shadow maps at given
 //! times, for the time-dependent shadow maps and the brute-force reference that the papers
 //! compare against.
+//!
+//! The engine core (draws, collection, generation, the temporal map, the mask, the views,
+//! the G-buffer pass, the GLSL include) is always compiled; the papers' research passes
+//! ([`LightingPass`], [`LightingImageOutput`], [`EngineTsmPass`], [`PlainShadowPass`],
+//! [`CoveragePass`]) only with the default feature `research` (an engine may build with
+//! `default-features = false`).
 
+mod accesses;
 mod collection;
 mod coverage;
+#[cfg(feature = "research")]
+mod coverage_pass;
 mod draws;
+#[cfg(feature = "research")]
 mod engine_tsm;
 mod gbuffer;
 mod generation;
 pub mod gpu_constants;
 pub mod gpu_types;
+#[cfg(feature = "research")]
 mod image_output;
 mod image_pass;
+#[cfg(feature = "research")]
 mod lighting;
 mod mask;
+#[cfg(feature = "research")]
 mod plain_shadow;
+#[cfg(feature = "research")]
 mod raster_camera;
 pub mod sampling;
 pub mod shaders;
 mod shadow_map;
 mod view;
 
+pub use accesses::{AccessData, PassAccesses, Resource, ResourceUse};
 pub use collection::CollectionPass;
-pub use coverage::{CoverageMap, CoveragePass, MAX_COVERAGE_TRIANGLES};
+pub use coverage::{CoverageMap, MAX_COVERAGE_TRIANGLES};
+#[cfg(feature = "research")]
+pub use coverage_pass::CoveragePass;
 pub use draws::{Draw, DrawList, IndexStream, Indices, PositionStream};
+#[cfg(feature = "research")]
 pub use engine_tsm::{
     EngineTsmBindings, EngineTsmMap, EngineTsmPass, MAX_TSM_LAYERS, MAX_TSM_MAPS, TsmStart,
 };
@@ -51,12 +69,15 @@ pub use gpu_types::{
     CameraParams, Counters, DepthFormat, DrawRecord, FIXED_TIME, GpuLight, MAX_LIST_NODES,
     NO_TRIANGLE, Node, PassConstants, PlainMapHeader, Range, ShadowMapHeader, ShadowMode,
 };
+#[cfg(feature = "research")]
 pub use image_output::LightingImageOutput;
+#[cfg(feature = "research")]
 pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, Samples, ShadowSource};
 pub use mask::{
     MaskBindings, MaskInputs, MotionImage, NormalEncoding, NormalImage, TriangleIdImage,
     VisibilityMaskPass,
 };
+#[cfg(feature = "research")]
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
 pub use sampling::{pixel_key, pixel_sample};
 pub use shadow_map::{RangeStorage, ShadowMapContents, TemporalShadowMap};

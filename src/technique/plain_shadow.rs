@@ -40,9 +40,9 @@ pub struct PlainShadowMap {
     /// [`DepthFormat::DepthAndId`]: the triangle ids' attachment.
     id_image: Option<Image>,
     /// The header (`PlainHeader` in shared.glsl): light, size and the planes' addresses.
-    pub header: Buffer,
+    pub(crate) header: Buffer,
     /// The layers' depths (z/w floats), copied out of the depth attachment.
-    pub depths: Buffer,
+    pub(crate) depths: Buffer,
     /// [`DepthFormat::DepthAndId`]: the layers' triangle ids, copied out of their attachment.
     pub ids: Option<Buffer>,
 }

@@ -50,38 +50,49 @@ pub struct TemporalShadowMap {
     range_capacity: u32,
     range_storage: RangeStorage,
     /// The header (`MsShadowMap`): light and buffer addresses, written by the collection pass.
-    pub header: Buffer,
+    pub(crate) header: Buffer,
     /// Per pixel: index + 1 of the newest node, 0 for none.
-    pub heads: Buffer,
+    pub(crate) heads: Buffer,
     /// The fragments ([`Node`]).
-    pub nodes: Buffer,
+    pub(crate) nodes: Buffer,
     /// [`Counters`]: counts written by the passes, capacities by the collection pass.
-    pub counters: Buffer,
+    pub(crate) counters: Buffer,
     /// Per pixel: index + 1 of the first range, 0 for none.
-    pub range_heads: Buffer,
+    pub(crate) range_heads: Buffer,
     /// The ranges ([`Range`]).
-    pub ranges: Buffer,
+    pub(crate) ranges: Buffer,
     /// With [`RangeStorage::Sorted`], the lists the collection links its ranges into before
     /// the generation pass sorts them into `ranges` (the range capacity); one range otherwise.
-    pub range_lists: Buffer,
+    pub(crate) range_lists: Buffer,
     /// The generation pass's list of pixels with long fragment lists (a count, indirect
     /// dispatch arguments, then up to one index per pixel); the sorting's long lists too.
-    pub long_pixels: Buffer,
+    pub(crate) long_pixels: Buffer,
     /// The static layer: per pixel, the nearest triangle of a static draw (depth key << 32 |
     /// id), in place of their fragments in the lists (see [`Self::uses_static_layer`]).
-    pub static_nearest: Buffer,
+    pub(crate) static_nearest: Buffer,
     /// The generation pass's indirect dispatches (x, y, z group counts and a pad each), set
     /// by the collection: every 8x8-texel tile of the map where the lists hold fragments,
     /// none where the collection stored the ranges itself ([`Self::collects_ranges`]); then
     /// the sorting's ([`RangeStorage::Sorted`], only where the collection stored the
     /// ranges).
-    pub tiles: Buffer,
+    pub(crate) tiles: Buffer,
     counters_readback: Buffer,
-    /// What the static layer was last drawn for, when it may be kept
-    /// ([`LightView::keep_static_layer`]).
-    static_layer_source: Mutex<Option<StaticLayerSource>>,
+    /// What the static layer holds, as far as the host has said it submitted
+    /// ([`Self::static_layer_submitted`]).
+    static_layer_source: Mutex<StaticLayerState>,
     /// Times the collection pass has drawn the static layer into this map.
     static_layer_builds: AtomicU32,
+}
+
+/// What the static layer holds for keeping: nothing is kept on the strength of a recording
+/// alone, so a recorded pass that is never submitted needs no undoing.
+#[derive(Default)]
+struct StaticLayerState {
+    /// What the layer holds, drawn by a submitted pass: later passes may keep it.
+    kept: Option<StaticLayerSource>,
+    /// What the last recorded pass that drew the layer drew it for, until the host says that
+    /// pass was submitted.
+    recorded: Option<StaticLayerSource>,
 }
 
 /// What a static layer's contents follow from: the light's view and projection and the
@@ -223,7 +234,7 @@ impl TemporalShadowMap {
                 COUNTER_BYTES,
                 BufferUsage::Readback,
             )?,
-            static_layer_source: Mutex::new(None),
+            static_layer_source: Mutex::new(StaticLayerState::default()),
             static_layer_builds: AtomicU32::new(0),
         })
     }
@@ -288,6 +299,7 @@ impl TemporalShadowMap {
         cmd: vk::CommandBuffer,
         light: &LightView,
         coverage: Option<&CoverageMap>,
+        outer_barriers: bool,
     ) {
         let sorted = self.sorts_ranges(light, coverage);
         let header = ShadowMapHeader {
@@ -314,7 +326,9 @@ impl TemporalShadowMap {
                 self.ranges.device_address()
             },
         };
-        unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
+        if outer_barriers {
+            unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
+        }
         // SAFETY: plain data of the header's size; recording outside a render pass (the
         // collection pass's contract).
         unsafe { self.header.record_write(device, cmd, &[header]) };
@@ -327,32 +341,47 @@ impl TemporalShadowMap {
         self.static_layer_builds.load(Ordering::Relaxed)
     }
 
-    /// Makes the next collection pass redraw the static layer, kept or not: call it when a
-    /// recorded collection pass was not submitted, or when a static draw's buffer contents
-    /// changed in place.
-    pub fn forget_static_layer(&self) {
-        *self
-            .static_layer_source
+    fn static_layer_state(&self) -> std::sync::MutexGuard<'_, StaticLayerState> {
+        self.static_layer_source
             .lock()
-            .unwrap_or_else(|e| e.into_inner()) = None;
+            .unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Makes the next collection pass redraw the static layer, kept or not: call it when a
+    /// static draw's buffer contents changed in place.
+    pub fn forget_static_layer(&self) {
+        *self.static_layer_state() = StaticLayerState::default();
+    }
+
+    /// Tells the map that the command buffer with its last recorded collection pass was
+    /// submitted: a static layer that pass drew may then be kept by later passes (with
+    /// [`LightView::keep_static_layer`]). Recording alone never marks a layer as kept, so a
+    /// recorded pass that is not submitted needs nothing undone; without this call the layer
+    /// is redrawn by every pass (slower, never wrong).
+    ///
+    /// Call it after the submission and before recording this map's next collection pass.
+    /// (Saying so of a pass that was not submitted makes later passes keep a layer that was
+    /// never drawn: wrong shadows, though no memory is misused.)
+    pub fn static_layer_submitted(&self) {
+        let mut state = self.static_layer_state();
+        if let Some(recorded) = state.recorded.take() {
+            state.kept = Some(recorded);
+        }
     }
 
     /// Whether the static layer holds what `source` would draw (a kept layer).
     pub(crate) fn static_layer_is(&self, source: &StaticLayerSource) -> bool {
-        let kept = self
-            .static_layer_source
-            .lock()
-            .unwrap_or_else(|e| e.into_inner());
-        kept.as_ref() == Some(source)
+        self.static_layer_state().kept.as_ref() == Some(source)
     }
 
-    /// Notes that the static layer was just drawn for `source` (`None`: not to be kept).
+    /// Notes that a recorded pass draws the static layer for `source` (`None`: not to be
+    /// kept). What the layer held is not kept any more; `source` is, once the pass is
+    /// submitted ([`Self::static_layer_submitted`]).
     pub(crate) fn static_layer_drawn(&self, source: Option<StaticLayerSource>) {
         self.static_layer_builds.fetch_add(1, Ordering::Relaxed);
-        *self
-            .static_layer_source
-            .lock()
-            .unwrap_or_else(|e| e.into_inner()) = source;
+        let mut state = self.static_layer_state();
+        state.kept = None;
+        state.recorded = source;
     }
 
     /// Records clearing the range heads and setting the generation's dispatches: every tile,
@@ -387,8 +416,8 @@ impl TemporalShadowMap {
         }
     }
 
-    /// Bytes of GPU memory the map's buffers occupy.
-    pub fn allocated_bytes(&self) -> u64 {
+    /// The buffers the map's passes use (every one but the counters' readback).
+    fn pass_buffers(&self) -> [&Buffer; 10] {
         [
             &self.header,
             &self.heads,
@@ -401,9 +430,21 @@ impl TemporalShadowMap {
             &self.static_nearest,
             &self.tiles,
         ]
-        .iter()
-        .map(|b| b.size())
-        .sum()
+    }
+
+    /// Bytes of GPU memory the map's buffers occupy.
+    pub fn allocated_bytes(&self) -> u64 {
+        self.pass_buffers().iter().map(|b| b.size()).sum()
+    }
+
+    /// Each buffer the map allocated, by its allocation's name, with the bytes of its
+    /// allocation (what a host's allocator counts: [`crate::gpu::Context::from_raw_with_allocator`]).
+    pub fn allocations(&self) -> Vec<(&str, u64)> {
+        self.pass_buffers()
+            .into_iter()
+            .chain([&self.counters_readback])
+            .map(|b| (b.name(), b.allocated_bytes()))
+            .collect()
     }
 
     /// Whether a frame with these counts overflowed this map (its output is then incomplete
@@ -445,7 +486,9 @@ impl TemporalShadowMap {
     /// Reallocates to the given capacities (at least the current ones): an engine that
     /// grows between frames may keep headroom above the last frame's counts, e.g.
     /// `map.reserve(ctx, counts.node_count / 4 * 5, counts.range_count / 4 * 5)`. Like
-    /// [`Self::grow_to_fit`], it frees the old buffers at once.
+    /// [`Self::grow_to_fit`], it retires the old buffers: they are destroyed once no pending
+    /// frame can use them ([`Context::begin_frame`], [`Context::collect`]), so it may be
+    /// called while frames that use the map are in flight.
     pub fn reserve(&mut self, ctx: &Context, nodes: u32, ranges: u32) -> Result<()> {
         let nodes = nodes.max(self.node_capacity);
         let ranges = ranges.max(self.range_capacity);
@@ -464,7 +507,7 @@ impl TemporalShadowMap {
 
     /// Reallocates to hold exactly what `counts` says a frame needs (and at least the
     /// current capacities). Errors with the figures if the device cannot address that much.
-    /// The old buffers are freed at once: call only when no submission using them is pending.
+    /// The old buffers are retired, not freed at once (see [`Self::reserve`]).
     pub fn grow_to_fit(&mut self, ctx: &Context, counts: &Counters) -> Result<()> {
         if counts.wrapped != 0 {
             return Err(Error::FragmentCountOverflow);
@@ -583,6 +626,12 @@ pub(crate) fn download<T: bytemuck::Pod>(
     buffer: &Buffer,
     count: usize,
 ) -> Result<Vec<T>> {
+    if !buffer.is_of(ctx) {
+        return Err(Error::InvalidArgument(format!(
+            "{} was made with another context than the one given to copy it",
+            buffer.name()
+        )));
+    }
     let bytes = (count * std::mem::size_of::<T>()) as u64;
     if bytes == 0 {
         return Ok(Vec::new());

@@ -103,7 +103,9 @@ pub struct LightView {
     /// [`super::Draw`] descriptions: streams, indices, transforms, counts, ids, in order),
     /// and otherwise draws only what moves. Turn it on only if the contents of your static
     /// draws' buffers do not change while their descriptions stay the same; otherwise call
-    /// [`super::TemporalShadowMap::forget_static_layer`] when they do.
+    /// [`super::TemporalShadowMap::forget_static_layer`] when they do. A layer is kept only
+    /// once the host has said the pass that drew it was submitted
+    /// ([`super::TemporalShadowMap::static_layer_submitted`]).
     pub keep_static_layer: bool,
 }
 

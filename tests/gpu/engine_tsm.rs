@@ -246,6 +246,8 @@ impl<'c> Rig<'c> {
             }
             Ok(())
         })?;
+        // Submitted and waited for: a static map it drew may be kept.
+        map.static_map_submitted();
         if frame.draw_gbuffer {
             let contents = self.gbuffer.read()?;
             let inverse = view_proj.inverse();

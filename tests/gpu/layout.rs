@@ -9,7 +9,9 @@
 use crate::support::gpu::{assert_no_validation_messages, context};
 use crate::support::test_shader::compile_compute;
 use glam::{Mat4, UVec4, Vec4};
-use motion_shadows::gpu::{Access, Buffer, BufferUsage, OneShot, compute_pipeline, memory_barrier};
+use motion_shadows::gpu::{
+    Access, Buffer, BufferUsage, OneShot, Spirv, compute_pipeline, memory_barrier,
+};
 use motion_shadows::technique::{
     CameraParams, Counters, DrawRecord, GpuLight, Node, PassConstants, PlainMapHeader, Range,
     ShadowMapHeader,
@@ -98,11 +100,14 @@ impl Dump {
 fn shared_structs_match_glsl() {
     let ctx = context();
     let device = ctx.device();
+    let spirv = probe_spirv();
     let pipeline = compute_pipeline(
         &ctx,
         std::mem::size_of::<PassConstants>() as u32,
         "layout_probe.comp",
-        &probe_spirv(),
+        // SAFETY: shaderc's SPIR-V of tests/glsl/layout_probe.comp for Vulkan 1.2, using what
+        // the library's shaders use, push constants of PassConstants's size, no sets.
+        unsafe { Spirv::new(&spirv) },
     )
     .unwrap();
 

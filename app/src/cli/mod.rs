@@ -7,6 +7,7 @@ pub mod compare_cmd;
 pub mod compare_deferred;
 pub mod deferred_cmd;
 pub mod export_cmd;
+pub mod install_hint;
 pub mod render_cmd;
 pub mod summary;
 

@@ -411,6 +411,8 @@ impl Renderer<'_> {
                 unsafe { gbuffer.record_readback(device, cmd) };
                 Ok(())
             })?;
+            // Submitted (and waited for): the timed frame may keep the static map.
+            tsm_map.static_map_submitted();
             if timed {
                 passes.extend(spans.into_iter().filter(|p| p.pass != "setup"));
             }

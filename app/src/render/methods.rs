@@ -190,6 +190,8 @@ impl Renderer<'_> {
                         )
                     }
                 })?;
+                // Submitted (and waited for): the timed pass may keep the layer.
+                map.static_layer_submitted();
             }
             progress(&format!(
                 "shadow pass (attempt {attempts}): {} triangles, room for {} fragments and {} ranges",
@@ -217,6 +219,7 @@ impl Renderer<'_> {
                 unsafe { map.record_counter_readback(device, cmd) };
                 Ok(())
             })?;
+            map.static_layer_submitted();
             let counts = map.read_counters()?;
             if !map.needs_more_room(&counts) {
                 map.check_complete(&counts)?;

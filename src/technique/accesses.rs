@@ -1,0 +1,358 @@
+//! The passes' accesses as data, for a host with its own barrier system (a render graph):
+//! what each record function reads and writes, in which stages, with which accesses, and
+//! (for images) in which layouts. A host that issues the barriers itself turns the passes'
+//! own entry and exit barriers off ([`CollectionPass::with_host_barriers`],
+//! [`GenerationPass::with_host_barriers`]) and, between passes, makes each pass's
+//! [`PassAccesses::last`] visible to the next one's [`PassAccesses::first`] (or, per
+//! resource, from [`PassAccesses::uses`]). The barriers inside a pass (between its own
+//! steps) stay its own.
+//!
+//! The temporal shadow map's buffers are reached by device address in the shaders, so most
+//! uses name a buffer a host cannot see; a host that tracks buffers by handle gets the
+//! handles here ([`Resource::Buffer`]), and the host's own vertex and index buffers, read by
+//! address through the draw list, as [`Resource::DrawStreams`].
+
+use super::collection::CollectionPass;
+use super::coverage::CoverageMap;
+use super::generation::GenerationPass;
+use super::shadow_map::TemporalShadowMap;
+use super::view::LightView;
+use crate::gpu::Access;
+use ash::vk;
+
+/// What a use is of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Resource {
+    /// A buffer of the library (named as its allocation is, e.g. `"nodes"`).
+    Buffer {
+        /// The handle.
+        buffer: vk::Buffer,
+        /// Its name.
+        name: &'static str,
+    },
+    /// The draw list's position and index streams: the host's buffers, read by address.
+    DrawStreams,
+    /// An image of the host's, through the view the host gave, in `layout` during the pass
+    /// (the host's barriers move it there before and on after).
+    ImageView {
+        /// The view.
+        view: vk::ImageView,
+        /// Its layout while the pass uses it.
+        layout: vk::ImageLayout,
+    },
+}
+
+/// How one pass uses one resource: its first access (what must wait for earlier uses) and
+/// its last (what later uses wait for).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ResourceUse {
+    /// What is used.
+    pub resource: Resource,
+    /// The pass's first access of it.
+    pub first: AccessData,
+    /// The pass's last access of it.
+    pub last: AccessData,
+    /// Whether the pass writes it.
+    pub writes: bool,
+}
+
+/// [`Access`] as plain data (stages and accesses), comparable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AccessData {
+    /// Pipeline stages.
+    pub stages: vk::PipelineStageFlags2,
+    /// Memory accesses in those stages.
+    pub access: vk::AccessFlags2,
+}
+
+impl From<Access> for AccessData {
+    fn from(a: Access) -> Self {
+        Self {
+            stages: a.stages,
+            access: a.access,
+        }
+    }
+}
+
+impl From<AccessData> for Access {
+    fn from(a: AccessData) -> Self {
+        Self {
+            stages: a.stages,
+            access: a.access,
+        }
+    }
+}
+
+/// Every resource one recorded pass uses.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct PassAccesses {
+    /// One entry per resource.
+    pub uses: Vec<ResourceUse>,
+}
+
+impl PassAccesses {
+    fn add(&mut self, resource: Resource, first: Access, last: Access, writes: bool) {
+        self.uses.push(ResourceUse {
+            resource,
+            first: first.into(),
+            last: last.into(),
+            writes,
+        });
+    }
+
+    fn buffer(
+        &mut self,
+        map_buffer: (&crate::gpu::Buffer, &'static str),
+        first: Access,
+        last: Access,
+        writes: bool,
+    ) {
+        let (buffer, name) = map_buffer;
+        self.add(
+            Resource::Buffer {
+                buffer: buffer.raw(),
+                name,
+            },
+            first,
+            last,
+            writes,
+        );
+    }
+
+    /// Every first access together: the destination of one global barrier before the pass.
+    pub fn first(&self) -> Access {
+        self.uses
+            .iter()
+            .fold(Access::NONE, |a, u| a.and(u.first.into()))
+    }
+
+    /// Every last access together: the source of one global barrier after the pass.
+    pub fn last(&self) -> Access {
+        self.uses
+            .iter()
+            .fold(Access::NONE, |a, u| a.and(u.last.into()))
+    }
+}
+
+/// Shader reads and writes of storage in the stages of the collection's draws.
+const DRAW_STAGES_RW: Access = Access::FRAGMENT_RW.and(Access::GEOMETRY_RW);
+/// Storage reads by the collection's vertex, geometry and fragment shaders.
+const DRAW_STAGES_READ: Access = Access {
+    stages: vk::PipelineStageFlags2::from_raw(
+        vk::PipelineStageFlags2::VERTEX_SHADER.as_raw()
+            | vk::PipelineStageFlags2::GEOMETRY_SHADER.as_raw()
+            | vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw(),
+    ),
+    access: vk::AccessFlags2::SHADER_STORAGE_READ,
+};
+/// Storage reads by compute shaders.
+const COMPUTE_READ: Access = Access {
+    stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
+    access: vk::AccessFlags2::SHADER_STORAGE_READ,
+};
+
+impl CollectionPass {
+    /// The same pass without its entry and exit barriers: the host issues them from
+    /// [`Self::accesses`] (a render graph). The barriers between its own steps stay.
+    pub fn with_host_barriers(mut self) -> Self {
+        self.outer_barriers = false;
+        self
+    }
+
+    /// What [`Self::record`] with these arguments reads and writes. The draw list itself
+    /// is updated, with its own barriers, by [`super::DrawList::record_update`].
+    pub fn accesses(
+        &self,
+        draws: &super::DrawList,
+        light: &LightView,
+        map: &TemporalShadowMap,
+        coverage: Option<&CoverageMap>,
+    ) -> PassAccesses {
+        let mut a = PassAccesses::default();
+        let transfer_then_draws = |last: Access| (Access::TRANSFER_WRITE, last);
+        a.add(
+            Resource::DrawStreams,
+            DRAW_STAGES_READ,
+            DRAW_STAGES_READ,
+            false,
+        );
+        a.buffer(
+            (draws.buffer(), "draw list"),
+            DRAW_STAGES_READ,
+            DRAW_STAGES_READ,
+            false,
+        );
+        let (first, last) = transfer_then_draws(DRAW_STAGES_READ);
+        a.buffer((&map.header, "shadow map header"), first, last, true);
+        for (buffer, name) in [
+            (&map.heads, "node heads"),
+            (&map.range_heads, "range heads"),
+        ] {
+            let (first, last) = transfer_then_draws(DRAW_STAGES_RW);
+            a.buffer((buffer, name), first, last, true);
+        }
+        // Counters: written by transfer, counted by the geometry and fragment shaders, and
+        // (when the collection stores the ranges) copied within the buffer at the end.
+        a.buffer(
+            (&map.counters, "counters"),
+            Access::TRANSFER_WRITE,
+            DRAW_STAGES_RW.and(Access::TRANSFER_WRITE),
+            true,
+        );
+        // The generation's dispatch arguments.
+        a.buffer(
+            (&map.tiles, "generation dispatch"),
+            Access::TRANSFER_WRITE,
+            Access::TRANSFER_WRITE,
+            true,
+        );
+        a.buffer(
+            (&map.nodes, "nodes"),
+            Access::FRAGMENT_RW,
+            Access::FRAGMENT_RW,
+            true,
+        );
+        a.buffer(
+            (&map.ranges, "ranges"),
+            Access::FRAGMENT_RW,
+            Access::FRAGMENT_RW,
+            true,
+        );
+        // With sorted storage the collection links its ranges here; the generation sorts
+        // them into `ranges`.
+        a.buffer(
+            (&map.range_lists, "range lists"),
+            Access::FRAGMENT_RW,
+            Access::FRAGMENT_RW,
+            true,
+        );
+        if map.uses_static_layer(light, coverage) {
+            a.buffer(
+                (&map.static_nearest, "static layer"),
+                Access::TRANSFER_WRITE.and(DRAW_STAGES_RW),
+                DRAW_STAGES_RW,
+                true,
+            );
+        }
+        if let Some(c) = coverage {
+            a.buffer(
+                (&c.nearest, "coverage nearest"),
+                Access::TRANSFER_WRITE,
+                DRAW_STAGES_RW,
+                true,
+            );
+        }
+        a
+    }
+}
+
+impl GenerationPass {
+    /// The same pass without its entry and exit barriers: the host issues them from
+    /// [`Self::accesses`]. The barriers between its two dispatches stay.
+    pub fn with_host_barriers(mut self) -> Self {
+        self.outer_barriers = false;
+        self
+    }
+
+    /// What [`Self::record`] of `map` reads and writes.
+    pub fn accesses(&self, map: &TemporalShadowMap) -> PassAccesses {
+        let mut a = PassAccesses::default();
+        let rw = Access::COMPUTE_RW;
+        a.buffer(
+            (&map.header, "shadow map header"),
+            COMPUTE_READ,
+            COMPUTE_READ,
+            false,
+        );
+        a.buffer((&map.heads, "node heads"), rw, rw, true);
+        a.buffer((&map.nodes, "nodes"), rw, rw, true);
+        a.buffer((&map.range_heads, "range heads"), rw, rw, true);
+        a.buffer((&map.ranges, "ranges"), rw, rw, true);
+        a.buffer((&map.counters, "counters"), rw, rw, true);
+        a.buffer(
+            (&map.static_nearest, "static layer"),
+            COMPUTE_READ,
+            COMPUTE_READ,
+            false,
+        );
+        a.buffer(
+            (&map.range_lists, "range lists"),
+            COMPUTE_READ,
+            COMPUTE_READ,
+            false,
+        );
+        // The dispatches' arguments: the sorting's short lists count the long ones' groups.
+        a.buffer(
+            (&map.tiles, "generation dispatch"),
+            Access::INDIRECT_READ,
+            rw.and(Access::INDIRECT_READ),
+            true,
+        );
+        a.buffer(
+            (&map.long_pixels, "long-list pixels"),
+            Access::TRANSFER_WRITE,
+            rw.and(Access::INDIRECT_READ),
+            true,
+        );
+        a
+    }
+}
+
+impl super::VisibilityMaskPass {
+    /// What [`Self::record`] with these inputs reads and writes of the host's images and of
+    /// `map` (its own counter it orders itself). The images' barriers and layout transitions
+    /// are always the host's (the record function's contract); the map's ranges must be
+    /// visible to compute reads, which the generation pass's exit barrier (or the host's,
+    /// from [`GenerationPass::accesses`]) does.
+    pub fn accesses(&self, inputs: &super::MaskInputs, map: &TemporalShadowMap) -> PassAccesses {
+        let sampled = Access::COMPUTE_SAMPLED_READ;
+        let mut a = map.lookup_accesses(vk::PipelineStageFlags2::COMPUTE_SHADER);
+        let image = |view, layout| Resource::ImageView { view, layout };
+        a.add(
+            image(inputs.depth, inputs.depth_layout),
+            sampled,
+            sampled,
+            false,
+        );
+        let optional = [
+            inputs.normals.map(|n| (n.view, n.layout)),
+            inputs.motion.map(|m| (m.view, m.layout)),
+            inputs.ids.map(|i| (i.view, i.layout)),
+        ];
+        for (view, layout) in optional.into_iter().flatten() {
+            a.add(image(view, layout), sampled, sampled, false);
+        }
+        let write = Access {
+            stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
+            access: vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        };
+        a.add(
+            image(inputs.output, vk::ImageLayout::GENERAL),
+            write,
+            write,
+            true,
+        );
+        a
+    }
+}
+
+impl TemporalShadowMap {
+    /// What a shader of the host that tests visibility against this map reads (by address,
+    /// from any stage it names): the map after [`GenerationPass::record`].
+    pub fn lookup_accesses(&self, stages: vk::PipelineStageFlags2) -> PassAccesses {
+        let read = Access {
+            stages,
+            access: vk::AccessFlags2::SHADER_STORAGE_READ,
+        };
+        let mut a = PassAccesses::default();
+        for (buffer, name) in [
+            (&self.header, "shadow map header"),
+            (&self.range_heads, "range heads"),
+            (&self.ranges, "ranges"),
+            (&self.static_nearest, "static layer"),
+        ] {
+            a.buffer((buffer, name), read, read, false);
+        }
+        a
+    }
+}

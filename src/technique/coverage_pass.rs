@@ -1,0 +1,129 @@
+//! Passes 2 and 3 of the coverage map (2017 paper, "Extension"; see coverage.rs): the caps
+//! mark the texels one triangle covers for the whole frame, the reset removes marks where
+//! another triangle is nearer at some time. A research pass (feature `research`).
+
+use super::collection::{PUSH_BYTES, PrismPipelines, PrismShaders, draw_each};
+use super::coverage::CoverageMap;
+use super::draws::DrawList;
+use super::gpu_types::{DepthFormat, PassConstants};
+use super::shaders;
+use super::shadow_map::TemporalShadowMap;
+use super::view::LightView;
+use crate::error::Result;
+use crate::gpu::{
+    Access, Context, Pipeline, attachmentless_pipeline, begin_attachmentless, memory_barrier,
+};
+use ash::vk;
+
+/// Passes 2 and 3 of the extension. Immutable after creation: one serves every frame in
+/// flight and every light.
+pub struct CoveragePass {
+    caps: Pipeline,
+    reset: PrismPipelines,
+}
+
+impl CoveragePass {
+    /// Creates the caps pipeline (vertex and fragment shader) and the reset pipeline (the
+    /// collection pass's prisms with another fragment shader).
+    pub fn new(ctx: &Context) -> Result<Self> {
+        let caps = attachmentless_pipeline(
+            ctx,
+            PUSH_BYTES,
+            &[
+                (
+                    vk::ShaderStageFlags::VERTEX,
+                    "coverage_caps.vert",
+                    shaders::COVERAGE_CAPS_VERT,
+                ),
+                (
+                    vk::ShaderStageFlags::FRAGMENT,
+                    "coverage.frag",
+                    shaders::COVERAGE_FRAG,
+                ),
+            ],
+        )?;
+        let reset = PrismPipelines::new(
+            ctx,
+            PrismShaders {
+                paper_fragment: ("coverage_reset.frag", shaders::COVERAGE_RESET_FRAG),
+                exact_fragment: (
+                    "coverage_reset_exact.frag",
+                    shaders::COVERAGE_RESET_EXACT_FRAG,
+                ),
+                static_fragment: (
+                    "coverage_reset_static.frag",
+                    shaders::COVERAGE_RESET_STATIC_FRAG,
+                ),
+                ranges_fragment: None,
+            },
+        )?;
+        Ok(Self { caps, reset })
+    }
+
+    /// Records passes 2 and 3 for `coverage`, after [`super::CollectionPass::record`] of
+    /// `map` with the same coverage map (which wrote the header and filled the nearest map),
+    /// and before [`super::GenerationPass::record`]; `light` is the collection's (its
+    /// [`LightView::prisms`] picks the same prisms).
+    ///
+    /// # Safety
+    /// As [`super::CollectionPass::record`], with `draws` the same list the collection pass
+    /// drew.
+    ///
+    /// Synchronization: waits for the collection's fragment writes (its closing barrier) and
+    /// earlier reads of the coverage map; leaves the coverage map written by the fragment
+    /// stage and visible to compute and every shader read. State changed: the bound graphics
+    /// pipeline, push constants, viewport, scissor.
+    pub unsafe fn record(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        draws: &DrawList,
+        light: &LightView,
+        map: &TemporalShadowMap,
+        coverage: &CoverageMap,
+    ) {
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::ANY_SHADER_READ.and(Access::FRAGMENT_RW),
+                Access::TRANSFER_WRITE,
+            )
+        };
+        unsafe {
+            device.cmd_fill_buffer(cmd, coverage.coverage.raw(), 0, vk::WHOLE_SIZE, u32::MAX);
+            device.cmd_fill_buffer(cmd, coverage.cover_depth.raw(), 0, vk::WHOLE_SIZE, 0);
+        }
+        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::FRAGMENT_RW) };
+        unsafe { begin_attachmentless(device, cmd, coverage.width(), coverage.height()) };
+        unsafe { self.caps.bind(device, cmd) };
+        for time in [0.0, 1.0] {
+            let constants = PassConstants {
+                map: map.header_address(),
+                mode: DepthFormat::DepthAndId as u32,
+                time,
+                ..PassConstants::default()
+            };
+            draw_each(device, cmd, &self.caps, draws, constants);
+        }
+        unsafe { device.cmd_end_rendering(cmd) };
+        // The reset pass reads what the caps wrote, in other fragment invocations.
+        unsafe { memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::FRAGMENT_RW) };
+        unsafe { begin_attachmentless(device, cmd, coverage.width(), coverage.height()) };
+        let constants = PassConstants {
+            map: map.header_address(),
+            ..PassConstants::default()
+        };
+        self.reset
+            .draw(device, cmd, light.prisms, draws, constants, true, false);
+        unsafe { device.cmd_end_rendering(cmd) };
+        unsafe {
+            memory_barrier(
+                device,
+                cmd,
+                Access::FRAGMENT_RW,
+                Access::COMPUTE_RW.and(Access::ANY_SHADER_READ),
+            )
+        };
+    }
+}
