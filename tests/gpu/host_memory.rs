@@ -94,6 +94,11 @@ fn moving_triangle(ctx: &Context) -> (Buffer, Draw) {
 /// the frame and destroyed only when the host collects it after the fence. Without the
 /// retirement (`reserve` freeing at once, as before), the validation layer reports
 /// vkDestroyBuffer on buffers that a pending command buffer uses.
+
+/// How much more than an object's own bytes the host's allocator may count for it: its
+/// alignment padding. 256 bytes on lavapipe; on an NVIDIA H200 a 512-byte 1x1 image took
+/// 1,120 (its 1 KiB alignment).
+const PADDING: u64 = 4096;
 #[test]
 fn a_map_replaced_while_its_frame_is_in_flight_waits_for_the_frame() {
     let host = new_host();
@@ -192,7 +197,7 @@ fn the_hosts_allocator_counts_the_librarys_allocations() {
         .collect();
     reported.sort();
     // The host's report counts each allocation with its alignment padding (the allocator's
-    // chunk), at most the largest alignment the buffers ask for ahead of it.
+    // chunk), at most the largest alignment the buffers ask for ahead of it: PADDING.
     let names = |v: &[(String, u64)]| v.iter().map(|a| a.0.clone()).collect::<Vec<_>>();
     assert_eq!(
         names(&added),
@@ -201,7 +206,7 @@ fn the_hosts_allocator_counts_the_librarys_allocations() {
     );
     for (host_view, map_view) in added.iter().zip(&reported) {
         assert!(
-            (map_view.1..map_view.1 + 256).contains(&host_view.1),
+            map_view.1 > 0 && (map_view.1..map_view.1 + PADDING).contains(&host_view.1),
             "{}: the host counts {} bytes, the map reports {}",
             map_view.0,
             host_view.1,
@@ -236,7 +241,7 @@ fn the_hosts_allocator_counts_the_librarys_allocations() {
         assert!(
             host_view
                 .iter()
-                .any(|(n, b)| n == name && (bytes..bytes + 256).contains(b)),
+                .any(|(n, b)| n == name && bytes > 0 && (bytes..bytes + PADDING).contains(b)),
             "{name} ({bytes} bytes) in the host's allocator: {host_view:?}"
         );
     }
