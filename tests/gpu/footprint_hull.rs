@@ -164,8 +164,9 @@ fn the_footprint_holds_every_corner_when_turn_tests_are_fused() {
         let grown: Vec<[f64; 2]> = (0..h.min(12))
             .map(|k| [f64::from(r[2 + 2 * k]), f64::from(r[3 + 2 * k])])
             .collect();
+        // At most 8 grown corners: the collection's geometry shader declares no more.
         assert!(
-            (1..=12).contains(&h) && grown.iter().flatten().all(|v| v.is_finite()),
+            (1..=8).contains(&h) && grown.iter().flatten().all(|v| v.is_finite()),
             "set {i} {set:?}: h {h}, grown hull {grown:?}"
         );
         for &p in set {
