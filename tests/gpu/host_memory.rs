@@ -90,15 +90,15 @@ fn moving_triangle(ctx: &Context) -> (Buffer, Draw) {
     (buffer, draw)
 }
 
-/// Grows a map while the frame that uses it is in flight: the old buffers are retired with
-/// the frame and destroyed only when the host collects it after the fence. Without the
-/// retirement (`reserve` freeing at once, as before), the validation layer reports
-/// vkDestroyBuffer on buffers that a pending command buffer uses.
-
 /// How much more than an object's own bytes the host's allocator may count for it: its
 /// alignment padding. 256 bytes on lavapipe; on an NVIDIA H200 a 512-byte 1x1 image took
 /// 1,120 (its 1 KiB alignment).
 const PADDING: u64 = 4096;
+
+/// Grows a map while the frame that uses it is in flight: the old buffers are retired with
+/// the frame and destroyed only when the host collects it after the fence. Without the
+/// retirement (`reserve` freeing at once, as before), the validation layer reports
+/// vkDestroyBuffer on buffers that a pending command buffer uses.
 #[test]
 fn a_map_replaced_while_its_frame_is_in_flight_waits_for_the_frame() {
     let host = new_host();
