@@ -65,6 +65,18 @@ void emit_whole_map() {
     EndPrimitive();
 }
 
+// Every point on the line through the first two distinct ones (precise turns: exact for
+// repeated points). Corners on one line at t = 0 and t = 1 stay on it in between: the
+// triangle is edge-on all frame long.
+bool exactly_collinear(vec2 p[6]) {
+    int j = 1;
+    while (j < 5 && p[j] == p[0]) ++j;
+    for (int k = 1; k < 6; ++k) {
+        if (hull_turn(p[0], p[j], p[k]) != 0.0) return false;
+    }
+    return true;
+}
+
 // A quad `by` around the segment a-b (a square where a == b), in texels.
 void emit_around_segment(vec2 a, vec2 b, float by, vec2 size) {
     vec2 along = a != b ? normalize(b - a) * by : vec2(by, 0.0);
@@ -138,13 +150,17 @@ void main() {
     }
     light_cuts = vec3(EXACT_NO_ROOT);  // all in front: never contains the light
     vec2 hull[2 * HULL_MAX_POINTS];
+    vec2 corners[6] = texels;
     float merge = hull_merge_distance(texels, 6);
     int h = convex_hull(texels, 6, merge, hull);
     // The hull may miss up to `merge` of the footprint (convex_hull.glsl): grown by that too.
     float grow = DILATION_TEXELS + 1.5 * merge;
     if (h < 3) {
-        // A point or a segment: seen edge-on all frame long, or smaller than `merge`. A thin
-        // quad around it; the fragment shader finds whatever it covers (nothing edge-on).
+        // Seen exactly edge-on all frame long (a wall under a light straight above it): no
+        // texel centre is ever covered, nothing to draw. Otherwise a sliver or a speck
+        // thinner than `merge`: a thin quad around it, the fragment shader finds what it
+        // covers.
+        if (exactly_collinear(corners)) return;
         emit_around_segment(hull[0], hull[h - 1], grow, size);
         return;
     }
