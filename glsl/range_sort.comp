@@ -88,9 +88,9 @@ void main() {
     // long-pixel list's own: the generation's pairing uses that one).
     UintArray dispatch = UintArray(map.tiles);
     uint group = index / 64u;
-    if (index % 64u == 0u && group < LONG_SORT_ROW) atomicAdd(dispatch.v[LONG_SORT_ARGS], 1u);
+    if (index % 64u == 0u && group < LONG_SORT_ROW) atomicAdd(dispatch.v[DISPATCH_SORT_LONG], 1u);
     if (index % (64u * LONG_SORT_ROW) == 0u && index != 0u) {
-        atomicAdd(dispatch.v[LONG_SORT_ARGS + 1u], 1u);
+        atomicAdd(dispatch.v[DISPATCH_SORT_LONG + 1u], 1u);
     }
     scratch.v[index] = p;
 }

@@ -10,6 +10,7 @@
 //! otherwise costs its barriers only.
 
 use super::collection::PUSH_BYTES;
+use super::gpu_constants::{DISPATCH_PAIRING, DISPATCH_SORT, DISPATCH_SORT_LONG};
 use super::gpu_types::PassConstants;
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
@@ -108,7 +109,7 @@ impl GenerationPass {
         };
         unsafe { self.pipeline.bind(device, cmd) };
         unsafe { self.pipeline.push(device, cmd, &constants) };
-        unsafe { device.cmd_dispatch_indirect(cmd, map.tiles.raw(), 0) };
+        unsafe { device.cmd_dispatch_indirect(cmd, map.tiles.raw(), word_bytes(DISPATCH_PAIRING)) };
         unsafe {
             memory_barrier(
                 device,
@@ -125,8 +126,8 @@ impl GenerationPass {
         // lists (which append the long ones to the long-pixel list and count their groups),
         // then the long ones.
         for (pipeline, args, offset) in [
-            (&self.sort, &map.tiles, 16),
-            (&self.sort_long, &map.tiles, 32),
+            (&self.sort, &map.tiles, word_bytes(DISPATCH_SORT)),
+            (&self.sort_long, &map.tiles, word_bytes(DISPATCH_SORT_LONG)),
         ] {
             unsafe {
                 memory_barrier(
@@ -151,4 +152,9 @@ impl GenerationPass {
             };
         }
     }
+}
+
+/// The byte offset of 32-bit word `word` (the indirect dispatches' places in `tiles`).
+fn word_bytes(word: u32) -> u64 {
+    u64::from(word) * 4
 }

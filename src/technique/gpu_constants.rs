@@ -15,6 +15,18 @@ pub const MAX_LIST_NODES: u32 = 512;
 /// through the indirect dispatch the collection sets).
 pub const TILE_TEXELS: u32 = 8;
 
+/// The map's `tiles` buffer holds three indirect dispatches of 4 words (x, y, z group counts
+/// and a pad), set when the collection is recorded: the generation's pairing, the sort of
+/// each texel's collected ranges, and the sort of the long lists (whose groups the first sort
+/// counts into it). The word each starts at, and the buffer's words:
+pub const DISPATCH_PAIRING: u32 = 0;
+/// See [`DISPATCH_PAIRING`].
+pub const DISPATCH_SORT: u32 = 4;
+/// See [`DISPATCH_PAIRING`].
+pub const DISPATCH_SORT_LONG: u32 = 8;
+/// See [`DISPATCH_PAIRING`].
+pub const DISPATCH_WORDS: u32 = 12;
+
 /// `DrawRecord::index_kind`: no index stream.
 pub const INDEX_NONE: u32 = 0;
 /// `DrawRecord::index_kind`: 16-bit indices.
@@ -70,6 +82,10 @@ pub const TSM_LAST_BATCH: u32 = 0x20;
 pub const GLSL_UINTS: &[(&str, u32)] = &[
     ("MAX_LIST_NODES", MAX_LIST_NODES),
     ("TILE_TEXELS", TILE_TEXELS),
+    ("DISPATCH_PAIRING", DISPATCH_PAIRING),
+    ("DISPATCH_SORT", DISPATCH_SORT),
+    ("DISPATCH_SORT_LONG", DISPATCH_SORT_LONG),
+    ("DISPATCH_WORDS", DISPATCH_WORDS),
     ("INDEX_NONE", INDEX_NONE),
     ("INDEX_U16", INDEX_U16),
     ("INDEX_U32", INDEX_U32),

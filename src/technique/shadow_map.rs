@@ -121,7 +121,9 @@ impl StaticLayerSource {
     }
 }
 
-use super::gpu_constants::TILE_TEXELS;
+use super::gpu_constants::{
+    DISPATCH_PAIRING, DISPATCH_SORT, DISPATCH_SORT_LONG, DISPATCH_WORDS, TILE_TEXELS,
+};
 
 /// The header's `size.z` for sorted ranges (`MS_SORTED_RANGES` in
 /// `glsl/motion_shadows.glsl`, which a host includes without the generated constants).
@@ -227,7 +229,12 @@ impl TemporalShadowMap {
                 BufferUsage::Storage,
             )?,
             static_nearest: Buffer::new(ctx, "static layer", 2 * head_bytes, BufferUsage::Storage)?,
-            tiles: Buffer::new(ctx, "generation dispatches", 48, BufferUsage::Storage)?,
+            tiles: Buffer::new(
+                ctx,
+                "generation dispatches",
+                u64::from(DISPATCH_WORDS) * 4,
+                BufferUsage::Storage,
+            )?,
             counters_readback: Buffer::new(
                 ctx,
                 "counters readback",
@@ -404,15 +411,23 @@ impl TemporalShadowMap {
         let none = [0, 1, 1, 0];
         // Pairing, sorting each texel's list, sorting the long lists (its first tier counts
         // their groups).
-        let groups: [[u32; 4]; 3] = match (collects_ranges, sorts) {
-            (false, _) => [tiles, none, none],
-            (true, false) => [none; 3],
-            (true, true) => [none, tiles, none],
+        let (pairing, sort) = match (collects_ranges, sorts) {
+            (false, _) => (tiles, none),
+            (true, false) => (none, none),
+            (true, true) => (none, tiles),
         };
+        let mut words = [0u32; DISPATCH_WORDS as usize];
+        for (at, groups) in [
+            (DISPATCH_PAIRING, pairing),
+            (DISPATCH_SORT, sort),
+            (DISPATCH_SORT_LONG, none),
+        ] {
+            words[at as usize..at as usize + 4].copy_from_slice(&groups);
+        }
         // SAFETY: recording outside a render pass (the collection pass's contract).
         unsafe {
             device.cmd_fill_buffer(cmd, self.range_heads.raw(), 0, vk::WHOLE_SIZE, 0);
-            self.tiles.record_write(device, cmd, groups.as_flattened());
+            self.tiles.record_write(device, cmd, &words);
         }
     }
 
