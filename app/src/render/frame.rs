@@ -213,7 +213,7 @@ pub(super) fn check_target(ctx: &Context, target: &LightingTarget) -> Result<()>
 }
 
 /// What the user should know about an image that rendered: a temporal map that received
-/// nothing, and the exact prisms' one known inexact case.
+/// nothing (the exact prisms' one inexact case, a plane through the spot light, is exact now).
 pub(super) fn warnings(
     ctx: &Context,
     scene: &Scene,
