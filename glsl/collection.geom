@@ -8,7 +8,7 @@
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 42) out;
 
-layout(push_constant) uniform Push { PassConstants pc; };
+layout(push_constant) uniform Push { MapDrawPush pc; };
 
 layout(location = 0) in vec3 in_p0[];
 layout(location = 1) in vec3 in_p1[];
@@ -82,7 +82,7 @@ void emit_side(PrismVertex p, PrismVertex q, PrismVertex p1, PrismVertex q1) {
 }
 
 void main() {
-    DrawRecord d = load_draw(pc.draws, pc.draw_index);
+    DrawRecord d = load_draw(pc.draw.draws, pc.draw.draw_index);
     MsShadowMap map = MsShadowMap(pc.map);
     if (in_valid[0] == 0.0 || in_valid[1] == 0.0 || in_valid[2] == 0.0) {
         // Coverage's reset pass draws the same prisms: count each bad triangle once.

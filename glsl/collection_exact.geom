@@ -22,7 +22,7 @@ layout(triangles) in;
 #define MAX_GROWN_POINTS 8
 layout(triangle_strip, max_vertices = MAX_GROWN_POINTS) out;
 
-layout(push_constant) uniform Push { PassConstants pc; };
+layout(push_constant) uniform Push { MapDrawPush pc; };
 
 layout(location = 0) in vec3 in_p0[];
 layout(location = 1) in vec3 in_p1[];
@@ -89,7 +89,7 @@ void emit_around_segment(vec2 a, vec2 b, float by, vec2 size) {
 }
 
 void main() {
-    DrawRecord d = load_draw(pc.draws, pc.draw_index);
+    DrawRecord d = load_draw(pc.draw.draws, pc.draw.draw_index);
     MsShadowMap map = MsShadowMap(pc.map);
     if (in_valid[0] == 0.0 || in_valid[1] == 0.0 || in_valid[2] == 0.0) {
         if ((pc.flags & COUNT_INVALID) != 0u)

@@ -5,14 +5,14 @@
 // collection_exact.geom: the light's near and far planes clip nothing.
 #include "shared.glsl"
 
-layout(push_constant) uniform Push { PassConstants pc; };
+layout(push_constant) uniform Push { MapDrawPush pc; };
 
 layout(location = 0) out float out_depth;
 layout(location = 1) flat out uint out_id;
 layout(location = 2) flat out uint out_closed;
 
 void main() {
-    DrawRecord d = load_draw(pc.draws, pc.draw_index);
+    DrawRecord d = load_draw(pc.draw.draws, pc.draw.draw_index);
     MsShadowMap map = MsShadowMap(pc.map);
     uint prim = uint(gl_VertexIndex) / 3u;
     uint corner = uint(gl_VertexIndex) % 3u;

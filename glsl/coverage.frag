@@ -6,7 +6,7 @@
 #extension GL_EXT_shader_atomic_int64 : require
 #include "shared.glsl"
 
-layout(push_constant) uniform Push { PassConstants pc; };
+layout(push_constant) uniform Push { MapDrawPush pc; };
 
 layout(location = 0) in float in_depth;
 layout(location = 1) flat in uint in_id;

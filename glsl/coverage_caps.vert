@@ -3,12 +3,12 @@
 // map's light, with each fragment's light-view depth and triangle id for coverage.frag.
 #include "shared.glsl"
 
-layout(push_constant) uniform Push { PassConstants pc; };
+layout(push_constant) uniform Push { MapDrawPush pc; };
 
 layout(location = 0) out float out_depth;
 layout(location = 1) flat out uint out_id;
 
 void main() {
-    ordinary_map_vertex(pc, MsShadowMap(pc.map).light,
+    ordinary_map_vertex(pc.draw, pc.time, MsShadowMap(pc.map).light,
                         uint(gl_VertexIndex), gl_Position, out_depth, out_id);
 }

@@ -3,7 +3,7 @@
 #include "shared.glsl"
 #include "coverage_reset.glsl"
 
-layout(push_constant) uniform Push { PassConstants pc; };
+layout(push_constant) uniform Push { MapDrawPush pc; };
 
 layout(location = 0) in float in_depth;
 layout(location = 1) in float in_time;

@@ -5,7 +5,7 @@
 #include "coverage_reset.glsl"
 #include "exact_prism.glsl"
 
-layout(push_constant) uniform Push { PassConstants pc; };
+layout(push_constant) uniform Push { MapDrawPush pc; };
 
 layout(location = 0) flat in vec4 in_at0[3];
 layout(location = 3) flat in vec4 in_at1[3];

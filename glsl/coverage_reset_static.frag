@@ -4,7 +4,7 @@
 #include "coverage_reset.glsl"
 #include "static_prism.glsl"
 
-layout(push_constant) uniform Push { PassConstants pc; };
+layout(push_constant) uniform Push { MapDrawPush pc; };
 
 void main() {
     if (static_prism_culled()) return;

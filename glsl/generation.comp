@@ -20,7 +20,7 @@ void main() {
         pair_list(p, n);
         return;
     }
-    uint index = atomicAdd(long_list.long_count, 1u);
-    if (index % LONG_TIER_GROUP == 0u) atomicAdd(long_list.long_groups_x, 1u);
+    uint index = atomicAdd(long_list.head.count, 1u);
+    if (index % LONG_TIER_GROUP == 0u) atomicAdd(long_list.head.groups_x, 1u);
     long_list.long_pixels[index] = p;
 }

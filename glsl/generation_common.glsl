@@ -14,12 +14,11 @@
 // Shared by the two tiers (generation.comp, generation_long.comp), which define LIST_CAPACITY.
 #include "shared.glsl"
 
-layout(push_constant) uniform Push { PassConstants pc; };
+layout(push_constant) uniform Push { MapPush pc; };
 // Pixels whose lists are too long for the first tier, for the second tier (an indirect
 // dispatch whose x group count the first tier raises as it appends).
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer LongPixels {
-    uint long_count;
-    uint long_groups_x, long_groups_y, long_groups_z;
+    LongListHeader head;
     uint long_pixels[];
 };
 const uint LONG_TIER_GROUP = 64u;

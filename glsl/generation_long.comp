@@ -11,7 +11,7 @@ layout(local_size_x = 64) in;
 void main() {
     open_map();
     uint index = gl_GlobalInvocationID.x;
-    if (index >= long_list.long_count) return;
+    if (index >= long_list.head.count) return;
     uint p = long_list.long_pixels[index];
     uint n = load_list(p);
     if (n <= MAX_LIST_NODES) {

@@ -44,7 +44,7 @@ void main() {
     // resolve.comp).
     bool moving = false;
     for (int i = 0; i < 3; ++i) moving = moving || p0[i] != in_p1[i];
-    visibility = Uint64Array(pc.map);
+    visibility = Uint64Array(pc.visibility);
     uvec2 pixel = uvec2(gl_FragCoord.xy);
     uint p = pixel.y * cam.width + pixel.x;
     uint spp = cam.spp;

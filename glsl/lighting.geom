@@ -10,7 +10,7 @@
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 32) out;
 
-layout(push_constant) uniform Push { PassConstants pc; };
+layout(push_constant) uniform Push { LightingRasterPush pc; };
 
 layout(location = 0) in vec3 in_p0[];
 layout(location = 1) in vec3 in_p1[];
@@ -52,7 +52,7 @@ void main() {
         if ((pc.flags & COUNT_INVALID) != 0u) atomicAdd(UintArray(camera.counters).v[0], 1u);
         return;
     }
-    DrawRecord d = load_draw(pc.draws, pc.draw_index);
+    DrawRecord d = load_draw(pc.draw.draws, pc.draw.draw_index);
     uint prim = uint(gl_PrimitiveIDIn);
     vec4 c[6];
     vec3 w[6];

@@ -83,7 +83,7 @@ void main() {
         sort_and_store(p, n);
         return;
     }
-    uint index = atomicAdd(scratch.long_count, 1u);
+    uint index = atomicAdd(scratch.head.count, 1u);
     // Groups of 64, in the dispatch the collection started at 0 x 1 x 1 groups (not the
     // long-pixel list's own: the generation's pairing uses that one).
     UintArray dispatch = UintArray(map.tiles);

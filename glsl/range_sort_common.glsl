@@ -9,13 +9,12 @@
 // but the pruned ones.
 #include "shared.glsl"
 
-layout(push_constant) uniform Push { PassConstants pc; };
+layout(push_constant) uniform Push { MapPush pc; };
 
 // The generation pass's long-pixel list (generation_common.glsl's LongPixels), reused for the
 // long lists' pixels.
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer SortScratch {
-    uint long_count;
-    uint long_groups_x, long_groups_y, long_groups_z;
+    LongListHeader head;
     uint v[];
 };
 // The long lists' dispatch: workgroups of 64 long lists, LONG_SORT_ROW groups across (x,

@@ -14,7 +14,7 @@ void main() {
     open_sort();
     uint index = (gl_WorkGroupID.y * LONG_SORT_ROW + gl_WorkGroupID.x) * 64u +
                  gl_LocalInvocationID.x;
-    if (index >= scratch.long_count) return;
+    if (index >= scratch.head.count) return;
     uint p = scratch.v[index];
     open_pruning(p);
     uint n = load_ranges(UintArray(map.range_heads).v[p]);

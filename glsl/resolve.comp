@@ -12,7 +12,7 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(push_constant) uniform Push { PassConstants pc; };
+layout(push_constant) uniform Push { ShadePush pc; };
 
 // The variant, fixed when the pipeline is made (one pipeline per shadow test, estimator and
 // filter): the compiler drops every other path. A CPU device such as lavapipe runs both sides
@@ -24,7 +24,7 @@ layout(constant_id = 2) const uint SHADE_FILTER = 0u;       // SHADE_FILTER_*
 // The most loop iterations a pixel's lookups may report before it is counted as possibly
 // cut short by the device's loop limit; 0: the device has no such limit (nothing counted).
 layout(constant_id = 3) const uint SHADE_LOOP_BUDGET = 0u;
-// Samples per pixel in the chunk (PassConstants::sample_count): the loops over a pixel's
+// Samples per pixel in the chunk (the chunk's samples): the loops over a pixel's
 // samples unroll, and their arrays stay in registers.
 layout(constant_id = 4) const uint SHADE_SAMPLES = 1u;
 
@@ -198,11 +198,11 @@ const bool SHADE_PER_TEXEL = SHADE_SHADOW == SHADOW_TEMPORAL && !SHADE_ANALYTIC
 void main() {
     camera = load_camera(pc.target);
     if (SHADE_SHADOW == SHADOW_TEMPORAL) {
-        temporal = ms_load(MsShadowMap(pc.map));
+        temporal = ms_load(MsShadowMap(pc.shadow));
         light = temporal.light;
     } else {
-        PlainHeader header = PlainHeader(pc.map);
-        light = ms_load_light(pc.map);
+        PlainHeader header = PlainHeader(pc.shadow);
+        light = ms_load_light(pc.shadow);
         plain_size = header.size;
         plain_depths = header.depths;
         plain_ids = header.ids;

@@ -5,7 +5,7 @@
 // the draw's triangle i / 3, which works the same with or without the draw's index stream.
 #include "shared.glsl"
 
-layout(push_constant) uniform Push { PassConstants pc; };
+layout(push_constant) uniform Push { DrawPush pc; };  // every pass's prefix
 
 layout(location = 0) out vec3 out_p0;
 layout(location = 1) out vec3 out_p1;

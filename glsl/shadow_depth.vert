@@ -5,12 +5,12 @@
 // fragment shader) and the plain method.
 #include "shared.glsl"
 
-layout(push_constant) uniform Push { PassConstants pc; };
+layout(push_constant) uniform Push { MapDrawPush pc; };
 
 layout(location = 0) flat out uint out_id;
 
 void main() {
     float depth;
-    ordinary_map_vertex(pc, PlainHeader(pc.map).light,
+    ordinary_map_vertex(pc.draw, pc.time, PlainHeader(pc.map).light,
                         uint(gl_VertexIndex), gl_Position, depth, out_id);
 }

@@ -257,25 +257,83 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Pl
     uint64_t ids;           // DEPTH_AND_ID: uints, NO_TRIANGLE = nothing drawn
 };
 
+// The head of the map's long-pixel list (the generation's second tier, the sort's long
+// lists): how many pixels, then that tier's indirect dispatch, whose x group count the first
+// tier raises as it appends. The host writes it (gpu_types.rs LongListHeader) before each
+// generation.
+struct LongListHeader {
+    uint count;
+    uint groups_x, groups_y, groups_z;
+};
+
 // ---- push constants ----
 
-// What every pass pushes (56 bytes).
-struct PassConstants {
-    uint64_t map;           // MsShadowMap or PlainHeader of the map built or read
+// One block per pass, mirrored by src/technique/push_constants.rs (tests/gpu/layout.rs
+// probes each). The passes that draw the host's draw table begin with DrawPush, the part
+// scene.vert (shared by those pipelines) reads.
+struct DrawPush {
     uint64_t draws;         // DrawTable
-    uint64_t target;        // TargetHeader (lighting pass); TileList (collection)
     uint draw_index;        // the draw being drawn
     uint draw_count;        // draws in the table
-    uint first_sample;      // first sample index of this chunk (shadow maps: the layer)
+};
+
+// The passes that draw into a map from the light: the collection, the coverage map's caps
+// and reset, ordinary shadow maps (32 bytes).
+struct MapDrawPush {
+    DrawPush draw;
+    uint64_t map;           // the header of the map drawn: MsShadowMap, or PlainHeader
+    float time;             // the scene's time the map shows (ordinary maps, coverage caps)
+    uint flags;             // COUNT_INVALID
+};
+
+// The generation pass: pairing and sorting one map's lists (8 bytes).
+struct MapPush {
+    uint64_t map;           // MsShadowMap
+};
+
+// The lighting raster (scene.vert, lighting.geom, lighting.frag; 48 bytes). The fragment
+// shader's camera, RasterCamera, follows it in the same block (raster_camera.glsl).
+struct LightingRasterPush {
+    DrawPush draw;
+    uint64_t visibility;    // the chunk's visibility buffer (64-bit atomics per sample)
+    uint64_t target;        // TargetHeader
+    uint first_sample;      // first sample index of this chunk
     uint sample_count;      // samples in this chunk
-    uint mode;              // lighting: SHADOW_*; shadow maps: DEPTH_*
-    float time;             // shadow maps: the scene's time; lighting: see FIXED_TIME
-    uint flags;
-    uint reserved;
+    float time;             // every sample's time when flags has FIXED_TIME
+    uint flags;             // FIXED_TIME, COUNT_INVALID
+};
+
+// The camera of the lighting raster's fragment shader, pushed right after LightingRasterPush
+// (mirrors src/technique/push_constants.rs). Push constants rather than loads from the
+// target's header: a CPU device loads from an address lane by lane, and those loads were
+// about half of the fragment shader's time there. 4-byte members only, so it packs at offset
+// 48 and the whole block fits the 128 bytes every device offers.
+struct RasterCamera {
+    float origin[3];
+    float near;
+    float far;
+    float ray00[3];
+    float ray_dx[3];
+    float ray_dy[3];
+    uint width;
+    uint spp;
+    uint seed;
+};
+
+// The lighting shade (resolve.comp; 40 bytes). Its samples per pixel and its shadow test are
+// specialization constants.
+struct ShadePush {
+    uint64_t draws;         // DrawTable (the hit triangle's draw)
+    uint64_t shadow;        // MsShadowMap (SHADOW_TEMPORAL) or PlainHeader (the other tests)
+    uint64_t target;        // TargetHeader
+    uint draw_count;        // draws in the table
+    uint first_sample;      // first sample index of this chunk
+    float time;             // every sample's time when flags has FIXED_TIME
+    uint flags;             // FIXED_TIME
 };
 
 // The lighting pass's shadow tests are SHADOW_*; its flag FIXED_TIME puts every sample at
-// pc.time (brute-force reference slices); COUNT_INVALID makes a prism pipeline count the
+// the pushed time (brute-force reference slices); COUNT_INVALID makes a prism pipeline count the
 // triangles dropped for an invalid index (once per frame: collection).
 
 // Which surface of a prism a fragment lies on (nearest map, coverage passes).
@@ -416,13 +474,13 @@ vec3 camera_ray(CameraParams camera, vec2 pixel_pos) {
 
 // ---- the ordinary maps' vertices ----
 
-// Corner vertex % 3 of triangle vertex / 3 of the draw, at time pc.time, seen
+// Corner vertex % 3 of triangle vertex / 3 of the pushed draw, at `time`, seen
 // from `light`: its clip position, its light-view depth and its triangle's global id. An
 // invalid triangle (an index out of range) lands every corner on one point outside the view,
 // so nothing is rasterized (the lighting pass counts such triangles).
-void ordinary_map_vertex(PassConstants pc, MsLight light, uint vertex, out vec4 position,
-                         out float depth, out uint id) {
-    DrawRecord d = load_draw(pc.draws, pc.draw_index);
+void ordinary_map_vertex(DrawPush draw, float time, MsLight light, uint vertex,
+                         out vec4 position, out float depth, out uint id) {
+    DrawRecord d = load_draw(draw.draws, draw.draw_index);
     uint prim = vertex / 3u;
     id = d.first_id + prim;
     if (!triangle_valid(d, prim)) {
@@ -432,7 +490,7 @@ void ordinary_map_vertex(PassConstants pc, MsLight light, uint vertex, out vec4 
     }
     vec3 p0, p1;
     fetch_corner(d, prim, vertex % 3u, p0, p1);
-    vec3 view = (light.view * vec4(mix(p0, p1, pc.time), 1.0)).xyz;
+    vec3 view = (light.view * vec4(mix(p0, p1, time), 1.0)).xyz;
     position = light.proj * vec4(view, 1.0);
     depth = -view.z;
 }

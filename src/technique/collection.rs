@@ -6,7 +6,8 @@
 
 use super::coverage::{CoverageMap, MAX_COVERAGE_TRIANGLES};
 use super::draws::DrawList;
-use super::gpu_types::{COUNT_INVALID, Counters, DRAW_STATIC, DrawRecord, PassConstants};
+use super::gpu_types::{COUNT_INVALID, Counters, DRAW_STATIC, DrawRecord};
+use super::push_constants::{DrawPush, DrawnPush, MapDrawPush, PushBlock};
 use super::shaders;
 use super::shadow_map::{StaticLayerSource, TemporalShadowMap};
 use super::view::{LightView, PrismConstruction};
@@ -25,9 +26,6 @@ pub struct CollectionPass {
     /// [`Self::accesses`], see `accesses.rs`).
     pub(crate) outer_barriers: bool,
 }
-
-/// Bytes of push constants every pipeline of the technique takes.
-pub(crate) const PUSH_BYTES: u32 = std::mem::size_of::<PassConstants>() as u32;
 
 /// Every triangle's prism from the light (scene.vert and the construction's geometry shader),
 /// into the construction's fragment shader of a pass: the collection pass and the coverage
@@ -60,7 +58,7 @@ impl PrismPipelines {
             )?,
             exact_static: attachmentless_pipeline(
                 ctx,
-                PUSH_BYTES,
+                MapDrawPush::BYTES,
                 &[
                     (
                         vk::ShaderStageFlags::VERTEX,
@@ -103,7 +101,7 @@ impl PrismPipelines {
         cmd: vk::CommandBuffer,
         construction: PrismConstruction,
         draws: &DrawList,
-        constants: PassConstants,
+        constants: MapDrawPush,
         with_static: bool,
         ranges: bool,
     ) {
@@ -138,7 +136,7 @@ fn prism_pipeline(
 ) -> Result<Pipeline> {
     attachmentless_pipeline(
         ctx,
-        PUSH_BYTES,
+        MapDrawPush::BYTES,
         &[
             (
                 vk::ShaderStageFlags::VERTEX,
@@ -160,7 +158,7 @@ pub(crate) fn draw_each(
     cmd: vk::CommandBuffer,
     pipeline: &Pipeline,
     draws: &DrawList,
-    constants: PassConstants,
+    constants: impl DrawnPush,
 ) {
     for (i, record) in draws.records().iter().enumerate() {
         if record.triangle_count > 0 {
@@ -176,14 +174,13 @@ fn draw_one(
     draws: &DrawList,
     index: usize,
     record: &DrawRecord,
-    constants: PassConstants,
+    constants: impl DrawnPush,
 ) {
-    let constants = PassConstants {
+    let constants = constants.with_draw(DrawPush {
         draws: draws.address(),
         draw_index: index as u32,
         draw_count: draws.draw_count(),
-        ..constants
-    };
+    });
     unsafe { pipeline.push(device, cmd, &constants) };
     unsafe { device.cmd_draw(cmd, 3 * record.triangle_count, 1, 0, 0) };
 }
@@ -320,10 +317,10 @@ impl CollectionPass {
             )
         };
         unsafe { begin_attachmentless(device, cmd, map.width(), map.height()) };
-        let constants = PassConstants {
+        let constants = MapDrawPush {
             map: map.header_address(),
             flags: COUNT_INVALID,
-            ..PassConstants::default()
+            ..MapDrawPush::default()
         };
         self.pipelines.draw(
             device,

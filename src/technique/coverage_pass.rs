@@ -2,10 +2,10 @@
 //! mark the texels one triangle covers for the whole frame, the reset removes marks where
 //! another triangle is nearer at some time. A research pass (feature `research`).
 
-use super::collection::{PUSH_BYTES, PrismPipelines, PrismShaders, draw_each};
+use super::collection::{PrismPipelines, PrismShaders, draw_each};
 use super::coverage::CoverageMap;
 use super::draws::DrawList;
-use super::gpu_types::{DepthFormat, PassConstants};
+use super::push_constants::{MapDrawPush, PushBlock};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
 use super::view::LightView;
@@ -28,7 +28,7 @@ impl CoveragePass {
     pub fn new(ctx: &Context) -> Result<Self> {
         let caps = attachmentless_pipeline(
             ctx,
-            PUSH_BYTES,
+            MapDrawPush::BYTES,
             &[
                 (
                     vk::ShaderStageFlags::VERTEX,
@@ -98,11 +98,10 @@ impl CoveragePass {
         unsafe { begin_attachmentless(device, cmd, coverage.width(), coverage.height()) };
         unsafe { self.caps.bind(device, cmd) };
         for time in [0.0, 1.0] {
-            let constants = PassConstants {
+            let constants = MapDrawPush {
                 map: map.header_address(),
-                mode: DepthFormat::DepthAndId as u32,
                 time,
-                ..PassConstants::default()
+                ..MapDrawPush::default()
             };
             draw_each(device, cmd, &self.caps, draws, constants);
         }
@@ -110,9 +109,9 @@ impl CoveragePass {
         // The reset pass reads what the caps wrote, in other fragment invocations.
         unsafe { memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::FRAGMENT_RW) };
         unsafe { begin_attachmentless(device, cmd, coverage.width(), coverage.height()) };
-        let constants = PassConstants {
+        let constants = MapDrawPush {
             map: map.header_address(),
-            ..PassConstants::default()
+            ..MapDrawPush::default()
         };
         self.reset
             .draw(device, cmd, light.prisms, draws, constants, true, false);

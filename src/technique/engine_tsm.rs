@@ -31,8 +31,9 @@
 //! same answers, bit for bit.
 
 use super::draws::DrawList;
-use super::gpu_types::{DRAW_STATIC, DepthFormat, PassConstants, PlainMapHeader};
+use super::gpu_types::{DRAW_STATIC, DepthFormat, PlainMapHeader};
 use super::mask::{MaskInputs, NormalEncoding, NormalImage};
+use super::push_constants::{DrawPush, MapDrawPush, PushBlock};
 use super::shaders;
 use super::shadow_map::StaticLayerSource;
 use super::view::LightView;
@@ -332,7 +333,7 @@ impl EngineTsmPass {
         check_map_format(|format| ctx.optimal_tiling_features(format))?;
         let depth_only = graphics_pipeline(
             ctx,
-            std::mem::size_of::<PassConstants>() as u32,
+            MapDrawPush::BYTES,
             &[(
                 vk::ShaderStageFlags::VERTEX,
                 "shadow_depth.vert",
@@ -778,14 +779,15 @@ fn draw_where(
         if record.triangle_count == 0 || is_static != statics {
             continue;
         }
-        let constants = PassConstants {
+        let constants = MapDrawPush {
+            draw: DrawPush {
+                draws: draws.address(),
+                draw_index: i as u32,
+                draw_count: draws.draw_count(),
+            },
             map: map.header_address(),
-            draws: draws.address(),
-            draw_index: i as u32,
-            draw_count: draws.draw_count(),
-            mode: DepthFormat::DepthOnly as u32,
             time: t,
-            ..PassConstants::default()
+            flags: 0,
         };
         unsafe { pipeline.push(device, cmd, &constants) };
         unsafe { device.cmd_draw(cmd, 3 * record.triangle_count, 1, 0, 0) };

@@ -9,9 +9,9 @@
 //! takes its places; ranges behind the static layer are pruned; two tiers again), and
 //! otherwise costs its barriers only.
 
-use super::collection::PUSH_BYTES;
 use super::gpu_constants::{DISPATCH_PAIRING, DISPATCH_SORT, DISPATCH_SORT_LONG};
-use super::gpu_types::PassConstants;
+use super::gpu_types::LongListHeader;
+use super::push_constants::{MapPush, PushBlock};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
 use crate::error::Result;
@@ -33,19 +33,19 @@ pub struct GenerationPass {
 impl GenerationPass {
     /// Creates the compute pipelines.
     pub fn new(ctx: &Context) -> Result<Self> {
-        let compute = |name, spirv| compute_pipeline(ctx, PUSH_BYTES, name, spirv);
+        let compute = |name, spirv| compute_pipeline(ctx, MapPush::BYTES, name, spirv);
         Ok(Self {
             sort: compute("range_sort.comp", shaders::RANGE_SORT_COMP)?,
             sort_long: compute("range_sort_long.comp", shaders::RANGE_SORT_LONG_COMP)?,
             pipeline: compute_pipeline(
                 ctx,
-                PUSH_BYTES,
+                MapPush::BYTES,
                 "generation.comp",
                 shaders::GENERATION_COMP,
             )?,
             long_pipeline: compute_pipeline(
                 ctx,
-                PUSH_BYTES,
+                MapPush::BYTES,
                 "generation_long.comp",
                 shaders::GENERATION_LONG_COMP,
             )?,
@@ -75,8 +75,7 @@ impl GenerationPass {
         cmd: vk::CommandBuffer,
         map: &TemporalShadowMap,
     ) {
-        // Empty long-pixel list; its indirect dispatch starts at 0 x 1 x 1 groups.
-        let header: [u32; 4] = [0, 0, 1, 1];
+        let header = LongListHeader::EMPTY;
         // Entry: earlier generations' reads of the long-pixel list, and (below) the
         // collection's writes; the host's when `outer_barriers` is off.
         if self.outer_barriers {
@@ -89,7 +88,7 @@ impl GenerationPass {
                 )
             };
         }
-        unsafe { map.long_pixels.record_write(device, cmd, &header) };
+        unsafe { map.long_pixels.record_write(device, cmd, &[header]) };
         // The collection's tile list is the first tier's indirect dispatch.
         unsafe {
             memory_barrier(
@@ -103,9 +102,8 @@ impl GenerationPass {
                 Access::COMPUTE_RW.and(Access::INDIRECT_READ),
             )
         };
-        let constants = PassConstants {
+        let constants = MapPush {
             map: map.header_address(),
-            ..PassConstants::default()
         };
         unsafe { self.pipeline.bind(device, cmd) };
         unsafe { self.pipeline.push(device, cmd, &constants) };
@@ -120,7 +118,9 @@ impl GenerationPass {
         };
         unsafe { self.long_pipeline.bind(device, cmd) };
         unsafe { self.long_pipeline.push(device, cmd, &constants) };
-        unsafe { device.cmd_dispatch_indirect(cmd, map.long_pixels.raw(), 4) };
+        unsafe {
+            device.cmd_dispatch_indirect(cmd, map.long_pixels.raw(), LongListHeader::GROUPS_OFFSET)
+        };
         // The sorting (zero groups unless the collection stored ranges for sorted storage;
         // the pairing above then ran none, so the long-pixel list is still empty): the short
         // lists (which append the long ones to the long-pixel list and count their groups),

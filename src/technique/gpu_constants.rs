@@ -48,17 +48,17 @@ pub const DRAW_RECORD_WORDS: u32 = 20;
 /// in private arrays of this size.
 pub const MAX_SAMPLES_PER_CHUNK: u32 = 16;
 
-/// `PassConstants::flags` of the lighting pass: every sample at `PassConstants::time`.
+/// The lighting pass's push flags: every sample at the pushed time.
 pub const FIXED_TIME: u32 = 1;
-/// `PassConstants::flags`: this draw counts its invalid triangles (once per frame).
+/// A drawing pass's push flags: this draw counts its invalid triangles (once per frame).
 pub const COUNT_INVALID: u32 = 4;
 
-/// `PlainMapHeader::size.w` and the shadow maps' `PassConstants::mode`: depth and triangle id.
+/// `PlainMapHeader::size.w`: depth and triangle id.
 pub const DEPTH_AND_ID: u32 = 0;
 /// The same: depth alone (as the papers' time-dependent shadow maps store it).
 pub const DEPTH_ONLY: u32 = 1;
 
-/// The lighting pass's `PassConstants::mode`: the depth-time ranges (and coverage map).
+/// The lighting pass's shadow test: the depth-time ranges (and coverage map).
 pub const SHADOW_TEMPORAL: u32 = 0;
 /// The same: one ordinary map (depth and id) for every sample.
 pub const SHADOW_PLAIN: u32 = 1;

@@ -38,6 +38,28 @@ pub struct Range {
     pub next: u32,
 }
 
+/// The head of a map's long-pixel list, `LongListHeader` in `glsl/shared.glsl`: the pixels
+/// whose lists the generation's first tier leaves to the second, and the second tier's
+/// indirect dispatch, whose x group count the first tier raises as it appends.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LongListHeader {
+    /// Pixels in the list.
+    pub count: u32,
+    /// The second tier's workgroups (x, y, z): an indirect dispatch's arguments.
+    pub groups: [u32; 3],
+}
+
+impl LongListHeader {
+    /// An empty list; its dispatch starts at 0 x 1 x 1 groups.
+    pub const EMPTY: Self = Self {
+        count: 0,
+        groups: [0, 1, 1],
+    };
+    /// The byte offset of the dispatch's arguments.
+    pub const GROUPS_OFFSET: u64 = std::mem::offset_of!(Self, groups) as u64;
+}
+
 /// Fragment and range counts (written by shaders) and capacities (written when recording).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -232,35 +254,6 @@ pub struct CameraParams {
     pub reserved: u64,
 }
 
-/// What every pass pushes (56 bytes).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct PassConstants {
-    /// The header of the map built or read.
-    pub map: u64,
-    /// The [`DrawRecord`] table.
-    pub draws: u64,
-    /// The lighting target's [`CameraParams`]; the collection's tile list.
-    pub target: u64,
-    /// The draw being drawn.
-    pub draw_index: u32,
-    /// Draws in the table.
-    pub draw_count: u32,
-    /// First sample of a lighting chunk; the layer of an ordinary shadow map.
-    pub first_sample: u32,
-    /// Samples in a lighting chunk.
-    pub sample_count: u32,
-    /// Lighting: a [`ShadowMode`]; ordinary shadow maps: a [`DepthFormat`].
-    pub mode: u32,
-    /// Ordinary shadow maps: the scene's time; lighting: the time of every sample when
-    /// `flags` has [`FIXED_TIME`].
-    pub time: f32,
-    /// [`FIXED_TIME`], [`COUNT_INVALID`].
-    pub flags: u32,
-    /// Unused (0).
-    pub reserved: u32,
-}
-
 /// What an ordinary shadow map stores per texel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u32)]
@@ -283,7 +276,7 @@ impl DepthFormat {
     }
 }
 
-/// `PassConstants::mode` of the lighting pass: which shadow test it applies.
+/// The lighting pass's shadow test (its shading pipeline's specialization constant).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u32)]
 pub enum ShadowMode {
@@ -305,11 +298,11 @@ const _: () = {
     assert!(std::mem::size_of::<Node>() == 16);
     assert!(std::mem::size_of::<Range>() == 24);
     assert!(std::mem::size_of::<Counters>() == 48);
+    assert!(std::mem::size_of::<LongListHeader>() == 16);
     assert!(std::mem::size_of::<GpuLight>() == 192);
     assert!(std::mem::size_of::<ShadowMapHeader>() == 304);
     assert!(std::mem::size_of::<PlainMapHeader>() == 224);
     assert!(std::mem::size_of::<DrawRecord>() == 160);
     assert!(std::mem::size_of::<DrawRecord>() == 8 * DRAW_RECORD_WORDS as usize);
     assert!(std::mem::size_of::<CameraParams>() == 208);
-    assert!(std::mem::size_of::<PassConstants>() == 56);
 };

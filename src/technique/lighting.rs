@@ -6,11 +6,11 @@
 //! atomicMin lets one geometry pass serve as many samples as fit in a storage buffer, and
 //! shading runs once per visible sample instead of once per covering fragment.
 
-use super::collection::{PUSH_BYTES, draw_each};
+use super::collection::draw_each;
 use super::draws::DrawList;
-use super::gpu_types::{COUNT_INVALID, CameraParams, FIXED_TIME, PassConstants, ShadowMode};
+use super::gpu_types::{COUNT_INVALID, CameraParams, FIXED_TIME, ShadowMode};
 use super::plain_shadow::PlainShadowMap;
-use super::raster_camera::{RASTER_PUSH_BYTES, RasterCamera, RasterConstants};
+use super::push_constants::{LightingRasterPush, PushBlock, RasterCamera, RasterPush, ShadePush};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
 use super::view::{LightingView, ShadowEstimator, ShadowFilter};
@@ -291,7 +291,7 @@ impl LightingPass {
     pub fn new(ctx: &Context) -> Result<Self> {
         let raster = attachmentless_pipeline(
             ctx,
-            RASTER_PUSH_BYTES,
+            RasterPush::BYTES,
             &[
                 (
                     vk::ShaderStageFlags::VERTEX,
@@ -312,7 +312,12 @@ impl LightingPass {
         )?;
         Ok(Self {
             raster,
-            resolve: ComputeVariants::new(ctx, PUSH_BYTES, "resolve.comp", shaders::RESOLVE_COMP)?,
+            resolve: ComputeVariants::new(
+                ctx,
+                ShadePush::BYTES,
+                "resolve.comp",
+                shaders::RESOLVE_COMP,
+            )?,
             loop_budget: ctx.info().shader_loop_budget(),
         })
     }
@@ -459,28 +464,23 @@ impl LightingPass {
         samples: Samples,
         mut timestamps: Option<&mut TimestampQueries>,
     ) -> Result<()> {
-        let (mode, map) = shadow.mode_and_header();
+        let (_, map) = shadow.mode_and_header();
         let count = samples.count.clamp(1, target.samples_per_chunk);
         let resolve = self.shading(shadow, view, count)?;
-        let mut flags = if samples.fixed_time.is_some() {
+        let fixed_time = if samples.fixed_time.is_some() {
             FIXED_TIME
         } else {
             0
         };
-        if samples.first == 0 {
-            flags |= COUNT_INVALID;
-        }
-        let constants = PassConstants {
-            map,
+        let time = samples.fixed_time.unwrap_or(0.0);
+        let shade = ShadePush {
             draws: draws.address(),
+            shadow: map,
             target: target.header.device_address(),
             draw_count: draws.draw_count(),
             first_sample: samples.first,
-            sample_count: count,
-            mode: mode as u32,
-            time: samples.fixed_time.unwrap_or(0.0),
-            flags,
-            ..PassConstants::default()
+            time,
+            flags: fixed_time,
         };
         // The previous chunk's resolve read the visibility buffer.
         unsafe { memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_WRITE) };
@@ -497,10 +497,15 @@ impl LightingPass {
         };
         unsafe { begin_attachmentless(device, cmd, target.width, target.height) };
         unsafe { self.raster.bind(device, cmd) };
-        let raster = RasterConstants {
-            pass: PassConstants {
-                map: target.visibility.device_address(),
-                ..constants
+        let raster = RasterPush {
+            pass: LightingRasterPush {
+                visibility: target.visibility.device_address(),
+                target: target.header.device_address(),
+                first_sample: samples.first,
+                sample_count: count,
+                time,
+                flags: fixed_time | if samples.first == 0 { COUNT_INVALID } else { 0 },
+                ..LightingRasterPush::default()
             },
             camera: RasterCamera::new(&CameraParams::new(
                 view,
@@ -509,7 +514,7 @@ impl LightingPass {
             )),
             padding: 0,
         };
-        // The camera stays pushed while each draw pushes its own PassConstants over the first
+        // The camera stays pushed while each draw pushes its LightingRasterPush over the first
         // bytes.
         unsafe { self.raster.push(device, cmd, &raster) };
         draw_each(device, cmd, &self.raster, draws, raster.pass);
@@ -526,7 +531,7 @@ impl LightingPass {
             )
         };
         unsafe { resolve.bind(device, cmd) };
-        unsafe { resolve.push(device, cmd, &constants) };
+        unsafe { resolve.push(device, cmd, &shade) };
         unsafe { device.cmd_dispatch(cmd, target.width.div_ceil(8), target.height.div_ceil(8), 1) };
         if let Some(ts) = timestamps {
             unsafe { ts.mark(cmd, "lighting shade") };

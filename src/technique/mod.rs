@@ -43,8 +43,7 @@ mod lighting;
 mod mask;
 #[cfg(feature = "research")]
 mod plain_shadow;
-#[cfg(feature = "research")]
-mod raster_camera;
+pub mod push_constants;
 pub mod sampling;
 pub mod shaders;
 mod shadow_map;
@@ -66,8 +65,8 @@ pub use gbuffer::{
 };
 pub use generation::GenerationPass;
 pub use gpu_types::{
-    CameraParams, Counters, DepthFormat, DrawRecord, FIXED_TIME, GpuLight, MAX_LIST_NODES,
-    NO_TRIANGLE, Node, PassConstants, PlainMapHeader, Range, ShadowMapHeader, ShadowMode,
+    CameraParams, Counters, DepthFormat, DrawRecord, FIXED_TIME, GpuLight, LongListHeader,
+    MAX_LIST_NODES, NO_TRIANGLE, Node, PlainMapHeader, Range, ShadowMapHeader, ShadowMode,
 };
 #[cfg(feature = "research")]
 pub use image_output::LightingImageOutput;

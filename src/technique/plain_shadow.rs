@@ -10,9 +10,10 @@
 //! the shadow pass nothing. The lookups read buffers by address, so the attachments are then
 //! copied into buffers ([`PlainShadowPass::record_copy_out`], timed apart by the renderer).
 
-use super::collection::{PUSH_BYTES, draw_each};
+use super::collection::draw_each;
 use super::draws::DrawList;
-use super::gpu_types::{DepthFormat, NO_TRIANGLE, PassConstants, PlainMapHeader};
+use super::gpu_types::{DepthFormat, NO_TRIANGLE, PlainMapHeader};
+use super::push_constants::{MapDrawPush, PushBlock};
 use super::shaders;
 use super::view::LightView;
 use crate::error::{Error, Result};
@@ -189,13 +190,13 @@ impl PlainShadowPass {
         Ok(Self {
             depth_only: graphics_pipeline(
                 ctx,
-                PUSH_BYTES,
+                MapDrawPush::BYTES,
                 &[vertex],
                 Attachments { depth, colors: &[] },
             )?,
             depth_and_id: graphics_pipeline(
                 ctx,
-                PUSH_BYTES,
+                MapDrawPush::BYTES,
                 &[vertex, fragment],
                 Attachments {
                     depth,
@@ -288,12 +289,10 @@ impl PlainShadowPass {
                 )
             };
             unsafe { pipeline.bind(device, cmd) };
-            let constants = PassConstants {
+            let constants = MapDrawPush {
                 map: map.header_address(),
-                first_sample: layer,
-                mode: map.format as u32,
                 time: t,
-                ..PassConstants::default()
+                ..MapDrawPush::default()
             };
             draw_each(device, cmd, pipeline, draws, constants);
             unsafe { device.cmd_end_rendering(cmd) };

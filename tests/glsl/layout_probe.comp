@@ -1,6 +1,6 @@
 #version 450
 // Test-only (tests/gpu/layout.rs compiles it): checks that the Rust mirrors in
-// technique::gpu_types have the layouts of the GLSL structs. The host writes every struct it sends to shaders with
+// technique::gpu_types and technique::push_constants have the layouts of the GLSL structs. The host writes every struct it sends to shaders with
 // distinct values; this shader reads them field by field, in declaration order, and dumps the
 // scalars into a flat array that the host compares with its own fields. For the structs
 // shaders write (Node, MsRange, Counters), it writes known values the host reads back.
@@ -8,10 +8,13 @@
 
 layout(local_size_x = 1) in;
 
-layout(push_constant) uniform Push { PassConstants pc; };
+// The generation's block (MapPush) is pushed for real; the other passes' blocks are read from
+// buffers with the same std430 layout that push-constant blocks take.
+layout(push_constant) uniform Push { MapPush pc; };
 
 // pc.map points at the addresses of: the inputs (temporal and plain map headers, a draw
-// record, camera parameters) and the outputs (the flat dump, a Node, an MsRange, Counters).
+// record, camera parameters, the push blocks, a long-pixel list header) and the outputs (the
+// flat dump, a Node, an MsRange, Counters).
 layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer ProbeTable {
     uint64_t shadow_header;
     uint64_t plain_header;
@@ -21,6 +24,24 @@ layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer Pro
     uint64_t node;
     uint64_t range;
     uint64_t counters;
+    uint64_t map_draw_push;
+    uint64_t raster_push;
+    uint64_t shade_push;
+    uint64_t long_list;
+};
+layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer MapDrawPushRef {
+    MapDrawPush v;
+};
+// The raster's whole push block: its constants, then the camera.
+layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer RasterPushRef {
+    LightingRasterPush pass;
+    RasterCamera cam;
+};
+layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer ShadePushRef {
+    ShadePush v;
+};
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer LongListRef {
+    LongListHeader v;
 };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer Dump { uint v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer DrawOne {
@@ -39,6 +60,8 @@ void put(mat4 m) { for (int c = 0; c < 4; ++c) put(m[c]); }
 void put(MsLight l) {
     put(l.view); put(l.proj); put(l.position); put(l.direction); put(l.emission); put(l.bias);
 }
+
+void put(DrawPush d) { put(d.draws); put(d.draw_index); put(d.draw_count); }
 
 void put(DrawRecord d) {
     put(d.positions0); put(d.positions1); put(d.indices); put(d.stride0); put(d.stride1);
@@ -70,9 +93,25 @@ void main() {
 
     put(TargetHeader(table.camera).camera);
 
-    put(pc.map); put(pc.draws); put(pc.target); put(pc.draw_index); put(pc.draw_count);
-    put(pc.first_sample); put(pc.sample_count); put(pc.mode); put(pc.time); put(pc.flags);
-    put(pc.reserved);
+    put(pc.map);
+    MapDrawPush md = MapDrawPushRef(table.map_draw_push).v;
+    put(md.draw); put(md.map); put(md.time); put(md.flags);
+    RasterPushRef raster = RasterPushRef(table.raster_push);
+    LightingRasterPush lr = raster.pass;
+    put(lr.draw); put(lr.visibility); put(lr.target); put(lr.first_sample);
+    put(lr.sample_count); put(lr.time); put(lr.flags);
+    RasterCamera cam = raster.cam;
+    for (int i = 0; i < 3; ++i) put(cam.origin[i]);
+    put(cam.near); put(cam.far);
+    for (int i = 0; i < 3; ++i) put(cam.ray00[i]);
+    for (int i = 0; i < 3; ++i) put(cam.ray_dx[i]);
+    for (int i = 0; i < 3; ++i) put(cam.ray_dy[i]);
+    put(cam.width); put(cam.spp); put(cam.seed);
+    ShadePush sp = ShadePushRef(table.shade_push).v;
+    put(sp.draws); put(sp.shadow); put(sp.target); put(sp.draw_count); put(sp.first_sample);
+    put(sp.time); put(sp.flags);
+    LongListHeader ll = LongListRef(table.long_list).v;
+    put(ll.count); put(ll.groups_x); put(ll.groups_y); put(ll.groups_z);
 
     // The shaders read the header through ms_load's 64-bit words: the same fields again.
     MsMap loaded = ms_load(m);

@@ -1,6 +1,7 @@
-//! The Rust mirrors in `technique::gpu_types` have the layouts of the GLSL structs in
-//! `glsl/motion_shadows.glsl` and `glsl/shared.glsl`: a probe shader reads every struct the
-//! host writes (headers, draw record, camera, push constants) field by field and dumps the
+//! The Rust mirrors in `technique::gpu_types` and `technique::push_constants` have the
+//! layouts of the GLSL structs in `glsl/motion_shadows.glsl` and `glsl/shared.glsl`: a probe
+//! shader reads every struct the host writes (headers, draw record, camera, each pass's push
+//! constants, the long-pixel list's header) field by field and dumps the
 //! scalars, which must equal the host's fields in declaration order; and it writes known
 //! values through the structs shaders write (Node, MsRange, Counters). The probe is a test
 //! shader (`tests/glsl/layout_probe.comp`), compiled here with the library's own includes and
@@ -12,8 +13,12 @@ use glam::{Mat4, UVec4, Vec4};
 use motion_shadows::gpu::{
     Access, Buffer, BufferUsage, OneShot, Spirv, compute_pipeline, memory_barrier,
 };
+use motion_shadows::technique::push_constants::{
+    DrawPush, LightingRasterPush, MapDrawPush, MapPush, PushBlock, RasterCamera, RasterPush,
+    ShadePush,
+};
 use motion_shadows::technique::{
-    CameraParams, Counters, DrawRecord, GpuLight, Node, PassConstants, PlainMapHeader, Range,
+    CameraParams, Counters, DrawRecord, GpuLight, LongListHeader, Node, PlainMapHeader, Range,
     ShadowMapHeader,
 };
 
@@ -49,6 +54,16 @@ impl Values {
     }
     fn m(&mut self) -> Mat4 {
         Mat4::from_cols(self.v(), self.v(), self.v(), self.v())
+    }
+    fn draw(&mut self) -> DrawPush {
+        DrawPush {
+            draws: self.a(),
+            draw_index: self.u(),
+            draw_count: self.u(),
+        }
+    }
+    fn f3(&mut self) -> [f32; 3] {
+        [self.f(), self.f(), self.f()]
     }
     fn light(&mut self) -> GpuLight {
         GpuLight {
@@ -86,6 +101,11 @@ impl Dump {
     fn m(&mut self, x: Mat4) {
         x.to_cols_array().into_iter().for_each(|c| self.f(c));
     }
+    fn draw(&mut self, d: &DrawPush) {
+        self.a(d.draws);
+        self.u(d.draw_index);
+        self.u(d.draw_count);
+    }
     fn light(&mut self, l: &GpuLight) {
         self.m(l.view);
         self.m(l.proj);
@@ -103,10 +123,10 @@ fn shared_structs_match_glsl() {
     let spirv = probe_spirv();
     let pipeline = compute_pipeline(
         &ctx,
-        std::mem::size_of::<PassConstants>() as u32,
+        MapPush::BYTES,
         "layout_probe.comp",
         // SAFETY: shaderc's SPIR-V of tests/glsl/layout_probe.comp for Vulkan 1.2, using what
-        // the library's shaders use, push constants of PassConstants's size, no sets.
+        // the library's shaders use, push constants of MapPush's size, no sets.
         unsafe { Spirv::new(&spirv) },
     )
     .unwrap();
@@ -162,6 +182,48 @@ fn shared_structs_match_glsl() {
         counters: val.a(),
         reserved: val.a(),
     };
+    let map_draw = MapDrawPush {
+        draw: val.draw(),
+        map: val.a(),
+        time: val.f(),
+        flags: val.u(),
+    };
+    let raster = RasterPush {
+        pass: LightingRasterPush {
+            draw: val.draw(),
+            visibility: val.a(),
+            target: val.a(),
+            first_sample: val.u(),
+            sample_count: val.u(),
+            time: val.f(),
+            flags: val.u(),
+        },
+        camera: RasterCamera {
+            origin: val.f3(),
+            near: val.f(),
+            far: val.f(),
+            ray00: val.f3(),
+            ray_dx: val.f3(),
+            ray_dy: val.f3(),
+            width: val.u(),
+            spp: val.u(),
+            seed: val.u(),
+        },
+        padding: 0,
+    };
+    let shade = ShadePush {
+        draws: val.a(),
+        shadow: val.a(),
+        target: val.a(),
+        draw_count: val.u(),
+        first_sample: val.u(),
+        time: val.f(),
+        flags: val.u(),
+    };
+    let long_list = LongListHeader {
+        count: val.u(),
+        groups: [val.u(), val.u(), val.u()],
+    };
 
     let input = |name, data: &[u8]| {
         Buffer::with_data(&ctx, name, BufferUsage::HostToDevice, data).expect("input buffer")
@@ -177,31 +239,39 @@ fn shared_structs_match_glsl() {
     let plain_in = input("plain header", &bytes(&plain));
     let draw_in = input("draw record", &bytes(&draw));
     let camera_in = input("camera", &bytes(&camera));
+    let map_draw_in = input("map draw push", &bytes(&map_draw));
+    let raster_in = input("raster push", &bytes(&raster));
+    let shade_in = input("shade push", &bytes(&shade));
+    let long_list_in = input("long-pixel list header", &bytes(&long_list));
     let out = |name, size| Buffer::new(&ctx, name, size, BufferUsage::Storage).unwrap();
     let dump = out("dump", 4096);
     let nodes = out("nodes", 32);
     let ranges = out("ranges", 48);
     let counters = out("counters", 48);
     let table: Vec<u64> = [
-        &shadow_in, &plain_in, &draw_in, &camera_in, &dump, &nodes, &ranges, &counters,
+        &shadow_in,
+        &plain_in,
+        &draw_in,
+        &camera_in,
+        &dump,
+        &nodes,
+        &ranges,
+        &counters,
+        &map_draw_in,
+        &raster_in,
+        &shade_in,
+        &long_list_in,
     ]
     .iter()
     .map(|b| b.device_address())
     .collect();
-    let table_in = input("probe table", &bytes(&<[u64; 8]>::try_from(table).unwrap()));
+    let table_in = input(
+        "probe table",
+        &bytes(&<[u64; 12]>::try_from(table).unwrap()),
+    );
 
-    let push = PassConstants {
+    let push = MapPush {
         map: table_in.device_address(),
-        draws: val.a(),
-        target: val.a(),
-        draw_index: val.u(),
-        draw_count: val.u(),
-        first_sample: val.u(),
-        sample_count: val.u(),
-        mode: val.u(),
-        time: val.f(),
-        flags: val.u(),
-        reserved: val.u(),
     };
     OneShot::new(&ctx)
         .unwrap()
@@ -282,20 +352,37 @@ fn shared_structs_match_glsl() {
     };
     expect_camera(&mut expected);
     expected.a(push.map);
-    expected.a(push.draws);
-    expected.a(push.target);
-    for u in [
-        push.draw_index,
-        push.draw_count,
-        push.first_sample,
-        push.sample_count,
-        push.mode,
-    ] {
+    expected.draw(&map_draw.draw);
+    expected.a(map_draw.map);
+    expected.f(map_draw.time);
+    expected.u(map_draw.flags);
+    let pass = &raster.pass;
+    expected.draw(&pass.draw);
+    expected.a(pass.visibility);
+    expected.a(pass.target);
+    expected.u(pass.first_sample);
+    expected.u(pass.sample_count);
+    expected.f(pass.time);
+    expected.u(pass.flags);
+    let cam = &raster.camera;
+    cam.origin.iter().for_each(|&x| expected.f(x));
+    expected.f(cam.near);
+    expected.f(cam.far);
+    for v in [cam.ray00, cam.ray_dx, cam.ray_dy] {
+        v.iter().for_each(|&x| expected.f(x));
+    }
+    for u in [cam.width, cam.spp, cam.seed] {
         expected.u(u);
     }
-    expected.f(push.time);
-    expected.u(push.flags);
-    expected.u(push.reserved);
+    for a in [shade.draws, shade.shadow, shade.target] {
+        expected.a(a);
+    }
+    expected.u(shade.draw_count);
+    expected.u(shade.first_sample);
+    expected.f(shade.time);
+    expected.u(shade.flags);
+    expected.u(long_list.count);
+    long_list.groups.iter().for_each(|&g| expected.u(g));
     // ms_load's copy of the header, read as 64-bit words.
     expected.light(&shadow.light);
     expected.uv(UVec4::new(shadow.size.x, shadow.size.y, 0, 0));
