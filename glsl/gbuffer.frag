@@ -5,13 +5,8 @@
 // albedo, its world displacement over the shutter and its triangle's id. Depth goes to the D32 attachment.
 #include "shared.glsl"
 
-layout(push_constant) uniform Push {
-    mat4 view_proj;
-    vec4 eye;
-    uint64_t draws;
-    uint draw_index;
-    float time;
-} pc;
+#include "image_push.glsl"
+layout(push_constant) uniform Push { GBufferPush pc; };
 
 layout(location = 0) in vec3 in_world;
 layout(location = 1) in vec3 in_motion;

@@ -6,13 +6,8 @@
 // (a point with fixed barycentrics on a linearly moving triangle moves linearly).
 #include "shared.glsl"
 
-layout(push_constant) uniform Push {
-    mat4 view_proj;     // world -> camera clip (Vulkan)
-    vec4 eye;           // xyz: the camera's position
-    uint64_t draws;     // the DrawRecord table
-    uint draw_index;
-    float time;         // the shutter time drawn
-} pc;
+#include "image_push.glsl"
+layout(push_constant) uniform Push { GBufferPush pc; };
 
 layout(location = 0) out vec3 out_world;
 layout(location = 1) out vec3 out_motion;

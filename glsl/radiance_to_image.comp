@@ -13,10 +13,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ra
     vec4 v[];
 };
 
-layout(push_constant) uniform Push {
-    uint64_t radiance;      // the lighting target's radiance buffer
-    uvec2 size;             // pixels
-} pc;
+#include "image_push.glsl"
+layout(push_constant) uniform Push { RadiancePush pc; };
 
 void main() {
     uvec2 pixel = gl_GlobalInvocationID.xy;

@@ -36,20 +36,8 @@ layout(constant_id = 1) const bool SECOND_LOOKUP = false;
 // into the lit fraction), from src/technique/gpu_constants.rs.
 #include "gpu_constants.glsl"
 
-layout(push_constant) uniform Push {
-    mat4 inv_view_proj;     // camera clip -> world (the host's matrices, Vulkan NDC)
-    uint64_t light;         // MsLight (the start of the maps' header)
-    uvec2 size;             // pixels
-    float background_depth; // the depth buffer's clear value: no surface there
-    uint flags;             // MASK_* | TSM_*
-    uvec2 map_size;         // texels of a map
-    float time;             // the shutter time the G-buffer shows (read when MOVING)
-    float maps;             // N
-    float inv_maps;         // 1 / N: map i is drawn at (i + 0.5) * (1 / N)
-    uint first_map;         // the batch's first map (layer 0)
-    uint batch;             // maps in the batch (layers 0 .. batch - 1)
-    uint reserved;
-} pc;
+#include "image_push.glsl"
+layout(push_constant) uniform Push { TsmMaskPush pc; };
 
 #include "mask_gbuffer.glsl"
 

@@ -25,16 +25,8 @@ layout(constant_id = 0) const bool MOVING = false;
 // MASK_* flags (MASK_HAS_IDS: read the triangle-id image), from src/technique/gpu_constants.rs.
 #include "gpu_constants.glsl"
 
-layout(push_constant) uniform Push {
-    mat4 inv_view_proj;     // camera clip -> world (the host's matrices, Vulkan NDC)
-    uint64_t map;           // MsShadowMap header
-    uvec2 size;             // pixels
-    float background_depth; // the depth buffer's clear value: no surface there
-    uint flags;             // MASK_*
-    uint64_t over_budget;   // u32: pixels whose lookups ran past loop_budget iterations
-    uint loop_budget;       // 0: the device does not limit loops
-    float time;             // the shutter time the depth image shows (read when MOVING)
-} pc;
+#include "image_push.glsl"
+layout(push_constant) uniform Push { MaskPush pc; };
 
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer Counter { uint count; };
 

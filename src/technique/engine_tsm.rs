@@ -33,7 +33,7 @@
 use super::draws::DrawList;
 use super::gpu_types::{DRAW_STATIC, DepthFormat, PlainMapHeader};
 use super::mask::{MaskInputs, NormalEncoding, NormalImage};
-use super::push_constants::{DrawPush, MapDrawPush, PushBlock};
+use super::push_constants::{DrawPush, MapDrawPush, PushBlock, TsmMaskPush};
 use super::shaders;
 use super::shadow_map::StaticLayerSource;
 use super::view::LightView;
@@ -44,7 +44,7 @@ use crate::gpu::{
 };
 use crate::gpu::{Doomed, Handle};
 use ash::vk;
-use glam::{Mat4, UVec4};
+use glam::UVec4;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -275,29 +275,6 @@ fn check_map_format(features: impl Fn(vk::Format) -> vk::FormatFeatureFlags) -> 
     Ok(())
 }
 
-/// The mask shader's push constants (`Push` in glsl/tsm_mask.comp, 120 bytes; 128 here, the
-/// last 8 bytes never read).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct TsmConstants {
-    inv_view_proj: Mat4,
-    light: u64,
-    size: [u32; 2],
-    background_depth: f32,
-    flags: u32,
-    map_size: [u32; 2],
-    time: f32,
-    /// N, and 1 / N: map i is drawn at (i + 0.5) * (1 / N), in the shader as on the host.
-    maps: f32,
-    inv_maps: f32,
-    /// The batch's first map and its count (its layers 0..batch).
-    first_map: u32,
-    batch: u32,
-    reserved: [u32; 3],
-}
-
-const _: () = assert!(std::mem::size_of::<TsmConstants>() == 128);
-
 // The mask's flags, shared with glsl/tsm_mask.comp through the generated constants.
 use super::gpu_constants::{
     MASK_HAS_NORMALS as HAS_NORMALS, MASK_NORMALS_UNORM as NORMALS_UNORM,
@@ -362,7 +339,7 @@ impl EngineTsmPass {
                 specialized_compute_pipeline(
                     ctx,
                     &[&layout],
-                    std::mem::size_of::<TsmConstants>() as u32,
+                    TsmMaskPush::BYTES,
                     "tsm_mask.comp",
                     shaders::TSM_MASK_COMP,
                     constants,
@@ -604,7 +581,7 @@ impl EngineTsmPass {
             let flags = normal_flags
                 | if first == 0 { FIRST_BATCH } else { 0 }
                 | if first + batch == maps { LAST_BATCH } else { 0 };
-            let constants = TsmConstants {
+            let constants = TsmMaskPush {
                 inv_view_proj: inputs.inv_view_proj,
                 light: map.header_address(),
                 size: [inputs.size.0, inputs.size.1],

@@ -10,6 +10,7 @@
 
 use super::draws::DrawList;
 use super::mask::{MaskInputs, MotionImage, NormalEncoding, NormalImage, TriangleIdImage};
+use super::push_constants::{GBufferPush, PushBlock};
 use super::shaders;
 use crate::error::{Error, Result};
 use crate::gpu::{
@@ -240,17 +241,6 @@ impl GBuffer {
     }
 }
 
-/// The G-buffer shaders' push constants (96 bytes).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct GBufferConstants {
-    view_proj: Mat4,
-    eye: Vec4,
-    draws: u64,
-    draw_index: u32,
-    time: f32,
-}
-
 /// Draws G-buffers. Immutable after creation.
 pub struct GBufferPass {
     pipeline: Pipeline,
@@ -261,7 +251,7 @@ impl GBufferPass {
     pub fn new(ctx: &Context) -> Result<Self> {
         let pipeline = graphics_pipeline(
             ctx,
-            std::mem::size_of::<GBufferConstants>() as u32,
+            GBufferPush::BYTES,
             &[
                 (
                     vk::ShaderStageFlags::VERTEX,
@@ -345,7 +335,7 @@ impl GBufferPass {
             if record.triangle_count == 0 {
                 continue;
             }
-            let constants = GBufferConstants {
+            let constants = GBufferPush {
                 view_proj: camera.view_proj,
                 eye: camera.eye.extend(1.0),
                 draws: draws.address(),

@@ -4,18 +4,11 @@
 
 use super::image_pass::ImagePass;
 use super::lighting::LightingTarget;
+use super::push_constants::{PushBlock, RadiancePush};
 use super::shaders;
 use crate::error::Result;
 use crate::gpu::{Context, ImageBindings};
 use ash::vk;
-
-/// The shader's push constants.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct OutputConstants {
-    radiance: u64,
-    size: [u32; 2],
-}
 
 /// Writes lighting targets into host images. Immutable after creation.
 pub struct LightingImageOutput {
@@ -30,7 +23,7 @@ impl LightingImageOutput {
             ctx,
             "writing the lighting pass into a host image",
             &[vk::DescriptorType::STORAGE_IMAGE],
-            std::mem::size_of::<OutputConstants>() as u32,
+            RadiancePush::BYTES,
             ("radiance_to_image.comp", shaders::RADIANCE_TO_IMAGE_COMP),
             &[&[]],
         )?;
@@ -69,7 +62,7 @@ impl LightingImageOutput {
     ) {
         // SAFETY: the caller's contract.
         unsafe { bindings.write(&[(image, vk::ImageLayout::GENERAL)]) };
-        let constants = OutputConstants {
+        let constants = RadiancePush {
             radiance: target.radiance.device_address(),
             size: [target.width(), target.height()],
         };

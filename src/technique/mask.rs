@@ -8,6 +8,7 @@
 //! descriptor set: one [`MaskBindings`] per use in flight (per frame in flight and light).
 
 use super::image_pass::ImagePass;
+use super::push_constants::{MaskPush, PushBlock};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
 use crate::error::Result;
@@ -229,26 +230,6 @@ impl MaskInputs {
     }
 }
 
-/// The mask shader's push constants (104 bytes, and 8 of padding up to Mat4's 16-byte
-/// alignment).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct MaskConstants {
-    inv_view_proj: Mat4,
-    map: u64,
-    size: [u32; 2],
-    background_depth: f32,
-    flags: u32,
-    /// The u32 counting pixels past `loop_budget`.
-    over_budget: u64,
-    /// `ms_loop_iterations` a pixel may reach (0: no limit).
-    loop_budget: u32,
-    /// [`MaskInputs::time`].
-    time: f32,
-    /// Zero: the struct's tail padding, explicit so that it is plain data (`Pod`).
-    padding: [u32; 2],
-}
-
 use super::gpu_constants::{
     MASK_HAS_IDS as HAS_IDS, MASK_HAS_NORMALS as HAS_NORMALS, MASK_NORMALS_UNORM as NORMALS_UNORM,
 };
@@ -281,7 +262,7 @@ impl VisibilityMaskPass {
                 sampled,
                 sampled,
             ],
-            std::mem::size_of::<MaskConstants>() as u32,
+            MaskPush::BYTES,
             ("visibility_mask.comp", shaders::VISIBILITY_MASK_COMP),
             // Receivers standing still; receivers moving (MOVING = true).
             &[&[0], &[1]],
@@ -368,7 +349,7 @@ impl VisibilityMaskPass {
             Some(_) => HAS_NORMALS,
             None => 0,
         } | if inputs.ids.is_some() { HAS_IDS } else { 0 };
-        let constants = MaskConstants {
+        let constants = MaskPush {
             inv_view_proj: inputs.inv_view_proj,
             map: map.header_address(),
             size: [inputs.size.0, inputs.size.1],

@@ -1,11 +1,13 @@
 //! The push constants of each pass: one block per pass, mirrors of the GLSL structs of the
-//! same names in `glsl/shared.glsl` (and `RasterCamera` in `glsl/raster_camera.glsl`).
+//! same names in `glsl/shared.glsl` (the passes over the technique's own buffers) and
+//! `glsl/image_push.glsl` (the passes over a host's images).
 //! `tests/gpu/layout.rs` probes every one of them against the shaders' layout.
 //!
 //! The passes that draw the host's draw table begin with [`DrawPush`]: `scene.vert`, the
 //! vertex shader those pipelines share, reads it, and [`DrawnPush::with_draw`] sets it per draw.
 
 use super::gpu_types::CameraParams;
+use glam::{Mat4, Vec4};
 
 /// A pass's push-constant block: plain data within the 128 bytes every device offers.
 pub trait PushBlock: bytemuck::Pod {
@@ -158,6 +160,91 @@ pub struct ShadePush {
     pub flags: u32,
 }
 
+/// The temporal map's visibility mask, `visibility_mask.comp` (104 bytes of fields, 112 with
+/// the padding up to `Mat4`'s 16-byte alignment).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct MaskPush {
+    /// Camera clip to world (the host's matrices, Vulkan NDC).
+    pub inv_view_proj: Mat4,
+    /// The map's [`super::ShadowMapHeader`].
+    pub map: u64,
+    /// Pixels.
+    pub size: [u32; 2],
+    /// The depth buffer's clear value: no surface there.
+    pub background_depth: f32,
+    /// `MASK_*` of [`super::gpu_constants`].
+    pub flags: u32,
+    /// The u32 counting pixels past `loop_budget`.
+    pub over_budget: u64,
+    /// `ms_loop_iterations` a pixel may reach (0: no limit).
+    pub loop_budget: u32,
+    /// The shutter time the depth image shows (read for moving receivers).
+    pub time: f32,
+    /// Zero: the struct's tail padding, explicit so that it is plain data.
+    pub padding: [u32; 2],
+}
+
+/// The engine TSM's mask of one batch of maps, `tsm_mask.comp` (128 bytes).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TsmMaskPush {
+    /// Camera clip to world (the host's matrices, Vulkan NDC).
+    pub inv_view_proj: Mat4,
+    /// The maps' light (the start of their [`super::PlainMapHeader`]).
+    pub light: u64,
+    /// Pixels.
+    pub size: [u32; 2],
+    /// The depth buffer's clear value: no surface there.
+    pub background_depth: f32,
+    /// `MASK_*` and `TSM_*` of [`super::gpu_constants`].
+    pub flags: u32,
+    /// Texels of a map.
+    pub map_size: [u32; 2],
+    /// The shutter time the G-buffer shows (read for moving receivers).
+    pub time: f32,
+    /// N, and 1 / N: map i is drawn at (i + 0.5) * (1 / N), in the shader as on the host.
+    pub maps: f32,
+    /// 1 / N.
+    pub inv_maps: f32,
+    /// The batch's first map (its layer 0).
+    pub first_map: u32,
+    /// Maps in the batch (layers 0..batch).
+    pub batch: u32,
+    /// Zero (the GLSL's `reserved` and the tail padding up to 16-byte alignment).
+    pub reserved: [u32; 3],
+}
+
+/// The G-buffer, `gbuffer.vert` and `gbuffer.frag` (96 bytes).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GBufferPush {
+    /// World to camera clip (Vulkan).
+    pub view_proj: Mat4,
+    /// xyz: the camera's position.
+    pub eye: Vec4,
+    /// The [`super::DrawRecord`] table.
+    pub draws: u64,
+    /// The draw being drawn.
+    pub draw_index: u32,
+    /// The shutter time drawn.
+    pub time: f32,
+}
+
+/// The lighting target's radiance into a host image, `radiance_to_image.comp` (16 bytes).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct RadiancePush {
+    /// The lighting target's radiance buffer.
+    pub radiance: u64,
+    /// Pixels.
+    pub size: [u32; 2],
+}
+
+impl PushBlock for MaskPush {}
+impl PushBlock for TsmMaskPush {}
+impl PushBlock for GBufferPush {}
+impl PushBlock for RadiancePush {}
 impl PushBlock for MapDrawPush {}
 impl PushBlock for MapPush {}
 impl PushBlock for LightingRasterPush {}
@@ -184,6 +271,54 @@ const _: () = {
     assert!(std::mem::size_of::<LightingRasterPush>() == 48);
     assert!(std::mem::size_of::<RasterCamera>() == 68);
     assert!(std::mem::size_of::<ShadePush>() == 40);
+    assert!(std::mem::size_of::<MaskPush>() == 112);
+    assert!(std::mem::size_of::<TsmMaskPush>() == 128);
+    assert!(std::mem::size_of::<GBufferPush>() == 96);
+    assert!(std::mem::size_of::<RadiancePush>() == 16);
     // Vulkan guarantees 128 bytes of push constants.
     assert!(RasterPush::BYTES <= 128);
 };
+
+#[cfg(test)]
+mod tests {
+    /// The structs `tests/gpu/layout.rs` probes against their Rust mirrors.
+    const PROBED: [&str; 10] = [
+        "DrawPush",
+        "MapDrawPush",
+        "MapPush",
+        "LightingRasterPush",
+        "ShadePush",
+        "MaskPush",
+        "TsmMaskPush",
+        "GBufferPush",
+        "RadiancePush",
+        "RasterCamera",
+    ];
+
+    /// Every push-constant block of the library's shaders is made of probed structs, so no
+    /// block's layout is written by hand in a shader where the layout test cannot see it.
+    #[test]
+    fn every_push_block_is_made_of_probed_structs() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("glsl");
+        let mut blocks = 0;
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            let source = std::fs::read_to_string(&path).unwrap();
+            for (at, _) in source.match_indices("layout(push_constant) uniform Push {") {
+                blocks += 1;
+                let body = &source[at..];
+                let body = &body[body.find('{').unwrap() + 1..body.find('}').unwrap()];
+                for member in body.split(';').map(str::trim).filter(|m| !m.is_empty()) {
+                    let ty = member.split_whitespace().next().unwrap();
+                    assert!(
+                        PROBED.contains(&ty),
+                        "{}: push member `{member}` is not one of the probed structs",
+                        path.display()
+                    );
+                }
+            }
+        }
+        // Every shader with push constants: a failure to find them is not a pass.
+        assert!(blocks >= 20, "found only {blocks} push blocks");
+    }
+}

@@ -5,6 +5,7 @@
 // scalars into a flat array that the host compares with its own fields. For the structs
 // shaders write (Node, MsRange, Counters), it writes known values the host reads back.
 #include "shared.glsl"
+#include "image_push.glsl"
 
 layout(local_size_x = 1) in;
 
@@ -28,6 +29,22 @@ layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer Pro
     uint64_t raster_push;
     uint64_t shade_push;
     uint64_t long_list;
+    uint64_t mask_push;
+    uint64_t tsm_mask_push;
+    uint64_t gbuffer_push;
+    uint64_t radiance_push;
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer MaskPushRef {
+    MaskPush v;
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TsmMaskPushRef {
+    TsmMaskPush v;
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer GBufferPushRef {
+    GBufferPush v;
+};
+layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer RadiancePushRef {
+    RadiancePush v;
 };
 layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer MapDrawPushRef {
     MapDrawPush v;
@@ -112,6 +129,19 @@ void main() {
     put(sp.time); put(sp.flags);
     LongListHeader ll = LongListRef(table.long_list).v;
     put(ll.count); put(ll.groups_x); put(ll.groups_y); put(ll.groups_z);
+    MaskPush mp = MaskPushRef(table.mask_push).v;
+    put(mp.inv_view_proj); put(mp.map); put(mp.size.x); put(mp.size.y);
+    put(mp.background_depth); put(mp.flags); put(mp.over_budget); put(mp.loop_budget);
+    put(mp.time);
+    TsmMaskPush tp = TsmMaskPushRef(table.tsm_mask_push).v;
+    put(tp.inv_view_proj); put(tp.light); put(tp.size.x); put(tp.size.y);
+    put(tp.background_depth); put(tp.flags); put(tp.map_size.x); put(tp.map_size.y);
+    put(tp.time); put(tp.maps); put(tp.inv_maps); put(tp.first_map); put(tp.batch);
+    put(tp.reserved);
+    GBufferPush gp = GBufferPushRef(table.gbuffer_push).v;
+    put(gp.view_proj); put(gp.eye); put(gp.draws); put(gp.draw_index); put(gp.time);
+    RadiancePush rp = RadiancePushRef(table.radiance_push).v;
+    put(rp.radiance); put(rp.size.x); put(rp.size.y);
 
     // The shaders read the header through ms_load's 64-bit words: the same fields again.
     MsMap loaded = ms_load(m);

@@ -14,8 +14,8 @@ use motion_shadows::gpu::{
     Access, Buffer, BufferUsage, OneShot, Spirv, compute_pipeline, memory_barrier,
 };
 use motion_shadows::technique::push_constants::{
-    DrawPush, LightingRasterPush, MapDrawPush, MapPush, PushBlock, RasterCamera, RasterPush,
-    ShadePush,
+    DrawPush, GBufferPush, LightingRasterPush, MapDrawPush, MapPush, MaskPush, PushBlock,
+    RadiancePush, RasterCamera, RasterPush, ShadePush, TsmMaskPush,
 };
 use motion_shadows::technique::{
     CameraParams, Counters, DrawRecord, GpuLight, LongListHeader, Node, PlainMapHeader, Range,
@@ -224,6 +224,42 @@ fn shared_structs_match_glsl() {
         count: val.u(),
         groups: [val.u(), val.u(), val.u()],
     };
+    let mask = MaskPush {
+        inv_view_proj: val.m(),
+        map: val.a(),
+        size: [val.u(), val.u()],
+        background_depth: val.f(),
+        flags: val.u(),
+        over_budget: val.a(),
+        loop_budget: val.u(),
+        time: val.f(),
+        padding: [0; 2],
+    };
+    let tsm_mask = TsmMaskPush {
+        inv_view_proj: val.m(),
+        light: val.a(),
+        size: [val.u(), val.u()],
+        background_depth: val.f(),
+        flags: val.u(),
+        map_size: [val.u(), val.u()],
+        time: val.f(),
+        maps: val.f(),
+        inv_maps: val.f(),
+        first_map: val.u(),
+        batch: val.u(),
+        reserved: [val.u(), 0, 0],
+    };
+    let gbuffer = GBufferPush {
+        view_proj: val.m(),
+        eye: val.v(),
+        draws: val.a(),
+        draw_index: val.u(),
+        time: val.f(),
+    };
+    let radiance = RadiancePush {
+        radiance: val.a(),
+        size: [val.u(), val.u()],
+    };
 
     let input = |name, data: &[u8]| {
         Buffer::with_data(&ctx, name, BufferUsage::HostToDevice, data).expect("input buffer")
@@ -243,6 +279,10 @@ fn shared_structs_match_glsl() {
     let raster_in = input("raster push", &bytes(&raster));
     let shade_in = input("shade push", &bytes(&shade));
     let long_list_in = input("long-pixel list header", &bytes(&long_list));
+    let mask_in = input("mask push", &bytes(&mask));
+    let tsm_mask_in = input("tsm mask push", &bytes(&tsm_mask));
+    let gbuffer_in = input("g-buffer push", &bytes(&gbuffer));
+    let radiance_in = input("radiance push", &bytes(&radiance));
     let out = |name, size| Buffer::new(&ctx, name, size, BufferUsage::Storage).unwrap();
     let dump = out("dump", 4096);
     let nodes = out("nodes", 32);
@@ -261,13 +301,17 @@ fn shared_structs_match_glsl() {
         &raster_in,
         &shade_in,
         &long_list_in,
+        &mask_in,
+        &tsm_mask_in,
+        &gbuffer_in,
+        &radiance_in,
     ]
     .iter()
     .map(|b| b.device_address())
     .collect();
     let table_in = input(
         "probe table",
-        &bytes(&<[u64; 12]>::try_from(table).unwrap()),
+        &bytes(&<[u64; 16]>::try_from(table).unwrap()),
     );
 
     let push = MapPush {
@@ -383,6 +427,33 @@ fn shared_structs_match_glsl() {
     expected.u(shade.flags);
     expected.u(long_list.count);
     long_list.groups.iter().for_each(|&g| expected.u(g));
+    expected.m(mask.inv_view_proj);
+    expected.a(mask.map);
+    mask.size.iter().for_each(|&x| expected.u(x));
+    expected.f(mask.background_depth);
+    expected.u(mask.flags);
+    expected.a(mask.over_budget);
+    expected.u(mask.loop_budget);
+    expected.f(mask.time);
+    expected.m(tsm_mask.inv_view_proj);
+    expected.a(tsm_mask.light);
+    tsm_mask.size.iter().for_each(|&x| expected.u(x));
+    expected.f(tsm_mask.background_depth);
+    expected.u(tsm_mask.flags);
+    tsm_mask.map_size.iter().for_each(|&x| expected.u(x));
+    for x in [tsm_mask.time, tsm_mask.maps, tsm_mask.inv_maps] {
+        expected.f(x);
+    }
+    expected.u(tsm_mask.first_map);
+    expected.u(tsm_mask.batch);
+    expected.u(tsm_mask.reserved[0]);
+    expected.m(gbuffer.view_proj);
+    expected.v(gbuffer.eye);
+    expected.a(gbuffer.draws);
+    expected.u(gbuffer.draw_index);
+    expected.f(gbuffer.time);
+    expected.a(radiance.radiance);
+    radiance.size.iter().for_each(|&x| expected.u(x));
     // ms_load's copy of the header, read as 64-bit words.
     expected.light(&shadow.light);
     expected.uv(UVec4::new(shadow.size.x, shadow.size.y, 0, 0));
