@@ -23,7 +23,11 @@ impl Sweep {
         match self {
             Sweep::Speed => {
                 let cubes = b.scale.pick(1000, 5000);
-                [(0.0, 1.0), (1.0, 2.0), (2.0, 4.0), (4.0, 8.0), (8.0, 16.0)]
+                let speeds = b.scale.pick(
+                    vec![(0.0, 1.0), (2.0, 4.0), (8.0, 16.0)],
+                    vec![(0.0, 1.0), (1.0, 2.0), (2.0, 4.0), (4.0, 8.0), (8.0, 16.0)],
+                );
+                speeds
                     .into_iter()
                     .map(|(lo, hi)| {
                         let o = BuiltinOptions {
@@ -55,7 +59,7 @@ impl Sweep {
                 let cubes = b.scale.pick(1000, 4000);
                 b.scale
                     .pick(
-                        vec![1.0, 4.0, 16.0, 64.0],
+                        vec![1.0, 16.0, 64.0],
                         vec![1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0],
                     )
                     .into_iter()

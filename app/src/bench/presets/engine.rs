@@ -39,7 +39,7 @@ const GHOSTING_MAPS: u32 = 8;
 pub(super) fn engine(b: &mut Bench) -> Result<()> {
     let ((width, height), map, max_maps) = b
         .scale
-        .pick(((480, 270), 512, 64), ((1920, 1080), 2048, 256));
+        .pick(((480, 270), 512, 32), ((1920, 1080), 2048, 256));
     let mut table = Table::new(
         [
             "scene",

@@ -42,7 +42,7 @@ fn sweep(b: &mut Bench, scene: &Scene, label: &str, files: &str) -> Result<()> {
         receiver,
         ..RenderSettings::default()
     };
-    let reference_slices = b.scale.pick(256, 2048);
+    let reference_slices = b.scale.pick(128, 2048);
     // Another seed than the measured renders, so the reference's noise is independent. Its
     // image is what counts (the same bytes every run), not its time: rendered once.
     let reference = b
