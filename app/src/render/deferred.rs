@@ -14,8 +14,9 @@
 //! static depth map (TSM) is drawn before the timed passes and kept; the timed passes are the
 //! shadow pass and the mask.
 
+use super::methods::RangeBounds;
 use super::stats::PassTime;
-use super::{FrameInputs, ReceiverTest, RenderSettings, Renderer, range_bound, upload};
+use super::{FrameInputs, ReceiverTest, RenderSettings, Renderer, upload};
 use crate::error::{Error, Result};
 use crate::output::RadianceImage;
 use crate::scene::Scene;
@@ -194,7 +195,7 @@ impl Renderer<'_> {
             DeferredMethod::Temporal => {
                 // The map is built (grown until it fits) with the static layer kept, then
                 // the timed frame: the shadow pass again, and the mask.
-                let bound = range_bound::ranges_at_least(scene, &light, shadow);
+                let bound = RangeBounds::of(scene, &light, shadow, false);
                 let outcome =
                     self.temporal_shadow(frame, settings, false, bound, &mut Vec::new(), progress)?;
                 let map = outcome

@@ -2,10 +2,11 @@
 //! up, the method's shadow pass, the lighting pass, the frame's refusals and warnings, and
 //! its statistics.
 
+use super::methods::RangeBounds;
 use super::methods::ShadowOutcome;
 use super::stats::{self, FrameStats, PassTime, equation_2_bytes, sorted_map_bytes};
 use super::upload::{self, SceneGeometry};
-use super::{FrameInputs, Method, RenderSettings, Renderer, empty_map, range_bound};
+use super::{FrameInputs, Method, RenderSettings, Renderer, empty_map};
 use crate::error::Result;
 use crate::scene::Scene;
 use motion_shadows::gpu::Context;
@@ -23,8 +24,8 @@ pub(super) struct PreparedFrame {
     spp: u32,
     /// The most samples one lighting chunk may hold.
     max_chunk: u32,
-    /// A lower bound on the ranges of the temporal map (`range_bound.rs`; 0 when unknown).
-    ranges_at_least: u64,
+    /// Bounds on the ranges of the temporal map (`range_bound.rs`, `range_ceiling.rs`).
+    range_bounds: RangeBounds,
 }
 
 impl PreparedFrame {
@@ -102,9 +103,14 @@ impl Renderer<'_> {
             Method::Reference { .. } => 1,
             _ => settings.max_samples_per_chunk,
         };
-        let ranges_at_least = match settings.method {
-            Method::Temporal => range_bound::ranges_at_least(scene, &light, settings.shadow_size()),
-            _ => 0,
+        let range_bounds = match settings.method {
+            Method::Temporal | Method::Coverage => RangeBounds::of(
+                scene,
+                &light,
+                settings.shadow_size(),
+                settings.method == Method::Coverage,
+            ),
+            _ => RangeBounds::default(),
         };
         Ok(PreparedFrame {
             geometry,
@@ -113,7 +119,7 @@ impl Renderer<'_> {
             view,
             spp: settings.method.samples_per_pixel(settings.spp),
             max_chunk,
-            ranges_at_least,
+            range_bounds,
         })
     }
 
@@ -132,7 +138,7 @@ impl Renderer<'_> {
                 inputs,
                 settings,
                 settings.method == Method::Coverage,
-                frame.ranges_at_least,
+                frame.range_bounds,
                 passes,
                 progress,
             ),

@@ -14,6 +14,39 @@ use motion_shadows::technique::{
 const SLICES_PER_SUBMISSION: u32 = 32;
 
 /// What a method's shadow step produced.
+/// What the scene says, before any pass, about the ranges a temporal frame stores.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct RangeBounds {
+    /// At least this many (`range_bound.rs`; 0 when unknown, and with the coverage map).
+    pub(super) at_least: u64,
+    /// At most this many (`range_ceiling.rs`; None when unknown).
+    pub(super) at_most: Option<u64>,
+}
+
+impl RangeBounds {
+    pub(super) fn of(
+        scene: &crate::scene::Scene,
+        light: &motion_shadows::technique::LightView,
+        size: (u32, u32),
+        with_coverage: bool,
+    ) -> Self {
+        Self {
+            // The coverage map stores fewer ranges than the pairs the lower bound counts.
+            at_least: if with_coverage {
+                0
+            } else {
+                super::range_bound::ranges_at_least(scene, light, size)
+            },
+            at_most: super::range_ceiling::ranges_at_most(
+                scene,
+                light,
+                size,
+                light.collects_ranges(with_coverage),
+            ),
+        }
+    }
+}
+
 pub(super) enum ShadowOutcome {
     Temporal {
         map: Box<TemporalShadowMap>,
@@ -113,32 +146,45 @@ impl ShadowOutcome {
 }
 
 impl Renderer<'_> {
-    /// Collection and generation (with the coverage passes between them when `with_coverage`);
-    /// grown and re-run until nothing overflowed. `ranges_at_least` is a lower bound on the
-    /// ranges the frame stores without the coverage map (`range_bound.rs`; 0 if unknown): the
-    /// first attempt has room for it, so a map that cannot hold it is refused before any
-    /// pass runs.
+    /// Collection and generation (with the coverage passes between them when `with_coverage`).
+    /// The first attempt has room for `bounds.at_most` ranges where the device can hold
+    /// them, so it never overflows; otherwise for `bounds.at_least` (a map that cannot hold
+    /// that is refused before any pass runs), grown and re-run until nothing overflowed.
     pub(super) fn temporal_shadow(
         &mut self,
         inputs: FrameInputs<'_>,
         settings: &RenderSettings,
         with_coverage: bool,
-        ranges_at_least: u64,
+        bounds: RangeBounds,
         passes: &mut Vec<PassTime>,
         progress: &mut dyn FnMut(&str),
     ) -> Result<ShadowOutcome> {
         let (width, height) = settings.shadow_size();
         let pixels = width * height;
-        let bound = if with_coverage { 0 } else { ranges_at_least };
+        let range_bytes = std::mem::size_of::<motion_shadows::technique::Range>() as u64;
+        let limit = self.ctx.max_addressed_buffer_bytes();
         // Beyond u32 the map refuses the count anyway (it counts in u32).
-        let ranges = u32::try_from(bound).unwrap_or(u32::MAX).max(pixels);
-        if ranges > pixels {
-            progress(&format!(
-                "shadow pass: the moving triangles cover at least {bound} (texel, triangle) pairs \
-                 of the map during the shutter, a range each: room for them from the first \
-                 attempt"
-            ));
-        }
+        let ranges = match bounds.at_most {
+            Some(most) if most.saturating_mul(2 * range_bytes) <= limit => {
+                progress(&format!(
+                    "shadow pass: the scene's triangles store at most {most} ranges \
+                     (at least {}): room for them, so one attempt",
+                    bounds.at_least
+                ));
+                u32::try_from(most).unwrap_or(u32::MAX).max(1)
+            }
+            _ => {
+                let least = bounds.at_least;
+                if least > u64::from(pixels) {
+                    progress(&format!(
+                        "shadow pass: the moving triangles cover at least {least} (texel, \
+                         triangle) pairs of the map during the shutter, a range each: room \
+                         for them from the first attempt"
+                    ));
+                }
+                u32::try_from(least).unwrap_or(u32::MAX).max(pixels)
+            }
+        };
         // The exact construction with the static layer stores no node (its collection writes
         // the ranges): a node buffer would be memory for nothing.
         let stores_nodes = !inputs.light.collects_ranges(with_coverage);

@@ -11,6 +11,7 @@ mod empty_map;
 mod frame;
 mod methods;
 pub mod range_bound;
+pub mod range_ceiling;
 mod receiver;
 pub mod stats;
 pub mod times;
