@@ -90,7 +90,10 @@ fn the_upper_bound_is_never_below_the_ranges_stored_and_one_attempt_does() {
     eprintln!("the bound is at most {worst:.2} times the ranges stored");
     // The figure docs/src/generation.md states (3.26, hard-rotating-triangle): a bound this
     // loose would still be a bound, but would cost the memory it was made to save.
-    assert!(worst <= 3.5, "the bound is {worst:.2} times the ranges stored");
+    assert!(
+        worst <= 3.5,
+        "the bound is {worst:.2} times the ranges stored"
+    );
     assert_no_validation_messages(&ctx);
 }
 
