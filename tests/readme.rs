@@ -17,11 +17,12 @@ fn one_frame(
     instance: ash::Instance, physical: vk::PhysicalDevice, queues: Vec<vk::DeviceQueueCreateInfo>,
     queue_family: u32, queue: vk::Queue, cmd: vk::CommandBuffer, position: Vec3, direction: Vec3,
     previous_positions: u64, current_positions: u64, indices: u64, vertex_count: u32,
-    triangle_count: u32, first_triangle_id: u32, n: u64,
+    triangle_count: u32, first_triangle_id: u32, n: u64, cpu_t0: Vec<Vec3>, cpu_t1: Vec<Vec3>,
+    cpu_indices: Vec<u32>,
 ) -> AnyResult {
 use motion_shadows::gpu::{Context, DeviceRequirements};
 use motion_shadows::technique::{
-    CollectionPass, Draw, DrawList, GenerationPass, IndexStream, Indices, LightView,
+    CollectionPass, Draw, DrawList, GenerationPass, HostDraw, IndexStream, Indices, LightView,
     PositionStream, TemporalShadowMap,
 };
 
@@ -54,6 +55,9 @@ let draw = unsafe {
         first_triangle_id,
     )
 };
+// Where the host holds those positions too: room for all the frame can store, so it never
+// overflows (RangeCeiling; a draw that does not move names one slice twice).
+map.reserve_for(&ctx, &light, None, &[HostDraw::new(&cpu_t0, &cpu_t1, Some(&cpu_indices))])?;
 unsafe {
     draws.record_update(&device, cmd, &[draw])?;
     collection.record(&device, cmd, &draws, &light, &map, None)?;
@@ -64,7 +68,7 @@ unsafe {
 // ms_visibility(MsShadowMap(addr), pos, normal, t, own_id); or the papers' LightingPass.
 
 // After frame n's fence (with ctx.begin_frame(n) before recording it): free what was
-// dropped meanwhile; a map that ran out of room had incomplete shadows: grow it.
+// dropped meanwhile; a map that ran out of room (not reserved) had incomplete shadows: grow it.
 unsafe { ctx.collect(n) };
 let counts = map.read_counters()?;
 if map.needs_more_room(&counts) { map.grow_to_fit(&ctx, &counts)?; }

@@ -44,6 +44,7 @@ mod mask;
 #[cfg(feature = "research")]
 mod plain_shadow;
 pub mod push_constants;
+mod range_ceiling;
 pub mod sampling;
 pub mod shaders;
 mod shadow_map;
@@ -78,6 +79,7 @@ pub use mask::{
 };
 #[cfg(feature = "research")]
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
+pub use range_ceiling::{HostDraw, RangeCeiling};
 pub use sampling::{pixel_key, pixel_sample};
 pub use shadow_map::{RangeStorage, ShadowMapContents, TemporalShadowMap};
 pub use view::{

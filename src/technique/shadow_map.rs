@@ -9,6 +9,7 @@ use super::draws::DrawList;
 use super::gpu_types::{
     Counters, DRAW_STATIC, DrawRecord, MAX_LIST_NODES, Node, Range, ShadowMapHeader,
 };
+use super::range_ceiling::{HostDraw, RangeCeiling};
 use super::view::LightView;
 use crate::error::{Error, Result};
 use crate::gpu::{Access, Buffer, BufferUsage, Context, OneShot, memory_barrier};
@@ -518,6 +519,48 @@ impl TemporalShadowMap {
             )?;
         }
         Ok(())
+    }
+
+    /// Reserves room for all that a frame of `draws` lit by `light` (with or without a
+    /// coverage map) can store, bounded from the host's positions by [`RangeCeiling`]: such
+    /// a frame never runs out of room, so it never has to be grown a frame late. Returns the
+    /// ranges it has room for, or None with the papers' prisms, which are not bounded (grow
+    /// after a frame that overflowed instead). Static draws are left out where the frame
+    /// keeps them in the static layer. Like [`Self::reserve`], it only grows, and retires the
+    /// old buffers. Errors if the bound is more than a map counts (u32) or the device holds.
+    pub fn reserve_for(
+        &mut self,
+        ctx: &Context,
+        light: &LightView,
+        coverage: Option<&CoverageMap>,
+        draws: &[HostDraw],
+    ) -> Result<Option<u64>> {
+        let Some(ceiling) = RangeCeiling::new(light, self.width, self.height) else {
+            return Ok(None);
+        };
+        let static_layer = self.uses_static_layer(light, coverage);
+        let mut ranges = 0u64;
+        for draw in draws {
+            if !(static_layer && draw.is_static()) {
+                ranges += ceiling.draw(draw)?;
+            }
+        }
+        // Where nodes are stored, a run's range pairs two of them.
+        let nodes = if self.collects_ranges(light, coverage) {
+            0
+        } else {
+            ranges.saturating_mul(2)
+        };
+        let counted = |n: u64, what: &str| {
+            u32::try_from(n).map_err(|_| {
+                Error::InvalidArgument(format!(
+                    "the draws may store up to {n} {what}, more than a temporal shadow map counts ({})",
+                    u32::MAX
+                ))
+            })
+        };
+        self.reserve(ctx, counted(nodes, "nodes")?, counted(ranges, "ranges")?)?;
+        Ok(Some(ranges))
     }
 
     /// Reallocates to hold exactly what `counts` says a frame needs (and at least the

@@ -18,6 +18,7 @@ mod layout;
 mod minimal_host;
 mod pass_accesses;
 mod prism;
+mod range_ceiling;
 mod several_runs;
 mod sorted_ranges;
 mod static_layer;

@@ -134,6 +134,7 @@ pub fn render(
         shadow_map_bytes_allocated: 0,
         longest_fragment_list: 0,
         shadow_pass_attempts: 1,
+        ranges_at_most: None,
         samples_per_chunk: settings.spp,
         // The BVH stands in for the shadow side, the trace for the lighting (as `compare`
         // splits them).

@@ -195,7 +195,13 @@ impl Renderer<'_> {
             DeferredMethod::Temporal => {
                 // The map is built (grown until it fits) with the static layer kept, then
                 // the timed frame: the shadow pass again, and the mask.
-                let bound = RangeBounds::of(scene, &light, shadow, false);
+                let bound = RangeBounds::of(
+                    scene,
+                    &light,
+                    shadow,
+                    false,
+                    self.ctx.max_addressed_buffer_bytes(),
+                );
                 let outcome =
                     self.temporal_shadow(frame, settings, false, bound, &mut Vec::new(), progress)?;
                 let map = outcome

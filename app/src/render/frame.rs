@@ -109,6 +109,7 @@ impl Renderer<'_> {
                 &light,
                 settings.shadow_size(),
                 settings.method == Method::Coverage,
+                ctx.max_addressed_buffer_bytes(),
             ),
             _ => RangeBounds::default(),
         };
@@ -322,6 +323,7 @@ pub(super) fn stats(
         coverage_map_bytes: outcome.coverage_bytes(),
         shadow_map_bytes_allocated: outcome.allocated_bytes(),
         shadow_pass_attempts: outcome.attempts(),
+        ranges_at_most: frame.range_bounds.at_most(),
         longest_fragment_list: counts.longest_list,
         samples_per_chunk: target.samples_per_chunk(),
         shadow_pass_ms: stats::counted_ms(&passes, |p| !stats::is_lighting_pass(p)),

@@ -13,36 +13,66 @@ use motion_shadows::technique::{
 /// Reference slices recorded per submission: bounds the command buffer, paces progress.
 const SLICES_PER_SUBMISSION: u32 = 32;
 
-/// What a method's shadow step produced.
-/// What the scene says, before any pass, about the ranges a temporal frame stores.
-#[derive(Debug, Clone, Copy, Default)]
-pub(super) struct RangeBounds {
-    /// At least this many (`range_bound.rs`; 0 when unknown, and with the coverage map).
-    pub(super) at_least: u64,
-    /// At most this many (`range_ceiling.rs`; None when unknown).
-    pub(super) at_most: Option<u64>,
+/// What the scene says, before any pass, about the ranges a temporal frame stores: the room
+/// its first attempt gets.
+#[derive(Debug, Clone, Copy)]
+pub(super) enum RangeBounds {
+    /// At most this many (`motion_shadows::technique::RangeCeiling`), and the device holds
+    /// two buffers of them (the lists and the sorted copy): one attempt.
+    AtMost(u64),
+    /// No upper bound that fits (`at_most`: the bound, None with the papers' prisms): room
+    /// for at least `at_least` (`range_bound.rs`; 0 with the coverage map), grown and run
+    /// again until nothing overflowed.
+    AtLeast { at_least: u64, at_most: Option<u64> },
+}
+
+impl Default for RangeBounds {
+    fn default() -> Self {
+        Self::AtLeast {
+            at_least: 0,
+            at_most: None,
+        }
+    }
 }
 
 impl RangeBounds {
+    /// The lower bound (about 1 s per million moving triangles) is counted only where the
+    /// upper bound is not used: when it is unknown or more than `device_bytes` can address.
     pub(super) fn of(
         scene: &crate::scene::Scene,
         light: &motion_shadows::technique::LightView,
         size: (u32, u32),
         with_coverage: bool,
+        device_bytes: u64,
     ) -> Self {
-        Self {
-            // The coverage map stores fewer ranges than the pairs the lower bound counts.
-            at_least: if with_coverage {
-                0
-            } else {
-                super::range_bound::ranges_at_least(scene, light, size)
+        let at_most = super::range_ceiling::ranges_at_most(
+            scene,
+            light,
+            size,
+            light.collects_ranges(with_coverage),
+        );
+        let range_bytes = std::mem::size_of::<motion_shadows::technique::Range>() as u64;
+        match at_most {
+            Some(most) if most.saturating_mul(2 * range_bytes) <= device_bytes => {
+                Self::AtMost(most)
+            }
+            _ => Self::AtLeast {
+                // The coverage map stores fewer ranges than the pairs the lower bound counts.
+                at_least: if with_coverage {
+                    0
+                } else {
+                    super::range_bound::ranges_at_least(scene, light, size)
+                },
+                at_most,
             },
-            at_most: super::range_ceiling::ranges_at_most(
-                scene,
-                light,
-                size,
-                light.collects_ranges(with_coverage),
-            ),
+        }
+    }
+
+    /// The upper bound on the ranges, where one is known (the JSON's `ranges_at_most`).
+    pub(super) fn at_most(&self) -> Option<u64> {
+        match *self {
+            Self::AtMost(most) => Some(most),
+            Self::AtLeast { at_most, .. } => at_most,
         }
     }
 }
@@ -147,9 +177,10 @@ impl ShadowOutcome {
 
 impl Renderer<'_> {
     /// Collection and generation (with the coverage passes between them when `with_coverage`).
-    /// The first attempt has room for `bounds.at_most` ranges where the device can hold
-    /// them, so it never overflows; otherwise for `bounds.at_least` (a map that cannot hold
-    /// that is refused before any pass runs), grown and re-run until nothing overflowed.
+    /// The first attempt has room for the upper bound where the device can hold it
+    /// ([`RangeBounds::AtMost`]), so it never overflows; otherwise for the lower bound (a map
+    /// that cannot hold that is refused before any pass runs), grown and re-run until nothing
+    /// overflowed.
     pub(super) fn temporal_shadow(
         &mut self,
         inputs: FrameInputs<'_>,
@@ -161,28 +192,30 @@ impl Renderer<'_> {
     ) -> Result<ShadowOutcome> {
         let (width, height) = settings.shadow_size();
         let pixels = width * height;
-        let range_bytes = std::mem::size_of::<motion_shadows::technique::Range>() as u64;
-        let limit = self.ctx.max_addressed_buffer_bytes();
-        // Beyond u32 the map refuses the count anyway (it counts in u32).
-        let ranges = match bounds.at_most {
-            Some(most) if most.saturating_mul(2 * range_bytes) <= limit => {
+        let ranges = match bounds {
+            RangeBounds::AtMost(most) => {
                 progress(&format!(
-                    "shadow pass: the scene's triangles store at most {most} ranges \
-                     (at least {}): room for them, so one attempt",
-                    bounds.at_least
+                    "shadow pass: the scene's triangles store at most {most} ranges: room for \
+                     them, so one attempt"
                 ));
+                // Beyond u32 the map refuses the count anyway (it counts in u32).
                 u32::try_from(most).unwrap_or(u32::MAX).max(1)
             }
-            _ => {
-                let least = bounds.at_least;
-                if least > u64::from(pixels) {
+            RangeBounds::AtLeast { at_least, at_most } => {
+                if let Some(most) = at_most {
                     progress(&format!(
-                        "shadow pass: the moving triangles cover at least {least} (texel, \
+                        "shadow pass: the scene's triangles store at most {most} ranges, more \
+                         than the device holds twice: room for fewer, grown if they overflow"
+                    ));
+                }
+                if at_least > u64::from(pixels) {
+                    progress(&format!(
+                        "shadow pass: the moving triangles cover at least {at_least} (texel, \
                          triangle) pairs of the map during the shutter, a range each: room \
                          for them from the first attempt"
                     ));
                 }
-                u32::try_from(least).unwrap_or(u32::MAX).max(pixels)
+                u32::try_from(at_least).unwrap_or(u32::MAX).max(pixels)
             }
         };
         // The exact construction with the static layer stores no node (its collection writes

@@ -121,6 +121,10 @@ pub struct FrameStats {
     pub longest_fragment_list: u32,
     /// How many times the shadow pass ran (more than 1 when its buffers had to grow).
     pub shadow_pass_attempts: u32,
+    /// The upper bound on the ranges the first attempt was sized from
+    /// (`technique::RangeCeiling`); None where there is none (the papers' prisms, methods
+    /// without a temporal map).
+    pub ranges_at_most: Option<u64>,
     pub samples_per_chunk: u32,
     pub passes: Vec<PassTime>,
     /// GPU milliseconds of the shadow side: every counted pass before the lighting pass (the
