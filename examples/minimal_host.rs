@@ -9,13 +9,13 @@
 //! `cargo run --example minimal_host`. The whole engine is `examples/deferred_host/`.
 
 use ash::vk;
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use motion_shadows::gpu::{
     Access, Buffer, BufferUsage, Context, DeviceRequirements, Spirv, compute_pipeline,
     memory_barrier,
 };
 use motion_shadows::technique::{
-    CollectionPass, Draw, DrawList, GLSL_INCLUDE, GenerationPass, Indices, LightView,
+    CollectionPass, Draw, DrawList, GLSL_INCLUDE, GenerationPass, HostDraw, Indices, LightView,
     PositionStream, TemporalShadowMap,
 };
 use motion_shadows::{ash, glam};
@@ -275,18 +275,20 @@ fn frame(host: &Host, ctx: &Context) -> Result<Outcome> {
     let (collection, generation) = (CollectionPass::new(ctx)?, GenerationPass::new(ctx)?);
     // The caster's corners at t = 0 (w = 1) and t = 1, interleaved (stride 32). An engine
     // passes its own buffers' device addresses (`PositionStream::from_device_address`).
-    let corners = [
-        [0.0, 0.0],
-        [SIDE, 0.0],
-        [SIDE, SIDE],
-        [0.0, 0.0],
-        [SIDE, SIDE],
-        [0.0, SIDE],
-    ];
-    let mut vertices: Vec<f32> = Vec::new();
-    for [x, z] in corners {
-        vertices.extend_from_slice(&[X0 + x, 2.0, z, 1.0, X0 + TRAVEL + x, 2.0, z, 1.0]);
-    }
+    let (xs, zs) = (
+        [0.0, SIDE, SIDE, 0.0, SIDE, 0.0],
+        [0.0, 0.0, SIDE, 0.0, SIDE, SIDE],
+    );
+    let at = |dx: f32| -> Vec<Vec3> {
+        let corner = |(x, z): (&f32, &f32)| Vec3::new(X0 + dx + x, 2.0, *z);
+        xs.iter().zip(&zs).map(corner).collect()
+    };
+    let (at0, at1) = (at(0.0), at(TRAVEL));
+    let vertices: Vec<[Vec4; 2]> = at0
+        .iter()
+        .zip(&at1)
+        .map(|(p, q)| [p.extend(1.0), q.extend(1.0)])
+        .collect();
     let positions = Buffer::with_data(ctx, "square", BufferUsage::HostToDevice, &vertices)?;
     let draw = Draw::new(
         PositionStream::from_buffer(&positions, 0, 32)?,
@@ -323,40 +325,39 @@ fn frame(host: &Host, ctx: &Context) -> Result<Outcome> {
     let push_bytes = std::mem::size_of::<Push>() as u32;
     let probe = compute_pipeline(ctx, push_bytes, "probe.comp", unsafe { Spirv::new(&spirv) })?;
     let mut draws = DrawList::new(ctx, 1)?;
-    let mut map = TemporalShadowMap::new(ctx, SHADOW, SHADOW, 1 << 12, 1 << 12)?;
+    // Room for all this frame can store, from the host's copy of the corners, so it never
+    // runs out (with positions only the GPU holds: grow after an overflow, `grow_to_fit`).
+    let mut map = TemporalShadowMap::new(ctx, SHADOW, SHADOW, 1, 1)?;
+    map.reserve_for(ctx, &light, None, &[HostDraw::new(&at0, &at1, None)])?;
     let device = &host.device;
-    for attempt in 1.. {
-        ctx.begin_frame(attempt);
-        host.submit_and_wait(|cmd| unsafe {
-            // SAFETY: the host's command buffer, recording, outside a render pass, on a
-            // graphics+compute queue; every object outlives the wait.
-            draws.record_update(device, cmd, &[draw])?;
-            collection.record(device, cmd, &draws, &light, &map, None)?;
-            generation.record(device, cmd, &map); // leaves the map readable by shaders
-            probe.bind(device, cmd);
-            let push = Push {
-                map: map.header_address(),
-                points: queries.device_address(),
-                lit: lit.device_address(),
-                count: points.len() as u32,
-                pad: 0,
-            };
-            probe.push(device, cmd, &push); // the layout has 32 bytes: `Push`'s size
-            device.cmd_dispatch(cmd, points.len().div_ceil(64) as u32, 1, 1);
-            memory_barrier(device, cmd, Access::COMPUTE_RW, Access::HOST_READ);
-            map.record_counter_readback(device, cmd);
-            Ok(())
-        })?;
-        // SAFETY: the frame's fence has signalled.
-        unsafe { ctx.collect(attempt) };
-        let counts = map.read_counters()?;
-        if !map.needs_more_room(&counts) {
-            map.check_complete(&counts)?;
-            break;
-        }
-        // Too small: incomplete shadows. Grow, and render the frame again.
-        map.grow_to_fit(ctx, &counts)?;
+    ctx.begin_frame(1);
+    host.submit_and_wait(|cmd| unsafe {
+        // SAFETY: the host's command buffer, recording, outside a render pass, on a
+        // graphics+compute queue; every object outlives the wait.
+        draws.record_update(device, cmd, &[draw])?;
+        collection.record(device, cmd, &draws, &light, &map, None)?;
+        generation.record(device, cmd, &map); // leaves the map readable by shaders
+        probe.bind(device, cmd);
+        let push = Push {
+            map: map.header_address(),
+            points: queries.device_address(),
+            lit: lit.device_address(),
+            count: points.len() as u32,
+            pad: 0,
+        };
+        probe.push(device, cmd, &push); // the layout has 32 bytes: `Push`'s size
+        device.cmd_dispatch(cmd, points.len().div_ceil(64) as u32, 1, 1);
+        memory_barrier(device, cmd, Access::COMPUTE_RW, Access::HOST_READ);
+        map.record_counter_readback(device, cmd);
+        Ok(())
+    })?;
+    // SAFETY: the frame's fence has signalled.
+    unsafe { ctx.collect(1) };
+    let counts = map.read_counters()?;
+    if map.needs_more_room(&counts) {
+        return Err(format!("a map reserved for the frame ran out of room: {counts:?}").into());
     }
+    map.check_complete(&counts)?;
     let row: Vec<f32> = lit.read(points.len())?;
     // Within a shadow-map texel (8 / 256 units, 1/64 of the shutter) of the square's edges
     // sweeping by, the texel decides; elsewhere the lit fraction is exact.

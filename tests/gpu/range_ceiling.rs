@@ -292,3 +292,31 @@ fn bad_host_draws_are_refused_and_the_papers_prisms_not_bounded() {
     );
     assert_no_validation_messages(&ctx);
 }
+
+/// A draw that does not move stores no range where the frame keeps it in the static layer
+/// (the device counts none), and one per covered texel where it goes to the lists: the
+/// reservation follows, nothing for the first, room for the second.
+#[test]
+fn a_static_draw_needs_room_only_outside_the_static_layer() {
+    let ctx = context();
+    let ground = meshes(&mut Rng(7), 0).remove(0);
+    assert!(ground.host().is_static());
+    for static_layer in [true, false] {
+        let light = light(static_layer);
+        let mut map = TemporalShadowMap::new(&ctx, SIZE.0, SIZE.1, 1, 1).expect("map");
+        let bound = map
+            .reserve_for(&ctx, &light, None, &[ground.host()])
+            .expect("reserve")
+            .expect("bounded");
+        let counts = frame(&ctx, std::slice::from_ref(&ground), &light, &map);
+        let stored = u64::from(counts.range_count);
+        eprintln!("static layer {static_layer}: bound {bound}, stored {stored}");
+        assert!(!map.needs_more_room(&counts), "{counts:?}");
+        if static_layer {
+            assert_eq!((bound, stored), (0, 0));
+        } else {
+            assert!(stored > 1000 && bound >= stored, "{bound} for {stored}");
+        }
+    }
+    assert_no_validation_messages(&ctx);
+}
