@@ -42,11 +42,15 @@
 //! e_k' = B + 2 C t is affine in t and in r, so it keeps one sign over [0, 1] x footprint iff
 //! it has that sign at t = 0 and t = 1 at the footprint's corners. Elsewhere (an e_k that
 //! turns, a corner at or behind the light) the shader's own cap holds: `EXACT_MAX_RUNS`.
+//! A triangle reaching behind the light (a flashlight among moving geometry) has no finite
+//! images there: its footprint is the centres whose rays meet its swept hull in front of the
+//! light (`Map::beyond_the_light_footprint`), every texel only where that hull holds the
+//! light itself.
 //!
 //! Kept loose where exactness would cost: the footprint is the hull grown by
-//! `GROWTH_TEXELS` (for f32 and the rasterizer), a triangle whose corners reach near or
-//! behind the light counts every texel of the map, and only culling of closed meshes is
-//! mirrored (not triangles behind the static layer). `app/tests/gpu/range_bound.rs` checks
+//! `GROWTH_TEXELS` (for f32 and the rasterizer), a triangle reaching behind the light counts
+//! the cap at every centre of its footprint, and only culling of closed meshes is mirrored
+//! (not triangles behind the static layer). `app/tests/gpu/range_bound.rs` checks
 //! it is never below the count, and how far above, on every built-in scene;
 //! `tests/gpu/range_ceiling.rs` that an engine's map reserved with it never overflows.
 
@@ -66,6 +70,12 @@ const GROWTH_TEXELS: f64 = 0.125;
 /// largest |w|), count the whole map: f32 no longer places them within the growth.
 const FAR_MAP_WIDTHS: f64 = 64.0;
 const NEAR_W: f64 = 1e-4;
+/// A triangle reaching behind the light: each corner stands for a box this share of the
+/// largest coordinate wide (f32 rounds corners by about 6e-8 of it), and a cone of recession
+/// directions wider than `MAX_CONE` radians counts every centre (the far points it takes
+/// grow as 1 / cos(span / 2)).
+const BOX: f64 = 1e-5;
+const MAX_CONE: f64 = 2.8;
 /// e_k' must keep its sign by this share of its largest value over the footprint's
 /// corners, so f32's roots cannot split a run the f64 test calls monotone.
 const MONOTONE_MARGIN: f64 = 1e-6;
@@ -231,6 +241,111 @@ impl Map {
     }
 }
 
+impl Map {
+    /// Points (texel units) whose convex hull holds every centre that a triangle moving
+    /// within the convex hull of clip-space `corners` (x, y, w) can cover, some of them at
+    /// or behind the light or imaged beyond `reach`; None where that may be every centre.
+    ///
+    /// A centre's ray r = (X, Y, 1) meets the hull in front of the light iff r is a
+    /// nonnegative combination of the corners. Eliminating w (Fourier-Motzkin), those rays
+    /// are the convex hull of the images of the corners in front plus the cone of the
+    /// recession directions: the (x, y) of corners with w = 0 and, for each corner i in
+    /// front and j behind, -w_j c_i + w_i c_j (whose w is 0). The device rounds its f32
+    /// corners (a backward error far below `BOX`), so each corner is replaced by the corners
+    /// of a box around it and the exact rule applied to those. An image beyond `reach` is
+    /// cut back along its ray from the map's centre, its direction added. Where the cone is
+    /// pointed, the hull plus the cone meets the map only within `far` of the points along
+    /// the cone's two extreme directions.
+    fn beyond_the_light_footprint(&self, corners: &[DVec3], reach: f64) -> Option<Vec<DVec2>> {
+        let scale = DVec2::new(0.5 * self.width, 0.5 * self.height);
+        let centre = scale;
+        let size = corners
+            .iter()
+            .map(|c| c.abs().max_element())
+            .fold(0.0, f64::max);
+        let h = BOX * size;
+        let boxed: Vec<DVec3> = corners
+            .iter()
+            .flat_map(|c| {
+                (0..8).map(move |k| {
+                    let s = |bit: usize| if k >> bit & 1 == 1 { h } else { -h };
+                    *c + DVec3::new(s(0), s(1), s(2))
+                })
+            })
+            .collect();
+        let mut points = Vec::new();
+        let mut directions = Vec::new();
+        for c in &boxed {
+            if c.z > 0.0 {
+                let off = self.texel(*c) - centre;
+                let most = off.abs().max_element();
+                if most > reach || !most.is_finite() {
+                    let xy = c.truncate() * scale;
+                    points.push(centre + xy * (reach / xy.abs().max_element()));
+                    directions.push(xy);
+                } else {
+                    points.push(centre + off);
+                }
+            } else if c.z == 0.0 {
+                directions.push(c.truncate() * scale);
+            }
+        }
+        for i in boxed.iter().filter(|c| c.z > 0.0) {
+            for j in boxed.iter().filter(|c| c.z < 0.0) {
+                directions.push((-j.z * i.truncate() + i.z * j.truncate()) * scale);
+            }
+        }
+        if points.is_empty() {
+            return None;
+        }
+        if directions.is_empty() {
+            return Some(points);
+        }
+        let (first, last) = pointed_cone(&directions)?;
+        let (first, last) = (first.normalize(), last.normalize());
+        // Far enough that a point farther along the cone from the hull is off the map.
+        let half_span = first.angle_to(last).abs() / 2.0;
+        let beyond = points
+            .iter()
+            .map(|p| (*p - centre).length())
+            .fold(0.0, f64::max)
+            + 2.0 * centre.length();
+        let far = beyond / half_span.cos() + 1.0;
+        let base = points.clone();
+        for p in base {
+            points.push(p + far * first);
+            points.push(p + far * last);
+        }
+        Some(points)
+    }
+}
+
+/// The extreme directions of the cone the nonzero `directions` span, counter-clockwise from
+/// the first to the last, or None unless it spans at most `MAX_CONE` radians.
+fn pointed_cone(directions: &[DVec2]) -> Option<(DVec2, DVec2)> {
+    let mut angles: Vec<(f64, DVec2)> = directions
+        .iter()
+        .filter(|d| d.length() > 0.0)
+        .map(|d| (d.y.atan2(d.x), *d))
+        .collect();
+    angles.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let n = angles.len();
+    if n == 0 {
+        return None;
+    }
+    // The widest gap between neighbours (the last to the first across the wrap included):
+    // the cone is the rest of the circle.
+    let (mut gap, mut after) = (angles[0].0 + std::f64::consts::TAU - angles[n - 1].0, 0);
+    for k in 1..n {
+        let g = angles[k].0 - angles[k - 1].0;
+        if g > gap {
+            (gap, after) = (g, k);
+        }
+    }
+    let span = std::f64::consts::TAU - gap;
+    (span <= MAX_CONE).then(|| (angles[after].1, angles[(after + n - 1) % n].1))
+}
+
 /// An affine function of texel coordinates, a x + b y + c.
 type Affine = (f64, f64, f64);
 
@@ -273,13 +388,18 @@ impl Setup {
             let images: Vec<DVec2> = inside.iter().map(|&c| map.texel(c)).collect();
             return Footprint::new(&images, map).count(&[]).0;
         }
-        if corners().any(|c| c.z <= NEAR_W * w_scale) {
-            return max_runs * map.texels();
-        }
         let images: Vec<DVec2> = corners().map(|&c| map.texel(c)).collect();
         let reach = FAR_MAP_WIDTHS * map.width.max(map.height);
-        if images.iter().any(|p| p.abs().max_element() > reach) {
-            return max_runs * map.texels();
+        let near = corners().any(|c| c.z <= NEAR_W * w_scale);
+        if near || images.iter().any(|p| p.abs().max_element() > reach) {
+            // Near or behind the light: the images of the corners no longer bound the
+            // triangle's; the footprint is that of the swept hull's part in front of it, and
+            // every centre counts the shader's cap.
+            let corners: Vec<DVec3> = corners().copied().collect();
+            return match map.beyond_the_light_footprint(&corners, reach) {
+                Some(points) => EXACT_MAX_RUNS * Footprint::new(&points, map).count(&[]).0,
+                None => EXACT_MAX_RUNS * map.texels(),
+            };
         }
         let footprint = Footprint::new(&images, map);
         let turning = turning_edges(&v0, &v1, map, &footprint);
@@ -701,6 +821,82 @@ mod tests {
         // Mirrored through a line: the orientation flips once.
         let mirrored = tri.map(|c| DVec3::new(-c.x, c.y, 1.0));
         assert_eq!(det_sign_changes(&tri, &mirrored), 1);
+    }
+
+    /// Triangles of a spot light's map moving across the light's plane (corners in front
+    /// and behind, the light itself outside them): runs counted by brute force (a centre is
+    /// covered at t iff its ray is a positive combination of the corners, solved as a 3x3
+    /// system, 2,000 times across the shutter) never exceed the bound, which for most of them
+    /// is well below every centre of the map (the old bound for any such triangle).
+    #[test]
+    fn the_bound_holds_for_triangles_crossing_the_light() {
+        let n = 20u32;
+        let setup = Setup {
+            to_view: DMat4::IDENTITY,
+            proj: glam::camera::rh::proj::vulkan::perspective(1.2, 1.0, 0.1, 50.0).as_dmat4(),
+            orthographic: false,
+            map: Map {
+                width: f64::from(n),
+                height: f64::from(n),
+            },
+        };
+        let whole = EXACT_MAX_RUNS * u64::from(n * n);
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let (mut crossing, mut below) = (0, 0);
+        for _ in 0..200 {
+            // Looking down -z: in front at z < 0. Corners from z = -3 to +1, offset sideways.
+            let side = Vec3::new(next() as f32, next() as f32, 0.0) * 1.5;
+            let mut corner =
+                || side + Vec3::new(next() as f32, next() as f32, (2.0 * next() - 1.0) as f32);
+            let t0: [Vec3; 3] = [corner(), corner(), corner()];
+            let t1: [Vec3; 3] = [corner(), corner(), corner()];
+            let clip = |p: Vec3| -> DVec3 {
+                let c = setup.proj * p.as_dvec3().extend(1.0);
+                DVec3::new(c.x, c.y, c.w)
+            };
+            let ws = t0.iter().chain(&t1).map(|&p| clip(p).z);
+            if ws.clone().all(|w| w > 0.0) || ws.clone().all(|w| w < 0.0) {
+                continue;
+            }
+            crossing += 1;
+            let bound = setup.triangle_ranges_at_most(&t0, &t1, false);
+            let mut runs = 0u64;
+            for y in 0..n {
+                for x in 0..n {
+                    let ray = DVec3::new(
+                        (f64::from(x) + 0.5) / f64::from(n) * 2.0 - 1.0,
+                        (f64::from(y) + 0.5) / f64::from(n) * 2.0 - 1.0,
+                        1.0,
+                    );
+                    let mut was = false;
+                    for step in 0..=2000 {
+                        let t = f64::from(step) / 2000.0;
+                        let c = [0, 1, 2].map(|k| clip(t0[k]).lerp(clip(t1[k]), t));
+                        let m = glam::DMat3::from_cols(c[0], c[1], c[2]);
+                        let now = m.determinant() != 0.0 && (m.inverse() * ray).min_element() > 0.0;
+                        runs += u64::from(now && !was);
+                        was = now;
+                    }
+                }
+            }
+            assert!(
+                runs <= bound,
+                "{t0:?} -> {t1:?}: {runs} runs, bound {bound}"
+            );
+            below += u64::from(bound < whole / 2);
+        }
+        eprintln!("{below} of {crossing} crossing triangles bounded below half the map's cap");
+        assert!(crossing >= 40, "only {crossing} crossing cases");
+        assert!(
+            below * 2 >= crossing,
+            "only {below} of {crossing} bounded below half the map's cap"
+        );
     }
 
     /// Runs per centre counted by brute force (f64, 4,000 times across the shutter) for

@@ -320,3 +320,69 @@ fn a_static_draw_needs_room_only_outside_the_static_layer() {
     }
     assert_no_validation_messages(&ctx);
 }
+
+/// A spot light among the moving triangles (a flashlight in a scene: the waving grid passes
+/// through the light's plane, corners in front and behind): the device's count never passes
+/// the reservation, and that reservation is not every texel of the map for each triangle
+/// that reaches behind the light.
+#[test]
+fn a_light_among_moving_triangles_is_bounded_too() {
+    let ctx = context();
+    let mut rng = Rng(0x0f1a_5411);
+    let meshes = meshes(&mut rng, 4);
+    let host: Vec<HostDraw> = meshes.iter().map(Mesh::host).collect();
+    let light = LightView {
+        static_layer: true,
+        ..LightView::spot(
+            Vec3::new(0.3, 2.5, -0.2),
+            Vec3::new(0.1, -1.0, 0.05),
+            50.0,
+            100.0,
+            0.05,
+            30.0,
+            SIZE,
+        )
+    };
+    // Moving triangles with corners on both sides of the light's plane.
+    let plane = |p: Vec3| (light.view * p.extend(1.0)).z;
+    let crossing: u64 = host
+        .iter()
+        .filter(|d| !d.is_static())
+        .map(|d| {
+            d.triangles()
+                .expect("triangles")
+                .filter(|(t0, t1)| {
+                    let z: Vec<f32> = t0.iter().chain(t1).map(|&p| plane(p)).collect();
+                    z.iter().any(|&z| z < 0.0) && z.iter().any(|&z| z > 0.0)
+                })
+                .count() as u64
+        })
+        .sum();
+    let mut map = TemporalShadowMap::new(&ctx, SIZE.0, SIZE.1, 1, 1).expect("map");
+    let bound = map
+        .reserve_for(&ctx, &light, None, &host)
+        .expect("reserve")
+        .expect("bounded");
+    let counts = frame(&ctx, &meshes, &light, &map);
+    let stored = u64::from(counts.range_count);
+    let cap = 5 * u64::from(SIZE.0 * SIZE.1);
+    eprintln!(
+        "{crossing} triangles cross the light's plane: bound {bound}, stored {stored}, {crossing} x cap {}",
+        crossing * cap
+    );
+    assert!(
+        crossing >= 10,
+        "only {crossing} triangles cross the light's plane"
+    );
+    assert!(
+        !map.needs_more_room(&counts),
+        "{counts:?} overflowed {bound}"
+    );
+    map.check_complete(&counts).expect("complete map");
+    assert!(stored > 1000, "only {stored} ranges");
+    assert!(
+        bound < crossing * cap / 4,
+        "the bound {bound} is near every texel for each of the {crossing} crossing triangles"
+    );
+    assert_no_validation_messages(&ctx);
+}
