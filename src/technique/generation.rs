@@ -6,7 +6,7 @@
 //! collection stored the ranges itself ([`TemporalShadowMap::collects_ranges`]) it set both
 //! dispatches to zero groups; with [`super::RangeStorage::Sorted`] the pass then sorts each
 //! texel's collected list into a contiguous run of the range buffer (one atomic per texel
-//! takes its places; ranges behind the static layer are pruned; two tiers again), and
+//! takes its places; ranges that can decide no test are pruned; two tiers again), and
 //! otherwise costs its barriers only.
 
 use super::gpu_constants::{DISPATCH_PAIRING, DISPATCH_SORT, DISPATCH_SORT_LONG};

@@ -27,9 +27,10 @@ pub enum RangeStorage {
     /// Each texel's ranges contiguous in the range buffer, in order of start time (the
     /// header's `MS_SORTED_RANGES`): the collection links them into lists in a second buffer
     /// of the same capacity, and the generation pass sorts each list into places it takes
-    /// with one atomic, leaving out the ranges behind the static layer that cannot decide a
-    /// test (pruning, `docs/src/pruning.md`; only where receivers are tested at their plane's
-    /// depth, `LightView::receiver_plane`). Lookups read a texel's ranges from consecutive
+    /// with one atomic, leaving out ranges that cannot decide a test (pruning,
+    /// `docs/src/pruning.md`: those behind the static layer where receivers are tested at
+    /// their plane's depth, `LightView::receiver_plane`, and with either test those nearer
+    /// ranges of two other triangles cover all along). Lookups read a texel's ranges from consecutive
     /// addresses and stop at the first that starts after the time they test.
     #[default]
     Sorted,

@@ -18,6 +18,7 @@ mod layout;
 mod minimal_host;
 mod pass_accesses;
 mod prism;
+mod pruning_model;
 mod several_runs;
 mod sorted_ranges;
 mod static_layer;

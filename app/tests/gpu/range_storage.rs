@@ -1,17 +1,19 @@
-//! The sorted range storage, pruned (docs/src/pruning.md), answers every lookup as the
-//! linked lists do: on every built-in scene and two examples (deep lists; plates under a
-//! static roof, a third of their ranges pruned), the same image bit for bit with the papers' sampled test, and on scenes with
-//! moving and static receivers also with it filtered (one texel at a time, `ms_shadowed`),
-//! with the analytic estimator (static receivers' lit fraction, the footprint filter) and in the deferred frame, whose moving receivers walk a
-//! texel's ranges once per texel crossed (`ms_lit_fraction_moving`, which stops at the first
-//! sorted range past its window). The lists are the oracle here: the sorted map holds exactly
-//! their ranges (tests/gpu/sorted_ranges.rs), so any difference is a lookup that read the
-//! order wrongly (stopped too early).
+//! The sorted range storage, pruned (docs/src/pruning.md: the static and the cover rule),
+//! answers every lookup as the linked lists do: on every built-in scene and two examples
+//! (deep lists; plates under a static roof, a third of their ranges pruned), the same image
+//! bit for bit with the papers' sampled test, and on scenes with moving and static receivers
+//! also with it filtered (one texel at a time, `ms_shadowed`), with the analytic estimator
+//! (static receivers' lit fraction, the footprint filter) and in the deferred frame, whose
+//! moving receivers walk a texel's ranges once per texel crossed (`ms_lit_fraction_moving`,
+//! which stops at the first sorted range past its window; on two built-in scenes and both
+//! examples). The lists are the oracle here: the sorted map holds exactly their ranges but
+//! those pruned (tests/gpu/sorted_ranges.rs), so any difference is a lookup that read the
+//! order wrongly (stopped too early) or a pruned range that decided a test.
 
 use crate::support::gpu::{assert_no_validation_messages, context};
 use motion_shadows::technique::{RangeStorage, ShadowEstimator, ShadowFilter};
 use motion_shadows_app::render::deferred::DeferredSettings;
-use motion_shadows_app::render::{Method, RenderSettings, Renderer};
+use motion_shadows_app::render::{Method, ReceiverTest, RenderSettings, Renderer};
 use motion_shadows_app::scene::{BUILTIN_NAMES, BuiltinOptions, builtin, load_scene_file};
 use std::path::Path;
 
@@ -35,14 +37,46 @@ fn sorted_ranges_render_what_the_lists_render() {
         cube_count: 300,
         ..BuiltinOptions::default()
     };
+    // The receiver test too: the static rule prunes with the plane test alone, the cover
+    // rule with either, and only under the offset test does a receiver on a covering
+    // triangle lie behind its own stored depth (where one cover would not suffice).
+    let (plane, offset) = (ReceiverTest::Auto, ReceiverTest::Offset);
     let variants = [
-        ("sampled", ShadowEstimator::Sampled, ShadowFilter::None),
-        ("bilinear", ShadowEstimator::Sampled, ShadowFilter::Bilinear),
-        ("analytic", ShadowEstimator::Analytic, ShadowFilter::None),
+        (
+            "sampled",
+            ShadowEstimator::Sampled,
+            ShadowFilter::None,
+            plane,
+        ),
+        (
+            "offset",
+            ShadowEstimator::Sampled,
+            ShadowFilter::None,
+            offset,
+        ),
+        (
+            "bilinear",
+            ShadowEstimator::Sampled,
+            ShadowFilter::Bilinear,
+            plane,
+        ),
+        (
+            "analytic",
+            ShadowEstimator::Analytic,
+            ShadowFilter::None,
+            plane,
+        ),
+        (
+            "analytic offset",
+            ShadowEstimator::Analytic,
+            ShadowFilter::None,
+            offset,
+        ),
         (
             "footprint",
             ShadowEstimator::Analytic,
             ShadowFilter::Footprint,
+            plane,
         ),
     ];
     // One renderer for every frame (its pipelines are made once).
@@ -65,19 +99,25 @@ fn sorted_ranges_render_what_the_lists_render() {
         (name, load_scene_file(&path).unwrap())
     }));
     for (name, scene) in scenes {
-        // Every scene with the papers' test; three with the others too.
+        // Every scene with the papers' test; five with the others too (the stacked plates
+        // and random-cubes: many ranges the cover rule prunes, under lookups that measure
+        // the union of the shadowing intervals).
         let all = [
             "cubes-toward-light",
             "leg-toward-light",
             "hard-rotating-triangle",
+            "random-cubes",
+            "stacked-plates",
+            "plates-under-roof",
         ];
-        for (what, estimator, filter) in variants {
+        for (what, estimator, filter, receiver) in variants {
             if what != "sampled" && !all.contains(&name) {
                 continue;
             }
             let at = |storage| RenderSettings {
                 shadow_estimator: estimator,
                 shadow_filter: filter,
+                receiver,
                 ..settings(storage)
             };
             let lists = render(&scene, &at(RangeStorage::Lists));
@@ -94,6 +134,12 @@ fn sorted_ranges_render_what_the_lists_render() {
             );
             compared += 1;
             pruned += sorted.stats.ranges_pruned;
+            if what == "sampled" || what == "offset" {
+                println!(
+                    "{name}, {what}: {} of {} ranges pruned",
+                    sorted.stats.ranges_pruned, sorted.stats.ranges
+                );
+            }
             assert_eq!(lists.stats.ranges_pruned, 0);
             if name == "plates-under-roof" {
                 assert!(
@@ -106,12 +152,19 @@ fn sorted_ranges_render_what_the_lists_render() {
             }
         }
     }
-    assert!(compared >= BUILTIN_NAMES.len() + 11);
+    assert!(compared >= BUILTIN_NAMES.len() + 32);
     println!("ranges pruned in all: {pruned}");
 
-    // The deferred frame: receivers moving through the map.
-    for name in ["cubes-toward-light", "leg-toward-light"] {
-        let scene = builtin(name, &options).unwrap();
+    // The deferred frame: receivers moving through the map (on the stacked plates, through
+    // texels whose deep lists the cover rule prunes).
+    let deferred_scenes = ["cubes-toward-light", "leg-toward-light"]
+        .map(|name| (name, builtin(name, &options).unwrap()))
+        .into_iter()
+        .chain(files.iter().map(|&name| {
+            let path = examples.join(format!("{name}.json"));
+            (name, load_scene_file(&path).unwrap())
+        }));
+    for (name, scene) in deferred_scenes {
         let mut lit = |storage| {
             motion_shadows_app::frame::render_deferred(
                 Some(&mut renderer),
