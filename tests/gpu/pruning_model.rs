@@ -90,6 +90,18 @@ fn reach(q: Line, r: Line, tau: f32) -> Option<f32> {
     Some(if x > tau && gap(q, r, x) > m { x } else { tau })
 }
 
+/// Whether no two of a texel's ranges of one triangle hold at the same time (the exact
+/// collection's runs are separated by a piece of positive length): the premise of the cover
+/// rule's proof that the nearest range at any time is not of the dropped range's triangle,
+/// and the reason its test of distinct triangles never decides anything there.
+pub fn runs_disjoint(ranges: &[Range]) -> bool {
+    ranges.iter().enumerate().all(|(i, a)| {
+        ranges[i + 1..]
+            .iter()
+            .all(|b| a.id != b.id || a.t_e < b.t_s || b.t_e < a.t_s)
+    })
+}
+
 /// The sort's order: (t_s, t_e, d_s, d_e, id).
 fn sort_key(r: &Range) -> (f32, f32, f32, f32, u32) {
     (r.t_s, r.t_e, r.d_s, r.d_e, r.id)

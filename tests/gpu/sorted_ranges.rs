@@ -92,6 +92,7 @@ fn sorted_storage_holds_the_lists_ranges_contiguous_and_in_start_order() {
             let all = lists.ranges_at(x, y);
             let model = pruning_model::prune(&all, sorted.static_at(x, y), light.receiver_plane);
             assert!(!model.out_of_budget);
+            assert!(pruning_model::runs_disjoint(&all), "texel ({x}, {y})");
             dropped += model.by_cover;
             steps = steps.max(model.steps);
             let mut expected: Vec<[u32; 5]> = model.kept.iter().map(key).collect();
@@ -253,6 +254,10 @@ fn pruning_drops_exactly_the_ranges_the_model_drops() {
                     let all = lists.ranges_at(x, y);
                     let model = pruning_model::prune(&all, sorted.static_at(x, y), plane);
                     assert!(!model.out_of_budget, "seed {seed}, texel ({x}, {y})");
+                    assert!(
+                        pruning_model::runs_disjoint(&all),
+                        "seed {seed}, texel ({x}, {y})"
+                    );
                     let mut expected: Vec<[u32; 5]> = model.kept.iter().map(key).collect();
                     let mut got: Vec<[u32; 5]> = sorted.ranges_at(x, y).iter().map(key).collect();
                     expected.sort_unstable();
