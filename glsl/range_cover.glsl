@@ -22,7 +22,8 @@ const uint PRUNE_BUDGET = 16384u;
 // A range's depth at time `at` in its interval (its ends as stored; a zero-length range has
 // d_s, as the lookups take it). `precise`: the CPU model in the tests rounds the same.
 float cover_depth_at(vec2 t, vec2 d, float at) {
-    if (at <= t.x) return d.x;
+    // (Equal ends: the interpolation below gives d.x exactly; S and level plates skip it.)
+    if (at <= t.x || d.x == d.y) return d.x;
     if (at >= t.y) return d.y;
     precise float s = (at - t.x) / (t.y - t.x);
     precise float v = d.x + (d.y - d.x) * s;
@@ -35,17 +36,32 @@ float cover_gap(vec2 qt, vec2 qd, vec2 rt, vec2 rd, float at) {
     return gap;
 }
 
-// How long from tau the cover q (times qt, depths qd) stays nearer than r by the margin:
-// the latest time checked, up to the earlier of their ends; -1 where q is not a cover at tau.
-// Both depths are linear there, so the gap checked at tau and at the reach holds between.
-// The margin is PRUNE_MARGIN relative to the larger depth of the two (a lookup's rounding of
-// either interpolation is a few ulps of it; the margin is about 80), so no lookup can find r
-// nearer than q where the sort found q nearer.
-float cover_reach(vec2 qt, vec2 qd, vec2 rt, vec2 rd, float tau) {
-    if (qt.x > tau || qt.y < tau) return -1.0;
+// The margin of a pair: PRUNE_MARGIN relative to the larger depth of the two (a lookup's
+// rounding of either interpolation is a few ulps of it; the margin is about 80), so no lookup
+// can find r nearer than q where the sort found q nearer.
+float cover_margin(vec2 rd, vec2 qd) {
     precise float m = PRUNE_MARGIN * max(max(max(abs(rd.x), abs(rd.y)),
                                              max(abs(qd.x), abs(qd.y))), 1.0);
-    if (!(cover_gap(qt, qd, rt, rd, tau) > m)) return -1.0;
+    return m;
+}
+
+// Whether q may be a cover of r at tau (cheap: no division): it holds at tau and its nearer
+// end is nearer than r's depth there by half the margin. Its interpolated depth is never
+// below that end by more than an ulp or two, so no cover fails this.
+bool may_cover(vec2 qt, vec2 qd, vec2 rd, float tau, float r_at_tau) {
+    precise float half_below = r_at_tau - 0.5 * cover_margin(rd, qd);
+    return qt.x <= tau && tau <= qt.y && min(qd.x, qd.y) < half_below;
+}
+
+// How long from tau the cover q (times qt, depths qd) stays nearer than r by the margin:
+// the latest time checked, up to the earlier of their ends; -1 where q is not a cover at tau.
+// `r_at_tau` is r's depth at tau (the same for every candidate of a step). Both depths are
+// linear there, so the gap checked at tau and at the reach holds between.
+float cover_reach(vec2 qt, vec2 qd, vec2 rt, vec2 rd, float tau, float r_at_tau) {
+    if (!may_cover(qt, qd, rd, tau, r_at_tau)) return -1.0;
+    float m = cover_margin(rd, qd);
+    precise float gap = r_at_tau - cover_depth_at(qt, qd, tau);
+    if (!(gap > m)) return -1.0;
     float e = min(qt.y, rt.y);
     float gap_e = cover_gap(qt, qd, rt, rd, e);
     if (gap_e > m) return e;
@@ -62,9 +78,13 @@ float cover_reach(vec2 qt, vec2 qd, vec2 rt, vec2 rd, float tau) {
 }
 
 // The static layer's triangle as a cover of r from tau (always active).
-float static_reach(vec2 rt, vec2 rd, float tau) {
+bool static_may_cover(vec2 rd, float tau, float r_at_tau) {
+    return static_cover && may_cover(vec2(0.0, 1.0), vec2(static_cover_depth), rd, tau, r_at_tau);
+}
+
+float static_reach(vec2 rt, vec2 rd, float tau, float r_at_tau) {
     if (!static_cover) return -1.0;
-    return cover_reach(vec2(0.0, 1.0), vec2(static_cover_depth), rt, rd, tau);
+    return cover_reach(vec2(0.0, 1.0), vec2(static_cover_depth), rt, rd, tau, r_at_tau);
 }
 
 // The two best reaches of distinct triangles at one step: `best` of triangle `best_id`,
@@ -99,6 +119,7 @@ bool covered_by_pair(uvec2 rt_bits, uvec2 rd_bits, uint rid, uvec2 qt_bits, uvec
                      uint qid) {
     if (!static_cover || qid == rid) return false;
     vec2 rt = uintBitsToFloat(rt_bits), rd = uintBitsToFloat(rd_bits);
-    float q = cover_reach(uintBitsToFloat(qt_bits), uintBitsToFloat(qd_bits), rt, rd, rt.x);
-    return min(q, static_reach(rt, rd, rt.x)) >= rt.y;
+    if (static_reach(rt, rd, rt.x, rd.x) < rt.y) return false;
+    return cover_reach(uintBitsToFloat(qt_bits), uintBitsToFloat(qd_bits), rt, rd, rt.x, rd.x)
+           >= rt.y;
 }

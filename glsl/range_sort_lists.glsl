@@ -122,7 +122,7 @@ void sort_and_store(uint p, uint n) {
     Words out_words = Words(map.ranges);
     uint k = 0u;
     for (uint i = 0u; i < n; ++i) {
-        if (is_dropped(i)) continue;
+        if (kept < n && is_dropped(i)) continue;
         uint at = 3u * (base + k);
         out_words.v[at] = packUint2x32(times[i]);
         out_words.v[at + 1u] = packUint2x32(depths[i]);

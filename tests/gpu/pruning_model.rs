@@ -10,8 +10,8 @@ use std::collections::HashMap;
 
 /// PRUNE_MARGIN (glsl/range_sort_common.glsl).
 const MARGIN: f32 = 1e-5;
-/// PRUNE_BUDGET (glsl/range_cover.glsl): sweep steps per texel, each candidate visited and
-/// each step closed counting one.
+/// PRUNE_BUDGET (glsl/range_cover.glsl): the sweep's loop iterations per texel (a range
+/// added to the candidates, a candidate visited, a step closed: one each; `Candidates`).
 pub const BUDGET: usize = 16384;
 
 /// What the sort keeps of one texel's ranges.
@@ -102,6 +102,72 @@ pub fn runs_disjoint(ranges: &[Range]) -> bool {
     })
 }
 
+/// Takes a cover's reach as its triangle's best.
+fn offer(best: &mut HashMap<u32, f32>, id: u32, reach: Option<f32>) {
+    if let Some(reach) = reach {
+        let at = best.entry(id).or_insert(reach);
+        *at = at.max(reach);
+    }
+}
+
+/// The second-largest of the triangles' best reaches (-1: fewer than two).
+fn second_best(best: &HashMap<u32, f32>) -> f32 {
+    let mut reaches: Vec<f32> = best.values().copied().collect();
+    reaches.sort_by(|a, b| b.partial_cmp(a).unwrap());
+    reaches.get(1).copied().unwrap_or(-1.0)
+}
+
+/// The shader's candidate list, for the budget alone (its loop iterations; the decisions
+/// above do not depend on it): the ranges added so far, in the shader's order.
+#[derive(Default)]
+struct Candidates {
+    list: Vec<usize>,
+    added: usize,
+}
+
+impl Candidates {
+    /// The iterations of one step of range `i` at tau: one per range that starts by tau
+    /// added to the list, one per candidate visited (one that ended before r's start taken
+    /// out, the last put in its place), until two covers reach r's end, and one to close.
+    fn step_cost(
+        &mut self,
+        ranges: &[Range],
+        i: usize,
+        tau: f32,
+        static_line: Option<(u32, Line)>,
+    ) -> usize {
+        let r = &ranges[i];
+        let line = Line::of(r);
+        let mut cost = 0;
+        while self.added < ranges.len() && ranges[self.added].t_s <= tau {
+            self.list.push(self.added);
+            self.added += 1;
+            cost += 1;
+        }
+        let mut best: HashMap<u32, f32> = HashMap::new();
+        if let Some((id, s)) = static_line {
+            offer(&mut best, id, reach(s, line, tau));
+        }
+        let mut j = 0;
+        while j < self.list.len() {
+            cost += 1;
+            let q = &ranges[self.list[j]];
+            if q.t_e < r.t_s {
+                self.list.swap_remove(j);
+                continue;
+            }
+            j += 1;
+            if q.id != r.id {
+                offer(&mut best, q.id, reach(Line::of(q), line, tau));
+                if second_best(&best) >= r.t_e {
+                    break;
+                }
+            }
+        }
+        cost + 1
+    }
+}
+
 /// The sort's order: (t_s, t_e, d_s, d_e, id).
 fn sort_key(r: &Range) -> (f32, f32, f32, f32, u32) {
     (r.t_s, r.t_e, r.d_s, r.d_e, r.id)
@@ -135,38 +201,28 @@ pub fn prune(ranges: &[Range], static_layer: Option<(u32, f32)>, plane_test: boo
     let mut keep = vec![true; ranges.len()];
     let mut spent = 0;
     let mut out_of_budget = false;
+    let mut candidates = Candidates::default();
     'ranges: for (i, r) in ranges.iter().enumerate() {
         let line = Line::of(r);
         let mut tau = r.t_s;
         loop {
-            // Each triangle's best reach at tau among its covers (never r's own triangle).
+            // Each triangle's best reach at tau among its covers (never r's own triangle),
+            // from every range that starts by tau (those that have ended offer nothing).
             let mut best: HashMap<u32, f32> = HashMap::new();
-            let mut offer = |id: u32, reach: Option<f32>| {
-                if let Some(reach) = reach {
-                    let at = best.entry(id).or_insert(reach);
-                    *at = at.max(reach);
-                }
-            };
             if let Some((id, s)) = static_line {
-                offer(id, reach(s, line, tau));
+                offer(&mut best, id, reach(s, line, tau));
             }
-            // The sort's scan visits the ranges that start by tau (a prefix of the order).
-            let started = ranges.iter().take_while(|q| q.t_s <= tau).count();
-            for q in &ranges[..started] {
+            for q in ranges.iter().take_while(|q| q.t_s <= tau) {
                 if q.id != r.id {
-                    offer(q.id, reach(Line::of(q), line, tau));
+                    offer(&mut best, q.id, reach(Line::of(q), line, tau));
                 }
             }
-            spent += started + 1;
+            spent += candidates.step_cost(&ranges, i, tau, static_line);
             if spent > BUDGET {
                 out_of_budget = true;
                 break 'ranges;
             }
-            let mut reaches: Vec<f32> = best.into_values().collect();
-            reaches.sort_by(|a, b| b.partial_cmp(a).unwrap());
-            let Some(&second) = reaches.get(1) else {
-                continue 'ranges;
-            };
+            let second = second_best(&best);
             if second >= r.t_e {
                 keep[i] = false;
                 continue 'ranges;
