@@ -5,7 +5,8 @@
 // at any time the nearest occluder and the nearest of another triangle are both kept and
 // both nearer than r, so whatever the receiver's own triangle, one of them shadows wherever r
 // would: no lookup changes, with either receiver test. Included by range_sort_lists.glsl,
-// which declares the arrays, and used by range_sort.comp's short lists without them.
+// which declares the arrays, and used by range_sort.comp's short lists without them; both
+// only where the pipeline is specialized with COVER_RULE (opt-in: docs/src/pruning.md).
 
 // The texel's static-layer triangle as a cover (open_pruning sets it).
 bool static_cover = false;

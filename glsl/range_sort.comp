@@ -1,8 +1,9 @@
 #version 450
 // Sorting the collected ranges, first tier (range_sort_common.glsl, range_sort_lists.glsl):
 // every texel whose list keeps at most SHORT_SORT ranges after the static rule's pruning
-// (nearly all) is sorted, pruned by the cover rule and written to places it takes; longer lists go to range_sort_long.comp through the scratch list (an
-// indirect dispatch whose group counts this tier raises). One workgroup per 8x8-texel tile.
+// (nearly all) is sorted, pruned by the cover rule where COVER_RULE, and written to places it
+// takes; longer lists go to range_sort_long.comp through the scratch list (an indirect
+// dispatch whose group counts this tier raises). One workgroup per 8x8-texel tile.
 #define SHORT_SORT 16u
 #define SORT_CAPACITY SHORT_SORT
 #include "range_sort_lists.glsl"
@@ -26,7 +27,7 @@ void store_short(uint p, uint head, uint second, uvec2 links, uvec2 links2) {
         keep1 = !pruned(d1);
     }
     // Two left: the cover rule's candidates for each are the other and S (range_cover.glsl).
-    if (keep0 && keep1) {
+    if (COVER_RULE && keep0 && keep1) {
         bool drop0 = covered_by_pair(t0, d0, i0, t1, d1, i1);
         keep1 = !covered_by_pair(t1, d1, i1, t0, d0, i0);
         keep0 = !drop0;

@@ -43,6 +43,7 @@ mod lighting;
 mod mask;
 #[cfg(feature = "research")]
 mod plain_shadow;
+mod pruning;
 pub mod push_constants;
 pub mod sampling;
 pub mod shaders;
@@ -78,6 +79,7 @@ pub use mask::{
 };
 #[cfg(feature = "research")]
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
+pub use pruning::Pruning;
 pub use sampling::{pixel_key, pixel_sample};
 pub use shadow_map::{RangeStorage, ShadowMapContents, TemporalShadowMap};
 pub use view::{

@@ -1,11 +1,12 @@
 //! A CPU model of pruning (docs/src/pruning.md), for the sorted map's tests: which of a
 //! texel's collected ranges the sort keeps. Written from the rules as the doc states them,
-//! not from the shader's loops: the static rule, then the cover rule's sweep over the ranges
-//! the static rule kept, with each triangle's best reach gathered in a map. Its arithmetic is
+//! not from the shader's loops: the static rule, then (with `Pruning::Cover`) the cover
+//! rule's sweep over the ranges the static rule kept, with each triangle's best reach
+//! gathered in a map. Its arithmetic is
 //! the same f32 operations in the same order as the shader's (`precise` there), so that the
 //! two agree bit for bit on which ranges a margin test keeps.
 
-use motion_shadows::technique::Range;
+use motion_shadows::technique::{Pruning, Range};
 use std::collections::HashMap;
 
 /// PRUNE_MARGIN (glsl/range_sort_common.glsl).
@@ -174,8 +175,14 @@ fn sort_key(r: &Range) -> (f32, f32, f32, f32, u32) {
 }
 
 /// What the sort keeps of `ranges` (a texel's, as collected) with static-layer triangle
-/// `static_layer` (id, depth), receivers tested at their plane's depth or not.
-pub fn prune(ranges: &[Range], static_layer: Option<(u32, f32)>, plane_test: bool) -> Pruned {
+/// `static_layer` (id, depth), receivers tested at their plane's depth or not, by the rule
+/// `pruning`.
+pub fn prune(
+    ranges: &[Range],
+    static_layer: Option<(u32, f32)>,
+    plane_test: bool,
+    pruning: Pruning,
+) -> Pruned {
     let behind_static = |r: &Range| match static_layer {
         Some((_, d)) if plane_test => r.d_s.min(r.d_e) > d + MARGIN * d.abs().max(1.0),
         _ => false,
@@ -202,7 +209,11 @@ pub fn prune(ranges: &[Range], static_layer: Option<(u32, f32)>, plane_test: boo
     let mut spent = 0;
     let mut out_of_budget = false;
     let mut candidates = Candidates::default();
-    'ranges: for (i, r) in ranges.iter().enumerate() {
+    let swept = match pruning {
+        Pruning::StaticLayer => 0,
+        Pruning::Cover => ranges.len(),
+    };
+    'ranges: for (i, r) in ranges.iter().enumerate().take(swept) {
         let line = Line::of(r);
         let mut tau = r.t_s;
         loop {

@@ -1,7 +1,7 @@
 //! The sorted range storage (`RangeStorage::Sorted`) against the linked lists it is sorted
 //! from: the same frame collected into a map of each kind must hold, per texel, the same
-//! ranges (bit for bit, in any order) but those pruning drops (the CPU model of
-//! `pruning_model.rs`), and the sorted map must hold them as the header's
+//! ranges (bit for bit, in any order) but those pruning drops by the map's rule, each of
+//! `Pruning`'s (the CPU model of `pruning_model.rs`), and the sorted map must hold them as the header's
 //! `MS_SORTED_RANGES` says: each texel's ranges in consecutive places of the range buffer,
 //! in order of (t_s, t_e, d_s, d_e, id), linked in that order, every place of the buffer
 //! used exactly once (no room left between texels, none past the count).
@@ -12,7 +12,7 @@ use crate::support::scene::{
     Scene, light_view, mesh, overhead_directional, scene, square, temporal_map_stored, translated,
 };
 use glam::Vec3;
-use motion_shadows::technique::{LightView, Range, RangeStorage};
+use motion_shadows::technique::{LightView, Pruning, Range, RangeStorage};
 
 const SIZE: (u32, u32) = (64, 64);
 
@@ -72,28 +72,90 @@ fn sorted_storage_holds_the_lists_ranges_contiguous_and_in_start_order() {
     let scene = stacked_plates();
     let light = light_view(&scene, SIZE);
     let pixels = SIZE.0 * SIZE.1;
-    let (lists, list_counts) =
-        temporal_map_stored(&ctx, &scene, SIZE, &light, RangeStorage::Lists, pixels);
-    // The sorted map starts with room for one range: its first run overflows, and the sort
-    // must leave that run alone (the frame is recorded again with room).
-    let (sorted, counts) = temporal_map_stored(&ctx, &scene, SIZE, &light, RangeStorage::Sorted, 1);
-    assert_eq!(
-        list_counts.range_count, counts.range_count,
-        "the same frame"
+    let (lists, list_counts) = temporal_map_stored(
+        &ctx,
+        &scene,
+        SIZE,
+        &light,
+        RangeStorage::Lists,
+        Pruning::default(),
+        pixels,
     );
     assert_eq!(list_counts.sorted_count, 0, "lists are not sorted");
+    for pruning in [Pruning::StaticLayer, Pruning::Cover] {
+        sorted_like_lists(
+            &ctx,
+            &scene,
+            &light,
+            &lists,
+            list_counts.range_count,
+            pruning,
+        );
+    }
+
+    // Where the generation pairs nodes (static triangles in the lists), a map made for sorted
+    // storage holds what a map of lists holds: the sorting runs only on collected ranges, and
+    // leaves the generation's own long-list dispatch alone (with the cover rule asked for).
+    let nodes = LightView {
+        static_layer: false,
+        ..light
+    };
+    let stored = |storage, pruning| {
+        temporal_map_stored(&ctx, &scene, SIZE, &nodes, storage, pruning, pixels)
+    };
+    let (paired_lists, _) = stored(RangeStorage::Lists, Pruning::default());
+    let (paired, paired_counts) = stored(RangeStorage::Sorted, Pruning::Cover);
+    assert_eq!(paired_counts.sorted_count, 0, "nothing sorted");
+    assert!(
+        paired_counts.longest_list > 32,
+        "the generation's second tier pairs lists"
+    );
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let keys = |map: &motion_shadows::technique::ShadowMapContents| {
+                let mut k: Vec<[u32; 5]> = map.ranges_at(x, y).iter().map(key).collect();
+                k.sort_unstable();
+                k
+            };
+            assert_eq!(
+                keys(&paired),
+                keys(&paired_lists),
+                "texel ({x}, {y}), paired"
+            );
+        }
+    }
+    assert_no_validation_messages(&ctx);
+}
+
+/// The stacked plates' map sorted and pruned by `pruning` against `lists`, the same frame's
+/// lists (`range_count` ranges): texel for texel what the model keeps, contiguous, in order,
+/// every place used once.
+fn sorted_like_lists(
+    ctx: &motion_shadows::gpu::Context,
+    scene: &Scene,
+    light: &LightView,
+    lists: &motion_shadows::technique::ShadowMapContents,
+    range_count: u32,
+    pruning: Pruning,
+) {
+    // The sorted map starts with room for one range: its first run overflows, and the sort
+    // must leave that run alone (the frame is recorded again with room, the rule kept).
+    let (sorted, counts) =
+        temporal_map_stored(ctx, scene, SIZE, light, RangeStorage::Sorted, pruning, 1);
+    assert_eq!(range_count, counts.range_count, "the same frame");
     let mut dropped = 0;
     let mut steps = 0; // the cover sweep's most in one texel
     let mut used = vec![false; sorted.ranges.len()];
     let mut lengths = [0u32; 3]; // texels holding 1-2, 3-16, more than 16 ranges to sort
     for y in 0..SIZE.1 {
         for x in 0..SIZE.0 {
-            // The default light tests receivers at their own depth: the cover rule alone.
+            // The default light tests receivers at their own depth: no static rule.
             let all = lists.ranges_at(x, y);
-            let model = pruning_model::prune(&all, sorted.static_at(x, y), light.receiver_plane);
+            let model =
+                pruning_model::prune(&all, sorted.static_at(x, y), light.receiver_plane, pruning);
             assert!(!model.out_of_budget);
             assert!(pruning_model::runs_disjoint(&all), "texel ({x}, {y})");
-            dropped += model.by_cover;
+            dropped += model.by_static + model.by_cover;
             steps = steps.max(model.steps);
             let mut expected: Vec<[u32; 5]> = model.kept.iter().map(key).collect();
             let got = sorted.ranges_at(x, y);
@@ -140,46 +202,19 @@ fn sorted_storage_holds_the_lists_ranges_contiguous_and_in_start_order() {
     );
     assert_eq!(sorted.ranges.len(), counts.sorted_count as usize);
     println!(
-        "texels with 1-2, 3-16, more ranges: {lengths:?}; {dropped} ranges covered; \
-         at most {steps} sweep steps in a texel (budget {})",
+        "{pruning:?}: texels with 1-2, 3-16, more ranges: {lengths:?}; {dropped} ranges \
+         pruned; at most {steps} sweep steps in a texel (budget {})",
         pruning_model::BUDGET
     );
+    // Under the offset test only the cover rule drops anything, and on these plates much.
+    match pruning {
+        Pruning::StaticLayer => assert_eq!(dropped, 0),
+        Pruning::Cover => assert!(dropped * 4 > counts.range_count as usize, "{dropped}"),
+    }
     assert!(
         lengths.iter().all(|&n| n > 50),
         "every tier sorts many texels: {lengths:?}"
     );
-
-    // Where the generation pairs nodes (static triangles in the lists), a map made for sorted
-    // storage holds what a map of lists holds: the sorting runs only on collected ranges, and
-    // leaves the generation's own long-list dispatch alone.
-    let nodes = LightView {
-        static_layer: false,
-        ..light
-    };
-    let (paired_lists, _) =
-        temporal_map_stored(&ctx, &scene, SIZE, &nodes, RangeStorage::Lists, pixels);
-    let (paired, paired_counts) =
-        temporal_map_stored(&ctx, &scene, SIZE, &nodes, RangeStorage::Sorted, pixels);
-    assert_eq!(paired_counts.sorted_count, 0, "nothing sorted");
-    assert!(
-        paired_counts.longest_list > 32,
-        "the generation's second tier pairs lists"
-    );
-    for y in 0..SIZE.1 {
-        for x in 0..SIZE.0 {
-            let keys = |map: &motion_shadows::technique::ShadowMapContents| {
-                let mut k: Vec<[u32; 5]> = map.ranges_at(x, y).iter().map(key).collect();
-                k.sort_unstable();
-                k
-            };
-            assert_eq!(
-                keys(&paired),
-                keys(&paired_lists),
-                "texel ({x}, {y}), paired"
-            );
-        }
-    }
-    assert_no_validation_messages(&ctx);
 }
 
 /// Random plates sliding at random heights, speeds and directions, tilted through each
@@ -225,11 +260,39 @@ fn random_plates(seed: u32) -> Scene {
 /// receiver test. Per texel, the sorted map must hold exactly the lists' ranges that the
 /// model keeps (reading the static triangle and its depth from the downloaded layer), for
 /// every seed; and each rule must drop many ranges, the cover rule with either test (the
-/// static rule only with the plane test), so that the comparison is not vacuous.
+/// static rule only with the plane test), so that the comparison is not vacuous. The
+/// default, `Pruning::StaticLayer`, must drop exactly what the static rule drops.
 #[test]
 fn pruning_drops_exactly_the_ranges_the_model_drops() {
     let ctx = context();
-    // Per receiver test (plane, offset): ranges dropped by the static rule, by the cover rule.
+    let static_layer = drops_as_the_model(&ctx, Pruning::StaticLayer);
+    assert_eq!(
+        static_layer.by_static,
+        [62_710, 0],
+        "the same as before the cover rule"
+    );
+    assert_eq!(static_layer.by_cover, [0, 0]);
+    let cover = drops_as_the_model(&ctx, Pruning::Cover);
+    assert_eq!(
+        cover.by_static, static_layer.by_static,
+        "the static rule first"
+    );
+    assert!(
+        cover.by_cover.iter().all(|&n| n > 1000),
+        "cover rule: {:?}",
+        cover.by_cover
+    );
+    assert_no_validation_messages(&ctx);
+}
+
+/// Ranges dropped per receiver test (plane, offset), by each rule.
+struct Dropped {
+    by_static: [usize; 2],
+    by_cover: [usize; 2],
+}
+
+/// `pruning_drops_exactly_the_ranges_the_model_drops` with the maps sorted by `pruning`.
+fn drops_as_the_model(ctx: &motion_shadows::gpu::Context, pruning: Pruning) -> Dropped {
     let mut by_static = [0; 2];
     let mut by_cover = [0; 2];
     let mut kept_under_roof = 0;
@@ -243,16 +306,17 @@ fn pruning_drops_exactly_the_ranges_the_model_drops() {
                 ..light_view(&scene, SIZE)
             };
             let pixels = SIZE.0 * SIZE.1;
-            let (lists, _) =
-                temporal_map_stored(&ctx, &scene, SIZE, &light, RangeStorage::Lists, pixels);
-            let (sorted, counts) =
-                temporal_map_stored(&ctx, &scene, SIZE, &light, RangeStorage::Sorted, pixels);
+            let stored = |storage, pruning| {
+                temporal_map_stored(ctx, &scene, SIZE, &light, storage, pruning, pixels)
+            };
+            let (lists, _) = stored(RangeStorage::Lists, Pruning::default());
+            let (sorted, counts) = stored(RangeStorage::Sorted, pruning);
             assert_eq!(sorted.ranges.len(), counts.sorted_count as usize);
             let mut dropped = 0;
             for y in 0..SIZE.1 {
                 for x in 0..SIZE.0 {
                     let all = lists.ranges_at(x, y);
-                    let model = pruning_model::prune(&all, sorted.static_at(x, y), plane);
+                    let model = pruning_model::prune(&all, sorted.static_at(x, y), plane, pruning);
                     assert!(!model.out_of_budget, "seed {seed}, texel ({x}, {y})");
                     assert!(
                         pruning_model::runs_disjoint(&all),
@@ -264,7 +328,7 @@ fn pruning_drops_exactly_the_ranges_the_model_drops() {
                     got.sort_unstable();
                     assert_eq!(
                         got, expected,
-                        "seed {seed}, plane {plane}, texel ({x}, {y})"
+                        "{pruning:?}, seed {seed}, plane {plane}, texel ({x}, {y})"
                     );
                     dropped += model.by_static + model.by_cover;
                     by_static[k] += model.by_static;
@@ -284,18 +348,18 @@ fn pruning_drops_exactly_the_ranges_the_model_drops() {
         }
     }
     println!(
-        "dropped by the static rule {by_static:?}, by the cover rule {by_cover:?} (plane, \
-         offset test); {kept_under_roof} roof texels keep some; {deep} lists over 16"
+        "{pruning:?}: dropped by the static rule {by_static:?}, by the cover rule \
+         {by_cover:?} (plane, offset test); {kept_under_roof} roof texels keep some; {deep} \
+         lists over 16"
     );
     assert!(by_static[0] > 1000, "static rule: {by_static:?}");
     assert_eq!(by_static[1], 0, "no static rule with the offset test");
     assert!(
-        by_cover.iter().all(|&n| n > 1000),
-        "cover rule: {by_cover:?}"
-    );
-    assert!(
         kept_under_roof > 100,
         "kept under the roof: {kept_under_roof}"
     );
-    assert_no_validation_messages(&ctx);
+    Dropped {
+        by_static,
+        by_cover,
+    }
 }
