@@ -23,6 +23,14 @@ pub fn prisms_name(construction: motion_shadows::technique::PrismConstruction) -
     }
 }
 
+/// The name `--pruning` and the JSON outputs give a pruning rule.
+pub fn pruning_name(pruning: motion_shadows::technique::Pruning) -> &'static str {
+    match pruning {
+        motion_shadows::technique::Pruning::StaticLayer => "static-layer",
+        motion_shadows::technique::Pruning::Cover => "cover",
+    }
+}
+
 #[derive(Debug, Clone, Serialize)]
 pub struct PassTime {
     pub pass: String,
@@ -72,6 +80,9 @@ pub struct FrameStats {
     /// collection stored; "sorted" only where the frame sorted them (the exact construction
     /// with the static layer), "lists" for every other frame and method.
     pub range_storage: String,
+    /// "static-layer" or "cover" (`--pruning`): the rule the sort pruned the ranges by, where
+    /// `range_storage` is "sorted"; "none" for every other frame and method.
+    pub pruning: String,
     /// Whether this frame's method tested receivers at their plane's depth at the texel
     /// centre (`--receiver`: `auto` gives it to every method but TSM; never the ray tracer).
     pub receiver_plane: bool,
