@@ -111,8 +111,8 @@ pub struct FrameStats {
     /// lists, N_r * 24, and its per-texel counts, shadow pixels * 4); 0 otherwise.
     pub shadow_map_bytes_transient: u64,
     /// With sorted ranges: the ranges the sort left out because no lookup can be decided by
-    /// them (behind the static layer, or covered by two other triangles: docs/src/pruning.md);
-    /// the map holds `ranges - ranges_pruned`. 0 otherwise.
+    /// them (behind the static layer; with `--pruning cover` also those covered by two other
+    /// triangles: docs/src/pruning.md); the map holds `ranges - ranges_pruned`. 0 otherwise.
     pub ranges_pruned: u64,
     /// `shadow_map_bytes_eq2` with the pruned ranges kept.
     pub shadow_map_bytes_eq2_unpruned: u64,
