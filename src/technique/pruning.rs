@@ -15,9 +15,9 @@ pub enum Pruning {
     /// The static rule, and also, with either receiver test, a moving range that at every
     /// time of its interval nearer ranges of two other triangles (or the static layer's
     /// triangle) cover. It drops far more on deep scenes (lavapipe: random-cubes' map 95 to
-    /// 56 MiB, 12 stacked plates 141 to 38 MiB), but its sweep makes the sort slower
-    /// (lavapipe: the default scene's generation 1.46x, the stacked plates' sort 4x): a choice
-    /// for memory, not for speed.
+    /// 56 MiB, 16 stacked plates 141 to 38 MiB), but its sweep makes the sort slower
+    /// (lavapipe: the default scene's generation pass 1.8x, the stacked plates' 6x; figures
+    /// in `docs/src/pruning.md`): a choice for memory, not for speed.
     Cover,
 }
 
