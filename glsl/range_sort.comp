@@ -1,8 +1,9 @@
 #version 450
 // Sorting the collected ranges, first tier (range_sort_common.glsl, range_sort_lists.glsl):
-// every texel whose list keeps at most SHORT_SORT ranges after pruning (nearly all) is sorted
-// into places it takes; longer lists go to range_sort_long.comp through the scratch list (an
-// indirect dispatch whose group counts this tier raises). One workgroup per 8x8-texel tile.
+// every texel whose list keeps at most SHORT_SORT ranges after the static rule's pruning
+// (nearly all) is sorted, pruned by the cover rule where COVER_RULE, and written to places it
+// takes; longer lists go to range_sort_long.comp through the scratch list (an indirect
+// dispatch whose group counts this tier raises). One workgroup per 8x8-texel tile.
 #define SHORT_SORT 16u
 #define SORT_CAPACITY SHORT_SORT
 #include "range_sort_lists.glsl"
@@ -18,20 +19,26 @@ void store_short(uint p, uint head, uint second, uvec2 links, uvec2 links2) {
     uint i0 = links.x;
     uvec2 t1 = uvec2(0u), d1 = uvec2(0u);
     uint i1 = links2.x;
-    bool keep1 = second != END_OF_LIST;
+    bool keep0 = !pruned(d0), keep1 = second != END_OF_LIST;
     if (keep1) {
         uint at2 = 3u * (second - 1u);
         t1 = unpackUint2x32(words.v[at2]);
         d1 = unpackUint2x32(words.v[at2 + 1u]);
         keep1 = !pruned(d1);
     }
-    if (pruned(d0)) {   // the second (if kept) alone
+    // Two left: the cover rule's candidates for each are the other and S (range_cover.glsl).
+    if (COVER_RULE && keep0 && keep1) {
+        bool drop0 = covered_by_pair(t0, d0, i0, t1, d1, i1);
+        keep1 = !covered_by_pair(t1, d1, i1, t0, d0, i0);
+        keep0 = !drop0;
+    }
+    if (!keep0) {   // the second (if kept) alone
         t0 = t1; d0 = d1; i0 = i1;
-        keep1 = false;
-        if (second == END_OF_LIST || pruned(d1)) {
+        if (!keep1) {
             UintArray(map.range_heads).v[p] = END_OF_LIST;
             return;
         }
+        keep1 = false;
     }
     uint n = keep1 ? 2u : 1u;
     uint base = take_places(n);

@@ -3,13 +3,22 @@
 // rest, up to MAX_LIST_NODES / 2): a texel's list is copied into private arrays, without the
 // ranges behind the static layer (pruned, see below), Shell-sorted by (t_s, t_e, d_s, d_e,
 // id), a total order on what a range holds, so the order does not depend on the order the
-// collection's atomics ran in, and written to the texel's place.
+// collection's atomics ran in, and written to the texel's place; with the cover rule, without
+// the ranges that nearer ones of two other triangles cover all along (range_cover.glsl).
 // The includer defines SORT_CAPACITY.
 #include "range_sort_common.glsl"
+#include "range_cover.glsl"
+
+// The cover rule (technique::Pruning::Cover). A specialization constant, not a push constant:
+// the static rule's pipelines (the default) fold it away, arrays and sweep included, and cost
+// what the sort cost before the cover rule existed.
+layout(constant_id = 0) const bool COVER_RULE = false;
 
 uvec2 times[SORT_CAPACITY];
 uvec2 depths[SORT_CAPACITY];
 uint ids[SORT_CAPACITY];
+
+#include "range_sort_cover.glsl"
 
 // Pruning (docs/src/pruning.md): a range farther from the light than the texel's nearest
 // static triangle S all along its interval never decides a test when receivers are tested at
@@ -19,13 +28,21 @@ uint ids[SORT_CAPACITY];
 // interpolated depth and of the plane's depth against the stored one.
 float prune_beyond = uintBitsToFloat(0x7f800000u);     // +inf: keep every range
 
+// (The static triangle is also a cover for the cover rule, with either receiver test; without
+// that rule the offset test reads no static layer here.)
 void open_pruning(uint p) {
     prune_beyond = uintBitsToFloat(0x7f800000u);
-    if (map.static_nearest == 0UL || map.light.bias.w <= 0.5) return;
+    static_cover = false;
+    bool plane_test = map.light.bias.w > 0.5;
+    if (map.static_nearest == 0UL || !(plane_test || COVER_RULE)) return;
     uint64_t nearest = MsUint64s(map.static_nearest).v[p];
-    if (uint(nearest & 0xffffffffUL) == NO_TRIANGLE) return;
+    uint id = uint(nearest & 0xffffffffUL);
+    if (id == NO_TRIANGLE) return;
     float d = ms_static_depth(uint(nearest >> 32));
-    prune_beyond = d + PRUNE_MARGIN * max(abs(d), 1.0);
+    static_cover = COVER_RULE;
+    static_cover_id = id;
+    static_cover_depth = d;
+    if (plane_test) prune_beyond = d + PRUNE_MARGIN * max(abs(d), 1.0);
 }
 
 // Is a range whose depths at its ends are `depths` pruned?
@@ -75,8 +92,8 @@ uint take_places(uint n) {
     return atomicAdd(CounterRef(map.counters).c.sorted_count, n);
 }
 
-// Sorts the n ranges loaded for texel p and writes them to places it takes, each linked to
-// the next.
+// Sorts the n ranges loaded for texel p and writes them (with the cover rule, those it keeps)
+// to places it takes, each linked to the next.
 void sort_and_store(uint p, uint n) {
     const uint gaps[5] = uint[5](57u, 23u, 10u, 4u, 1u);
     for (int g = 0; g < 5; ++g) {
@@ -96,24 +113,28 @@ void sort_and_store(uint p, uint n) {
             ids[j] = id;
         }
     }
+    uint kept = COVER_RULE ? drop_covered(n) : n;
     UintArray heads = UintArray(map.range_heads);
-    if (n == 0u) {
+    if (kept == 0u) {
         heads.v[p] = END_OF_LIST;
         return;
     }
-    uint base = take_places(n);
+    uint base = take_places(kept);
     // Past the capacity the frame overflowed (the counters say so, and it is recorded again
     // with room): nothing is written out of bounds.
-    if (base + n > CounterRef(map.counters).c.range_capacity) {
+    if (base + kept > CounterRef(map.counters).c.range_capacity) {
         heads.v[p] = END_OF_LIST;
         return;
     }
     Words out_words = Words(map.ranges);
+    uint k = 0u;
     for (uint i = 0u; i < n; ++i) {
-        uint at = 3u * (base + i);
+        if (COVER_RULE && kept < n && is_dropped(i)) continue;
+        uint at = 3u * (base + k);
         out_words.v[at] = packUint2x32(times[i]);
         out_words.v[at + 1u] = packUint2x32(depths[i]);
-        out_words.v[at + 2u] = packUint2x32(uvec2(ids[i], i + 1u < n ? base + i + 2u : END_OF_LIST));
+        ++k;
+        out_words.v[at + 2u] = packUint2x32(uvec2(ids[i], k < kept ? base + k + 1u : END_OF_LIST));
     }
     heads.v[p] = base + 1u;
 }

@@ -136,6 +136,13 @@ fn render_runs_and_static_layer_are_reported() {
         linked_png == layer_png,
         "the range storage changed the image"
     );
+    // `--pruning cover`: said so where the frame sorts (none otherwise), the same image.
+    let (cover, cover_png) = render(&["--pruning", "cover"], "cover");
+    assert_eq!(cover["pruning"], "cover");
+    assert_eq!(layer["pruning"], "static-layer");
+    assert_eq!(linked["pruning"], "none");
+    assert_eq!(cover["ranges"], layer["ranges"]);
+    assert!(cover_png == layer_png, "the cover rule changed the image");
     assert_eq!(layer["static_layer_kept"], false);
     // Kept from a pass before the timed one: the same image, and the timed collection draws
     // only what moves.

@@ -6,25 +6,32 @@
 //! collection stored the ranges itself ([`TemporalShadowMap::collects_ranges`]) it set both
 //! dispatches to zero groups; with [`super::RangeStorage::Sorted`] the pass then sorts each
 //! texel's collected list into a contiguous run of the range buffer (one atomic per texel
-//! takes its places; ranges behind the static layer are pruned; two tiers again), and
-//! otherwise costs its barriers only.
+//! takes its places; ranges that can decide no test are pruned by the map's
+//! [`super::Pruning`] rule; two tiers again), and otherwise costs its barriers only.
 
 use super::gpu_constants::{DISPATCH_PAIRING, DISPATCH_SORT, DISPATCH_SORT_LONG};
 use super::gpu_types::LongListHeader;
+use super::pruning::Pruning;
 use super::push_constants::{MapPush, PushBlock};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
 use crate::error::Result;
-use crate::gpu::{Access, Context, Pipeline, compute_pipeline, memory_barrier};
+use crate::gpu::{Access, ComputeVariants, Context, Pipeline, compute_pipeline, memory_barrier};
 use ash::vk;
+use std::sync::Arc;
 
-/// The generation sub-pass. Immutable after creation: one serves every frame in flight and
-/// every light.
+/// The generation sub-pass. One serves every frame in flight and every light (the cover
+/// rule's pipelines, made on first use, are made once, whoever asks first).
 pub struct GenerationPass {
     pipeline: Pipeline,
     long_pipeline: Pipeline,
+    /// The sorts with the default rule, [`Pruning::StaticLayer`].
     sort: Pipeline,
     sort_long: Pipeline,
+    /// The sorts specialized for [`Pruning::Cover`], made on first use: a host that never
+    /// asks for the cover rule never compiles its sweep.
+    cover_sort: ComputeVariants,
+    cover_sort_long: ComputeVariants,
     /// Records its entry and exit barriers (off: the host issues them from
     /// [`Self::accesses`], see `accesses.rs`).
     pub(crate) outer_barriers: bool,
@@ -37,6 +44,18 @@ impl GenerationPass {
         Ok(Self {
             sort: compute("range_sort.comp", shaders::RANGE_SORT_COMP)?,
             sort_long: compute("range_sort_long.comp", shaders::RANGE_SORT_LONG_COMP)?,
+            cover_sort: ComputeVariants::new(
+                ctx,
+                MapPush::BYTES,
+                "range_sort.comp",
+                shaders::RANGE_SORT_COMP,
+            )?,
+            cover_sort_long: ComputeVariants::new(
+                ctx,
+                MapPush::BYTES,
+                "range_sort_long.comp",
+                shaders::RANGE_SORT_LONG_COMP,
+            )?,
             pipeline: compute_pipeline(
                 ctx,
                 MapPush::BYTES,
@@ -51,6 +70,27 @@ impl GenerationPass {
             )?,
             outer_barriers: true,
         })
+    }
+
+    /// Makes the pipelines that sorting a map with `pruning` needs, if they are not made yet
+    /// (only [`Pruning::Cover`] has any to make). [`Self::record`] makes them itself the first
+    /// time a map asks for them; calling this first keeps the compilation out of the frame
+    /// and reports an error where `record` cannot.
+    pub fn prepare(&self, pruning: Pruning) -> Result<()> {
+        self.cover_sorts(pruning).map(|_| ())
+    }
+
+    /// The two tiers' sort pipelines for `pruning` made with the cover rule; None for the
+    /// static rule (the pipelines made with the pass).
+    fn cover_sorts(&self, pruning: Pruning) -> Result<Option<[Arc<Pipeline>; 2]>> {
+        if pruning == Pruning::StaticLayer {
+            return Ok(None);
+        }
+        let constants = [pruning.cover_rule()];
+        Ok(Some([
+            self.cover_sort.get(&constants)?,
+            self.cover_sort_long.get(&constants)?,
+        ]))
     }
 
     /// Records the range generation of `map`. When the collection pass of this frame was
@@ -121,13 +161,23 @@ impl GenerationPass {
         unsafe {
             device.cmd_dispatch_indirect(cmd, map.long_pixels.raw(), LongListHeader::GROUPS_OFFSET)
         };
+        // Where the cover rule's pipelines cannot be made (`prepare` says why), the static
+        // rule is as sound: the map keeps more ranges, and every lookup answers the same.
+        let cover = self.cover_sorts(map.pruning()).unwrap_or_else(|e| {
+            log::warn!("the cover rule's sort pipelines: {e}; pruning by the static rule");
+            None
+        });
+        let [sort, sort_long] = match &cover {
+            Some([sort, sort_long]) => [&**sort, &**sort_long],
+            None => [&self.sort, &self.sort_long],
+        };
         // The sorting (zero groups unless the collection stored ranges for sorted storage;
         // the pairing above then ran none, so the long-pixel list is still empty): the short
         // lists (which append the long ones to the long-pixel list and count their groups),
         // then the long ones.
         for (pipeline, args, offset) in [
-            (&self.sort, &map.tiles, word_bytes(DISPATCH_SORT)),
-            (&self.sort_long, &map.tiles, word_bytes(DISPATCH_SORT_LONG)),
+            (sort, &map.tiles, word_bytes(DISPATCH_SORT)),
+            (sort_long, &map.tiles, word_bytes(DISPATCH_SORT_LONG)),
         ] {
             unsafe {
                 memory_barrier(

@@ -93,8 +93,8 @@ pub struct Counters {
     /// pass has nothing to do.
     pub ranges_direct: u32,
     /// Where the map sorts the collected ranges ([`super::RangeStorage::Sorted`]): the
-    /// ranges the sorted buffer holds, `range_count` less those pruned (behind the static
-    /// layer); 0 otherwise.
+    /// ranges the sorted buffer holds, `range_count` less those pruned (docs/src/pruning.md);
+    /// 0 otherwise.
     pub sorted_count: u32,
     /// Unused (0).
     pub reserved: u32,

@@ -43,6 +43,7 @@ mod lighting;
 mod mask;
 #[cfg(feature = "research")]
 mod plain_shadow;
+mod pruning;
 pub mod push_constants;
 mod range_ceiling;
 pub mod sampling;
@@ -79,6 +80,7 @@ pub use mask::{
 };
 #[cfg(feature = "research")]
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
+pub use pruning::Pruning;
 pub use range_ceiling::{HostDraw, RangeCeiling};
 pub use sampling::{pixel_key, pixel_sample};
 pub use shadow_map::{RangeStorage, ShadowMapContents, TemporalShadowMap};

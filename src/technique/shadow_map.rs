@@ -9,6 +9,7 @@ use super::draws::DrawList;
 use super::gpu_types::{
     Counters, DRAW_STATIC, DrawRecord, MAX_LIST_NODES, Node, Range, ShadowMapHeader,
 };
+use super::pruning::Pruning;
 use super::range_ceiling::{HostDraw, RangeCeiling};
 use super::view::LightView;
 use crate::error::{Error, Result};
@@ -28,10 +29,11 @@ pub enum RangeStorage {
     /// Each texel's ranges contiguous in the range buffer, in order of start time (the
     /// header's `MS_SORTED_RANGES`): the collection links them into lists in a second buffer
     /// of the same capacity, and the generation pass sorts each list into places it takes
-    /// with one atomic, leaving out the ranges behind the static layer that cannot decide a
-    /// test (pruning, `docs/src/pruning.md`; only where receivers are tested at their plane's
-    /// depth, `LightView::receiver_plane`). Lookups read a texel's ranges from consecutive
-    /// addresses and stop at the first that starts after the time they test.
+    /// with one atomic, leaving out ranges that cannot decide a test (pruning,
+    /// `docs/src/pruning.md`: by default those behind the static layer where receivers are
+    /// tested at their plane's depth, `LightView::receiver_plane`; [`super::Pruning`] picks
+    /// the rule). Lookups read a texel's ranges from consecutive addresses and stop at the
+    /// first that starts after the time they test.
     #[default]
     Sorted,
     /// Per-texel linked lists in the order the collection's atomics ran (one range buffer).
@@ -50,6 +52,7 @@ pub struct TemporalShadowMap {
     node_capacity: u32,
     range_capacity: u32,
     range_storage: RangeStorage,
+    pruning: Pruning,
     /// The header (`MsShadowMap`): light and buffer addresses, written by the collection pass.
     pub(crate) header: Buffer,
     /// Per pixel: index + 1 of the newest node, 0 for none.
@@ -211,6 +214,7 @@ impl TemporalShadowMap {
             node_capacity: node_capacity.max(1),
             range_capacity: range_capacity.max(1),
             range_storage,
+            pruning: Pruning::default(),
             header: Buffer::new(
                 ctx,
                 "shadow map header",
@@ -266,6 +270,21 @@ impl TemporalShadowMap {
     /// How the map keeps the ranges its collection stores itself.
     pub fn range_storage(&self) -> RangeStorage {
         self.range_storage
+    }
+
+    /// This map with the given [`Pruning`] rule for its sort (maps start with the default,
+    /// [`Pruning::StaticLayer`]); kept when the map grows ([`Self::grow_to_fit`],
+    /// [`Self::reserve`]). Only a map that sorts its ranges ([`Self::sorts_ranges`]) prunes.
+    /// The generation pass makes the cover rule's pipelines the first time it records such a
+    /// map, unless [`super::GenerationPass::prepare`] made them earlier.
+    pub fn with_pruning(mut self, pruning: Pruning) -> Self {
+        self.pruning = pruning;
+        self
+    }
+
+    /// The pruning rule the generation pass's sort applies to this map.
+    pub fn pruning(&self) -> Pruning {
+        self.pruning
     }
 
     /// Whether a frame lit by `light` (with or without a coverage map) leaves each texel's
@@ -516,7 +535,8 @@ impl TemporalShadowMap {
                 nodes,
                 ranges,
                 self.range_storage,
-            )?;
+            )?
+            .with_pruning(self.pruning);
         }
         Ok(())
     }
@@ -595,7 +615,8 @@ impl TemporalShadowMap {
             nodes,
             ranges,
             self.range_storage,
-        )?;
+        )?
+        .with_pruning(self.pruning);
         Ok(())
     }
 

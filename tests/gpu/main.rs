@@ -18,6 +18,7 @@ mod layout;
 mod minimal_host;
 mod pass_accesses;
 mod prism;
+mod pruning_model;
 mod range_ceiling;
 mod several_runs;
 mod sorted_ranges;

@@ -9,7 +9,7 @@ use glam::{Vec3, Vec4};
 use motion_shadows::gpu::{Buffer, BufferUsage, Context, OneShot};
 use motion_shadows::technique::{
     CollectionPass, Counters, Draw, DrawList, GenerationPass, Indices, LightView, PositionStream,
-    PrismConstruction, RangeStorage, ShadowMapContents, TemporalShadowMap,
+    PrismConstruction, Pruning, RangeStorage, ShadowMapContents, TemporalShadowMap,
 };
 
 pub struct Scene {
@@ -118,13 +118,14 @@ pub fn temporal_map_with(
         shadow_size,
         &light,
         RangeStorage::default(),
+        Pruning::default(),
         pixels,
     )
     .0
 }
 
 /// The temporal map of `scene` lit by `light` (made for `shadow_size`), its collected ranges
-/// kept as `storage` says, starting with room for `range_capacity` ranges (grown and run
+/// kept as `storage` says (sorted ones pruned by `pruning`), starting with room for `range_capacity` ranges (grown and run
 /// again until nothing overflowed), and the counters of its last run.
 pub fn temporal_map_stored(
     ctx: &Context,
@@ -132,6 +133,7 @@ pub fn temporal_map_stored(
     shadow_size: (u32, u32),
     light: &LightView,
     storage: RangeStorage,
+    pruning: Pruning,
     range_capacity: u32,
 ) -> (ShadowMapContents, Counters) {
     let vertices: Vec<[Vec4; 2]> = (scene.meshes.iter())
@@ -185,7 +187,8 @@ pub fn temporal_map_stored(
         range_capacity,
         storage,
     )
-    .expect("temporal shadow map");
+    .expect("temporal shadow map")
+    .with_pruning(pruning);
     loop {
         OneShot::new(ctx)
             .expect("command buffer")

@@ -129,6 +129,12 @@ pub struct CompareArgs {
     /// order the collection appended them).
     #[arg(long, value_enum, default_value_t = RangeStorageArg::Sorted)]
     pub range_storage: RangeStorageArg,
+    /// Temporal, sorted ranges: which ranges the sort leaves out: `static-layer` (those
+    /// behind the static layer, with the plane test) or `cover` (also those that nearer
+    /// ranges of two other triangles cover all along: less memory on deep scenes, a slower
+    /// sort). The image is the same.
+    #[arg(long, value_enum, default_value_t = PruningArg::StaticLayer)]
+    pub pruning: PruningArg,
     /// What the other methods are measured against: the brute-force reference, or the ray
     /// tracer (then the reference is one more method measured against it).
     #[arg(long, value_enum, default_value_t = TruthArg::Reference)]
@@ -299,6 +305,24 @@ pub enum RangeStorageArg {
     Lists,
 }
 
+/// `--pruning`: which ranges the sort of sorted ranges leaves out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PruningArg {
+    /// Ranges behind the static layer (where receivers are tested at their plane's depth).
+    StaticLayer,
+    /// Also ranges that nearer ranges of two other triangles cover all along.
+    Cover,
+}
+
+impl PruningArg {
+    pub fn pruning(self) -> motion_shadows::technique::Pruning {
+        match self {
+            Self::StaticLayer => motion_shadows::technique::Pruning::StaticLayer,
+            Self::Cover => motion_shadows::technique::Pruning::Cover,
+        }
+    }
+}
+
 impl RangeStorageArg {
     pub fn storage(self) -> motion_shadows::technique::RangeStorage {
         match self {
@@ -463,6 +487,12 @@ pub struct RenderArgs {
     /// order the collection appended them).
     #[arg(long, value_enum, default_value_t = RangeStorageArg::Sorted)]
     pub range_storage: RangeStorageArg,
+    /// Temporal, sorted ranges: which ranges the sort leaves out: `static-layer` (those
+    /// behind the static layer, with the plane test) or `cover` (also those that nearer
+    /// ranges of two other triangles cover all along: less memory on deep scenes, a slower
+    /// sort). The image is the same.
+    #[arg(long, value_enum, default_value_t = PruningArg::StaticLayer)]
+    pub pruning: PruningArg,
     /// Render the frame this many times (1 to 100) and report the fastest, as `bench` does:
     /// the first frame's GPU times include first-use costs (lavapipe compiles shader variants
     /// at the first draw).

@@ -130,6 +130,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         static_layer: args.static_layer.settings().0,
         keep_static_layer: args.static_layer.settings().1,
         range_storage: args.range_storage.storage(),
+        pruning: args.pruning.pruning(),
         ..RenderSettings::default()
     };
     // Checked before anything is loaded or rendered.

@@ -94,6 +94,7 @@ pub fn render_settings(args: &RenderArgs) -> RenderSettings {
         static_layer: args.static_layer.settings().0,
         keep_static_layer: args.static_layer.settings().1,
         range_storage: args.range_storage.storage(),
+        pruning: args.pruning.pruning(),
         ..RenderSettings::default()
     }
 }

@@ -111,6 +111,7 @@ pub fn render(
         shadow_filter: "none".to_owned(),
         prisms: crate::render::stats::prisms_name(settings.prisms).to_owned(),
         range_storage: "lists".to_owned(),
+        pruning: "none".to_owned(),
         receiver_plane: settings.receiver_plane(),
         width,
         height,

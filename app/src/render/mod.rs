@@ -24,7 +24,7 @@ use motion_shadows::gpu::{Context, OneShot, TimestampQueries};
 use motion_shadows::technique::{
     CollectionPass, CoveragePass, DrawList, GenerationPass, LightView, LightingPass,
     LightingTarget, LightingView, MAX_SAMPLES_PER_CHUNK, PlainShadowPass, PrismConstruction,
-    RangeStorage, ShadowEstimator, ShadowFilter, TemporalShadowMap,
+    Pruning, RangeStorage, ShadowEstimator, ShadowFilter, TemporalShadowMap,
 };
 pub use receiver::ReceiverTest;
 pub use stats::{
@@ -116,6 +116,8 @@ pub struct RenderSettings {
     pub keep_static_layer: bool,
     /// How the temporal map keeps the ranges its collection stores (`--range-storage`).
     pub range_storage: RangeStorage,
+    /// Which ranges the sort of sorted ranges leaves out (`--pruning`).
+    pub pruning: Pruning,
 }
 
 impl Default for RenderSettings {
@@ -137,6 +139,7 @@ impl Default for RenderSettings {
             static_layer: true,
             keep_static_layer: false,
             range_storage: RangeStorage::Sorted,
+            pruning: Pruning::StaticLayer,
         }
     }
 }

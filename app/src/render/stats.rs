@@ -23,6 +23,14 @@ pub fn prisms_name(construction: motion_shadows::technique::PrismConstruction) -
     }
 }
 
+/// The name `--pruning` and the JSON outputs give a pruning rule.
+pub fn pruning_name(pruning: motion_shadows::technique::Pruning) -> &'static str {
+    match pruning {
+        motion_shadows::technique::Pruning::StaticLayer => "static-layer",
+        motion_shadows::technique::Pruning::Cover => "cover",
+    }
+}
+
 #[derive(Debug, Clone, Serialize)]
 pub struct PassTime {
     pub pass: String,
@@ -72,6 +80,9 @@ pub struct FrameStats {
     /// collection stored; "sorted" only where the frame sorted them (the exact construction
     /// with the static layer), "lists" for every other frame and method.
     pub range_storage: String,
+    /// "static-layer" or "cover" (`--pruning`): the rule the sort pruned the ranges by, where
+    /// `range_storage` is "sorted"; "none" for every other frame and method.
+    pub pruning: String,
     /// Whether this frame's method tested receivers at their plane's depth at the texel
     /// centre (`--receiver`: `auto` gives it to every method but TSM; never the ray tracer).
     pub receiver_plane: bool,
@@ -100,8 +111,8 @@ pub struct FrameStats {
     /// lists, N_r * 24, and its per-texel counts, shadow pixels * 4); 0 otherwise.
     pub shadow_map_bytes_transient: u64,
     /// With sorted ranges: the ranges the sort left out because no lookup can be decided by
-    /// them (behind the static layer, see docs/src/pruning.md); the map holds
-    /// `ranges - ranges_pruned`. 0 otherwise.
+    /// them (behind the static layer; with `--pruning cover` also those covered by two other
+    /// triangles: docs/src/pruning.md); the map holds `ranges - ranges_pruned`. 0 otherwise.
     pub ranges_pruned: u64,
     /// `shadow_map_bytes_eq2` with the pruned ranges kept.
     pub shadow_map_bytes_eq2_unpruned: u64,
