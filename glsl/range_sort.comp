@@ -32,6 +32,14 @@ void store_short(uint p, uint head, uint second, uvec2 links, uvec2 links2) {
         keep1 = !covered_by_pair(t1, d1, i1, t0, d0, i0);
         keep0 = !drop0;
     }
+    // Two left: the coverage rule keeps one that holds the texel all frame in front of the other.
+    if (COVERAGE_RULE && keep0 && keep1) {
+        if (covers_all_frame(t0, d0) && behind_all_along(d0, t1, d1)) {
+            keep1 = false;
+        } else if (covers_all_frame(t1, d1) && behind_all_along(d1, t0, d0)) {
+            keep0 = false;
+        }
+    }
     if (!keep0) {   // the second (if kept) alone
         t0 = t1; d0 = d1; i0 = i1;
         if (!keep1) {

@@ -13,6 +13,10 @@
 // the static rule's pipelines (the default) fold it away, arrays and sweep included, and cost
 // what the sort cost before the cover rule existed.
 layout(constant_id = 0) const bool COVER_RULE = false;
+// The coverage map's rule in one pass (technique::Pruning::Coverage, docs/src/pruning.md):
+// where one range holds the texel all frame, nearer than every other range and the static
+// layer's triangle at every time, only that range is kept. Not with COVER_RULE.
+layout(constant_id = 1) const bool COVERAGE_RULE = false;
 
 uvec2 times[SORT_CAPACITY];
 uvec2 depths[SORT_CAPACITY];
@@ -27,14 +31,17 @@ uint ids[SORT_CAPACITY];
 // centre is S's, less the depth bias). The margin covers the rounding of a lookup's
 // interpolated depth and of the plane's depth against the stored one.
 float prune_beyond = uintBitsToFloat(0x7f800000u);     // +inf: keep every range
+// The static layer's depth at the texel for the coverage rule (+inf: none).
+float static_depth = uintBitsToFloat(0x7f800000u);
 
 // (The static triangle is also a cover for the cover rule, with either receiver test; without
 // that rule the offset test reads no static layer here.)
 void open_pruning(uint p) {
     prune_beyond = uintBitsToFloat(0x7f800000u);
     static_cover = false;
+    static_depth = uintBitsToFloat(0x7f800000u);
     bool plane_test = map.light.bias.w > 0.5;
-    if (map.static_nearest == 0UL || !(plane_test || COVER_RULE)) return;
+    if (map.static_nearest == 0UL || !(plane_test || COVER_RULE || COVERAGE_RULE)) return;
     uint64_t nearest = MsUint64s(map.static_nearest).v[p];
     uint id = uint(nearest & 0xffffffffUL);
     if (id == NO_TRIANGLE) return;
@@ -42,6 +49,7 @@ void open_pruning(uint p) {
     static_cover = COVER_RULE;
     static_cover_id = id;
     static_cover_depth = d;
+    static_depth = d;
     if (plane_test) prune_beyond = d + PRUNE_MARGIN * max(abs(d), 1.0);
 }
 
@@ -86,6 +94,44 @@ uint load_ranges(uint head) {
     return r == END_OF_LIST ? n : SORT_CAPACITY + 1u;
 }
 
+// Is range b farther than range a, which holds all frame, at both ends of b's interval (so,
+// both depths being linear in time, all along it) by the pruning margin?
+bool behind_all_along(uvec2 da, uvec2 tb, uvec2 db) {
+    vec2 a = uintBitsToFloat(da), t = uintBitsToFloat(tb), b = uintBitsToFloat(db);
+    // Spelled out and `precise`: the CPU model (tests/gpu/pruning_model.rs) repeats it.
+    precise vec2 front = a.x + t * (a.y - a.x);
+    precise vec2 reach = front + PRUNE_MARGIN * max(abs(front), vec2(1.0));
+    return all(greaterThan(b, reach));
+}
+
+// Does range (t, d) hold the texel all frame, nearer than the static layer's triangle?
+bool covers_all_frame(uvec2 t, uvec2 d) {
+    vec2 time = uintBitsToFloat(t), depth = uintBitsToFloat(d);
+    float farthest = max(depth.x, depth.y);
+    precise float reach = farthest + PRUNE_MARGIN * max(abs(farthest), 1.0);
+    return time == vec2(0.0, 1.0) && reach < static_depth;
+}
+
+// The coverage rule on the n sorted ranges: the one that covers the texel all frame nearer
+// than all the others, moved first, and 1; or n.
+uint keep_covering_range(uint n) {
+    for (uint i = 0u; i < n; ++i) {
+        if (uintBitsToFloat(times[i].x) != 0.0) break;   // sorted by start time
+        if (!covers_all_frame(times[i], depths[i])) continue;
+        bool nearest = true;
+        for (uint j = 0u; j < n && nearest; ++j) {
+            nearest = j == i || behind_all_along(depths[i], times[j], depths[j]);
+        }
+        if (nearest) {
+            times[0] = times[i];
+            depths[0] = depths[i];
+            ids[0] = ids[i];
+            return 1u;
+        }
+    }
+    return n;
+}
+
 // Takes n places in the range buffer (one atomic on the places taken so far: the buffer
 // ends up exactly full), the first of them.
 uint take_places(uint n) {
@@ -113,6 +159,7 @@ void sort_and_store(uint p, uint n) {
             ids[j] = id;
         }
     }
+    if (COVERAGE_RULE) n = keep_covering_range(n);
     uint kept = COVER_RULE ? drop_covered(n) : n;
     UintArray heads = UintArray(map.range_heads);
     if (kept == 0u) {

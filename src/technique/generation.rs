@@ -86,7 +86,7 @@ impl GenerationPass {
         if pruning == Pruning::StaticLayer {
             return Ok(None);
         }
-        let constants = [pruning.cover_rule()];
+        let constants = [pruning.cover_rule(), pruning.coverage_rule()];
         Ok(Some([
             self.cover_sort.get(&constants)?,
             self.cover_sort_long.get(&constants)?,

@@ -1,6 +1,9 @@
 //! Which ranges the sort of a map with [`super::RangeStorage::Sorted`] leaves out
-//! (`docs/src/pruning.md`). Every rule drops only ranges that decide no lookup: the images are
-//! the same whichever is chosen; the map's memory and the sort's time are not.
+//! (`docs/src/pruning.md`). The static and cover rules drop only ranges that decide no
+//! lookup: the images are the same whichever is chosen; the map's memory and the sort's time
+//! are not. The coverage rule is the 2017 paper's coverage map, made in the sort: it may
+//! light a receiver on the covering triangle that the others would shadow (as the coverage
+//! map does).
 
 /// The pruning rule a [`super::TemporalShadowMap`] asks of the generation pass's sort
 /// ([`super::TemporalShadowMap::with_pruning`]). It has no effect on a map whose ranges are
@@ -19,6 +22,16 @@ pub enum Pruning {
     /// (lavapipe: the default scene's generation pass 1.8x, the stacked plates' 6x; figures
     /// in `docs/src/pruning.md`): a choice for memory, not for speed.
     Cover,
+    /// The static rule, and also the 2017 paper's coverage map made in one pass (its future
+    /// work): where one moving triangle C covers the texel all frame, nearer than every other
+    /// range and the static layer's triangle at every time (by the pruning margin), only C's
+    /// range is kept. Lookups then answer as with the coverage map: a receiver on C is lit
+    /// (its own range skipped), any other is compared with C's depth at its time. That is
+    /// what the other rules answer too, except for a receiver on C tested behind C's own
+    /// depth (the acne the receiver-plane test and the normal offset hide; a moving receiver
+    /// on a turning C): there they may shadow it from a range behind C. One comparison pair
+    /// per range, in the sort: no pass of its own and no per-texel maps.
+    Coverage,
 }
 
 impl Pruning {
@@ -27,5 +40,10 @@ impl Pruning {
     /// the cover rule and cost what they cost before it existed.
     pub(crate) fn cover_rule(self) -> u32 {
         u32::from(self == Self::Cover)
+    }
+
+    /// The specialization constant `COVERAGE_RULE` (`range_sort_lists.glsl`), likewise.
+    pub(crate) fn coverage_rule(self) -> u32 {
+        u32::from(self == Self::Coverage)
     }
 }

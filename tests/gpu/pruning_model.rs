@@ -21,7 +21,7 @@ pub struct Pruned {
     pub kept: Vec<Range>,
     /// Dropped by the static rule (behind the static layer, plane test only).
     pub by_static: usize,
-    /// Dropped by the cover rule.
+    /// Dropped by the cover rule, or by the coverage rule.
     pub by_cover: usize,
     /// Whether the sweep ran out of its budget (the undecided ranges kept).
     pub out_of_budget: bool,
@@ -169,6 +169,34 @@ impl Candidates {
     }
 }
 
+/// The coverage rule (the coverage map in the sort): of the sorted `ranges`, the first that
+/// holds the texel over [0, 1] with its farther end nearer than the static layer's depth and
+/// every other range farther than it at both of that range's ends, by the margin, alone; or
+/// all of them.
+fn keep_covering_range(ranges: &[Range], static_depth: Option<f32>) -> Vec<Range> {
+    let reach = |front: f32| front + MARGIN * front.abs().max(1.0);
+    let in_front_of_static = |c: &Range| match static_depth {
+        Some(d) => reach(c.d_s.max(c.d_e)) < d,
+        None => true,
+    };
+    let behind = |c: &Range, q: &Range| {
+        let at = |t: f32| c.d_s + t * (c.d_e - c.d_s);
+        q.d_s > reach(at(q.t_s)) && q.d_e > reach(at(q.t_e))
+    };
+    ranges
+        .iter()
+        .enumerate()
+        .find(|(i, c)| {
+            (c.t_s, c.t_e) == (0.0, 1.0)
+                && in_front_of_static(c)
+                && ranges
+                    .iter()
+                    .enumerate()
+                    .all(|(j, q)| j == *i || behind(c, q))
+        })
+        .map_or_else(|| ranges.to_vec(), |(_, c)| vec![*c])
+}
+
 /// The sort's order: (t_s, t_e, d_s, d_e, id).
 fn sort_key(r: &Range) -> (f32, f32, f32, f32, u32) {
     (r.t_s, r.t_e, r.d_s, r.d_e, r.id)
@@ -209,8 +237,18 @@ pub fn prune(
     let mut spent = 0;
     let mut out_of_budget = false;
     let mut candidates = Candidates::default();
+    if pruning == Pruning::Coverage {
+        let kept = keep_covering_range(&ranges, static_layer.map(|(_, d)| d));
+        return Pruned {
+            by_static: collected - statically_kept,
+            by_cover: statically_kept - kept.len(),
+            kept,
+            out_of_budget: false,
+            steps: 0,
+        };
+    }
     let swept = match pruning {
-        Pruning::StaticLayer => 0,
+        Pruning::StaticLayer | Pruning::Coverage => 0,
         Pruning::Cover => ranges.len(),
     };
     'ranges: for (i, r) in ranges.iter().enumerate().take(swept) {

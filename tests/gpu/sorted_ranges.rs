@@ -82,7 +82,7 @@ fn sorted_storage_holds_the_lists_ranges_contiguous_and_in_start_order() {
         pixels,
     );
     assert_eq!(list_counts.sorted_count, 0, "lists are not sorted");
-    for pruning in [Pruning::StaticLayer, Pruning::Cover] {
+    for pruning in [Pruning::StaticLayer, Pruning::Cover, Pruning::Coverage] {
         sorted_like_lists(
             &ctx,
             &scene,
@@ -210,6 +210,8 @@ fn sorted_like_lists(
     match pruning {
         Pruning::StaticLayer => assert_eq!(dropped, 0),
         Pruning::Cover => assert!(dropped * 4 > counts.range_count as usize, "{dropped}"),
+        // No plate holds a texel all frame here: the slow plates below test that rule.
+        Pruning::Coverage => assert_eq!(dropped, 0),
     }
     assert!(
         lengths.iter().all(|&n| n > 50),
@@ -217,10 +219,11 @@ fn sorted_like_lists(
     );
 }
 
-/// Random plates sliding at random heights, speeds and directions, tilted through each
-/// other's depths, above, below and through a static roof that covers part of the map, over
-/// a static ground.
-fn random_plates(seed: u32) -> Scene {
+/// Random plates sliding at random heights, speeds (times `speed`) and directions, tilted
+/// through each other's depths, above, below and through a static roof that covers part of
+/// the map, over a static ground. Slow plates (`speed` 0.1, under a tenth of a plate's square
+/// each way) cover many texels all frame: the coverage rule's case.
+fn random_plates(seed: u32, speed: f32) -> Scene {
     let mut state = seed.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
     let mut random = move || {
         state = state.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
@@ -234,7 +237,7 @@ fn random_plates(seed: u32) -> Scene {
     ];
     for i in 0..10 {
         let angle = random() * std::f32::consts::TAU;
-        let step = Vec3::new(angle.cos(), 0.0, angle.sin()) * (0.3 + random());
+        let step = Vec3::new(angle.cos(), 0.0, angle.sin()) * (0.3 + random()) * speed;
         // Heights from under the roof (depth 5) to above it; a tilt through it.
         let y = 1.0 + 6.0 * random();
         let tilt = Vec3::new(0.0, 2.0 * random() - 1.0, 0.0);
@@ -282,6 +285,13 @@ fn pruning_drops_exactly_the_ranges_the_model_drops() {
         "cover rule: {:?}",
         cover.by_cover
     );
+    // Slow plates (random_plates' speed 0.1): many texels held all frame by one plate.
+    let coverage = drops_as_the_model(&ctx, Pruning::Coverage);
+    assert!(
+        coverage.by_cover.iter().all(|&n| n > 1000),
+        "coverage rule: {:?}",
+        coverage.by_cover
+    );
     assert_no_validation_messages(&ctx);
 }
 
@@ -298,7 +308,12 @@ fn drops_as_the_model(ctx: &motion_shadows::gpu::Context, pruning: Pruning) -> D
     let mut kept_under_roof = 0;
     let mut deep = 0;
     for seed in 1..=4u32 {
-        let scene = random_plates(seed);
+        let speed = if pruning == Pruning::Coverage {
+            0.1
+        } else {
+            1.0
+        };
+        let scene = random_plates(seed, speed);
         for (k, plane) in [true, false].into_iter().enumerate() {
             let light = LightView {
                 receiver_plane: plane,

@@ -312,6 +312,9 @@ pub enum PruningArg {
     StaticLayer,
     /// Also ranges that nearer ranges of two other triangles cover all along.
     Cover,
+    /// The coverage map in one pass: where one triangle covers the texel all frame, nearest
+    /// at every time, only its range (receivers on it are then lit there).
+    Coverage,
 }
 
 impl PruningArg {
@@ -319,6 +322,7 @@ impl PruningArg {
         match self {
             Self::StaticLayer => motion_shadows::technique::Pruning::StaticLayer,
             Self::Cover => motion_shadows::technique::Pruning::Cover,
+            Self::Coverage => motion_shadows::technique::Pruning::Coverage,
         }
     }
 }

@@ -28,6 +28,7 @@ pub fn pruning_name(pruning: motion_shadows::technique::Pruning) -> &'static str
     match pruning {
         motion_shadows::technique::Pruning::StaticLayer => "static-layer",
         motion_shadows::technique::Pruning::Cover => "cover",
+        motion_shadows::technique::Pruning::Coverage => "coverage",
     }
 }
 

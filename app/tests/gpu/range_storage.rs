@@ -33,9 +33,10 @@ fn settings((range_storage, pruning): (RangeStorage, Pruning)) -> RenderSettings
 
 /// The storages compared: the lists (the oracle), then sorted ranges pruned by each rule.
 const LISTS: (RangeStorage, Pruning) = (RangeStorage::Lists, Pruning::StaticLayer);
-const SORTED: [(RangeStorage, Pruning); 2] = [
+const SORTED: [(RangeStorage, Pruning); 3] = [
     (RangeStorage::Sorted, Pruning::StaticLayer),
     (RangeStorage::Sorted, Pruning::Cover),
+    (RangeStorage::Sorted, Pruning::Coverage),
 ];
 
 #[test]
@@ -94,18 +95,27 @@ fn sorted_ranges_render_what_the_lists_render() {
             .expect("render")
     };
     let mut compared = 0;
-    let mut pruned = [0; 2];
+    let mut pruned = [0; 3];
     // Every built-in scene, and two of the docs' examples: deep lists, and plates sliding
     // under a static roof (a third of their ranges pruned).
     let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/examples");
     let files = ["stacked-plates", "plates-under-roof"];
+    // And cubes of edge 16, whose faces hold texels all frame: the coverage rule's case.
+    let big_cubes = BuiltinOptions {
+        cube_size: 16.0,
+        ..options.clone()
+    };
     let scenes = (BUILTIN_NAMES
         .iter()
         .map(|&name| (name, builtin(name, &options).unwrap())))
     .chain(files.iter().map(|&name| {
         let path = examples.join(format!("{name}.json"));
         (name, load_scene_file(&path).unwrap())
-    }));
+    }))
+    .chain([(
+        "random-cubes-16",
+        builtin("random-cubes", &big_cubes).unwrap(),
+    )]);
     for (name, scene) in scenes {
         // Every scene with the papers' test; five with the others too (the stacked plates
         // and random-cubes: many ranges the cover rule prunes, under lookups that measure
@@ -115,6 +125,7 @@ fn sorted_ranges_render_what_the_lists_render() {
             "leg-toward-light",
             "hard-rotating-triangle",
             "random-cubes",
+            "random-cubes-16",
             "stacked-plates",
             "plates-under-roof",
         ];
@@ -133,7 +144,7 @@ fn sorted_ranges_render_what_the_lists_render() {
             assert_eq!(lists.stats.pruning, "none");
             assert_eq!(lists.stats.ranges_pruned, 0);
             // Per rule (static, cover): the ranges pruned.
-            let mut by_rule = [0; 2];
+            let mut by_rule = [0; 3];
             for (k, storage) in SORTED.into_iter().enumerate() {
                 let sorted = render(&scene, &at(storage));
                 let rule = stats::pruning_name(storage.1);
@@ -169,12 +180,19 @@ fn sorted_ranges_render_what_the_lists_render() {
                     );
                 }
             }
-            // The cover rule drops what the static rule drops, and more.
+            // The cover and coverage rules drop what the static rule drops, and more.
             assert!(by_rule[1] >= by_rule[0], "{name}, {what}: {by_rule:?}");
+            assert!(by_rule[2] >= by_rule[0], "{name}, {what}: {by_rule:?}");
+            if name == "random-cubes-16" {
+                assert!(
+                    by_rule[2] > by_rule[0] + 1000,
+                    "{name}, {what}: the coverage rule drops {by_rule:?}"
+                );
+            }
         }
     }
     assert!(compared >= 2 * (BUILTIN_NAMES.len() + 32));
-    println!("ranges pruned in all (static rule, cover rule): {pruned:?}");
+    println!("ranges pruned in all (static, cover, coverage rule): {pruned:?}");
     assert!(pruned[1] > 2 * pruned[0], "{pruned:?}");
 
     // The deferred frame: receivers moving through the map (on the stacked plates, through
