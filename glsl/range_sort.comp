@@ -34,9 +34,9 @@ void store_short(uint p, uint head, uint second, uvec2 links, uvec2 links2) {
     }
     // Two left: the coverage rule keeps one that holds the texel all frame in front of the other.
     if (COVERAGE_RULE && keep0 && keep1) {
-        if (covers_all_frame(t0, d0) && behind_all_along(d0, t1, d1)) {
+        if (covers_all_frame(t0) && behind_all_along(d0, t1, d1)) {
             keep1 = false;
-        } else if (covers_all_frame(t1, d1) && behind_all_along(d1, t0, d0)) {
+        } else if (covers_all_frame(t1) && behind_all_along(d1, t0, d0)) {
             keep0 = false;
         }
     }

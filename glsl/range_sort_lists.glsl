@@ -14,8 +14,8 @@
 // what the sort cost before the cover rule existed.
 layout(constant_id = 0) const bool COVER_RULE = false;
 // The coverage map's rule in one pass (technique::Pruning::Coverage, docs/src/pruning.md):
-// where one range holds the texel all frame, nearer than every other range and the static
-// layer's triangle at every time, only that range is kept. Not with COVER_RULE.
+// where one range holds the texel all frame, nearer than every other range at every time,
+// only that range is kept. Not with COVER_RULE.
 layout(constant_id = 1) const bool COVERAGE_RULE = false;
 
 uvec2 times[SORT_CAPACITY];
@@ -31,17 +31,14 @@ uint ids[SORT_CAPACITY];
 // centre is S's, less the depth bias). The margin covers the rounding of a lookup's
 // interpolated depth and of the plane's depth against the stored one.
 float prune_beyond = uintBitsToFloat(0x7f800000u);     // +inf: keep every range
-// The static layer's depth at the texel for the coverage rule (+inf: none).
-float static_depth = uintBitsToFloat(0x7f800000u);
 
 // (The static triangle is also a cover for the cover rule, with either receiver test; without
 // that rule the offset test reads no static layer here.)
 void open_pruning(uint p) {
     prune_beyond = uintBitsToFloat(0x7f800000u);
     static_cover = false;
-    static_depth = uintBitsToFloat(0x7f800000u);
     bool plane_test = map.light.bias.w > 0.5;
-    if (map.static_nearest == 0UL || !(plane_test || COVER_RULE || COVERAGE_RULE)) return;
+    if (map.static_nearest == 0UL || !(plane_test || COVER_RULE)) return;
     uint64_t nearest = MsUint64s(map.static_nearest).v[p];
     uint id = uint(nearest & 0xffffffffUL);
     if (id == NO_TRIANGLE) return;
@@ -49,7 +46,6 @@ void open_pruning(uint p) {
     static_cover = COVER_RULE;
     static_cover_id = id;
     static_cover_depth = d;
-    static_depth = d;
     if (plane_test) prune_beyond = d + PRUNE_MARGIN * max(abs(d), 1.0);
 }
 
@@ -104,12 +100,10 @@ bool behind_all_along(uvec2 da, uvec2 tb, uvec2 db) {
     return all(greaterThan(b, reach));
 }
 
-// Does range (t, d) hold the texel all frame, nearer than the static layer's triangle?
-bool covers_all_frame(uvec2 t, uvec2 d) {
-    vec2 time = uintBitsToFloat(t), depth = uintBitsToFloat(d);
-    float farthest = max(depth.x, depth.y);
-    precise float reach = farthest + PRUNE_MARGIN * max(abs(farthest), 1.0);
-    return time == vec2(0.0, 1.0) && reach < static_depth;
+// Does range (t, d) hold the texel all frame? (Where the static layer's triangle is nearer,
+// it shadows whatever lies behind it first: the ranges behind the cover decide no more.)
+bool covers_all_frame(uvec2 t) {
+    return uintBitsToFloat(t) == vec2(0.0, 1.0);
 }
 
 // The coverage rule on the n sorted ranges: the one that covers the texel all frame nearer
@@ -117,7 +111,7 @@ bool covers_all_frame(uvec2 t, uvec2 d) {
 uint keep_covering_range(uint n) {
     for (uint i = 0u; i < n; ++i) {
         if (uintBitsToFloat(times[i].x) != 0.0) break;   // sorted by start time
-        if (!covers_all_frame(times[i], depths[i])) continue;
+        if (!covers_all_frame(times[i])) continue;
         bool nearest = true;
         for (uint j = 0u; j < n && nearest; ++j) {
             nearest = j == i || behind_all_along(depths[i], times[j], depths[j]);

@@ -28,8 +28,8 @@ pub struct GenerationPass {
     /// The sorts with the default rule, [`Pruning::StaticLayer`].
     sort: Pipeline,
     sort_long: Pipeline,
-    /// The sorts specialized for [`Pruning::Cover`], made on first use: a host that never
-    /// asks for the cover rule never compiles its sweep.
+    /// The sorts specialized for [`Pruning::Cover`] or [`Pruning::Coverage`], made on first
+    /// use: a host that never asks for those rules never compiles them.
     cover_sort: ComputeVariants,
     cover_sort_long: ComputeVariants,
     /// Records its entry and exit barriers (off: the host issues them from
@@ -73,15 +73,15 @@ impl GenerationPass {
     }
 
     /// Makes the pipelines that sorting a map with `pruning` needs, if they are not made yet
-    /// (only [`Pruning::Cover`] has any to make). [`Self::record`] makes them itself the first
+    /// (only [`Pruning::Cover`] and [`Pruning::Coverage`] have any to make). [`Self::record`] makes them itself the first
     /// time a map asks for them; calling this first keeps the compilation out of the frame
     /// and reports an error where `record` cannot.
     pub fn prepare(&self, pruning: Pruning) -> Result<()> {
         self.cover_sorts(pruning).map(|_| ())
     }
 
-    /// The two tiers' sort pipelines for `pruning` made with the cover rule; None for the
-    /// static rule (the pipelines made with the pass).
+    /// The two tiers' sort pipelines for `pruning` made with the cover or coverage rule;
+    /// None for the static rule (the pipelines made with the pass).
     fn cover_sorts(&self, pruning: Pruning) -> Result<Option<[Arc<Pipeline>; 2]>> {
         if pruning == Pruning::StaticLayer {
             return Ok(None);

@@ -24,8 +24,7 @@ pub enum Pruning {
     Cover,
     /// The static rule, and also the 2017 paper's coverage map made in one pass (its future
     /// work): where one moving triangle C covers the texel all frame, nearer than every other
-    /// range and the static layer's triangle at every time (by the pruning margin), only C's
-    /// range is kept. Lookups then answer as with the coverage map: a receiver on C is lit
+    /// range at every time (by the pruning margin), only C's range is kept. Lookups then answer as with the coverage map: a receiver on C is lit
     /// (its own range skipped), any other is compared with C's depth at its time. That is
     /// what the other rules answer too, except for a receiver on C tested behind C's own
     /// depth (the acne the receiver-plane test and the normal offset hide; a moving receiver

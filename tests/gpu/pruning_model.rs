@@ -170,15 +170,11 @@ impl Candidates {
 }
 
 /// The coverage rule (the coverage map in the sort): of the sorted `ranges`, the first that
-/// holds the texel over [0, 1] with its farther end nearer than the static layer's depth and
-/// every other range farther than it at both of that range's ends, by the margin, alone; or
-/// all of them.
-fn keep_covering_range(ranges: &[Range], static_depth: Option<f32>) -> Vec<Range> {
+/// holds the texel over [0, 1] with every other range farther than it at both of that range's
+/// ends, by the margin, alone; or all of them. (The static layer plays no part: where it is
+/// nearer it shadows first.)
+fn keep_covering_range(ranges: &[Range]) -> Vec<Range> {
     let reach = |front: f32| front + MARGIN * front.abs().max(1.0);
-    let in_front_of_static = |c: &Range| match static_depth {
-        Some(d) => reach(c.d_s.max(c.d_e)) < d,
-        None => true,
-    };
     let behind = |c: &Range, q: &Range| {
         let at = |t: f32| c.d_s + t * (c.d_e - c.d_s);
         q.d_s > reach(at(q.t_s)) && q.d_e > reach(at(q.t_e))
@@ -188,7 +184,6 @@ fn keep_covering_range(ranges: &[Range], static_depth: Option<f32>) -> Vec<Range
         .enumerate()
         .find(|(i, c)| {
             (c.t_s, c.t_e) == (0.0, 1.0)
-                && in_front_of_static(c)
                 && ranges
                     .iter()
                     .enumerate()
@@ -238,7 +233,7 @@ pub fn prune(
     let mut out_of_budget = false;
     let mut candidates = Candidates::default();
     if pruning == Pruning::Coverage {
-        let kept = keep_covering_range(&ranges, static_layer.map(|(_, d)| d));
+        let kept = keep_covering_range(&ranges);
         return Pruned {
             by_static: collected - statically_kept,
             by_cover: statically_kept - kept.len(),
