@@ -30,8 +30,8 @@ pub struct GenerationPass {
     sort_long: Pipeline,
     /// The sorts specialized for [`Pruning::Cover`] or [`Pruning::Coverage`], made on first
     /// use: a host that never asks for those rules never compiles them.
-    cover_sort: ComputeVariants,
-    cover_sort_long: ComputeVariants,
+    specialized_sort: ComputeVariants,
+    specialized_sort_long: ComputeVariants,
     /// Records its entry and exit barriers (off: the host issues them from
     /// [`Self::accesses`], see `accesses.rs`).
     pub(crate) outer_barriers: bool,
@@ -44,13 +44,13 @@ impl GenerationPass {
         Ok(Self {
             sort: compute("range_sort.comp", shaders::RANGE_SORT_COMP)?,
             sort_long: compute("range_sort_long.comp", shaders::RANGE_SORT_LONG_COMP)?,
-            cover_sort: ComputeVariants::new(
+            specialized_sort: ComputeVariants::new(
                 ctx,
                 MapPush::BYTES,
                 "range_sort.comp",
                 shaders::RANGE_SORT_COMP,
             )?,
-            cover_sort_long: ComputeVariants::new(
+            specialized_sort_long: ComputeVariants::new(
                 ctx,
                 MapPush::BYTES,
                 "range_sort_long.comp",
@@ -77,19 +77,19 @@ impl GenerationPass {
     /// time a map asks for them; calling this first keeps the compilation out of the frame
     /// and reports an error where `record` cannot.
     pub fn prepare(&self, pruning: Pruning) -> Result<()> {
-        self.cover_sorts(pruning).map(|_| ())
+        self.specialized_sorts(pruning).map(|_| ())
     }
 
     /// The two tiers' sort pipelines for `pruning` made with the cover or coverage rule;
     /// None for the static rule (the pipelines made with the pass).
-    fn cover_sorts(&self, pruning: Pruning) -> Result<Option<[Arc<Pipeline>; 2]>> {
+    fn specialized_sorts(&self, pruning: Pruning) -> Result<Option<[Arc<Pipeline>; 2]>> {
         if pruning == Pruning::StaticLayer {
             return Ok(None);
         }
         let constants = [pruning.cover_rule(), pruning.coverage_rule()];
         Ok(Some([
-            self.cover_sort.get(&constants)?,
-            self.cover_sort_long.get(&constants)?,
+            self.specialized_sort.get(&constants)?,
+            self.specialized_sort_long.get(&constants)?,
         ]))
     }
 
@@ -161,10 +161,13 @@ impl GenerationPass {
         unsafe {
             device.cmd_dispatch_indirect(cmd, map.long_pixels.raw(), LongListHeader::GROUPS_OFFSET)
         };
-        // Where the cover rule's pipelines cannot be made (`prepare` says why), the static
-        // rule is as sound: the map keeps more ranges, and every lookup answers the same.
-        let cover = self.cover_sorts(map.pruning()).unwrap_or_else(|e| {
-            log::warn!("the cover rule's sort pipelines: {e}; pruning by the static rule");
+        // Where the cover or coverage rule's pipelines cannot be made (`prepare` says why),
+        // the static rule is as sound: the map keeps more ranges, and no lookup is wronged.
+        let cover = self.specialized_sorts(map.pruning()).unwrap_or_else(|e| {
+            log::warn!(
+                "the {:?} rule's sort pipelines: {e}; pruning by the static rule",
+                map.pruning()
+            );
             None
         });
         let [sort, sort_long] = match &cover {

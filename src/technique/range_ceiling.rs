@@ -125,13 +125,25 @@ impl<'a> HostDraw<'a> {
     }
 
     /// Its triangles' world-space corners at t = 0 and t = 1, in draw order; an error names
-    /// the first index beyond the positions, or streams of different lengths.
+    /// the first index beyond the positions, streams of different lengths, or corners that
+    /// are not whole triangles (none is left out unsaid).
     pub fn triangles(&self) -> Result<impl Iterator<Item = ([Vec3; 3], [Vec3; 3])> + '_> {
         let n = self.positions_t0.len();
         if self.positions_t1.len() != n {
             return Err(Error::InvalidArgument(format!(
                 "a host draw's positions: {n} at shutter open, {} at shutter close",
                 self.positions_t1.len()
+            )));
+        }
+        let listed = self.indices.map_or(n, <[u32]>::len);
+        if listed % 3 != 0 {
+            return Err(Error::InvalidArgument(format!(
+                "a host draw lists {listed} corners ({}), not whole triangles",
+                if self.indices.is_some() {
+                    "indices"
+                } else {
+                    "positions"
+                }
             )));
         }
         let count = match self.indices {

@@ -272,6 +272,10 @@ fn bad_host_draws_are_refused_and_the_papers_prisms_not_bounded() {
         error.to_string().contains("3 at shutter open, 2"),
         "{error}"
     );
+    let error = ceiling
+        .draw(&HostDraw::new(&points, &moved, Some(&[0, 1, 2, 0])))
+        .expect_err("a fourth index, no whole triangle");
+    assert!(error.to_string().contains("4 corners (indices)"), "{error}");
     let mut map = TemporalShadowMap::new(&ctx, SIZE.0, SIZE.1, 1, 1).expect("map");
     let paper = LightView {
         prisms: PrismConstruction::Paper,
