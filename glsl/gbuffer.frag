@@ -2,7 +2,7 @@
 // The deferred frame's G-buffer, fragment stage: the surface's world normal (its plane's,
 // from the derivatives of the world position: every point of the 2x2 quad lies on the
 // triangle's plane; turned toward the camera, as the lighting pass shades two-sided), its
-// albedo, its world displacement over the shutter and its triangle's id. Depth goes to the D32 attachment.
+// albedo, its world displacement over the shutter, its triangle's id and its world position. Depth goes to the D32 attachment.
 #include "shared.glsl"
 
 #include "image_push.glsl"
@@ -17,6 +17,7 @@ layout(location = 0) out vec4 out_normal;   // RGBA16F: xyz signed
 layout(location = 1) out vec4 out_albedo;   // RGBA8 unorm
 layout(location = 2) out vec4 out_motion;   // RGBA32F: xyz = p(1) - p(0)
 layout(location = 3) out uint out_id;       // R32_UINT: the triangle's global id
+layout(location = 4) out vec4 out_position; // RGBA32F: xyz = the world position
 
 void main() {
     vec3 n = cross(dFdx(in_world), dFdy(in_world));
@@ -26,4 +27,5 @@ void main() {
     out_albedo = vec4(in_albedo, 1.0);
     out_motion = vec4(in_motion, 0.0);
     out_id = in_id;
+    out_position = vec4(in_world, 1.0);
 }

@@ -6,6 +6,8 @@
 //   uniform sampler2D depth_image;     the host's depth image
 //   uniform sampler2D normal_image;    its normal image (read when pc.flags has
 //                                      MASK_HAS_NORMALS)
+//   uniform sampler2D position_image;  its world-position image (read when pc.flags has
+//                                      MASK_HAS_POSITIONS)
 //   push constants `pc` with members   mat4 inv_view_proj (camera clip -> world, Vulkan
 //                                      NDC), uvec2 size (pixels), float background_depth
 //                                      (the depth image's clear value), uint flags (MASK_*)
@@ -14,7 +16,14 @@
 // (stored as n * 0.5 + 0.5): generated from src/technique/gpu_constants.rs.
 #include "gpu_constants.glsl"
 
+// The world point of `pixel`, whose depth image holds `depth`: the host's position image
+// where it has one, else rebuilt from the depth. Why a position image: a 32-bit float depth
+// of a standard (not reversed) depth buffer carries an error along the view ray of about
+// z^2 / near * 6e-8, which moves a receiver off its own plane; at grazing light its coplanar
+// neighbours then stand in front of it and streak it with shadow (with near 0.1, measured on
+// hard-grazing: RMSE 0.37 against the truth with depth alone, 0.06 with positions).
 vec3 world_at(ivec2 pixel, float depth) {
+    if ((pc.flags & MASK_HAS_POSITIONS) != 0u) return texelFetch(position_image, pixel, 0).xyz;
     vec2 ndc = (vec2(pixel) + 0.5) / vec2(pc.size) * 2.0 - 1.0;
     vec4 p = pc.inv_view_proj * vec4(ndc, depth, 1.0);
     return p.xyz / p.w;

@@ -28,6 +28,8 @@ layout(set = 0, binding = 3, r32f) uniform image2D mask;
 layout(set = 0, binding = 4) uniform sampler2DArray maps;
 // SECOND_LOOKUP: the static draws' map (z/w), drawn once and kept.
 layout(set = 0, binding = 5) uniform sampler2D static_map;
+// xyz: the point's world position at pc.time (read with MASK_HAS_POSITIONS).
+layout(set = 0, binding = 6) uniform sampler2D position_image;
 
 layout(constant_id = 0) const bool MOVING = false;
 layout(constant_id = 1) const bool SECOND_LOOKUP = false;

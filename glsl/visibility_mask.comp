@@ -19,6 +19,8 @@ layout(set = 0, binding = 2) writeonly uniform image2D mask;
 layout(set = 0, binding = 3) uniform sampler2D motion_image;
 // The triangle each pixel shows (read with MASK_HAS_IDS): never shadows its own pixels.
 layout(set = 0, binding = 4) uniform usampler2D id_image;
+// xyz: the point's world position at pc.time (read with MASK_HAS_POSITIONS).
+layout(set = 0, binding = 5) uniform sampler2D position_image;
 
 layout(constant_id = 0) const bool MOVING = false;
 
@@ -50,8 +52,17 @@ void main() {
     uint own =
         (pc.flags & MASK_HAS_IDS) != 0u ? texelFetch(id_image, pixel, 0).r : MS_NO_TRIANGLE;
     float lit;
-    if (MOVING) {
-        vec3 motion = texelFetch(motion_image, pixel, 0).xyz;
+    vec3 motion = MOVING ? texelFetch(motion_image, pixel, 0).xyz : vec3(0.0);
+    if (MOVING && motion == vec3(0.0) && (pc.flags & MASK_STILL_PIXELS_PLANE) != 0u) {
+        // A point that stands still keeps its plane all frame: the standing receiver's test
+        // (its plane's depth at the texel centre, no offset), which the offset meant for
+        // moving receivers (whose surface may turn away from the G-buffer's plane) would
+        // cost contact shadows and detail.
+        MsMap standing = ms_load(map);
+        standing.light.bias.x = 0.0;
+        standing.light.bias.w = 1.0;
+        lit = ms_lit_fraction(standing, p, n, own);
+    } else if (MOVING) {
         vec3 p0 = p - pc.time * motion;
         lit = ms_lit_fraction_moving(map, p0, p0 + motion, n, own);
     } else {

@@ -1281,6 +1281,8 @@ impl Recorder<'_> {
                 }),
                 time: 1.0,
                 ids: None,
+                positions: None,
+                plane_test_where_still: false,
             };
             // SAFETY: recording outside rendering; the bindings are this slot's and this
             // light's (used once in this command buffer, not by the other slot's frame); the

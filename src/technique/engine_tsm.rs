@@ -331,6 +331,7 @@ impl EngineTsmPass {
                 vk::DescriptorType::STORAGE_IMAGE,
                 sampled,
                 sampled,
+                sampled,
             ],
         )?;
         let masks = [[0, 0], [1, 0], [0, 1], [1, 1]]
@@ -489,6 +490,7 @@ impl EngineTsmPass {
                 (inputs.output, vk::ImageLayout::GENERAL),
                 (map.working_array, read_only),
                 static_map,
+                inputs.positions.map_or(depth, |p| (p.view, p.layout)),
             ])
         };
         let normal_flags = match inputs.normals {
@@ -498,7 +500,7 @@ impl EngineTsmPass {
             }) => HAS_NORMALS | NORMALS_UNORM,
             Some(_) => HAS_NORMALS,
             None => 0,
-        };
+        } | super::mask::mask_position_flag(inputs);
         let variant = usize::from(inputs.motion.is_some()) + 2 * usize::from(second_lookup);
         let mask = &self.masks[variant];
         let working = map.working.raw();

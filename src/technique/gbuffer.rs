@@ -1,6 +1,6 @@
 //! The deferred frame's G-buffer: the draws of a [`DrawList`] at one shutter time, seen from a
 //! camera, into a depth image and three float images (world normal, albedo, world motion over
-//! the shutter): what an engine's G-buffer holds, for the app's deferred frame and for hosts
+//! the shutter, world position): what an engine's G-buffer holds, for the app's deferred frame and for hosts
 //! that want a reference. The [`VisibilityMaskPass`](super::VisibilityMaskPass) reads it
 //! through [`GBuffer::mask_inputs`].
 //!
@@ -9,7 +9,9 @@
 //! triangle whose corners move linearly moves linearly.
 
 use super::draws::DrawList;
-use super::mask::{MaskInputs, MotionImage, NormalEncoding, NormalImage, TriangleIdImage};
+use super::mask::{
+    MaskInputs, MotionImage, NormalEncoding, NormalImage, PositionImage, TriangleIdImage,
+};
 use super::push_constants::{GBufferPush, PushBlock};
 use super::shaders;
 use crate::error::{Error, Result};
@@ -68,6 +70,9 @@ pub struct GBuffer {
     colors: [Image; 3],
     /// The triangle ids (not read back).
     ids: Image,
+    /// World positions at the time drawn (not read back): the mask's receivers, without the
+    /// error of rebuilding them from the depth.
+    positions: Image,
     readback: Buffer,
 }
 
@@ -109,6 +114,7 @@ impl GBuffer {
             GBUFFER_ID_FORMAT,
             usage | vk::ImageUsageFlags::COLOR_ATTACHMENT,
         )?;
+        let positions = color("G-buffer positions")?;
         let pixels = width as u64 * height as u64;
         let readback = Buffer::new(
             ctx,
@@ -122,6 +128,7 @@ impl GBuffer {
             depth,
             colors,
             ids,
+            positions,
             readback,
         })
     }
@@ -162,6 +169,12 @@ impl GBuffer {
                 view: self.ids.layer_view(0),
                 layout: COLOR_READ_LAYOUT,
             }),
+            positions: Some(PositionImage {
+                view: self.positions.layer_view(0),
+                layout: COLOR_READ_LAYOUT,
+            }),
+            // The caller's choice (MaskInputs::with_plane_test_where_still).
+            plane_test_where_still: false,
         }
     }
 
@@ -271,6 +284,7 @@ impl GBufferPass {
                     GBUFFER_COLOR_FORMAT,
                     GBUFFER_COLOR_FORMAT,
                     GBUFFER_ID_FORMAT,
+                    GBUFFER_COLOR_FORMAT,
                 ],
             },
         )?;
@@ -313,8 +327,8 @@ impl GBufferPass {
                 )
             }
         };
-        let ids = std::iter::once((&target.ids, COLOR_READ_LAYOUT));
-        let with_ids = || target.images().chain(ids.clone());
+        let unread = [&target.ids, &target.positions].map(|image| (image, COLOR_READ_LAYOUT));
+        let with_ids = || target.images().chain(unread);
         for (image, _) in with_ids() {
             let (layout, access) = attachment(image);
             let range = image.layers_range(0, 1);
@@ -327,6 +341,7 @@ impl GBufferPass {
             (albedo, 0),
             (motion, 0),
             (target.ids.layer_view(0), u32::MAX),
+            (target.positions.layer_view(0), 0),
         ];
         let depth = Some((target.depth.layer_view(0), 1.0));
         unsafe { begin_rendering_colors(device, cmd, target.width, target.height, depth, &colors) };

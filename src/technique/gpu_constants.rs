@@ -73,6 +73,11 @@ pub const MASK_HAS_NORMALS: u32 = 1;
 pub const MASK_NORMALS_UNORM: u32 = 2;
 /// Visibility mask's flag: read the host's triangle-id image.
 pub const MASK_HAS_IDS: u32 = 4;
+/// Mask passes' flag: read the host's position image (else rebuild positions from depth).
+pub const MASK_HAS_POSITIONS: u32 = 8;
+/// Visibility mask's flag, moving receivers: a pixel whose motion is zero is tested as a
+/// standing receiver is (the receiver-plane test, no normal offset).
+pub const MASK_STILL_PIXELS_PLANE: u32 = 0x40;
 /// Engine TSM mask's flag: the first batch (write the count, do not add).
 pub const TSM_FIRST_BATCH: u32 = 0x10;
 /// Engine TSM mask's flag: the last batch (turn the count into the lit fraction).
@@ -105,6 +110,8 @@ pub const GLSL_UINTS: &[(&str, u32)] = &[
     ("MASK_HAS_NORMALS", MASK_HAS_NORMALS),
     ("MASK_NORMALS_UNORM", MASK_NORMALS_UNORM),
     ("MASK_HAS_IDS", MASK_HAS_IDS),
+    ("MASK_HAS_POSITIONS", MASK_HAS_POSITIONS),
+    ("MASK_STILL_PIXELS_PLANE", MASK_STILL_PIXELS_PLANE),
     ("TSM_FIRST_BATCH", TSM_FIRST_BATCH),
     ("TSM_LAST_BATCH", TSM_LAST_BATCH),
 ];

@@ -93,6 +93,21 @@ pub struct MotionImage {
     pub layout: vk::ImageLayout,
 }
 
+/// The host's world-position image: where each G-buffer point is at the mask's time, in
+/// full float. Optional, and the precise choice: a receiver rebuilt from a standard 32-bit
+/// float depth buffer is off its own surface by about `z^2 / near * 6e-8` along the view
+/// ray, enough, at grazing light, for its coplanar neighbours to shadow it (acne), whatever
+/// the receiver test. Reversed Z shrinks that error; a position image removes it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PositionImage {
+    /// A view of a sampled float image (R32G32B32A32_SFLOAT: half floats are too coarse
+    /// for the same reason), the size of the depth image: rgb = the world position (a =
+    /// unused).
+    pub view: vk::ImageView,
+    /// Its layout while the pass runs (e.g. `SHADER_READ_ONLY_OPTIMAL`).
+    pub layout: vk::ImageLayout,
+}
+
 /// The host's triangle-id image: which triangle each pixel shows, so that a receiver's own
 /// triangle never shadows it (what the receiver-plane test, `LightView::receiver_plane`,
 /// relies on; without ids, use the normal offset instead).
@@ -166,13 +181,23 @@ pub struct MaskInputs {
     pub time: f32,
     /// The host's triangle-id image, or `None`: no receiver is known to lie on a triangle.
     pub ids: Option<TriangleIdImage>,
+    /// The host's world-position image, or `None`: positions rebuilt from the depth.
+    pub positions: Option<PositionImage>,
+    /// With `motion`: whether a pixel whose motion is exactly zero is tested as a standing
+    /// receiver is, at its plane's depth at the texel centre without the normal offset (the
+    /// receiver-plane test), instead of as the map's light says. Why: the light's normal
+    /// offset suits receivers that move (a surface that turns during the shutter leaves
+    /// its G-buffer plane) but costs still ones their contact shadows. Wants `ids` (the
+    /// plane test relies on the own-triangle skip). Visibility mask only.
+    pub plane_test_where_still: bool,
 }
 
 impl MaskInputs {
     /// The inputs every dispatch needs (see the fields), with the optional ones at their
     /// defaults: no normal image (normals rebuilt from the depth neighbours),
     /// `background_depth` 1 (a standard depth buffer; [`Self::with_background_depth`] for
-    /// reversed Z), no motion (every receiver stands still; `time` 1), no triangle ids.
+    /// reversed Z), no motion (every receiver stands still; `time` 1), no triangle ids, no
+    /// position image, the map light's receiver test for every moving-mask pixel.
     pub fn new(
         depth: vk::ImageView,
         depth_layout: vk::ImageLayout,
@@ -191,6 +216,8 @@ impl MaskInputs {
             motion: None,
             time: 1.0,
             ids: None,
+            positions: None,
+            plane_test_where_still: false,
         }
     }
 
@@ -228,11 +255,38 @@ impl MaskInputs {
             ..self
         }
     }
+
+    /// With the host's world-position image ([`Self::positions`]).
+    pub fn with_positions(self, positions: PositionImage) -> Self {
+        Self {
+            positions: Some(positions),
+            ..self
+        }
+    }
+
+    /// With still pixels of a moving mask given the receiver-plane test
+    /// ([`Self::plane_test_where_still`]).
+    pub fn with_plane_test_where_still(self) -> Self {
+        Self {
+            plane_test_where_still: true,
+            ..self
+        }
+    }
 }
 
 use super::gpu_constants::{
-    MASK_HAS_IDS as HAS_IDS, MASK_HAS_NORMALS as HAS_NORMALS, MASK_NORMALS_UNORM as NORMALS_UNORM,
+    MASK_HAS_IDS as HAS_IDS, MASK_HAS_NORMALS as HAS_NORMALS, MASK_HAS_POSITIONS as HAS_POSITIONS,
+    MASK_NORMALS_UNORM as NORMALS_UNORM, MASK_STILL_PIXELS_PLANE as STILL_PIXELS_PLANE,
 };
+
+/// `MASK_HAS_POSITIONS` where the host gives a position image (both mask passes).
+pub(super) fn mask_position_flag(inputs: &MaskInputs) -> u32 {
+    if inputs.positions.is_some() {
+        HAS_POSITIONS
+    } else {
+        0
+    }
+}
 
 /// The visibility-mask pass. Immutable after creation.
 ///
@@ -259,6 +313,7 @@ impl VisibilityMaskPass {
                 sampled,
                 sampled,
                 vk::DescriptorType::STORAGE_IMAGE,
+                sampled,
                 sampled,
                 sampled,
             ],
@@ -334,12 +389,13 @@ impl VisibilityMaskPass {
             .map_or((bindings.no_ids.layer_view(0), read_only), |i| {
                 (i.view, i.layout)
             });
+        let positions = inputs.positions.map_or(depth, |p| (p.view, p.layout));
         let output = (inputs.output, vk::ImageLayout::GENERAL);
         // SAFETY: the caller's contract (the set is not in use; the views are valid).
         unsafe {
             bindings
                 .images
-                .write(&[depth, normals, output, motion, ids])
+                .write(&[depth, normals, output, motion, ids, positions])
         };
         let flags = match inputs.normals {
             Some(NormalImage {
@@ -348,7 +404,13 @@ impl VisibilityMaskPass {
             }) => HAS_NORMALS | NORMALS_UNORM,
             Some(_) => HAS_NORMALS,
             None => 0,
-        } | if inputs.ids.is_some() { HAS_IDS } else { 0 };
+        } | if inputs.ids.is_some() { HAS_IDS } else { 0 }
+            | mask_position_flag(inputs)
+            | if inputs.plane_test_where_still {
+                STILL_PIXELS_PLANE
+            } else {
+                0
+            };
         let constants = MaskPush {
             inv_view_proj: inputs.inv_view_proj,
             map: map.header_address(),
@@ -417,6 +479,8 @@ mod tests {
                 motion: None,
                 time: 1.0,
                 ids: None,
+                positions: None,
+                plane_test_where_still: false,
             }
         );
         let normals = NormalImage {
@@ -432,11 +496,17 @@ mod tests {
             view: view(5),
             layout: read,
         };
+        let positions = PositionImage {
+            view: view(6),
+            layout: read,
+        };
         let full = base
             .with_normals(normals)
             .with_background_depth(0.0)
             .with_motion(motion, 0.25)
-            .with_ids(ids);
+            .with_ids(ids)
+            .with_positions(positions)
+            .with_plane_test_where_still();
         assert_eq!(
             full,
             MaskInputs {
@@ -445,6 +515,8 @@ mod tests {
                 motion: Some(motion),
                 time: 0.25,
                 ids: Some(ids),
+                positions: Some(positions),
+                plane_test_where_still: true,
                 ..base
             }
         );

@@ -75,8 +75,8 @@ pub use image_output::LightingImageOutput;
 #[cfg(feature = "research")]
 pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, Samples, ShadowSource};
 pub use mask::{
-    MaskBindings, MaskInputs, MotionImage, NormalEncoding, NormalImage, TriangleIdImage,
-    VisibilityMaskPass,
+    MaskBindings, MaskInputs, MotionImage, NormalEncoding, NormalImage, PositionImage,
+    TriangleIdImage, VisibilityMaskPass,
 };
 #[cfg(feature = "research")]
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
