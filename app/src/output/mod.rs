@@ -7,6 +7,7 @@ mod partials;
 mod png;
 mod staged;
 mod target;
+mod test_abort;
 
 use std::path::{Path, PathBuf};
 

@@ -19,6 +19,7 @@ use super::OutputError;
 use super::dir_lock::DirLock;
 use super::partials::{remove_stale, temp_name};
 use super::target::check_replaceable;
+use super::test_abort::abort_if_asked;
 
 /// The files of one run, staged in one directory.
 pub struct StagedFiles {
@@ -108,8 +109,12 @@ impl StagedFiles {
         for (_, target) in &self.entries {
             check_replaceable(target)?;
         }
-        for (temp, target) in &self.entries {
+        abort_if_asked("before-commit");
+        for (i, (temp, target)) in self.entries.iter().enumerate() {
             std::fs::rename(temp, target).map_err(|e| OutputError::io(target, e))?;
+            if i == 0 {
+                abort_if_asked("between-renames");
+            }
         }
         // The renames themselves reach the disk with the directory (best effort: not every
         // platform can open a directory).
