@@ -5,6 +5,7 @@ mod dir_lock;
 mod exr;
 mod partials;
 mod png;
+mod run_record;
 mod staged;
 mod target;
 mod test_abort;

@@ -368,3 +368,29 @@ pub fn run_preset(
     }
     Ok(bench.report)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The declared files are what `bench` checks before it runs: each must be a plain name
+    /// under its preset's prefix, and no two presets (or the summary) may share one, or one
+    /// preset's run would overwrite another's results.
+    #[test]
+    fn every_presets_files_are_plain_distinct_and_carry_its_name() {
+        let mut all = vec!["bench-summary.json".to_owned()];
+        for &preset in PRESETS {
+            let files = preset.outputs();
+            assert!(files.contains(&format!("{}-{RESULTS}", preset.name())));
+            for file in files {
+                assert!(file.starts_with(&format!("{}-", preset.name())), "{file}");
+                assert!(
+                    !file.contains('/') && (file.ends_with(".csv") || file.ends_with(".png")),
+                    "{file}"
+                );
+                assert!(!all.contains(&file), "{file} declared twice");
+                all.push(file);
+            }
+        }
+    }
+}
