@@ -42,9 +42,20 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             })
             .collect::<anyhow::Result<_>>()?
     };
-    // The output directory is checked before the device is made and hours are spent: it is
-    // created, and a file can be made in it (the staging proves both, naming the path).
-    StagedFiles::prepare(&args.out, &[SUMMARY_FILE.to_owned()])
+    // The output directory and every file the presets will write are checked before the
+    // device is made and hours are spent: the directory is created, a file can be made in
+    // it, and no target is something an output may not replace (a directory, a link, ...;
+    // the staging checks all three, naming the path). The presets declare their files in
+    // the list their writers use, so none is missed.
+    let mut names = vec![SUMMARY_FILE.to_owned()];
+    for preset in &presets {
+        for name in preset.outputs() {
+            if !names.contains(&name) {
+                names.push(name);
+            }
+        }
+    }
+    StagedFiles::prepare(&args.out, &names)
         .with_context(|| format!("preparing the output directory {}", args.out.display()))?;
     let start = Instant::now();
     let (bar, mut report) = progress_reporter();

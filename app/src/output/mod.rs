@@ -5,8 +5,10 @@ mod dir_lock;
 mod exr;
 mod partials;
 mod png;
+mod run_record;
 mod staged;
 mod target;
+mod test_abort;
 
 use std::path::{Path, PathBuf};
 

@@ -6,25 +6,45 @@
 //! rendered: the directory is created, each temporary file is created in it (proving it is
 //! writable), and a target that exists and is not a regular file (a directory, a device, a
 //! FIFO, a socket, a symbolic link) is an error (`target.rs`). The renames happen under a
-//! lock of the directory (`dir_lock.rs`), so two runs' sets never mix. Temporary files are named
-//! `.<target name>.partial-<owner>` (`partials.rs`); they are removed when the run fails, and
-//! the next run into the same directory removes, under the lock and naming each, those that
-//! a run killed before its commit left (on Linux, where it can tell that their process is
-//! gone): a crash leaves nothing there once the directory is used again.
+//! lock of the directory (`dir_lock.rs`), so two runs' sets never mix. Temporary files are
+//! named `.<target name>.motion-shadows.partial-<owner>` (`partials.rs`) and listed in the
+//! run's record (`run_record.rs`) before the first is made; they are removed when the run
+//! fails. The next run into the same directory finishes, under the lock and naming each
+//! file, what a run killed before or during its commit left (on Linux, where it can tell
+//! that their process is gone): it removes the files of a run killed before its commit, and
+//! renames into place the rest of a set whose commit was killed among its renames, so a
+//! crash leaves neither stray files nor a mixed EXR/PNG pair once the directory is used
+//! again. Files it did not list (a user's `.notes.partial-1`) are never touched.
 
 use std::fs::File;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 use super::OutputError;
 use super::dir_lock::DirLock;
-use super::partials::{remove_stale, temp_name};
+use super::partials::{is_plain_name, temp_name};
+use super::run_record::{RunRecord, recover, sync_dir};
 use super::target::check_replaceable;
+use super::test_abort::abort_if_asked;
 
 /// The files of one run, staged in one directory.
 pub struct StagedFiles {
     entries: Vec<(PathBuf, PathBuf)>,
+    names: Vec<String>,
     dir: PathBuf,
-    committed: bool,
+    /// Written when the first temporary file is asked for, so that a run killed while it
+    /// renders leaves nothing; a mutex, not a cell, so the set can be shared by threads.
+    record: Mutex<Option<RunRecord>>,
+    state: State,
+}
+
+#[derive(PartialEq)]
+enum State {
+    Staging,
+    Committed,
+    /// A rename failed mid-commit: the temporary files and the commit's record stay, so the
+    /// next run into the directory completes the set (`run_record.rs`).
+    LeftToComplete,
 }
 
 impl StagedFiles {
@@ -43,15 +63,14 @@ impl StagedFiles {
         }
         let mut staged = Self {
             entries: Vec::with_capacity(names.len()),
+            names: names.to_vec(),
             dir: dir.to_path_buf(),
-            committed: false,
+            record: Mutex::new(None),
+            state: State::Staging,
         };
         // Every target is checked before any temporary file is made.
         for name in names {
-            let plain = Path::new(name)
-                .file_name()
-                .is_some_and(|n| n == name.as_str());
-            if !plain || name.starts_with('.') {
+            if !is_plain_name(name) {
                 return Err(OutputError::io(
                     &dir.join(name),
                     std::io::Error::other("output names must be plain file names"),
@@ -60,6 +79,10 @@ impl StagedFiles {
             check_replaceable(&dir.join(name))?;
         }
         sweep(dir)?;
+        // Recorded while the files are tried, so that even a kill now leaves nothing that
+        // the next run cannot tell for this program's.
+        *staged.record.get_mut().unwrap_or_else(|e| e.into_inner()) =
+            Some(RunRecord::write(dir, names)?);
         for name in names {
             let target = dir.join(name);
             let temp = dir.join(temp_name(name));
@@ -71,13 +94,24 @@ impl StagedFiles {
             File::create(&temp).map_err(|e| OutputError::io(&temp, e))?;
             std::fs::remove_file(&temp).map_err(|e| OutputError::io(&temp, e))?;
         }
+        if let Some(record) = staged
+            .record
+            .get_mut()
+            .unwrap_or_else(|e| e.into_inner())
+            .take()
+        {
+            record.remove()?;
+        }
         Ok(staged)
     }
 
-    /// Where to write the file that will become `dir/name` (one of the prepared names).
+    /// Where to write the file that will become `dir/name` (one of the prepared names). The
+    /// first call records the run's temporary files in the directory (`run_record.rs`):
+    /// only what a record lists is ever removed or completed by a later run.
     pub fn temp_path(&self, name: &str) -> Result<&Path, OutputError> {
         let target = self.dir.join(name);
-        self.entries
+        let temp = self
+            .entries
             .iter()
             .find(|(_, t)| *t == target)
             .map(|(temp, _)| temp.as_path())
@@ -86,7 +120,12 @@ impl StagedFiles {
                     &target,
                     std::io::Error::other("not one of the run's prepared output files"),
                 )
-            })
+            })?;
+        let mut record = self.record.lock().unwrap_or_else(|e| e.into_inner());
+        if record.is_none() {
+            *record = Some(RunRecord::write(&self.dir, &self.names)?);
+        }
+        Ok(temp)
     }
 
     /// The final paths, in the order they were prepared.
@@ -95,9 +134,11 @@ impl StagedFiles {
     }
 
     /// Flushes every temporary file to disk, then, holding the directory's lock, checks
-    /// the targets again (something may have appeared there while the run rendered) and
-    /// renames each over its target. Returns the targets. Until this is called nothing in
-    /// the directory but the temporary files changed.
+    /// the targets again (something may have appeared there while the run rendered), marks
+    /// the set complete in its record and renames each file over its target. Returns the
+    /// targets. Until this is called nothing in the directory but the temporary files and
+    /// the record changed; a run killed among the renames has its set completed by the next
+    /// run into the directory.
     pub fn commit(mut self) -> Result<Vec<PathBuf>, OutputError> {
         for (temp, _) in &self.entries {
             File::open(temp)
@@ -108,39 +149,65 @@ impl StagedFiles {
         for (_, target) in &self.entries {
             check_replaceable(target)?;
         }
-        for (temp, target) in &self.entries {
-            std::fs::rename(temp, target).map_err(|e| OutputError::io(target, e))?;
+        abort_if_asked("before-commit");
+        let record = self.record.get_mut().unwrap_or_else(|e| e.into_inner());
+        if let Some(record) = record.as_mut() {
+            record.begin_commit()?;
         }
-        // The renames themselves reach the disk with the directory (best effort: not every
-        // platform can open a directory).
-        if let Ok(d) = File::open(&self.dir) {
-            let _ = d.sync_all();
+        for (i, (temp, target)) in self.entries.iter().enumerate() {
+            if let Err(e) = std::fs::rename(temp, target) {
+                self.state = State::LeftToComplete;
+                let why = format!(
+                    "{e}; the files of this run that are not in place yet stay, and the next \
+                     run into {} renames them into place",
+                    self.dir.display()
+                );
+                return Err(OutputError::io(target, std::io::Error::new(e.kind(), why)));
+            }
+            if i == 0 {
+                abort_if_asked("between-renames");
+            }
         }
-        self.committed = true;
+        // The renames themselves reach the disk with the directory.
+        sync_dir(&self.dir);
+        self.state = State::Committed;
+        if let Some(record) = self
+            .record
+            .get_mut()
+            .unwrap_or_else(|e| e.into_inner())
+            .take()
+        {
+            record.remove()?;
+        }
         Ok(self.entries.iter().map(|(_, t)| t.clone()).collect())
     }
 }
 
 impl Drop for StagedFiles {
     fn drop(&mut self) {
-        if !self.committed {
-            for (temp, _) in &self.entries {
-                let _ = std::fs::remove_file(temp);
-            }
+        if self.state != State::Staging {
+            return;
+        }
+        for (temp, _) in &self.entries {
+            let _ = std::fs::remove_file(temp);
+        }
+        if let Some(record) = self
+            .record
+            .get_mut()
+            .unwrap_or_else(|e| e.into_inner())
+            .take()
+        {
+            let _ = record.remove();
         }
     }
 }
 
-/// Removes, under the directory's lock, the temporary files that runs killed before their
-/// commit left in `dir`, and says which on stderr.
+/// Finishes, under the directory's lock, what runs killed in `dir` left (their temporary
+/// files removed, or a commit killed among its renames completed), and says what on stderr.
 fn sweep(dir: &Path) -> Result<(), OutputError> {
     let _lock = DirLock::acquire(dir)?;
-    for path in remove_stale(dir) {
-        eprintln!(
-            "note: removed {}, a temporary file left by a run that was killed before it \
-             committed its outputs",
-            path.display()
-        );
+    for note in recover(dir)? {
+        eprintln!("note: {note}");
     }
     Ok(())
 }

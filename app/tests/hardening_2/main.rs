@@ -7,10 +7,13 @@
 //! of taking the machine down.
 
 mod animate;
+mod bench_outputs;
+mod commit_recovery;
 mod gltf_keys;
 mod memory;
 mod messages;
 mod outputs;
+mod partial_sweep;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
@@ -50,6 +53,11 @@ impl Run {
 
 /// The binary with `args` under the memory limit, stdout and stderr piped.
 pub fn spawn(args: &[&str]) -> Child {
+    spawn_env(args, &[])
+}
+
+/// [`spawn`], with the environment variables `env` set too.
+pub fn spawn_env(args: &[&str], env: &[(&str, &str)]) -> Child {
     Command::new("sh")
         .arg("-c")
         .arg(format!(
@@ -58,6 +66,7 @@ pub fn spawn(args: &[&str]) -> Child {
         .arg(env!("CARGO_BIN_EXE_motion-shadows"))
         .args(args)
         .env("MOTION_SHADOWS_VALIDATION", "1")
+        .envs(env.iter().copied())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -67,8 +76,13 @@ pub fn spawn(args: &[&str]) -> Child {
 /// Runs the binary with `args`, killed after 300 s (a hang guard: a run that needs it has
 /// failed anyway).
 pub fn run(args: &[&str]) -> Run {
+    run_env(args, &[])
+}
+
+/// [`run`], with the environment variables `env` set too.
+pub fn run_env(args: &[&str], env: &[(&str, &str)]) -> Run {
     let limit = Duration::from_secs(300);
-    let mut child = spawn(args);
+    let mut child = spawn_env(args, env);
     let start = Instant::now();
     // Drained while it runs, so a chatty run cannot fill the pipe and stall.
     let stdout = drain(child.stdout.take().unwrap());

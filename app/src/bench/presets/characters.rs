@@ -2,11 +2,18 @@
 //! to the papers' character sizes (2018 Fig. 10: 265k triangles; 2017 Figs. 5-6: 70k and
 //! 268k): temporal vs TSM, per-pass time and memory.
 
-use super::{Bench, MIB, bench_error, builtin_scene, chart, ratio, series};
+use super::{Bench, MIB, RESULTS, bench_error, builtin_scene, chart, ratio, series};
 use crate::chart::{LineChart, Table, fmt_num};
 use crate::error::Result;
 use crate::render::Method;
 use crate::scene::BuiltinOptions;
+
+const SHADOW_PASS_CHART: &str = "shadow-pass.png";
+
+/// The files it writes (see `Preset::outputs`).
+pub(super) fn outputs() -> Vec<String> {
+    [RESULTS, SHADOW_PASS_CHART].map(String::from).to_vec()
+}
 
 pub(super) fn characters(b: &mut Bench) -> Result<()> {
     // Levels of midpoint subdivision: 4,672 x 4^n character triangles (2: ~75k, 3: ~300k).
@@ -59,9 +66,9 @@ pub(super) fn characters(b: &mut Bench) -> Result<()> {
             ));
         }
     }
-    b.write_table("results", &table)?;
+    b.write_table(RESULTS, &table)?;
     b.write_chart(
-        "shadow-pass",
+        SHADOW_PASS_CHART,
         &LineChart {
             log_x: true,
             log_y: true,

@@ -2,12 +2,27 @@
 //! number of random cubes or their speed; and against the cubes' size, which the paper does
 //! not give and on which the coverage map's saving depends most.
 
-use super::{Bench, MIB, bench_error, builtin_scene, chart, ratio, series, target};
+use super::{
+    Bench, MIB, RESULTS, TIME_CHART, bench_error, builtin_scene, chart, ratio, series, target,
+};
 use crate::bench::measure::Measurement;
 use crate::chart::{Table, fmt_num};
 use crate::error::Result;
 use crate::render::Method;
 use crate::scene::BuiltinOptions;
+
+const MEMORY_CHART: &str = "memory.png";
+/// Drawn by the cube-size sweep only.
+const REDUCTION_CHART: &str = "reduction.png";
+
+/// The files the preset of `sweep` writes (see `Preset::outputs`).
+pub(super) fn outputs(sweep: Sweep) -> Vec<String> {
+    let mut files = vec![RESULTS, MEMORY_CHART, TIME_CHART];
+    if sweep == Sweep::Size {
+        files.push(REDUCTION_CHART);
+    }
+    files.into_iter().map(String::from).collect()
+}
 
 /// What a random-cubes preset varies.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -160,7 +175,7 @@ pub(super) fn random_cubes(b: &mut Bench, sweep: Sweep) -> Result<()> {
             points.push((*x, t, c));
         }
     }
-    b.write_table("results", &table)?;
+    b.write_table(RESULTS, &table)?;
     // Cube sizes double from one configuration to the next.
     let chart = |title: &str, x: &str, y: &str, series| crate::chart::LineChart {
         log_x: sweep == Sweep::Size,
@@ -170,7 +185,7 @@ pub(super) fn random_cubes(b: &mut Bench, sweep: Sweep) -> Result<()> {
         points.iter().map(|(x, t, c)| (*x, f(t, c))).collect()
     };
     b.write_chart(
-        "memory",
+        MEMORY_CHART,
         &chart(
             "Memory, eq. (2), with and without the coverage map (CM)",
             x_name,
@@ -190,7 +205,7 @@ pub(super) fn random_cubes(b: &mut Bench, sweep: Sweep) -> Result<()> {
         ),
     )?;
     b.write_chart(
-        "time",
+        TIME_CHART,
         &chart(
             "GPU time per frame, with and without the coverage map (CM)",
             x_name,
@@ -206,7 +221,7 @@ pub(super) fn random_cubes(b: &mut Bench, sweep: Sweep) -> Result<()> {
     let time = |t: &Measurement, c: &Measurement| c.frame_ms() / t.frame_ms();
     if sweep == Sweep::Size {
         b.write_chart(
-            "reduction",
+            REDUCTION_CHART,
             &chart(
                 "Ranges stored without / with the coverage map",
                 x_name,

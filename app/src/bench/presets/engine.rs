@@ -13,7 +13,7 @@
 //! the error in time alone: each mask against the converged TSM (the most maps measured),
 //! which shares the maps' spatial error, and the time-only equal-quality ratio from it.
 
-use super::{Bench, bench_error, builtin_scene, chart, ratio, series, target};
+use super::{Bench, RESULTS, bench_error, builtin_scene, chart, ratio, series, target};
 use crate::chart::{LineChart, Table, fmt_num};
 use crate::compare::{MaskError, Rgb8Image, mask_error, side_by_side};
 use crate::error::Result;
@@ -35,6 +35,25 @@ const MASK_RMSE_TARGET: f64 = 0.005;
 const EQUAL_RMSE_SLACK: f64 = 1e-4;
 /// The TSM whose ghosts the picture shows.
 const GHOSTING_MAPS: u32 = 8;
+
+/// The files it writes (see `Preset::outputs`): the table, and per scene its chart and
+/// the ghosting picture.
+pub(super) fn outputs() -> Vec<String> {
+    let per_scene = SCENES
+        .iter()
+        .flat_map(|(name, _)| [rmse_chart(name), ghosting_picture(name)]);
+    std::iter::once(RESULTS.to_owned())
+        .chain(per_scene)
+        .collect()
+}
+
+fn rmse_chart(scene: &str) -> String {
+    format!("{scene}-rmse-time.png")
+}
+
+fn ghosting_picture(scene: &str) -> String {
+    format!("{scene}-ghosting.png")
+}
 
 pub(super) fn engine(b: &mut Bench) -> Result<()> {
     let ((width, height), map, max_maps) = b
@@ -210,7 +229,7 @@ pub(super) fn engine(b: &mut Bench) -> Result<()> {
             write_ghosting(b, name, &truth, &tsm8, &temporal)?;
         }
     }
-    b.write_table("results", &table)?;
+    b.write_table(RESULTS, &table)?;
     for (name, temporal_ms, temporal_error, tsm) in lines {
         let points = tsm
             .iter()
@@ -229,7 +248,7 @@ pub(super) fn engine(b: &mut Bench) -> Result<()> {
             ],
         );
         b.write_chart(
-            &format!("{name}-rmse-time"),
+            &rmse_chart(name),
             &LineChart {
                 log_x: true,
                 log_y: true,
@@ -330,11 +349,10 @@ fn write_ghosting(
     ];
     let refs: Vec<(&str, &Rgb8Image)> = panels.iter().map(|(l, i)| (l.as_str(), i)).collect();
     let picture = side_by_side(&refs, [32, 32, 32]);
-    let path = b
-        .scale
-        .out
-        .join(format!("{}-{name}-ghosting.png", b.report.preset));
-    super::write_picture(&path, picture.width, picture.height, &picture.data)?;
-    b.report.files.push(path);
-    Ok(())
+    b.write_picture(
+        &ghosting_picture(name),
+        picture.width,
+        picture.height,
+        &picture.data,
+    )
 }

@@ -1,6 +1,6 @@
 //! The time each method needs to get within a given RMSE of a high-slice reference.
 
-use super::{Bench, bench_error, builtin_scene, chart, ratio, series, target};
+use super::{Bench, RESULTS, bench_error, builtin_scene, chart, ratio, series, target};
 use crate::chart::{LineChart, Table, fmt_num};
 use crate::compare::rmse;
 use crate::error::Result;
@@ -13,6 +13,18 @@ use motion_shadows::technique::ShadowFilter;
 /// (GPU ms, RMSE, samples per pixel or slices) of each configuration of one method.
 type Curve = Vec<(f64, f64, u32)>;
 
+const RMSE_CHART: &str = "rmse-vs-time.png";
+/// The prefix of the ground view's files, before the shared names.
+const GROUND: &str = "ground-";
+
+/// The files it writes (see `Preset::outputs`): one table and chart per view.
+pub(super) fn outputs() -> Vec<String> {
+    ["", GROUND]
+        .into_iter()
+        .flat_map(|view| [RESULTS, RMSE_CHART].map(|file| format!("{view}{file}")))
+        .collect()
+}
+
 pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
     let scene = builtin_scene("cubes-toward-light", &BuiltinOptions::default())?;
     sweep(b, &scene, "", "")?;
@@ -22,11 +34,11 @@ pub(super) fn equal_quality(b: &mut Bench) -> Result<()> {
     ground.name = "cubes-ground-view".into();
     ground.camera.position = Vec3::new(-1.0, 2.0, 2.0);
     ground.camera.target = Vec3::new(-3.0, 0.0, -0.25);
-    sweep(b, &ground, "ground view: ", "ground-")
+    sweep(b, &ground, "ground view: ", GROUND)
 }
 
 /// The sweep on one scene; `label` prefixes its ratios and notes, `files` its files' names
-/// (`{files}results`, `{files}rmse-vs-time`).
+/// (`{files}results.csv`, `{files}rmse-vs-time.png`).
 fn sweep(b: &mut Bench, scene: &Scene, label: &str, files: &str) -> Result<()> {
     let (width, height) = b.scale.pick((128, 96), (320, 240));
     let (prisms, receiver) = (b.scale.prisms, b.scale.receiver);
@@ -123,7 +135,7 @@ fn sweep(b: &mut Bench, scene: &Scene, label: &str, files: &str) -> Result<()> {
         }
         curves.push((name, curve));
     }
-    b.write_table(&format!("{files}results"), &table)?;
+    b.write_table(&format!("{files}{RESULTS}"), &table)?;
     let as_series = |(name, curve): &(&str, Curve)| {
         // Short: the legend gets at most half the plot's width.
         let label = match *name {
@@ -136,7 +148,7 @@ fn sweep(b: &mut Bench, scene: &Scene, label: &str, files: &str) -> Result<()> {
         series(label, curve.iter().map(|(t, e, _)| (*t, *e)).collect())
     };
     b.write_chart(
-        &format!("{files}rmse-vs-time"),
+        &format!("{files}{RMSE_CHART}"),
         &LineChart {
             log_x: true,
             log_y: true,

@@ -2,12 +2,17 @@
 //! 16 spp, with the frame ratios against TSM. What a reader of the papers or an engine
 //! developer looks at first; the README's frame table is this preset's.
 
-use super::{Bench, bench_error, builtin_scene, chart, ratio, series, target};
+use super::{Bench, RESULTS, TIME_CHART, bench_error, builtin_scene, chart, ratio, series, target};
 use crate::bench::measure::Measurement;
 use crate::chart::{LineChart, Table, fmt_num};
 use crate::error::Result;
 use crate::render::{MAP_COPY_PASS, Method};
 use crate::scene::BuiltinOptions;
+
+/// The files it writes (see `Preset::outputs`).
+pub(super) fn outputs() -> Vec<String> {
+    [RESULTS, TIME_CHART].map(String::from).to_vec()
+}
 
 // The plain map at mid-shutter, as the `plain` method renders by default.
 const PLAIN: Method = Method::Plain { time: 0.5 };
@@ -54,7 +59,7 @@ pub(super) fn frame(b: &mut Bench) -> Result<()> {
             frames.push((spp, method, m));
         }
     }
-    b.write_table("results", &table)?;
+    b.write_table(RESULTS, &table)?;
 
     let frame_of = |spp: u32, method: Method| {
         frames
@@ -77,7 +82,7 @@ pub(super) fn frame(b: &mut Bench) -> Result<()> {
         METHODS.iter().map(|&m| series(m.name(), line(m))).collect(),
     );
     b.write_chart(
-        "time",
+        TIME_CHART,
         &LineChart {
             log_x: true,
             ..time

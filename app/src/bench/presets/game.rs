@@ -3,11 +3,19 @@
 //! (the floor any shadow pass is measured against), and the temporal frame against TSM's and
 //! the plain map's, all at 8 spp.
 
-use super::{Bench, MIB, Measurement, bench_error, builtin_scene, chart, ratio, series, target};
+use super::{
+    Bench, MIB, Measurement, RESULTS, TIME_CHART, bench_error, builtin_scene, chart, ratio, series,
+    target,
+};
 use crate::chart::{LineChart, Table, fmt_num};
 use crate::error::Result;
 use crate::render::{Method, RenderSettings};
 use crate::scene::BuiltinOptions;
+
+/// The files it writes (see `Preset::outputs`).
+pub(super) fn outputs() -> Vec<String> {
+    [RESULTS, TIME_CHART].map(String::from).to_vec()
+}
 
 const SPP: u32 = 8;
 /// The plain map's scene is frozen at mid-shutter.
@@ -110,13 +118,13 @@ pub(super) fn game(b: &mut Bench) -> Result<()> {
             ));
         }
     }
-    b.write_table("results", &table)?;
+    b.write_table(RESULTS, &table)?;
     let plotted: Vec<_> = measured.iter().copied().chain(kept_point).collect();
     let points = |pick: fn(&(f64, Method, f64, f64)) -> f64| {
         plotted.iter().map(|m| (m.0, pick(m))).collect()
     };
     b.write_chart(
-        "time",
+        TIME_CHART,
         &LineChart {
             log_y: true,
             ..chart(

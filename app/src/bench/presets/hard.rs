@@ -3,7 +3,7 @@
 //! by side. The truth is chosen in one place, [`truth`]; the preset's sizes are
 //! [`HardParams`].
 
-use super::{Bench, bench_error, builtin_scene, chart, ratio, series, target};
+use super::{Bench, RESULTS, bench_error, builtin_scene, chart, ratio, series, target};
 use crate::chart::{Table, fmt_num};
 use crate::compare::{Rgb8Image, rmse, side_by_side};
 use crate::error::Result;
@@ -170,6 +170,24 @@ impl Row {
 /// moving triangle (as `compare` does).
 const MASK_COVERAGE: f32 = 0.5;
 
+const RMSE_CHART: &str = "rmse.png";
+
+/// The files it writes (see `Preset::outputs`): the table, the chart and each scene's
+/// panels (`hard-<rest of the scene's name>.png`, the preset's name standing for its
+/// `hard-`).
+pub(super) fn outputs() -> Vec<String> {
+    let pictures = HARD_NAMES.iter().map(|name| scene_picture(name));
+    [RESULTS, RMSE_CHART]
+        .map(String::from)
+        .into_iter()
+        .chain(pictures)
+        .collect()
+}
+
+fn scene_picture(scene: &str) -> String {
+    format!("{}.png", scene.strip_prefix("hard-").unwrap_or(scene))
+}
+
 pub(super) fn hard(b: &mut Bench) -> Result<()> {
     let params = b.scale.pick(HardParams::quick(), HardParams::full());
     hard_with(b, &params)
@@ -241,15 +259,10 @@ pub(super) fn hard_with(b: &mut Bench, params: &HardParams) -> Result<()> {
         ));
         let refs: Vec<(&str, &Rgb8Image)> = panels.iter().map(|(l, i)| (l.as_str(), i)).collect();
         let side = side_by_side(&refs, [24, 24, 24]);
-        let path = b
-            .scale
-            .out
-            .join(format!("hard-{}.png", &name["hard-".len()..]));
-        super::write_picture(&path, side.width, side.height, &side.data)?;
-        b.report.files.push(path);
+        b.write_picture(&scene_picture(name), side.width, side.height, &side.data)?;
         push_ratios(b, params, name, &errors);
     }
-    b.write_table("results", &table)?;
+    b.write_table(RESULTS, &table)?;
     let last = HARD_NAMES.len();
     let x_label = format!(
         "scene (1 = {}, ..., {last} = {})",
@@ -262,7 +275,7 @@ pub(super) fn hard_with(b: &mut Bench, params: &HardParams) -> Result<()> {
         .map(|(m, points)| series(&m.name(), points))
         .collect();
     let title = format!("RMSE against the truth, {}", params.truth.label());
-    b.write_chart("rmse", &chart(&title, &x_label, "RMSE", lines))?;
+    b.write_chart(RMSE_CHART, &chart(&title, &x_label, "RMSE", lines))?;
     b.report.notes.push(format!(
         "{}x{}, shadow maps {}x{}, {} spp, seed 1; truth: {}{}",
         params.width,

@@ -19,7 +19,7 @@ use crate::output::{write_file_atomically, write_rgb8_png, write_through_temp};
 use crate::render::{Method, RenderSettings, Renderer};
 use crate::scene::{BuiltinOptions, Scene, builtin};
 use serde::Serialize;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Preset {
@@ -88,6 +88,31 @@ impl Preset {
         }
     }
 
+    /// Every file the preset writes into `--out` (`<preset>-results.csv`, ...): the one list
+    /// that `bench` checks before it renders anything (a target it could not replace is
+    /// refused up front) and that the preset's writers take their names from (writing a
+    /// name not in it is an error), so the check and the files cannot drift apart.
+    pub fn outputs(self) -> Vec<String> {
+        let stems = match self {
+            Preset::Frame => frame::outputs(),
+            Preset::Spp => spp::outputs(),
+            Preset::RandomCubes => cubes::outputs(cubes::Sweep::Count),
+            Preset::Speed => cubes::outputs(cubes::Sweep::Speed),
+            Preset::CubeSize => cubes::outputs(cubes::Sweep::Size),
+            Preset::EqualQuality => equal_quality::outputs(),
+            Preset::ShadowPass => shadow_pass::outputs(),
+            Preset::Scaling => scaling::outputs(),
+            Preset::Characters => characters::outputs(),
+            Preset::Game => game::outputs(),
+            Preset::Engine => engine::outputs(),
+            Preset::Hard => hard::outputs(),
+        };
+        stems
+            .into_iter()
+            .map(|stem| format!("{}-{stem}", self.name()))
+            .collect()
+    }
+
     pub fn from_name(name: &str) -> Option<Self> {
         PRESETS.iter().copied().find(|p| p.name() == name)
     }
@@ -119,6 +144,9 @@ pub struct Report {
 }
 
 pub(super) const MIB: f64 = 1024.0 * 1024.0;
+/// The file most presets write their table to, and the name of their usual chart.
+pub(super) const RESULTS: &str = "results.csv";
+pub(super) const TIME_CHART: &str = "time.png";
 const CHART_SIZE: (u32, u32) = (800, 500);
 
 pub(super) fn ratio(name: impl Into<String>, value: f64) -> Ratio {
@@ -157,6 +185,8 @@ pub(super) struct Bench<'a, 'r> {
     scale: &'a Scale,
     progress: &'a mut dyn FnMut(&str),
     report: Report,
+    /// The files the preset may write ([`Preset::outputs`]).
+    declared: Vec<String>,
 }
 
 impl Bench<'_, '_> {
@@ -231,33 +261,52 @@ impl Bench<'_, '_> {
         self.measure(&what, scene, &settings).map(|m| m.shadow_ms())
     }
 
-    pub(super) fn write_table(&mut self, name: &str, table: &Table) -> Result<()> {
-        let path = self
-            .scale
-            .out
-            .join(format!("{}-{name}.csv", self.report.preset));
+    /// Where the preset's file `stem` (`results.csv`) goes: `--out/<preset>-<stem>`, which
+    /// must be one of the files the preset declares ([`Preset::outputs`]), the list `bench`
+    /// checks before it renders anything.
+    fn output_path(&self, stem: &str) -> Result<PathBuf> {
+        let name = format!("{}-{stem}", self.report.preset);
+        if !self.declared.contains(&name) {
+            return Err(bench_error(format!(
+                "internal error: the preset {} writes {name}, which is not among the files \
+                 it declares (Preset::outputs), so it was not checked before the run",
+                self.report.preset
+            )));
+        }
+        Ok(self.scale.out.join(name))
+    }
+
+    /// Writes `table` as the preset's file `stem` (a declared `.csv`).
+    pub(super) fn write_table(&mut self, stem: &str, table: &Table) -> Result<()> {
+        let path = self.output_path(stem)?;
         // Through a temporary file, as every output: never over a device, FIFO or link.
         write_file_atomically(&path, table.to_csv().as_bytes()).map_err(bench_error)?;
         self.report.files.push(path);
         Ok(())
     }
 
-    pub(super) fn write_chart(&mut self, name: &str, chart: &LineChart) -> Result<()> {
-        let path = self
-            .scale
-            .out
-            .join(format!("{}-{name}.png", self.report.preset));
+    /// Draws `chart` as the preset's file `stem` (a declared `.png`).
+    pub(super) fn write_chart(&mut self, stem: &str, chart: &LineChart) -> Result<()> {
         let image = render(chart, CHART_SIZE.0, CHART_SIZE.1).map_err(bench_error)?;
-        write_picture(&path, image.width, image.height, &image.data)?;
+        self.write_picture(stem, image.width, image.height, &image.data)
+    }
+
+    /// Writes an RGB8 picture as the preset's file `stem` (a declared `.png`) through a
+    /// temporary file, as every output is: never over a device, FIFO or link, and a failure
+    /// leaves an older file as it was.
+    pub(super) fn write_picture(
+        &mut self,
+        stem: &str,
+        width: u32,
+        height: u32,
+        data: &[u8],
+    ) -> Result<()> {
+        let path = self.output_path(stem)?;
+        write_through_temp(&path, |temp| write_rgb8_png(temp, width, height, data))
+            .map_err(bench_error)?;
         self.report.files.push(path);
         Ok(())
     }
-}
-
-/// Writes an RGB8 PNG through a temporary file, as every output is: never over a device,
-/// FIFO or link, and a failure leaves an older file as it was.
-pub(super) fn write_picture(path: &Path, width: u32, height: u32, data: &[u8]) -> Result<()> {
-    write_through_temp(path, |temp| write_rgb8_png(temp, width, height, data)).map_err(bench_error)
 }
 
 pub(super) fn chart(title: &str, x: &str, y: &str, series: Vec<Series>) -> LineChart {
@@ -301,6 +350,7 @@ pub fn run_preset(
             ratios: Vec::new(),
             notes: Vec::new(),
         },
+        declared: preset.outputs(),
     };
     match preset {
         Preset::Frame => frame::frame(&mut bench)?,
@@ -317,4 +367,30 @@ pub fn run_preset(
         Preset::Hard => hard::hard(&mut bench)?,
     }
     Ok(bench.report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The declared files are what `bench` checks before it runs: each must be a plain name
+    /// under its preset's prefix, and no two presets (or the summary) may share one, or one
+    /// preset's run would overwrite another's results.
+    #[test]
+    fn every_presets_files_are_plain_distinct_and_carry_its_name() {
+        let mut all = vec!["bench-summary.json".to_owned()];
+        for &preset in PRESETS {
+            let files = preset.outputs();
+            assert!(files.contains(&format!("{}-{RESULTS}", preset.name())));
+            for file in files {
+                assert!(file.starts_with(&format!("{}-", preset.name())), "{file}");
+                assert!(
+                    !file.contains('/') && (file.ends_with(".csv") || file.ends_with(".png")),
+                    "{file}"
+                );
+                assert!(!all.contains(&file), "{file} declared twice");
+                all.push(file);
+            }
+        }
+    }
 }

@@ -1,10 +1,15 @@
 //! Frame time against triangle count.
 
-use super::{Bench, bench_error, builtin_scene, chart, ratio, series};
+use super::{Bench, RESULTS, TIME_CHART, bench_error, builtin_scene, chart, ratio, series};
 use crate::chart::{LineChart, Table, fmt_num};
 use crate::error::Result;
 use crate::render::Method;
 use crate::scene::BuiltinOptions;
+
+/// The files it writes (see `Preset::outputs`).
+pub(super) fn outputs() -> Vec<String> {
+    [RESULTS, TIME_CHART].map(String::from).to_vec()
+}
 
 pub(super) fn scaling(b: &mut Bench) -> Result<()> {
     let counts: Vec<usize> = b
@@ -56,7 +61,7 @@ pub(super) fn scaling(b: &mut Bench) -> Result<()> {
         shadow.push((triangles, m.shadow_ms()));
         lighting.push((triangles, m.lighting_ms()));
     }
-    b.write_table("results", &table)?;
+    b.write_table(RESULTS, &table)?;
     if let (Some(first), Some(last)) = (frame.first(), frame.last()) {
         b.report.ratios.push(ratio(
             format!(
@@ -67,7 +72,7 @@ pub(super) fn scaling(b: &mut Bench) -> Result<()> {
         ));
     }
     b.write_chart(
-        "time",
+        TIME_CHART,
         &LineChart {
             log_x: true,
             log_y: true,

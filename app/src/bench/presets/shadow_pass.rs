@@ -2,11 +2,19 @@
 //! anyone would draw them (a D32 attachment, LESS test): one depth-only map (the floor any
 //! shadow pass is measured against) and the plain map (depth and triangle id).
 
-use super::{Bench, Measurement, bench_error, builtin_scene, chart, ratio, series, target};
+use super::{
+    Bench, Measurement, RESULTS, TIME_CHART, bench_error, builtin_scene, chart, ratio, series,
+    target,
+};
 use crate::chart::{LineChart, Table, fmt_num};
 use crate::error::Result;
 use crate::render::{Method, RenderSettings};
 use crate::scene::BuiltinOptions;
+
+/// The files it writes (see `Preset::outputs`).
+pub(super) fn outputs() -> Vec<String> {
+    [RESULTS, TIME_CHART].map(String::from).to_vec()
+}
 
 /// The scenes and each one's target for temporal shadow pass / one depth-only map.
 const TARGETS: [(&str, f64); 3] = [
@@ -113,7 +121,7 @@ pub(super) fn shadow_pass(b: &mut Bench) -> Result<()> {
             ));
         }
     }
-    b.write_table("results", &table)?;
+    b.write_table(RESULTS, &table)?;
     let points = |f: &dyn Fn(&(f64, f64, f64)) -> f64| {
         bars.iter()
             .enumerate()
@@ -123,7 +131,7 @@ pub(super) fn shadow_pass(b: &mut Bench) -> Result<()> {
     };
     // A log axis: the depth-only map is a hundredth of the temporal pass on some scenes.
     b.write_chart(
-        "time",
+        TIME_CHART,
         &LineChart {
             log_y: true,
             ..chart(

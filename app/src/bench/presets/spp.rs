@@ -1,11 +1,22 @@
 //! 2018 paper Figs. 11-12: time per step and memory, temporal vs TSM, as spp grows.
 
-use super::{Bench, MIB, bench_error, builtin_scene, chart, ratio, series, target};
+use super::{
+    Bench, MIB, RESULTS, TIME_CHART, bench_error, builtin_scene, chart, ratio, series, target,
+};
 use crate::bench::measure::Measurement;
 use crate::chart::{LineChart, Table, fmt_num};
 use crate::error::Result;
 use crate::render::Method;
 use crate::scene::BuiltinOptions;
+
+const MEMORY_CHART: &str = "memory.png";
+
+/// The files it writes (see `Preset::outputs`).
+pub(super) fn outputs() -> Vec<String> {
+    [RESULTS, TIME_CHART, MEMORY_CHART]
+        .map(String::from)
+        .to_vec()
+}
 
 pub(super) fn spp(b: &mut Bench) -> Result<()> {
     let scene = builtin_scene("cubes-toward-light", &BuiltinOptions::default())?;
@@ -50,7 +61,7 @@ pub(super) fn spp(b: &mut Bench) -> Result<()> {
             rows.push((spp, t, s));
         }
     }
-    b.write_table("results", &table)?;
+    b.write_table(RESULTS, &table)?;
     let line = |f: &dyn Fn(&Measurement) -> f64, tsm: bool| -> Vec<(f64, f64)> {
         rows.iter()
             .map(|(spp, t, s)| (*spp as f64, f(if tsm { s } else { t })))
@@ -70,7 +81,7 @@ pub(super) fn spp(b: &mut Bench) -> Result<()> {
         ],
     );
     b.write_chart(
-        "time",
+        TIME_CHART,
         &LineChart {
             log_x: true,
             ..time
@@ -86,7 +97,7 @@ pub(super) fn spp(b: &mut Bench) -> Result<()> {
         ],
     );
     b.write_chart(
-        "memory",
+        MEMORY_CHART,
         &LineChart {
             log_x: true,
             ..memory
