@@ -14,15 +14,21 @@ use crate::scene::{builtin, load_scene_file};
 use anyhow::Context as _;
 use motion_shadows::gpu::{Context, ContextOptions};
 
-pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
-    let settings = RenderSettings {
+/// The frame's settings for `args` (the deferred frame reads its size, shadow size, receiver
+/// test and static layer; the temporal map's options too).
+pub fn render_settings(args: &CompareArgs) -> RenderSettings {
+    RenderSettings {
         width: args.width,
         height: args.height,
         shadow_size: args.shadow_size,
         receiver: args.receiver.test(args.receiver_plane),
         static_layer: args.static_layer.settings().0,
         ..RenderSettings::default()
-    };
+    }
+}
+
+pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+    let settings = render_settings(args);
     settings.validate()?;
     let methods = [
         DeferredMethod::Temporal,
@@ -159,4 +165,38 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         }
     }
     super::validation_clean(&ctx)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cli::args::{Cli, Command};
+    use clap::Parser as _;
+    use motion_shadows::technique::{PrismConstruction, Pruning, RangeStorage};
+
+    /// The temporal map's options reach the deferred comparison's temporal frame (they were
+    /// dropped: it always built exact prisms, sorted ranges, the static-layer pruning).
+    #[test]
+    fn the_temporal_maps_options_reach_the_deferred_comparison() {
+        let cli = Cli::try_parse_from([
+            "motion-shadows",
+            "compare",
+            "--frame",
+            "deferred",
+            "--prisms",
+            "paper",
+            "--range-storage",
+            "lists",
+            "--pruning",
+            "cover",
+        ])
+        .expect("parses");
+        let Some(Command::Compare(args)) = cli.command else {
+            panic!("compare parses to Command::Compare");
+        };
+        let settings = render_settings(&args);
+        assert_eq!(settings.prisms, PrismConstruction::Paper);
+        assert_eq!(settings.range_storage, RangeStorage::Lists);
+        assert_eq!(settings.pruning, Pruning::Cover);
+    }
 }

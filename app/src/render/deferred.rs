@@ -349,11 +349,7 @@ impl Renderer<'_> {
         let over = bindings.read_over_budget_pixels()?;
         if over > 0 {
             let limit = self.ctx.info().shader_loop_limit.unwrap_or(0);
-            return Err(motion_shadows::Error::LoopLimit {
-                pixels: over,
-                limit,
-            }
-            .into());
+            return Err(loop_limit_error(over, limit));
         }
         Ok(())
     }
@@ -567,4 +563,9 @@ fn shade(
         rgb[3 * i..3 * i + 3].copy_from_slice(&radiance.as_vec3().to_array());
     }
     Ok((RadianceImage::new(g.width, g.height, rgb)?, hit, facing))
+}
+
+/// The refusal of a mask whose `pixels` walked past the device's loop `limit`.
+pub fn loop_limit_error(pixels: u32, limit: u32) -> Error {
+    motion_shadows::Error::LoopLimit { pixels, limit }.into()
 }
