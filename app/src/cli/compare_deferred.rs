@@ -7,7 +7,7 @@ use super::args::CompareArgs;
 use super::render_cmd::{builtin_options, commit_outputs, progress_reporter};
 use crate::compare::{Rgb8Image, mask_error, side_by_side};
 use crate::output::{StagedFiles, auto_exposure, write_rgb8_png};
-use crate::raytrace::deferred::render_truth;
+use crate::raytrace::deferred::{check_truth_memory, render_truth};
 use crate::render::deferred::{DeferredMethod, DeferredSettings};
 use crate::render::{RenderSettings, Renderer};
 use crate::scene::{builtin, load_scene_file};
@@ -23,6 +23,9 @@ pub fn render_settings(args: &CompareArgs) -> RenderSettings {
         shadow_size: args.shadow_size,
         receiver: args.receiver.test(args.receiver_plane),
         static_layer: args.static_layer.settings().0,
+        prisms: args.prisms.construction(),
+        range_storage: args.range_storage.storage(),
+        pruning: args.pruning.pruning(),
         ..RenderSettings::default()
     }
 }
@@ -45,13 +48,16 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     for method in methods {
         deferred(method).validate()?;
     }
+    // Before the scene is loaded: the truth's memory (it would abort past it).
+    check_truth_memory(args.width, args.height)?;
     let (bar, mut report) = progress_reporter();
     // The exact truth is ray traced: sized for the ray tracer.
     crate::scene::memory::set_renderer(true);
     let scene = match (&args.scene_file, &args.scene) {
         (Some(path), _) => load_scene_file(path)?,
         (None, name) => builtin(
-            name.as_deref().unwrap_or("cubes-toward-light"),
+            name.as_deref()
+                .unwrap_or(super::compare_cmd::preset_defaults(args.preset).0),
             &builtin_options(&args.random),
         )?,
     };

@@ -566,6 +566,7 @@ fn shade(
 }
 
 /// The refusal of a mask whose `pixels` walked past the device's loop `limit`.
+/// (The forward frame's refusal suggests its own options: a shadow filter, the estimator.)
 pub fn loop_limit_error(pixels: u32, limit: u32) -> Error {
-    motion_shadows::Error::LoopLimit { pixels, limit }.into()
+    Error::MaskLoopLimit { pixels, limit }
 }
