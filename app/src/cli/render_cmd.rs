@@ -144,7 +144,10 @@ pub fn refuse_unread_options(args: &RenderArgs, command: &str) -> anyhow::Result
             Some(args.method)
         }
     };
-    let name = args.method.to_possible_value().map(|v| v.get_name().to_owned());
+    let name = args
+        .method
+        .to_possible_value()
+        .map(|v| v.get_name().to_owned());
     refuse_unread(
         &args.given,
         RENDER_OPTIONS,

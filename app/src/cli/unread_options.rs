@@ -174,7 +174,10 @@ mod tests {
                 .any(|o| o.flag == *flag && o.readers.deferred.is_empty());
             assert!(!forward_only, "{flag} is forward-only: {message}");
         }
-        for option in RENDER_OPTIONS.iter().filter(|o| o.readers.deferred.is_empty()) {
+        for option in RENDER_OPTIONS
+            .iter()
+            .filter(|o| o.readers.deferred.is_empty())
+        {
             let words = option.flag.trim_start_matches("--").replace('-', " ");
             assert!(
                 !message.contains(option.flag) && !message.contains(&words),

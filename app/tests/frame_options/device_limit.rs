@@ -13,17 +13,36 @@ fn a_range_buffer_past_the_device_limit_is_reported_with_the_real_count() {
     let slide = r#", "t1": { "translation": [0.1, 0, 0] }"#;
     let mut objects = vec![square("floor", 20.0, 0.0, "")];
     for i in 0..LAYERS {
-        objects.push(square(&format!("layer{i}"), 20.0, 1.0 + 0.2 * i as f32, slide));
+        objects.push(square(
+            &format!("layer{i}"),
+            20.0,
+            1.0 + 0.2 * i as f32,
+            slide,
+        ));
     }
     let scene = dir.join("stack.json");
     std::fs::write(&scene, scene_json("stack", &objects)).unwrap();
     let size = format!("{MAP_SIDE}x{MAP_SIDE}");
     let r = run(&[
-        "render", "--scene-file", s(&scene), "--width", "16", "--height", "16", "--spp", "1",
-        "--shadow-size", &size, "--out", s(&dir.join("out")),
+        "render",
+        "--scene-file",
+        s(&scene),
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--spp",
+        "1",
+        "--shadow-size",
+        &size,
+        "--out",
+        s(&dir.join("out")),
     ]);
     let message = r.refused(&["the range buffer needs"]);
-    assert!(!message.contains("4294967295"), "a saturated count: {message}");
+    assert!(
+        !message.contains("4294967295"),
+        "a saturated count: {message}"
+    );
     // "... needs B bytes (N elements of 24 bytes) ..."
     let figures = |after: &str| -> u64 {
         let rest = &message[message.find(after).unwrap() + after.len()..];

@@ -41,7 +41,10 @@ impl Run {
         );
         assert!(!stderr.contains("panicked"), "a panic: {stderr}");
         for needle in needles {
-            assert!(stderr.contains(needle), "{needle:?} not in stderr: {stderr}");
+            assert!(
+                stderr.contains(needle),
+                "{needle:?} not in stderr: {stderr}"
+            );
         }
         stderr
     }
@@ -51,7 +54,9 @@ impl Run {
 pub fn run(args: &[&str]) -> Run {
     let output = Command::new("sh")
         .arg("-c")
-        .arg(format!("ulimit -v {MEMORY_LIMIT_KIB} && exec \"$0\" \"$@\""))
+        .arg(format!(
+            "ulimit -v {MEMORY_LIMIT_KIB} && exec \"$0\" \"$@\""
+        ))
         .arg(env!("CARGO_BIN_EXE_motion-shadows"))
         .args(args)
         .env("MOTION_SHADOWS_VALIDATION", "1")

@@ -19,13 +19,21 @@ fn the_deferred_truth_past_what_the_process_can_use_is_refused_with_figures() {
     let scene = dir.join("floor.json");
     std::fs::write(
         &scene,
-        scene_json("floor", &[square("floor", 8.0, 0.0, ""), square("roof", 1.0, 2.0, "")]),
+        scene_json(
+            "floor",
+            &[square("floor", 8.0, 0.0, ""), square("roof", 1.0, 2.0, "")],
+        ),
     )
     .unwrap();
     let huge = ["--width", "16384", "--height", "16384", "--out", s(&out)];
     let deferred = ["--frame", "deferred", "--scene-file", s(&scene)];
     assert_refused(
-        &[&["render", "--method", "raytrace"], &deferred[..], &huge[..]].concat(),
+        &[
+            &["render", "--method", "raytrace"],
+            &deferred[..],
+            &huge[..],
+        ]
+        .concat(),
         &out,
     );
     assert_refused(&[&["compare"], &deferred[..], &huge[..]].concat(), &out);

@@ -17,7 +17,10 @@ fn compare_deferred_takes_the_preset_scene() {
         .concat())
         .json()
     };
-    assert_eq!(compare(&["--preset", "fig10"])["scene"], "walker-toward-light");
+    assert_eq!(
+        compare(&["--preset", "fig10"])["scene"],
+        "walker-toward-light"
+    );
     assert_eq!(
         compare(&["--preset", "fig10", "--scene", "leg-toward-light"])["scene"],
         "leg-toward-light"

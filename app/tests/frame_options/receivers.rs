@@ -11,7 +11,10 @@
 use super::{run, s, scene_json, square, temp_dir};
 
 fn mask(path: &str) -> Vec<u8> {
-    image::open(path).expect("the mask PNG").to_luma8().into_raw()
+    image::open(path)
+        .expect("the mask PNG")
+        .to_luma8()
+        .into_raw()
 }
 
 #[test]
@@ -23,15 +26,30 @@ fn the_truth_with_static_receivers_holds_each_point_still() {
         &scene,
         scene_json(
             "slide",
-            &[square("floor", 12.0, 0.0, slide), square("blocker", 1.0, 2.0, "")],
+            &[
+                square("floor", 12.0, 0.0, slide),
+                square("blocker", 1.0, 2.0, ""),
+            ],
         ),
     )
     .unwrap();
     let render = |extra: &[&str], out: &str| {
         let json = run(&[
             &[
-                "render", "--frame", "deferred", "--method", "raytrace", "--scene-file",
-                s(&scene), "--width", "64", "--height", "48", "--json", "--out", out,
+                "render",
+                "--frame",
+                "deferred",
+                "--method",
+                "raytrace",
+                "--scene-file",
+                s(&scene),
+                "--width",
+                "64",
+                "--height",
+                "48",
+                "--json",
+                "--out",
+                out,
             ][..],
             extra,
         ]
@@ -52,7 +70,10 @@ fn the_truth_with_static_receivers_holds_each_point_still() {
     assert_eq!(still_flag, false);
     // 1/2 is 127.5 in the 8-bit mask.
     assert!(moving.iter().all(|&v| v >= 127), "a moving point below 1/2");
-    assert!(moving.iter().any(|&v| v < 250), "no moving point crossed the shadow");
+    assert!(
+        moving.iter().any(|&v| v < 250),
+        "no moving point crossed the shadow"
+    );
     assert!(
         still.iter().all(|&v| v == 0 || v == 255),
         "a still point partly lit: {:?}",

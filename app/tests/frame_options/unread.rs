@@ -50,7 +50,11 @@ fn assert_refused(command: &[&str], option: &UnreadOption) {
     .concat();
     let message = run(&args).refused(&[option.flag, "does not apply to"]);
     assert!(message.contains(option.why), "{args:?}: {message}");
-    assert!(listing(&out).is_empty(), "{args:?} wrote {:?}", listing(&out));
+    assert!(
+        listing(&out).is_empty(),
+        "{args:?} wrote {:?}",
+        listing(&out)
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -93,7 +97,9 @@ fn compare_refuses_each_option_the_frame_does_not_read() {
 fn animate_refuses_what_its_frame_does_not_read() {
     let spp = RENDER_OPTIONS.iter().find(|o| o.flag == "--spp").unwrap();
     assert_refused(
-        &["animate", "--frames", "1", "--frame", "deferred", "--method", "raytrace"],
+        &[
+            "animate", "--frames", "1", "--frame", "deferred", "--method", "raytrace",
+        ],
         spp,
     );
     let camera_time = RENDER_OPTIONS
