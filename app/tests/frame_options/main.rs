@@ -7,6 +7,7 @@ mod device_limit;
 mod memory;
 mod preset;
 mod receivers;
+mod runs;
 mod unread;
 
 use std::path::{Path, PathBuf};
