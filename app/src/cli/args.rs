@@ -127,7 +127,8 @@ pub enum Preset {
 
 #[derive(Debug, Args, Clone)]
 pub struct CompareArgs {
-    /// A paper experiment: sets the scene and spp (explicit --scene/--spp override it).
+    /// A paper experiment: sets the scene and spp (explicit --scene/--spp override it; the
+    /// deferred frame takes its scene, having no spp).
     #[arg(long, value_enum)]
     pub preset: Option<Preset>,
     /// Built-in scene (default: cubes-toward-light, or the preset's).
