@@ -23,6 +23,23 @@ pub enum Error {
     /// A caller-supplied value is out of range.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
+
+    /// The work asked for would need more host memory than this process can still get
+    /// (the message has the figures).
+    #[error("{0}")]
+    Memory(String),
+
+    /// The deferred mask: `pixels` pixels walked more texels' ranges than the device's shader
+    /// loop `limit` lets one invocation run, so their lit share could be wrong.
+    #[error(
+        "{pixels} pixel(s) of the deferred mask need more shader loop iterations than this device runs ({limit} per invocation, lavapipe's loop limiter): their lit share could be wrong. Each moving receiver walks the ranges of every shadow texel it crosses: let receivers stand still (render --static-receivers: one texel each), store fewer ranges per texel (--pruning cover), use --method tsm, or a device without the limit"
+    )]
+    MaskLoopLimit {
+        /// Pixels over the budget.
+        pixels: u32,
+        /// The device's limit.
+        limit: u32,
+    },
 }
 
 /// The app's result type.

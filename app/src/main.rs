@@ -1,4 +1,3 @@
-use clap::Parser;
 use motion_shadows_app::cli::args::{Cli, Command, RenderArgs, SceneCommand};
 use motion_shadows_app::scene::limits::MAX_ERROR_CHARS;
 use motion_shadows_app::scene::{BUILTIN_NAMES, clip};
@@ -26,7 +25,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
 /// Prints the error and its causes, each clipped: a cause may quote user input (a field
 /// name, a path) of any length, and an error message must stay readable.
 fn main() -> ExitCode {
-    match run(Cli::parse()) {
+    match run(Cli::parse_recording_given()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {
             eprintln!("Error: {}", clip(&error.to_string(), MAX_ERROR_CHARS));

@@ -438,6 +438,13 @@ fn quick_game_preset_measures_three_methods_on_the_game_level() {
     image::open(out.join("game-time.png")).expect("the chart");
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("bench-summary.json")).unwrap()).unwrap();
+    // The size the preset renders at (docs/src/cli.md: game-level at 480x270 in a quick
+    // run), not the quick run's default 256x192 (the summary said so for every preset).
+    assert_eq!(
+        summary["reports"][0]["image_sizes"],
+        serde_json::json!([[480, 270]]),
+        "{summary}"
+    );
     let ratios = summary["reports"][0]["ratios"].as_array().unwrap();
     assert_eq!(ratios.len(), 4);
     assert_eq!(ratios[0]["target"], "<= 3");

@@ -64,6 +64,7 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
         render.runs == 1,
         "--runs is not available with animate (it renders each frame once)"
     );
+    super::render_cmd::refuse_unread_options(render, "animate")?;
     let deferred = match render.frame {
         FrameArg::Deferred => Some(deferred_settings(render)?),
         FrameArg::Forward => None,

@@ -1,6 +1,8 @@
 //! The command line: a public interface (documented in the README), change it only on purpose.
 
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::parser::ValueSource;
+use clap::{ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand, ValueEnum};
+use std::ffi::OsString;
 use std::path::PathBuf;
 
 #[derive(Debug, Parser)]
@@ -15,6 +17,54 @@ use std::path::PathBuf;
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
+}
+
+impl Cli {
+    /// [`Parser::parse`], recording in `render`'s, `animate`'s and `compare`'s `given` the
+    /// options typed on the command line (so that those a frame does not read are refused,
+    /// `unread_options.rs`, even when their value is the default).
+    pub fn parse_recording_given() -> Self {
+        Self::try_parse_recording_given(std::env::args_os()).unwrap_or_else(|e| e.exit())
+    }
+
+    /// [`Self::parse_recording_given`] of `args` (the first is the program's name).
+    pub fn try_parse_recording_given<I, T>(args: I) -> Result<Self, clap::Error>
+    where
+        I: IntoIterator<Item = T>,
+        T: Into<OsString> + Clone,
+    {
+        let mut command = <Self as CommandFactory>::command();
+        let matches = command.try_get_matches_from_mut(args)?;
+        let mut cli = <Self as FromArgMatches>::from_arg_matches(&matches)?;
+        if let Some((name, sub)) = matches.subcommand() {
+            let given = command
+                .find_subcommand(name)
+                .map_or_else(Vec::new, |c| typed_options(c, sub));
+            match &mut cli.command {
+                Some(Command::Render(args)) => args.given = given,
+                Some(Command::Animate(args)) => args.render.given = given,
+                Some(Command::Compare(args)) => args.given = given,
+                _ => {}
+            }
+        }
+        Ok(cli)
+    }
+}
+
+/// The long names (`--spp`) of the options of `command` that `matches` took from the
+/// command line, not from their defaults.
+fn typed_options(command: &clap::Command, matches: &ArgMatches) -> Vec<String> {
+    matches
+        .ids()
+        .filter(|id| matches.value_source(id.as_str()) == Some(ValueSource::CommandLine))
+        .filter_map(|id| {
+            command
+                .get_arguments()
+                .find(|arg| arg.get_id() == id)
+                .and_then(|arg| arg.get_long())
+                .map(|long| format!("--{long}"))
+        })
+        .collect()
 }
 
 #[derive(Debug, Subcommand)]
@@ -77,7 +127,8 @@ pub enum Preset {
 
 #[derive(Debug, Args, Clone)]
 pub struct CompareArgs {
-    /// A paper experiment: sets the scene and spp (explicit --scene/--spp override it).
+    /// A paper experiment: sets the scene and spp (explicit --scene/--spp override it; the
+    /// deferred frame takes its scene, having no spp).
     #[arg(long, value_enum)]
     pub preset: Option<Preset>,
     /// Built-in scene (default: cubes-toward-light, or the preset's).
@@ -156,6 +207,10 @@ pub struct CompareArgs {
     pub json: bool,
     #[command(flatten)]
     pub random: RandomCubesArgs,
+    /// The options typed on the command line (`--spp`), set by
+    /// [`Cli::parse_recording_given`]; empty otherwise.
+    #[arg(skip)]
+    pub given: Vec<String>,
 }
 
 /// Most frames `animate` renders in one run (25 s at 24 fps).
@@ -538,6 +593,10 @@ pub struct RenderArgs {
     pub static_receivers: bool,
     #[command(flatten)]
     pub random: RandomCubesArgs,
+    /// The options typed on the command line (`--spp`), set by
+    /// [`Cli::parse_recording_given`]; empty otherwise.
+    #[arg(skip)]
+    pub given: Vec<String>,
 }
 
 /// `render --frame`: how the camera side of the frame is drawn.

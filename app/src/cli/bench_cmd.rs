@@ -22,6 +22,8 @@ struct Summary<'a> {
     receiver: &'static str,
     /// `--shadow-filter`: none or bilinear.
     shadow_filter: &'static str,
+    /// The default image size: presets that set their own say so (each report's
+    /// `image_sizes`).
     width: u32,
     height: u32,
     wall_seconds: f64,
@@ -98,7 +100,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string(&summary)?);
     } else {
         println!(
-            "bench on {} ({}x{}{}), {:.0} s",
+            "bench on {} (default size {}x{}{}), {:.0} s",
             summary.device,
             summary.width,
             summary.height,
@@ -106,7 +108,12 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             summary.wall_seconds
         );
         for r in &reports {
-            println!("[{}]", r.preset);
+            let sizes: Vec<String> = r
+                .image_sizes
+                .iter()
+                .map(|[w, h]| format!("{w}x{h}"))
+                .collect();
+            println!("[{}] {}", r.preset, sizes.join(", "));
             for ratio in &r.ratios {
                 let target = match (&ratio.target, ratio.met) {
                     (Some(t), Some(met)) => {

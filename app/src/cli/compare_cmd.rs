@@ -46,7 +46,8 @@ struct Report {
     files: Vec<String>,
 }
 
-fn preset_defaults(preset: Option<Preset>) -> (&'static str, u32) {
+/// The scene and spp of `preset` (the deferred frame takes its scene: it has no spp).
+pub(super) fn preset_defaults(preset: Option<Preset>) -> (&'static str, u32) {
     match preset {
         Some(Preset::Fig10) => ("walker-toward-light", 20),
         Some(Preset::Fig9) | None => ("cubes-toward-light", 8),
@@ -106,6 +107,14 @@ fn output_names(scene: &str, methods: &[Method]) -> Vec<String> {
 }
 
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+    use super::unread_options::{COMPARE_OPTIONS, context, refuse_unread};
+    refuse_unread(
+        &args.given,
+        COMPARE_OPTIONS,
+        args.frame,
+        None,
+        &context("compare", args.frame, None),
+    )?;
     if args.frame == super::args::FrameArg::Deferred {
         return super::compare_deferred::run(args);
     }

@@ -7,22 +7,31 @@ use super::args::CompareArgs;
 use super::render_cmd::{builtin_options, commit_outputs, progress_reporter};
 use crate::compare::{Rgb8Image, mask_error, side_by_side};
 use crate::output::{StagedFiles, auto_exposure, write_rgb8_png};
-use crate::raytrace::deferred::render_truth;
+use crate::raytrace::deferred::{check_truth_memory, render_truth};
 use crate::render::deferred::{DeferredMethod, DeferredSettings};
 use crate::render::{RenderSettings, Renderer};
 use crate::scene::{builtin, load_scene_file};
 use anyhow::Context as _;
 use motion_shadows::gpu::{Context, ContextOptions};
 
-pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
-    let settings = RenderSettings {
+/// The frame's settings for `args` (the deferred frame reads its size, shadow size, receiver
+/// test and static layer; the temporal map's options too).
+pub fn render_settings(args: &CompareArgs) -> RenderSettings {
+    RenderSettings {
         width: args.width,
         height: args.height,
         shadow_size: args.shadow_size,
         receiver: args.receiver.test(args.receiver_plane),
         static_layer: args.static_layer.settings().0,
+        prisms: args.prisms.construction(),
+        range_storage: args.range_storage.storage(),
+        pruning: args.pruning.pruning(),
         ..RenderSettings::default()
-    };
+    }
+}
+
+pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+    let settings = render_settings(args);
     settings.validate()?;
     let methods = [
         DeferredMethod::Temporal,
@@ -39,13 +48,16 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     for method in methods {
         deferred(method).validate()?;
     }
+    // Before the scene is loaded: the truth's memory (it would abort past it).
+    check_truth_memory(args.width, args.height)?;
     let (bar, mut report) = progress_reporter();
     // The exact truth is ray traced: sized for the ray tracer.
     crate::scene::memory::set_renderer(true);
     let scene = match (&args.scene_file, &args.scene) {
         (Some(path), _) => load_scene_file(path)?,
         (None, name) => builtin(
-            name.as_deref().unwrap_or("cubes-toward-light"),
+            name.as_deref()
+                .unwrap_or(super::compare_cmd::preset_defaults(args.preset).0),
             &builtin_options(&args.random),
         )?,
     };
@@ -159,4 +171,38 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         }
     }
     super::validation_clean(&ctx)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cli::args::{Cli, Command};
+    use clap::Parser as _;
+    use motion_shadows::technique::{PrismConstruction, Pruning, RangeStorage};
+
+    /// The temporal map's options reach the deferred comparison's temporal frame (they were
+    /// dropped: it always built exact prisms, sorted ranges, the static-layer pruning).
+    #[test]
+    fn the_temporal_maps_options_reach_the_deferred_comparison() {
+        let cli = Cli::try_parse_from([
+            "motion-shadows",
+            "compare",
+            "--frame",
+            "deferred",
+            "--prisms",
+            "paper",
+            "--range-storage",
+            "lists",
+            "--pruning",
+            "cover",
+        ])
+        .expect("parses");
+        let Some(Command::Compare(args)) = cli.command else {
+            panic!("compare parses to Command::Compare");
+        };
+        let settings = render_settings(&args);
+        assert_eq!(settings.prisms, PrismConstruction::Paper);
+        assert_eq!(settings.range_storage, RangeStorage::Lists);
+        assert_eq!(settings.pruning, Pruning::Cover);
+    }
 }

@@ -10,6 +10,7 @@ pub mod export_cmd;
 pub mod install_hint;
 pub mod render_cmd;
 pub mod summary;
+pub mod unread_options;
 
 /// With `MOTION_SHADOWS_VALIDATION=1`, a run the validation layer complained about fails.
 pub fn validation_clean(ctx: &motion_shadows::gpu::Context) -> anyhow::Result<()> {

@@ -1,6 +1,6 @@
 //! `motion-shadows render`: scene -> renderer -> EXR + PNG -> summary.
 
-use super::args::{MethodArg, RandomCubesArgs, RenderArgs};
+use super::args::{FrameArg, MethodArg, RandomCubesArgs, RenderArgs};
 use super::summary::summary_text;
 use crate::output::{StagedFiles, auto_exposure, write_exr, write_png};
 use crate::render::{Method, RenderResult, RenderSettings, Renderer};
@@ -132,8 +132,34 @@ fn heat_map_names(method: MethodArg, stem: &str) -> Vec<String> {
     names
 }
 
+/// Refuses the options that `args`' frame and method do not read (`unread_options.rs`),
+/// once the deferred frame's settings are checked (a method it cannot take is named first).
+pub fn refuse_unread_options(args: &RenderArgs, command: &str) -> anyhow::Result<()> {
+    use super::unread_options::{RENDER_OPTIONS, context, refuse_unread};
+    use clap::ValueEnum as _;
+    let method = match args.frame {
+        FrameArg::Forward => None,
+        FrameArg::Deferred => {
+            super::deferred_cmd::deferred_settings(args)?;
+            Some(args.method)
+        }
+    };
+    let name = args
+        .method
+        .to_possible_value()
+        .map(|v| v.get_name().to_owned());
+    refuse_unread(
+        &args.given,
+        RENDER_OPTIONS,
+        args.frame,
+        method,
+        &context(command, args.frame, name.as_deref()),
+    )
+}
+
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    if args.frame == super::args::FrameArg::Deferred {
+    refuse_unread_options(args, "render")?;
+    if args.frame == FrameArg::Deferred {
         return super::deferred_cmd::run(args);
     }
     // Everything that can be checked without the scene or a device is checked first, so a

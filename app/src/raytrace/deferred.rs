@@ -3,7 +3,8 @@
 //!
 //! The G-buffer point is a fixed barycentric point of the triangle the pixel centre's camera
 //! ray sees at T (nearest hit as [`Bvh::closest`] finds it, no back-face culling), so it
-//! moves linearly with that triangle's corners; its lit fraction is exact
+//! moves linearly with that triangle's corners (or, with standing receivers, stays where it is
+//! at T all shutter); its lit fraction is exact
 //! ([`shutter::lit_fraction`]), not sampled. Shading is `shade.rs`'s at time T, the direct
 //! term weighted by that fraction instead of one shadow ray's answer.
 
@@ -58,15 +59,58 @@ struct Pixel {
     rgb: [f32; 3],
 }
 
-/// The deferred truth of `scene` at `width` x `height`, G-buffer at `camera_time` in [0, 1].
-/// `shadow_size` only sizes the light's view, whose shading numbers (direction, cone,
-/// emission) are the GPU's.
+/// Host bytes a pixel of the deferred truth takes at its peak: the truth's per-pixel vectors
+/// (lit share, hit, position, normal, albedo, radiance: 53 B), a band of rows being traced,
+/// the facing flags, and the images written from it. Measured peak (render, 2026-12-07):
+/// 57-59 bytes a pixel at 1024x1024 and 2048x2048; the figure keeps a margin.
+pub const TRUTH_BYTES_PER_PIXEL: u64 = 80;
+
+/// Ok when the deferred truth of a `width` x `height` image fits in what this process can
+/// still use; otherwise refused with the figures (it would abort mid-allocation, where no
+/// error handler sees it).
+pub fn check_truth_memory(width: u32, height: u32) -> Result<()> {
+    let pixels = u64::from(width) * u64::from(height);
+    crate::scene::memory::check_bytes(
+        pixels.saturating_mul(TRUTH_BYTES_PER_PIXEL),
+        &format!("the deferred truth at {width}x{height}"),
+        &format!("{TRUTH_BYTES_PER_PIXEL} bytes a pixel"),
+        "tracing, use a smaller --width/--height",
+    )
+    .map_err(Error::Memory)
+}
+
+/// The deferred truth of `scene` at `width` x `height`, G-buffer at `camera_time` in [0, 1],
+/// receivers moving with their triangles ([`deferred_truth_with`]).
 pub fn deferred_truth(
     scene: &Scene,
     width: u32,
     height: u32,
     camera_time: f32,
     shadow_size: (u32, u32),
+    progress: &mut dyn FnMut(&str),
+) -> Result<DeferredTruth> {
+    deferred_truth_with(
+        scene,
+        width,
+        height,
+        camera_time,
+        shadow_size,
+        true,
+        progress,
+    )
+}
+
+/// The deferred truth of `scene` at `width` x `height`, G-buffer at `camera_time` in [0, 1].
+/// `shadow_size` only sizes the light's view, whose shading numbers (direction, cone,
+/// emission) are the GPU's. `moving_receivers` off: each pixel's point stands still where the
+/// G-buffer shows it for the whole shutter (what the mask with standing receivers computes).
+pub fn deferred_truth_with(
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    camera_time: f32,
+    shadow_size: (u32, u32),
+    moving_receivers: bool,
     progress: &mut dyn FnMut(&str),
 ) -> Result<DeferredTruth> {
     let side_ok = |v: u32| (1..=MAX_IMAGE_SIDE).contains(&v);
@@ -86,6 +130,7 @@ pub fn deferred_truth(
         )));
     }
     scene.validate()?;
+    check_truth_memory(width, height)?;
 
     progress(&format!(
         "deferred truth: building the motion BVH over {} triangles",
@@ -141,7 +186,7 @@ pub fn deferred_truth(
                 (0..width)
                     .map(|x| {
                         let ray = rays.ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
-                        pixel(&ray, t, (near, far), &shading)
+                        pixel(&ray, t, (near, far), &shading, moving_receivers)
                     })
                     .collect()
             })
@@ -158,8 +203,9 @@ pub fn deferred_truth(
     Ok(out)
 }
 
-/// One pixel centre's camera ray at time `t`.
-fn pixel(ray: &Ray, t: f64, (near, far): (f64, f64), shading: &Shading) -> Pixel {
+/// One pixel centre's camera ray at time `t`; its point moves with its triangle over the
+/// shutter, or with `moving` off stands where it is at `t`.
+fn pixel(ray: &Ray, t: f64, (near, far): (f64, f64), shading: &Shading, moving: bool) -> Pixel {
     let Some(hit) = shading.bvh.closest(ray, t, near, far) else {
         return Pixel {
             lit: 1.0,
@@ -173,7 +219,12 @@ fn pixel(ray: &Ray, t: f64, (near, far): (f64, f64), shading: &Shading) -> Pixel
         let v = tri.at(time);
         w[0] * v[0] + w[1] * v[1] + w[2] * v[2]
     };
-    let lit = shutter::lit_fraction(shading.bvh, &shading.light, at(0.0), at(1.0), tri.id);
+    let (from, to) = if moving {
+        (at(0.0), at(1.0))
+    } else {
+        (at(t), at(t))
+    };
+    let lit = shutter::lit_fraction(shading.bvh, &shading.light, from, to, tri.id);
     let (direct, ambient) = shading.unshadowed(p, ray.dir, tri, t);
     let rgb = direct.map_or(ambient, |d| d * lit + ambient);
     Pixel {
@@ -215,12 +266,13 @@ pub fn render_truth(
     settings.validate()?;
     deferred.validate()?;
     scene.validate()?;
-    let truth = deferred_truth(
+    let truth = deferred_truth_with(
         scene,
         settings.width,
         settings.height,
         deferred.camera_time,
         settings.shadow_size(),
+        deferred.moving_receivers,
         progress,
     )?;
     let trace_ms = start.elapsed().as_secs_f64() * 1e3;

@@ -362,11 +362,7 @@ impl Renderer<'_> {
         let over = bindings.read_over_budget_pixels()?;
         if over > 0 {
             let limit = self.ctx.info().shader_loop_limit.unwrap_or(0);
-            return Err(motion_shadows::Error::LoopLimit {
-                pixels: over,
-                limit,
-            }
-            .into());
+            return Err(loop_limit_error(over, limit));
         }
         Ok(())
     }
@@ -580,4 +576,10 @@ fn shade(
         rgb[3 * i..3 * i + 3].copy_from_slice(&radiance.as_vec3().to_array());
     }
     Ok((RadianceImage::new(g.width, g.height, rgb)?, hit, facing))
+}
+
+/// The refusal of a mask whose `pixels` walked past the device's loop `limit`.
+/// (The forward frame's refusal suggests its own options: a shadow filter, the estimator.)
+pub fn loop_limit_error(pixels: u32, limit: u32) -> Error {
+    Error::MaskLoopLimit { pixels, limit }
 }

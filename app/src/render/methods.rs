@@ -175,6 +175,38 @@ impl ShadowOutcome {
     }
 }
 
+/// Bytes of a fragment (node) of the temporal map's lists.
+const NODE_BYTES: u64 = 16;
+
+/// `count` elements of `what` as the map counts them (u32), or the device-limit refusal with
+/// the real count (the map would refuse a count saturated to u32::MAX, printing that).
+fn counted(
+    count: u64,
+    what: &'static str,
+    element_bytes: u64,
+    ctx: &motion_shadows::gpu::Context,
+) -> Result<u32> {
+    u32::try_from(count)
+        .ok()
+        .filter(|&n| n < u32::MAX)
+        .ok_or_else(|| {
+            motion_shadows::Error::DeviceLimit {
+                what,
+                count,
+                element_bytes,
+                needed_bytes: count.saturating_mul(element_bytes),
+                limit_bytes: ctx.max_addressed_buffer_bytes(),
+            }
+            .into()
+        })
+}
+
+/// [`counted`] for the range buffer.
+fn counted_ranges(ranges: u64, ctx: &motion_shadows::gpu::Context) -> Result<u32> {
+    let range_bytes = std::mem::size_of::<motion_shadows::technique::Range>() as u64;
+    counted(ranges, "the range buffer", range_bytes, ctx)
+}
+
 impl Renderer<'_> {
     /// Collection and generation (with the coverage passes between them when `with_coverage`).
     /// The first attempt has room for the upper bound where the device can hold it
@@ -198,8 +230,7 @@ impl Renderer<'_> {
                     "shadow pass: the scene's triangles store at most {most} ranges: room for \
                      them, so one attempt"
                 ));
-                // Beyond u32 the map refuses the count anyway (it counts in u32).
-                u32::try_from(most).unwrap_or(u32::MAX).max(1)
+                counted_ranges(most, self.ctx)?.max(1)
             }
             RangeBounds::AtLeast { at_least, at_most } => {
                 if let Some(most) = at_most {
@@ -215,7 +246,7 @@ impl Renderer<'_> {
                          for them from the first attempt"
                     ));
                 }
-                u32::try_from(at_least).unwrap_or(u32::MAX).max(pixels)
+                counted_ranges(at_least, self.ctx)?.max(pixels)
             }
         };
         // The exact construction with the static layer stores no node (its collection writes
@@ -225,11 +256,17 @@ impl Renderer<'_> {
             self.ctx,
             width,
             height,
-            settings.initial_node_capacity.unwrap_or(if stores_nodes {
-                ranges.saturating_mul(2)
-            } else {
-                1
-            }),
+            match (settings.initial_node_capacity, stores_nodes) {
+                (Some(nodes), _) => nodes,
+                // A range pairs two fragments.
+                (None, true) => counted(
+                    2 * u64::from(ranges),
+                    "the fragment (node) buffer",
+                    NODE_BYTES,
+                    self.ctx,
+                )?,
+                (None, false) => 1,
+            },
             settings.initial_range_capacity.unwrap_or(ranges),
             settings.range_storage,
         )?

@@ -36,23 +36,34 @@ pub fn set_renderer(raytrace: bool) {
 /// with the figures.
 pub fn check_triangles(triangles: u64) -> Result<(), String> {
     let per = BYTES_PER_TRIANGLE.load(Ordering::Relaxed);
-    let needed = triangles.saturating_mul(per);
-    let Some((left, bound)) = headroom() else {
-        return Ok(());
-    };
-    if needed <= left {
-        return Ok(());
-    }
     let path = if per == RAYTRACE_BYTES_PER_TRIANGLE {
         "ray traced"
     } else {
         "rendered on the GPU"
     };
+    check_bytes(
+        triangles.saturating_mul(per),
+        &format!("{triangles} triangles"),
+        &format!("{per} bytes each, built and {path}"),
+        "building, use fewer triangles (or a lower --subdivide / --cubes)",
+    )
+}
+
+/// Ok when `bytes` more fit in what this process can still use; otherwise the reason: `what`
+/// would need about so many GiB (`how`: the figure it comes from), more than the process can
+/// still use (and what bounds that); refused before `advice` (what is not done, and what to
+/// do instead).
+pub fn check_bytes(bytes: u64, what: &str, how: &str, advice: &str) -> Result<(), String> {
+    let Some((left, bound)) = headroom() else {
+        return Ok(());
+    };
+    if bytes <= left {
+        return Ok(());
+    }
     Err(format!(
-        "{triangles} triangles would need about {:.1} GiB ({per} bytes each, built and {path}), \
-         more than the {:.1} GiB this process can still use ({bound}); refused before \
-         building, use fewer triangles (or a lower --subdivide / --cubes)",
-        gib(needed),
+        "{what} would need about {:.1} GiB ({how}), more than the {:.1} GiB this process can \
+         still use ({bound}); refused before {advice}",
+        gib(bytes),
         gib(left)
     ))
 }

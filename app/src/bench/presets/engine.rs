@@ -83,6 +83,7 @@ pub(super) fn engine(b: &mut Bench) -> Result<()> {
             shadow_size: Some((map, map)),
             ..b.settings(Method::Temporal, 1)
         };
+        b.record_size(width, height);
         (b.progress)(&format!("bench engine: {name}, the truth (CPU)"));
         let truth = match render_truth(
             &scene,

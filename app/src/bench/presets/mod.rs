@@ -137,6 +137,10 @@ pub struct Ratio {
 #[derive(Debug, Clone, Serialize)]
 pub struct Report {
     pub preset: &'static str,
+    /// The image sizes (width, height) the preset measured, in the order first rendered
+    /// (many presets set their own, not the run's default; the depth-only maps' tiny frames,
+    /// only their shadow pass read, are left out).
+    pub image_sizes: Vec<[u32; 2]>,
     pub files: Vec<PathBuf>,
     pub ratios: Vec<Ratio>,
     /// Configurations that could not be measured, and why.
@@ -232,6 +236,27 @@ impl Bench<'_, '_> {
         settings: &RenderSettings,
         runs: u32,
     ) -> Option<Measurement> {
+        self.record_size(settings.width, settings.height);
+        self.measure_unrecorded(what, scene, settings, runs)
+    }
+
+    /// Records that the preset renders `width` x `height` images (its report's
+    /// `image_sizes`).
+    pub(super) fn record_size(&mut self, width: u32, height: u32) {
+        let size = [width, height];
+        if !self.report.image_sizes.contains(&size) {
+            self.report.image_sizes.push(size);
+        }
+    }
+
+    /// [`Self::measure_runs`] of a frame whose image is not the preset's (not recorded).
+    fn measure_unrecorded(
+        &mut self,
+        what: &str,
+        scene: &Scene,
+        settings: &RenderSettings,
+        runs: u32,
+    ) -> Option<Measurement> {
         (self.progress)(&format!("bench {}: {what}", self.report.preset));
         match measure(self.renderer, scene, settings, runs) {
             Ok(m) => Some(m),
@@ -258,7 +283,9 @@ impl Bench<'_, '_> {
             ..self.settings(Method::Tsm, 1)
         };
         let what = format!("{}, one depth-only map", scene.name);
-        self.measure(&what, scene, &settings).map(|m| m.shadow_ms())
+        let runs = self.scale.runs;
+        self.measure_unrecorded(&what, scene, &settings, runs)
+            .map(|m| m.shadow_ms())
     }
 
     /// Where the preset's file `stem` (`results.csv`) goes: `--out/<preset>-<stem>`, which
@@ -346,6 +373,7 @@ pub fn run_preset(
         progress,
         report: Report {
             preset: preset.name(),
+            image_sizes: Vec::new(),
             files: Vec::new(),
             ratios: Vec::new(),
             notes: Vec::new(),
