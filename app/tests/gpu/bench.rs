@@ -6,6 +6,9 @@ use crate::support::gpu::{
 };
 use motion_shadows::technique::{PrismConstruction, ShadowMapContents};
 use motion_shadows_app::render::equation_2_bytes;
+use motion_shadows_app::render::range_bound::ranges_at_least;
+use motion_shadows_app::render::range_ceiling::ranges_at_most;
+use motion_shadows_app::render::upload::light_view;
 use motion_shadows_app::scene::{BuiltinOptions, builtin};
 
 /// N_f from the atomic counter equals the fragments found by walking every pixel's list (the
@@ -31,7 +34,17 @@ fn counters_equal_the_lists_they_count() {
     let (fragments, ranges) = count(&lists);
     assert_eq!(fragments, lists.nodes.len(), "fragments linked vs counted");
     assert_eq!(ranges, lists.ranges.len(), "ranges linked vs counted");
-    assert!(fragments > 1000);
+    // The exact construction stores both ends of every run, and the scene's triangles bound
+    // the runs from below and above (CPU counts over the scene: tests/gpu/range_bound.rs).
+    let light = light_view(&s, (48, 36));
+    let at_least = ranges_at_least(&s, &light, (48, 36)) as usize;
+    let at_most = |layer| ranges_at_most(&s, &light, (48, 36), layer).expect("exact") as usize;
+    assert_eq!(fragments, 2 * ranges, "a fragment at each end of each run");
+    assert!(
+        (at_least..=at_most(false)).contains(&ranges),
+        "{ranges} ranges, the scene's bounds {at_least} to {}",
+        at_most(false)
+    );
     let pixels = 48 * 36;
     assert_eq!(
         equation_2_bytes(fragments as u64, ranges as u64, pixels),
@@ -42,6 +55,10 @@ fn counters_equal_the_lists_they_count() {
     let (fragments, ranges) = count(&direct);
     assert_eq!(fragments, 0, "no fragment is stored");
     assert_eq!(ranges, direct.ranges.len(), "ranges linked vs counted");
-    assert!(ranges > 500);
+    assert!(
+        (at_least..=at_most(true)).contains(&ranges),
+        "{ranges} ranges with the static layer, the scene's bounds {at_least} to {}",
+        at_most(true)
+    );
     assert_no_validation_messages(&ctx);
 }

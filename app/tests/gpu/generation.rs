@@ -3,8 +3,8 @@
 //! latest fragment becomes a zero-length range.
 
 use crate::support::gpu::{
-    assert_no_validation_messages, context, mesh, overhead_spot, scene, temporal_map,
-    temporal_map_with,
+    assert_no_validation_messages, context, mesh, overhead_directional, overhead_spot, scene,
+    temporal_map, temporal_map_with,
 };
 use glam::Vec3;
 use motion_shadows::Error;
@@ -280,5 +280,53 @@ fn overlong_collected_ranges_are_an_error_with_figures() {
         .err()
         .expect("must fail");
     assert_too_long_with_600(err);
+    assert_no_validation_messages(&ctx);
+}
+
+/// A triangle whose coverage of many texels comes and goes during the shutter (several runs
+/// of one triangle in one texel, the depth order of the runs' ends unlike their time order:
+/// the motion `tests/gpu/several_runs.rs` found by search), kept in the lists: every pixel's
+/// ranges are the model's time-ordered pairs of its fragments. Where a triangle has one run
+/// per texel every pairing order agrees, so this is the case that tells them apart: it asserts
+/// that pairing by depth would differ at many pixels, and fails when the pass pairs by depth
+/// or in list order.
+#[test]
+fn ranges_pair_the_runs_of_a_triangle_covering_texels_twice() {
+    let ctx = context();
+    let corners = |c: [(f32, f32, f32); 3]| c.map(|(x, y, z)| Vec3::new(x, y, z)).to_vec();
+    let t0 = corners([
+        (-1.48, 1.75, 0.05),
+        (1.73, 0.76, 1.56),
+        (-1.62, 1.16, -0.99),
+    ]);
+    let t1 = corners([(0.07, 2.68, 1.66), (-1.0, 1.06, -0.67), (1.98, 2.19, -1.84)]);
+    let s = scene(
+        "twice-covering",
+        overhead_directional(8.0),
+        vec![mesh("triangle", t0, t1, false)],
+    );
+    let map = temporal_map_with(&ctx, &s, (64, 64), PrismConstruction::Exact, false);
+    // Pixels whose fragments the depth order pairs otherwise than the time order.
+    let mut telling = 0;
+    for y in 0..map.height {
+        for x in 0..map.width {
+            let mut nodes = map.nodes_at(x, y);
+            let mut by_time: Vec<_> = expected_ranges(&nodes).iter().map(key).collect();
+            // One triangle: pairing by depth is consecutive pairs of the depth-sorted list.
+            nodes.sort_by(|a, b| a.depth.total_cmp(&b.depth));
+            let mut by_depth: Vec<_> = (nodes.chunks(2))
+                .flat_map(expected_ranges)
+                .map(|r| key(&r))
+                .collect();
+            by_time.sort();
+            by_depth.sort();
+            telling += usize::from(nodes.len() >= 4 && by_time != by_depth);
+        }
+    }
+    assert!(
+        telling > 20,
+        "only {telling} pixels where the pairing order matters"
+    );
+    check_every_pixel(&map);
     assert_no_validation_messages(&ctx);
 }
