@@ -543,8 +543,9 @@ fn quick_game_preset_measures_three_methods_on_the_game_level() {
 }
 
 /// `bench --quick --preset hard`: every hard scene, each method's RMSE against the truth in
-/// the CSV (finite, and zero for no method: each differs from the truth somewhere), one
-/// side-by-side image per scene, and the temporal method's RMSE per scene as a ratio.
+/// the CSV (finite, and zero for no method: each differs from the truth somewhere; the
+/// temporal method's no worse than a plain map's, and small), one side-by-side image per
+/// scene, and the temporal method's RMSE per scene as a ratio.
 #[test]
 fn quick_hard_preset_measures_every_method_on_every_hard_scene() {
     let out = temp_dir("bench-hard");
@@ -592,6 +593,21 @@ fn quick_hard_preset_measures_every_method_on_every_hard_scene() {
             let rmse: f64 = row.split(',').nth(2).unwrap().parse().unwrap();
             assert!(rmse.is_finite() && rmse > 0.0, "{row}");
         }
+        // Against the same truth (the ray tracer, the same samples), the temporal map is
+        // never worse than one plain map drawn at a single time (the same map where nothing
+        // moves), and within 0.03 RMSE everywhere (at most 0.0234, on small-cubes; lavapipe,
+        // 2026-12-07).
+        let rmse = |method: &str| -> f64 {
+            let row = (lines.iter())
+                .find(|l| l.starts_with(&format!("{name},{method},")))
+                .unwrap();
+            row.split(',').nth(2).unwrap().parse().unwrap()
+        };
+        let (temporal, plain) = (rmse("temporal"), rmse("plain"));
+        assert!(
+            temporal <= plain && temporal < 0.03,
+            "{name}: temporal RMSE {temporal}, plain {plain}: {csv}"
+        );
         let png = image::open(out.join(format!("hard-{scene}.png"))).expect("a decodable PNG");
         assert!(png.width() >= 4 * 64, "{scene}: {}", png.width());
     }
