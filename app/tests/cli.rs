@@ -2,6 +2,7 @@
 //! re-import, bench output files, and a clear error without a Vulkan device. Every run has the
 //! validation layer on (MOTION_SHADOWS_VALIDATION=1) and fails if it reports anything.
 
+use motion_shadows_app::scene::{BuiltinOptions, builtin};
 use std::path::Path;
 use std::process::Command;
 
@@ -25,6 +26,32 @@ fn temp_dir(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("motion-shadows-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir
+}
+
+/// Whether a figure a bench wrote (six significant digits) agrees with `expected`, worked
+/// out here from other figures it wrote: within the rounding of a quotient of two of them.
+fn agrees(written: f64, expected: f64) -> bool {
+    written.is_finite() && (written - expected).abs() <= 1e-4 * expected.abs()
+}
+
+/// One row of a bench CSV, its cells by column name.
+struct CsvRow<'a> {
+    header: &'a [&'a str],
+    cells: Vec<&'a str>,
+}
+
+impl CsvRow<'_> {
+    fn cell(&self, column: &str) -> &str {
+        let i = (self.header.iter().position(|h| *h == column))
+            .unwrap_or_else(|| panic!("no column {column} in {:?}", self.header));
+        self.cells[i]
+    }
+
+    fn num(&self, column: &str) -> f64 {
+        let cell = self.cell(column);
+        cell.parse()
+            .unwrap_or_else(|_| panic!("{column}: {cell:?} is not a number"))
+    }
 }
 
 #[test]
@@ -257,10 +284,6 @@ fn quick_bench_preset_writes_csv_and_png() {
         lines.iter().all(|l| l.split(',').count() == columns),
         "{csv}"
     );
-    for line in &lines[1..] {
-        let ratio: f64 = line.rsplit(',').next().unwrap().parse().unwrap();
-        assert!(ratio.is_finite() && ratio > 0.0, "{line}");
-    }
     let png = image::open(out.join("shadow-pass-time.png")).expect("a decodable PNG");
     assert_eq!((png.width(), png.height()), (800, 500));
     let summary: serde_json::Value =
@@ -270,9 +293,52 @@ fn quick_bench_preset_writes_csv_and_png() {
     // kept (both with the scene's target), and the lists against the static layer.
     let ratios = summary["reports"][0]["ratios"].as_array().unwrap();
     assert_eq!(ratios.len(), 9, "{ratios:?}");
-    for scene in ratios.chunks(3) {
+    // Each row: the scene's own triangle count (the quick preset's 1,000 cubes), and its
+    // ratios the quotients of the times the row prints, in the CSV and the summary alike.
+    let quick = BuiltinOptions {
+        cube_count: 1000,
+        ..BuiltinOptions::default()
+    };
+    let header: Vec<&str> = lines[0].split(',').collect();
+    for (line, scene) in lines[1..].iter().zip(ratios.chunks(3)) {
+        let row = CsvRow {
+            header: &header,
+            cells: line.split(',').collect(),
+        };
+        let name = row.cell("scene");
+        let triangles = builtin(name, &quick).unwrap().triangle_count();
+        assert_eq!(row.cell("triangles"), triangles.to_string(), "{line}");
+        let (shadow, floor) = (row.num("temporal_shadow_ms"), row.num("depth_only_map_ms"));
+        assert!(shadow > 0.0 && floor > 0.0, "{line}");
+        let summary_value = |k: usize| {
+            let name = scene[k]["name"].as_str().unwrap().to_owned();
+            (name, scene[k]["value"].as_f64().unwrap())
+        };
+        let expected = [
+            (
+                ("the CSV's ratio".to_owned(), row.num("ratio")),
+                shadow / floor,
+            ),
+            (summary_value(0), shadow / floor),
+            (summary_value(1), row.num("temporal_kept_shadow_ms") / floor),
+            (
+                summary_value(2),
+                row.num("temporal_lists_shadow_ms") / shadow,
+            ),
+        ];
+        for ((what, written), expected) in expected {
+            assert!(
+                agrees(written, expected),
+                "{what}: {written}, the row's times give {expected}: {line}"
+            );
+        }
         assert!(scene[0]["target"].is_string() && scene[1]["target"].is_string());
         assert!(scene[2]["target"].is_null(), "{scene:?}");
+        for r in &scene[..2] {
+            let bound: f64 = r["target"].as_str().unwrap()[3..].parse().unwrap();
+            let met = r["value"].as_f64().unwrap() <= bound;
+            assert_eq!(r["met"].as_bool(), Some(met), "{r:?}");
+        }
     }
     std::fs::remove_dir_all(&out).ok();
 }
@@ -425,7 +491,9 @@ fn quick_game_preset_measures_three_methods_on_the_game_level() {
         ],
         "{csv}"
     );
-    let triangles = lines[1].rsplit(',').next().unwrap();
+    // The whole level's triangles, counted here from the scene itself.
+    let level = builtin("game-level", &BuiltinOptions::default()).unwrap();
+    let triangles = level.triangle_count().to_string();
     for (i, line) in lines[1..].iter().enumerate() {
         let cells: Vec<&str> = line.split(',').collect();
         assert_eq!(cells[5], triangles, "{csv}");
@@ -450,12 +518,41 @@ fn quick_game_preset_measures_three_methods_on_the_game_level() {
     assert_eq!(ratios[0]["target"], "<= 3");
     assert_eq!(ratios[1]["target"], "<= 3");
     assert!(ratios[2]["target"].is_null() && ratios[3]["target"].is_null());
+    // The ratios are the quotients of the rows' times (temporal, TSM, temporal with the layer
+    // kept, the depth-only map), and a target is met exactly when its value is within it.
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let row = |i: usize| CsvRow {
+        header: &header,
+        cells: lines[i].split(',').collect(),
+    };
+    let (temporal, tsm, kept, floor) = (row(1), row(2), row(4), row(5));
+    let expected = [
+        temporal.num("shadow_ms") / floor.num("shadow_ms"),
+        kept.num("shadow_ms") / floor.num("shadow_ms"),
+        temporal.num("frame_ms") / tsm.num("frame_ms"),
+        kept.num("frame_ms") / tsm.num("frame_ms"),
+    ];
+    for (r, expected) in ratios.iter().zip(expected) {
+        let value = r["value"].as_f64().unwrap();
+        assert!(
+            agrees(value, expected),
+            "{}: {value}, the rows give {expected}: {csv}",
+            r["name"]
+        );
+    }
+    for r in &ratios[..2] {
+        assert_eq!(
+            r["met"].as_bool(),
+            Some(r["value"].as_f64().unwrap() <= 3.0)
+        );
+    }
     std::fs::remove_dir_all(&out).ok();
 }
 
 /// `bench --quick --preset hard`: every hard scene, each method's RMSE against the truth in
-/// the CSV (finite, and zero for no method: each differs from the truth somewhere), one
-/// side-by-side image per scene, and the temporal method's RMSE per scene as a ratio.
+/// the CSV (finite, and zero for no method: each differs from the truth somewhere; the
+/// temporal method's no worse than a plain map's, and small), one side-by-side image per
+/// scene, and the temporal method's RMSE per scene as a ratio.
 #[test]
 fn quick_hard_preset_measures_every_method_on_every_hard_scene() {
     let out = temp_dir("bench-hard");
@@ -503,6 +600,21 @@ fn quick_hard_preset_measures_every_method_on_every_hard_scene() {
             let rmse: f64 = row.split(',').nth(2).unwrap().parse().unwrap();
             assert!(rmse.is_finite() && rmse > 0.0, "{row}");
         }
+        // Against the same truth (the ray tracer, the same samples), the temporal map is
+        // never worse than one plain map drawn at a single time (the same map where nothing
+        // moves), and within 0.03 RMSE everywhere (at most 0.0234, on small-cubes; lavapipe,
+        // 2026-12-07).
+        let rmse = |method: &str| -> f64 {
+            let row = (lines.iter())
+                .find(|l| l.starts_with(&format!("{name},{method},")))
+                .unwrap();
+            row.split(',').nth(2).unwrap().parse().unwrap()
+        };
+        let (temporal, plain) = (rmse("temporal"), rmse("plain"));
+        assert!(
+            temporal <= plain && temporal < 0.03,
+            "{name}: temporal RMSE {temporal}, plain {plain}: {csv}"
+        );
         let png = image::open(out.join(format!("hard-{scene}.png"))).expect("a decodable PNG");
         assert!(png.width() >= 4 * 64, "{scene}: {}", png.width());
     }
@@ -574,7 +686,31 @@ fn shadow_estimator_is_reported_and_compare_measures_static_receivers() {
     let temporal = methods.iter().find(|m| m["method"] == "temporal").unwrap();
     assert_eq!(temporal["stats"]["shadow_estimator"], "analytic");
     let rmse_static = temporal["rmse_static"].as_f64().expect("rmse_static");
-    assert!(rmse_static.is_finite() && rmse_static >= 0.0);
+    // Worked out here from the images it wrote: the squared error over every pixel, less the
+    // moving-object mask's share (its pixels and RMSE, from the JSON), over the other pixels.
+    let scene = json["scene"].as_str().unwrap();
+    let image = |method: &str| {
+        motion_shadows_app::output::read_exr(&dir.join(format!("{scene}-{method}.exr")))
+            .expect("the EXR compare wrote")
+    };
+    let (reference, analytic) = (image("reference"), image("temporal"));
+    let squared: f64 = (reference.rgb.iter())
+        .zip(&analytic.rgb)
+        .map(|(a, b)| (f64::from(*a) - f64::from(*b)).powi(2))
+        .sum();
+    let pixels = f64::from(reference.width * reference.height);
+    let masked = json["moving_mask_pixels"].as_f64().unwrap();
+    let rmse_masked = temporal["errors"]["rmse_masked"].as_f64().unwrap();
+    assert!(
+        masked > 0.0 && masked < pixels,
+        "{masked} of {pixels} pixels masked"
+    );
+    let expected =
+        ((squared - 3.0 * masked * rmse_masked.powi(2)) / (3.0 * (pixels - masked))).sqrt();
+    assert!(
+        expected > 0.0 && (rmse_static - expected).abs() <= 1e-6 * expected,
+        "rmse_static {rmse_static}, the images outside the mask give {expected}"
+    );
     let bench = dir.join("bench");
     let status = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
         .args(["bench", "--quick", "--preset", "shadow-pass"])

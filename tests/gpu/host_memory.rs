@@ -5,7 +5,7 @@
 use crate::support::host::Host;
 use motion_shadows::ash::vk;
 use motion_shadows::glam::Vec3;
-use motion_shadows::gpu::{Buffer, BufferUsage, Context};
+use motion_shadows::gpu::{Buffer, BufferUsage, Context, OneShot};
 use motion_shadows::gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use motion_shadows::technique::{
     CollectionPass, Draw, DrawList, GenerationPass, Indices, LightView, PositionStream,
@@ -168,6 +168,84 @@ fn a_map_replaced_while_its_frame_is_in_flight_waits_for_the_frame() {
         allocations(&allocator).is_empty(),
         "the library left nothing allocated"
     );
+    drop(allocator);
+    host.assert_clean_teardown();
+}
+
+/// Whether the host's allocator still holds an allocation named `name`.
+fn holds(allocator: &Mutex<Allocator>, name: &str) -> bool {
+    allocations(allocator).iter().any(|(n, _)| n == name)
+}
+
+/// A one-shot (the host's own upload through `OneShot`, or the library's download) waits for
+/// its own work only: on a host's context the host's frame may be recording or in flight on
+/// the same queue, so a one-shot's end must free nothing retired with that frame. A buffer
+/// dropped while frame 1 records (its handle in the host's command buffer, not yet submitted)
+/// and one dropped while frame 1 is in flight both stay allocated in the host's allocator
+/// through an upload and a download, and go only when the host collects frame 1 after its
+/// fence; the validation layer (which would report the submission of a destroyed buffer)
+/// stays silent. Fails when a one-shot's end frees everything retired.
+#[test]
+fn a_one_shot_during_a_hosts_frame_frees_nothing_the_frame_uses() {
+    let host = new_host();
+    let allocator = host_allocator(&host);
+    let ctx = wrap(&host, allocator.clone());
+    let device = &host.device;
+    let map = TemporalShadowMap::new(&ctx, 8, 8, 16, 16).expect("map");
+    let uploaded = Buffer::new(&ctx, "uploaded", 256, BufferUsage::Storage).expect("buffer");
+    let source = Buffer::with_data(&ctx, "source", BufferUsage::HostToDevice, &[7u32; 64])
+        .expect("upload source");
+    let upload = || {
+        OneShot::new(&ctx)
+            .and_then(|one_shot| {
+                one_shot.run(|cmd| {
+                    let region = vk::BufferCopy::default().size(256);
+                    // SAFETY: both buffers are the context's and alive; the one-shot waits.
+                    unsafe { device.cmd_copy_buffer(cmd, source.raw(), uploaded.raw(), &[region]) };
+                    Ok(())
+                })
+            })
+            .expect("one-shot upload")
+    };
+    let recorded =
+        Buffer::new(&ctx, "used while recording", 256, BufferUsage::Storage).expect("buffer");
+    let in_flight = Buffer::new(&ctx, "used in flight", 256, BufferUsage::Storage).expect("buffer");
+
+    ctx.begin_frame(1);
+    host.record_and_submit(|cmd| {
+        // SAFETY: the host's command buffer, recording, outside rendering; each buffer is
+        // retired with frame 1 when dropped.
+        unsafe {
+            device.cmd_fill_buffer(cmd, recorded.raw(), 0, vk::WHOLE_SIZE, 1);
+            device.cmd_fill_buffer(cmd, in_flight.raw(), 0, vk::WHOLE_SIZE, 2);
+        }
+        drop(recorded);
+        upload();
+        map.download_static_layer(&ctx).expect("download");
+        assert!(
+            holds(&allocator, "used while recording"),
+            "a one-shot freed a buffer that frame 1, still recording, uses"
+        );
+    })
+    .expect("submission");
+    drop(in_flight);
+    upload();
+    map.download_static_layer(&ctx).expect("download");
+    for name in ["used while recording", "used in flight"] {
+        assert!(
+            holds(&allocator, name),
+            "a one-shot freed {name:?} while frame 1 is in flight"
+        );
+    }
+    assert_eq!(host.validation_messages(), Vec::<String>::new());
+
+    host.wait().expect("fence");
+    // SAFETY: frame 1's fence has signalled; the one-shots waited for theirs.
+    unsafe { ctx.collect(1) };
+    for name in ["used while recording", "used in flight"] {
+        assert!(!holds(&allocator, name), "{name:?} is freed with frame 1");
+    }
+    drop((map, uploaded, source, ctx));
     drop(allocator);
     host.assert_clean_teardown();
 }

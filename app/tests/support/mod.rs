@@ -8,5 +8,6 @@ pub mod frame;
 pub mod gpu;
 #[path = "../../../examples/deferred_host/host.rs"]
 pub mod host;
+pub mod ray_traced;
 #[path = "../../../tests/support/sampling.rs"]
 pub mod sampling;
