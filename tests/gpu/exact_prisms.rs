@@ -265,6 +265,49 @@ fn casters_sweeping_through_the_light_itself_match_the_oracle() {
     assert_no_validation_messages(&ctx);
 }
 
+/// A triangle whose plane passes through the spot light twice in one shutter, containing it
+/// both times: seen in the plane z = 0 through the light (light-relative x, y), its edge at
+/// z = +-1.5 runs from A(t) = (-1 + 2t, -1) and its apex at z = 0 is B(t) = (1 + e - 2t,
+/// 1 + k t), so the plane holds the light where A x B = e - k t + 2k t^2 = 0: at
+/// t = 1/4 -+ sqrt(1/16 - e / 2k), 0.079 and 0.421 for k = 1.2, e = 0.08 (the light lies
+/// between A and B both times). Between the two the hit on every texel's ray is behind the
+/// light: the light-crossing cubic (here a quadratic) must find both sign changes, which
+/// needs its critical point (the derivative's root, t = 1/4) between them.
+#[test]
+fn a_triangle_whose_plane_passes_through_the_light_twice_matches_the_oracle() {
+    let ctx = context();
+    let light_y = 10.0;
+    let (k, e) = (1.2f32, 0.08f32);
+    let corners = |t: f32| {
+        let (a, b) = ((-1.0 + 2.0 * t, -1.0), (1.0 + e - 2.0 * t, 1.0 + k * t));
+        vec![
+            Vec3::new(a.0, light_y + a.1, -1.5),
+            Vec3::new(a.0, light_y + a.1, 1.5),
+            Vec3::new(b.0, light_y + b.1, 0.0),
+        ]
+    };
+    // The closed form's two crossings, and the light strictly inside the triangle's section
+    // z = 0 (the segment A B) at each.
+    let (k, e) = (f64::from(k), f64::from(e));
+    let spread = (1.0 / 16.0 - e / (2.0 * k)).sqrt();
+    for t in [0.25 - spread, 0.25 + spread] {
+        let (a, b) = ((-1.0 + 2.0 * t, -1.0), (1.0 + e - 2.0 * t, 1.0 + k * t));
+        let along = -a.1 / (b.1 - a.1);
+        assert!(t > 0.05 && t < 0.45, "crossing at {t}");
+        assert!((a.0 + along * (b.0 - a.0)).abs() < 1e-12 && along > 0.3 && along < 0.7);
+    }
+    let s = scene(
+        "through-light-twice",
+        overhead_spot(light_y, 45.0),
+        vec![mesh("rocking-plate", corners(0.0), corners(1.0), false)],
+    );
+    let checked = compare_with_oracle(&s, &exact_map(&ctx, &s));
+    eprintln!("through the light twice: {checked:?}");
+    assert!(checked.pairs > 3000 && checked.split > 3000, "{checked:?}");
+    assert!(checked.slivers * 100 < checked.pairs, "{checked:?}");
+    assert_no_validation_messages(&ctx);
+}
+
 /// A closed, tessellated box whose outline seen from the light never moves while the
 /// vertices inside its top face slide within the face: at every texel inside the outline
 /// the box blocks the light all frame long (the union of its ranges is [0, 1]). The papers'
