@@ -25,6 +25,9 @@ use common::*;
 #[path = "deferred_moving.rs"]
 mod moving;
 
+#[path = "deferred_union.rs"]
+mod union;
+
 /// A square of side `SIDE` at height 1 translating by `TRAVEL` in +x over the shutter, under
 /// a directional light straight down: a ground point (x, z) with z under the square is in
 /// shadow while a + TRAVEL t <= x <= a + SIDE + TRAVEL t, so its lit fraction is 1 minus the
@@ -459,9 +462,14 @@ const INTERVAL_CASTERS: [Caster; 3] = [
 const Z0: f64 = -1.0;
 
 fn interval_world() -> World {
+    caster_world(&INTERVAL_CASTERS)
+}
+
+/// The ground and `casters` (`Caster`), under `square_world`'s light.
+fn caster_world(casters: &[Caster]) -> World {
     let (world, _, _) = square_world();
     let mut meshes = vec![deferred::ground_mesh()];
-    for (i, c) in INTERVAL_CASTERS.iter().enumerate() {
+    for (i, c) in casters.iter().enumerate() {
         let w = c.width as f32;
         let square = [[0.0, 0.0], [0.0, SIDE], [w, SIDE], [w, 0.0]].map(|[x, z]| Vertex {
             position: [x, 0.0, z],
@@ -485,10 +493,14 @@ fn interval_world() -> World {
 /// `interval_world`'s engine after frame 1 (whose shutter the casters' motions span), and
 /// that frame.
 fn interval_frame(host: &Host) -> (Engine<'_>, FrameOutput) {
-    let world = interval_world();
-    let mut engine = Engine::new(host, &world, settings((300_000, 200_000))).expect("engine");
+    caster_frame(host, &interval_world())
+}
+
+/// `world`'s engine after frame 1, and that frame.
+fn caster_frame<'h>(host: &'h Host, world: &World) -> (Engine<'h>, FrameOutput) {
+    let mut engine = Engine::new(host, world, settings((300_000, 200_000))).expect("engine");
     let frame = engine
-        .render(&world, 0..2, &|f| f == 1)
+        .render(world, 0..2, &|f| f == 1)
         .expect("frames")
         .pop()
         .expect("frame 1 kept");
@@ -512,6 +524,8 @@ fn caster_interval(c: &Caster, x: f64, z: f64, depth_margin: f64) -> Option<(f64
     // Above the ground: h0 + (h1 - h0) t > margin.
     if c.h1 < c.h0 {
         to = to.min((c.h0 - depth_margin) / (c.h0 - c.h1));
+    } else if c.h1 > c.h0 {
+        from = from.max((depth_margin - c.h0) / (c.h1 - c.h0));
     }
     from = from.max(0.0);
     to = to.min(1.0);

@@ -66,7 +66,11 @@ fn frame_map<'h>(host: &'h Host, world: &World) -> (deferred::Engine<'h>, usize)
 
 /// Ground receivers moving from `from[i]` to `to[i]` (normal up, no own triangle): their lit
 /// fractions through the probe.
-fn moving_lit(host: &Host, map: &TemporalShadowMap, paths: &[(DVec3, DVec3)]) -> Vec<f64> {
+pub(super) fn moving_lit(
+    host: &Host,
+    map: &TemporalShadowMap,
+    paths: &[(DVec3, DVec3)],
+) -> Vec<f64> {
     let query = |p: DVec3| Query {
         position: p.as_vec3().to_array(),
         time: 0.0,
@@ -279,4 +283,79 @@ fn a_receiver_rising_past_a_still_caster_leaves_its_shadow() {
     }
     drop(engine);
     assert_eq!(host.validation_messages(), Vec::<String>::new());
+}
+
+/// Ground receivers moving under a still plate at height 1 that covers the whole view of
+/// `spot_over_ground` (the map holds it at every texel), on paths that leave the light's
+/// view (or enter it) part way through the shutter: in shadow while inside the view, and,
+/// as `ms_lit_fraction_moving` documents, lit while outside it, so lit = the share of the
+/// shutter the tested point spends outside. The tested point is the receiver moved up by
+/// the light's normal offset (one texel at its light depth 6: 6 * 2 tan 60 / 256), and the
+/// view is the square frustum |x|, |z| < (6 - y) tan 60 deg. Tolerance 2e-3 (f32 rounding):
+/// inside the view nothing but the plate decides.
+#[test]
+fn a_receiver_leaving_the_spot_lights_view_is_lit_outside_it() {
+    let host = new_host();
+    let (world, _, _) = square_world();
+    let plate = [[-1.0, -1.0], [-1.0, 1.0], [1.0, 1.0], [1.0, -1.0]].map(|[x, z]| Vertex {
+        position: [20.0 * x, 0.0, 20.0 * z],
+        normal: [0.0, 1.0, 0.0],
+    });
+    let world = World {
+        lights: vec![spot_over_ground()],
+        meshes: vec![Mesh {
+            name: "plate".into(),
+            vertices: plate.to_vec(),
+            indices: MeshIndices::U16(vec![0, 1, 2, 0, 2, 3]),
+            albedo: Vec3::splat(0.5),
+            closed: false,
+            motion: Motion::Rigid(Box::new(|_| DMat4::from_translation(DVec3::Y))),
+        }],
+        ..world
+    };
+    let (engine, slot) = frame_map(&host, &world);
+    let tan = 60f64.to_radians().tan();
+    let lift = 6.0 * 2.0 * tan / f64::from(SHADOW.1);
+    let half_view = (6.0 - lift) * tan;
+    let mut paths = Vec::new();
+    for z in [-3.0, 0.0, 4.5] {
+        let (inside, outside) = (DVec3::new(2.0, 0.0, z), DVec3::new(18.0, 0.0, z));
+        paths.extend([(inside, outside), (outside, inside)]);
+        let (inside, outside) = (DVec3::new(z, 0.0, -1.0), DVec3::new(z, 0.0, -14.0));
+        paths.extend([(inside, outside), (outside, inside)]);
+    }
+    // Across a corner: out through x, then through z, and in again.
+    paths.push((DVec3::new(9.0, 0.0, 6.0), DVec3::new(14.0, 0.0, 11.0)));
+    paths.push((DVec3::new(-16.0, 0.0, 7.0), DVec3::new(16.0, 0.0, 9.0)));
+    let lit = moving_lit(&host, engine.shadow_map(slot, 0), &paths);
+    for (&(a, b), &got) in paths.iter().zip(&lit) {
+        let [from_x, to_x] = time_range_inside(a.x, b.x, half_view);
+        let [from_z, to_z] = time_range_inside(a.z, b.z, half_view);
+        let inside = (to_x.min(to_z) - from_x.max(from_z)).max(0.0);
+        let expected = 1.0 - inside;
+        assert!(
+            (got - expected).abs() <= 2e-3,
+            "receiver from {a} to {b}: lit {got}, closed form {expected} (in view {inside})"
+        );
+        assert!(
+            expected > 0.05 && expected < 0.95,
+            "path {a} to {b} not partly lit"
+        );
+    }
+    drop(engine);
+    assert_eq!(host.validation_messages(), Vec::<String>::new());
+}
+
+/// The times in [0, 1] during which a + t (b - a) lies in (-half, half), as [from, to]
+/// (empty: from >= to).
+fn time_range_inside(a: f64, b: f64, half: f64) -> [f64; 2] {
+    if a == b {
+        return if a.abs() < half {
+            [0.0, 1.0]
+        } else {
+            [1.0, 0.0]
+        };
+    }
+    let (t_lo, t_hi) = ((-half - a) / (b - a), (half - a) / (b - a));
+    [t_lo.min(t_hi).max(0.0), t_lo.max(t_hi).min(1.0)]
 }

@@ -13,6 +13,7 @@ mod device_setup;
 mod engine_tsm;
 mod exact_prisms;
 mod footprint_hull;
+mod footprint_hull_ties;
 mod host_memory;
 mod layout;
 mod minimal_host;
