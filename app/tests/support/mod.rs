@@ -8,5 +8,7 @@ pub mod frame;
 pub mod gpu;
 #[path = "../../../examples/deferred_host/host.rs"]
 pub mod host;
+#[path = "../../../tests/support/rng.rs"]
+pub mod rng;
 #[path = "../../../tests/support/sampling.rs"]
 pub mod sampling;
