@@ -522,6 +522,50 @@ fn shared_edge_configs() -> Vec<Config> {
     out
 }
 
+/// A tilted flat fan of six triangles (random plane, corners in f32) and a tilted shadow ray
+/// through a point Q on one of its inner edges or at its centre (all in f32, so only rounding
+/// decides which of the two triangles holds the ray), the fan still or sliding along the ray:
+/// the ray meets the fan all shutter long; no light may pass between two triangles.
+fn rounded_shared_edge_configs(rng: &mut Rng) -> Vec<Config> {
+    let mut r = |lo: f64, hi: f64| lo + (hi - lo) * f64::from(rng.unit());
+    let mut out = Vec::new();
+    for i in 0..200 {
+        let normal = DVec3::new(r(-0.6, 0.6), 1.0, r(-0.6, 0.6)).normalize();
+        let e1 = DVec3::new(1.0, 0.0, r(-0.3, 0.3)).cross(normal).normalize();
+        let e2 = normal.cross(e1);
+        let centre = DVec3::new(r(-3.0, 3.0), r(1.0, 3.0), r(-3.0, 3.0));
+        let rim: Vec<Vec3> = (0..6)
+            .map(|k| {
+                let angle = (k as f64 + r(-0.3, 0.3)) * std::f64::consts::TAU / 6.0;
+                (centre + r(0.7, 1.3) * (angle.cos() * e1 + angle.sin() * e2)).as_vec3()
+            })
+            .collect();
+        let c = centre.as_vec3();
+        let fan: Vec<[Vec3; 3]> = (0..6).map(|k| [c, rim[k], rim[(k + 1) % 6]]).collect();
+        let q = if i % 10 == 0 {
+            c
+        } else {
+            let (k, lambda) = (i % 6, r(0.05, 0.95) as f32);
+            c + lambda * (rim[k] - c)
+        };
+        // The ray's direction, tilted: an axis-aligned one would make the two triangles'
+        // products of an edge equal by symmetry alone.
+        let up = DVec3::new(r(-0.5, 0.5), 1.0, r(-0.5, 0.5)).normalize();
+        let p = (q.as_dvec3() - r(0.5, 2.0) * up).as_vec3();
+        let (spot, light) = if i % 2 == 0 {
+            (false, (-up).as_vec3())
+        } else {
+            (true, (q.as_dvec3() + 5.0 * up).as_vec3())
+        };
+        let mut c = config("shared edge, rounded", p, p, spot, light);
+        let slide = if i % 4 < 2 { 0.0 } else { r(-0.4, 0.4) };
+        c.triangles = moving(&fan, (slide * up).as_vec3());
+        c.closed_form = Some(vec![(0.0, 1.0)]);
+        out.push(c);
+    }
+    out
+}
+
 /// Triangles in the plane x = 0.25 with the receiver in it too, so the ray lies in their
 /// plane (E = 0): no shadow. Dyadic coordinates: every product exact in f32 and f64.
 fn edge_on_configs() -> Vec<Config> {
@@ -606,6 +650,7 @@ fn exact_shadow_intervals_match_the_ray_tracer_and_closed_forms() {
     configs.extend(rotating_plate_configs());
     configs.extend(through_light_configs());
     configs.extend(shared_edge_configs());
+    configs.extend(rounded_shared_edge_configs(&mut rng));
     configs.extend(edge_on_configs());
     configs.extend(own_surface_configs());
     let answers = probe(&configs);
