@@ -19,6 +19,9 @@ mod gpu_constants;
 
 /// The generated include's name, as the shaders `#include` it.
 const GENERATED_CONSTANTS: &str = "gpu_constants.glsl";
+/// Includes that no stage includes yet (building blocks for passes still to come), compiled
+/// alone so that the build checks them.
+const CHECKED_ALONE: &[&str] = &["exact_shadow.glsl"];
 
 fn stage_of(path: &Path) -> Option<shaderc::ShaderKind> {
     match path.extension()?.to_str()? {
@@ -49,12 +52,7 @@ fn main() {
         .collect();
     entries.sort();
 
-    let mut failures = Vec::new();
-    for path in &entries {
-        println!("cargo:rerun-if-changed={}", path.display());
-        let Some(kind) = stage_of(path) else { continue };
-        let source = std::fs::read_to_string(path).expect("read shader");
-        let file_name = path.file_name().unwrap().to_str().unwrap().to_owned();
+    let options = || {
         let include_dir = glsl_dir.clone();
         let mut options = shaderc::CompileOptions::new().expect("shaderc options");
         options.set_target_env(
@@ -79,12 +77,34 @@ fn main() {
                 })
                 .map_err(|e| format!("cannot include {}: {e}", p.display()))
         });
-        match compiler.compile_into_spirv(&source, kind, &file_name, "main", Some(&options)) {
+        options
+    };
+
+    let mut failures = Vec::new();
+    for path in &entries {
+        println!("cargo:rerun-if-changed={}", path.display());
+        let Some(kind) = stage_of(path) else { continue };
+        let source = std::fs::read_to_string(path).expect("read shader");
+        let file_name = path.file_name().unwrap().to_str().unwrap().to_owned();
+        match compiler.compile_into_spirv(&source, kind, &file_name, "main", Some(&options())) {
             Ok(artifact) => {
                 let out = out_dir.join(format!("{file_name}.spv"));
                 std::fs::write(out, artifact.as_binary_u8()).expect("write spv");
             }
             Err(e) => failures.push(format!("glsl/{e}")),
+        }
+    }
+    // Includes that no stage of the library includes yet are compiled alone, inside an empty
+    // compute shader, so that an error in them fails the build too (nothing is written).
+    for include in CHECKED_ALONE {
+        let source = format!(
+            "#version 450\n#include \"{include}\"\nlayout(local_size_x = 1) in;\nvoid main() {{}}\n"
+        );
+        let name = format!("{include} (checked alone)");
+        let kind = shaderc::ShaderKind::Compute;
+        if let Err(e) = compiler.compile_into_spirv(&source, kind, &name, "main", Some(&options()))
+        {
+            failures.push(format!("glsl/{e}"));
         }
     }
     if !failures.is_empty() {

@@ -55,6 +55,20 @@ impl ShadingLight {
         }
     }
 
+    /// A light for shadow rays only (no cone, no emission): a spot light at `position`, or
+    /// (`None`) a directional one travelling along `direction`, whose shadow ray's epsilon
+    /// scales with `scene_scale`. For tests that ask [`super::shutter`] about bare geometry.
+    pub fn for_shadows(position: Option<DVec3>, direction: DVec3, scene_scale: f64) -> Self {
+        Self {
+            spot: position.is_some(),
+            position: position.unwrap_or(DVec3::ZERO),
+            direction: direction.normalize(),
+            cos_cone: -1.0,
+            emission: 0.0,
+            scale: scene_scale.max(f64::MIN_POSITIVE),
+        }
+    }
+
     /// The light's position if it is a spot light (directional lights have none).
     pub fn spot_position(&self) -> Option<DVec3> {
         self.spot.then_some(self.position)

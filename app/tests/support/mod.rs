@@ -9,5 +9,7 @@ pub mod gpu;
 #[path = "../../../examples/deferred_host/host.rs"]
 pub mod host;
 pub mod ray_traced;
+#[path = "../../../tests/support/rng.rs"]
+pub mod rng;
 #[path = "../../../tests/support/sampling.rs"]
 pub mod sampling;

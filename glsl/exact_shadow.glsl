@@ -1,0 +1,361 @@
+// The exact shadow test of one receiver against one moving triangle, over a window of the
+// shutter, in f32: the building block of the exact lookups (issue 35; docs/src/exact-lookups.md).
+// Self-contained: no bindings, no buffer references, every name prefixed `ms_exact_`, so that
+// any of the library's shaders can include it. Its f64 original is the ray tracer's
+// app/src/raytrace/shutter.rs, whose structure it follows.
+//
+// The receiver moves linearly, P(t) = P0 + t (P1 - P0) (still: P0 == P1); the triangle's
+// corners too, X(t) = X0 + t (X1 - X0). With every vector relative to P(t) (X' = X(t) - P(t),
+// linear in t) and u(t) the shadow ray's direction (spot: L - P(t), linear; directional: the
+// unit vector against the light's direction, constant), the ray P(t) + s u(t) meets the
+// triangle ABC iff its three edge functions det(A', B', u), det(B', C', u), det(C', A', u)
+// share a sign (zeros allowed) and the plane's ray parameter s = det(A', B', C') / E (E their
+// sum, E != 0) lies in the light's range of s. Each is a triple product of vectors linear in
+// t: a cubic (directional: the edges are quadratics) whose coefficients are sums of
+// determinants of the vectors' parts. The test can change only where one of the edges, or
+// det(A', B', C') - s0 E at a bound s0 of the range, changes sign; between two such times it
+// is asked once, at the midpoint.
+//
+// How many intervals at most: 3 edges and (spot) 2 bounds of s, each a polynomial of degree
+// <= 3, change sign at most 15 times in the window (directional: 3 quadratics and 1 cubic, 9
+// times), cutting it into at most 16 pieces. Shadowed pieces that touch are joined, so two
+// intervals are apart by at least one lit piece: at most 8 intervals (directional: 5), which
+// is MS_EXACT_MAX_INTERVALS; the list can never overflow.
+//
+// The one epsilon, MS_EXACT_SELF_EPSILON: the range of s starts there (ms_exact_s_min), so
+// that a receiver is not shadowed by the surface it lies on. The caller leaves out the
+// receiver's own triangle; its coplanar neighbours remain, and a receiver on an edge or corner
+// it shares with them (or, in f32, one rounding off their plane) meets them at s ~ 0: its
+// position is ~2^-24 of the coordinates' size off their plane, crossed ~2^-24 M / sin(angle)
+// along a ray that grazes the surface at that angle. Spot: s is the share of the segment from
+// P(t) to the light, so the epsilon is relative to the receiver's distance to the light, d
+// (keeps such self-hits out down to sin(angle) ~ 1e-3 M / d, loses no blocker farther than
+// 1e-4 d from the receiver: 1 mm at 10 units). Directional: u is a unit vector, so the
+// epsilon is relative to the scene's size that the caller hands over (as the ray tracer does).
+// The range ends at s = 1 for a spot light (its position) and nowhere for a directional one.
+// Nothing else is a tolerance: the roots are bracketed as narrowly as f32 resolves t, and the
+// certain-sign early out only skips work that would find nothing.
+//
+// Ties. A receiver exactly on an edge two triangles share (or its ray through that edge): the
+// edge function of an edge is computed from its two corners in one canonical order (the
+// smaller corner data first), then negated for the triangle that walks the edge the other
+// way, with `precise` arithmetic, so both triangles see exactly opposite values (and the same
+// roots): where it is 0 both take the ray, where it is not, one of them does (watertight, as
+// Woop et al.'s test of the ray tracer): no light passes between a closed mesh's triangles.
+// A triangle edge-on to the ray (E == 0 at that time) does not block: it has no area (the
+// tracer's rule); in a closed mesh its neighbours cover the ray.
+
+#ifndef MS_EXACT_SHADOW_GLSL
+#define MS_EXACT_SHADOW_GLSL
+
+#define MS_EXACT_MAX_INTERVALS 8
+// 3 edges x 3 roots + 2 bounds x 3 roots.
+#define MS_EXACT_MAX_EVENTS 15
+#define MS_EXACT_SELF_EPSILON 1e-4
+// Roots are bracketed to this width in t (~4 ulps of t near 1).
+#define MS_EXACT_ROOT_WIDTH 4.8e-7
+// A triangle is rejected without root finding when two of its edge functions have opposite
+// signs over the whole shutter by more than this share of their largest possible term (the
+// f32 rounding of the coefficients is ~1e-6 of it).
+#define MS_EXACT_CERTAIN 1e-5
+// The union of several triangles' intervals holds this many disjoint ones at most.
+#define MS_EXACT_UNION_CAPACITY 16
+
+// A vector linear in t: a + t b.
+struct ms_exact_Linear {
+    vec3 a;
+    vec3 b;
+};
+
+float ms_exact_det(vec3 x, vec3 y, vec3 z) {
+    precise float d = x.x * (y.y * z.z - y.z * z.y) + x.y * (y.z * z.x - y.x * z.z)
+        + x.z * (y.x * z.y - y.y * z.x);
+    return d;
+}
+
+// det(x(t), y(t), z(t)) as c.x + c.y t + c.z t^2 + c.w t^3: trilinear, so the coefficient
+// of t^k sums the determinants taking the moving part b of exactly k of the three.
+vec4 ms_exact_triple(ms_exact_Linear x, ms_exact_Linear y, ms_exact_Linear z) {
+    precise vec4 c = vec4(
+        ms_exact_det(x.a, y.a, z.a),
+        ms_exact_det(x.b, y.a, z.a) + ms_exact_det(x.a, y.b, z.a) + ms_exact_det(x.a, y.a, z.b),
+        ms_exact_det(x.b, y.b, z.a) + ms_exact_det(x.b, y.a, z.b) + ms_exact_det(x.a, y.b, z.b),
+        ms_exact_det(x.b, y.b, z.b));
+    return c;
+}
+
+// A total order on corners (their data), the same in every triangle that holds them.
+bool ms_exact_before(ms_exact_Linear x, ms_exact_Linear y) {
+    float k[6] = float[6](x.a.x, x.a.y, x.a.z, x.b.x, x.b.y, x.b.z);
+    float l[6] = float[6](y.a.x, y.a.y, y.a.z, y.b.x, y.b.y, y.b.z);
+    for (int i = 0; i < 6; ++i) {
+        if (k[i] != l[i]) return k[i] < l[i];
+    }
+    return false;
+}
+
+// The edge function det(x, y, u) of the edge from x to y, computed in the edge's canonical
+// order and negated when walked the other way: exactly opposite for the two triangles that
+// share the edge (see the ties above).
+vec4 ms_exact_edge(ms_exact_Linear x, ms_exact_Linear y, ms_exact_Linear u) {
+    if (ms_exact_before(y, x)) return -ms_exact_triple(y, x, u);
+    return ms_exact_triple(x, y, u);
+}
+
+float ms_exact_eval(vec4 c, float t) {
+    precise float r = ((c.w * t + c.z) * t + c.y) * t + c.x;
+    return r;
+}
+
+vec4 ms_exact_derivative(vec4 c) {
+    return vec4(c.y, 2.0 * c.z, 3.0 * c.w, 0.0);
+}
+
+// The root of c in [a, b], where it is monotone and negative at a iff negative_at_a,
+// bracketed to MS_EXACT_ROOT_WIDTH: Newton steps inside the bracket while they shrink fast
+// enough, bisection otherwise (rtsafe); once a Newton step is below the width, two
+// evaluations close the bracket around its point, so the width is proven by a sign change.
+float ms_exact_root_in(vec4 c, float a, float b, bool negative_at_a) {
+    vec4 slope = ms_exact_derivative(c);
+    float step_ = b - a;
+    float last_step = b - a;
+    float x = 0.5 * (a + b);
+    // Enough for bisection alone to reach the width from [0, 1].
+    for (int i = 0; i < 40; ++i) {
+        float f = ms_exact_eval(c, x);
+        if (f == 0.0) return x;
+        if ((f < 0.0) == negative_at_a) a = max(a, x); else b = min(b, x);
+        if (b - a <= MS_EXACT_ROOT_WIDTH) break;
+        float df = ms_exact_eval(slope, x);
+        float newton = x - f / df;
+        if (newton > a && newton < b && abs(2.0 * f) <= abs(last_step * df)) {
+            last_step = step_;
+            step_ = f / df;
+            x = newton;
+            if (abs(step_) < 0.25 * MS_EXACT_ROOT_WIDTH) {
+                float half_width = 0.5 * MS_EXACT_ROOT_WIDTH;
+                float probe_lo = max(x - half_width, a);
+                float probe_hi = min(x + half_width, b);
+                float f_lo = ms_exact_eval(c, probe_lo);
+                if (f_lo == 0.0) return probe_lo;
+                if ((f_lo < 0.0) == negative_at_a) a = max(a, probe_lo); else b = min(b, probe_lo);
+                float f_hi = ms_exact_eval(c, probe_hi);
+                if (f_hi == 0.0) return probe_hi;
+                if ((f_hi < 0.0) == negative_at_a) a = max(a, probe_hi); else b = min(b, probe_hi);
+                x = 0.5 * (a + b);
+            }
+        } else {
+            last_step = step_;
+            step_ = 0.5 * (b - a);
+            x = a + step_;
+        }
+        if (x <= a || x >= b) break;
+    }
+    return 0.5 * (a + b);
+}
+
+// Where c changes sign in (lo, hi), ascending, given the points `crit` (ascending, inside)
+// between which it is monotone; plus its exact zeros at those points. A root where the sign
+// does not change (a double root) changes no test and is not needed.
+int ms_exact_monotone_roots(vec4 c, float lo, float hi, float crit[3], int n_crit,
+                            out float roots[3]) {
+    int n = 0;
+    float a = lo;
+    float fa = ms_exact_eval(c, a);
+    for (int i = 0; i <= n_crit; ++i) {
+        float b = i < n_crit ? crit[i] : hi;
+        float fb = ms_exact_eval(c, b);
+        if (fa == 0.0) {
+            if (a > lo && n < 3) roots[n++] = a;
+        } else if (fb != 0.0 && (fa < 0.0) != (fb < 0.0) && n < 3) {
+            roots[n++] = ms_exact_root_in(c, a, b, fa < 0.0);
+        }
+        a = b;
+        fa = fb;
+    }
+    return n;
+}
+
+// Where the cubic c changes sign in (lo, hi), ascending (at most 3). Between consecutive
+// roots of its derivative it is monotone, so each such piece holds at most one root and a
+// sign change brackets it; the derivative's roots come the same way, from its own
+// derivative's (a linear one, monotone). No tolerance decides a degree: a tiny leading
+// coefficient only adds pieces.
+int ms_exact_sign_changes(vec4 c, float lo, float hi, out float roots[3]) {
+    float none[3] = float[3](0.0, 0.0, 0.0);
+    roots = none;
+    if (c == vec4(0.0)) return 0;
+    vec4 slope = ms_exact_derivative(c);
+    vec4 curvature = ms_exact_derivative(slope);
+    float bend[3];
+    int n_bend = ms_exact_monotone_roots(curvature, lo, hi, none, 0, bend);
+    float turns[3];
+    int n_turns = ms_exact_monotone_roots(slope, lo, hi, bend, n_bend, turns);
+    return ms_exact_monotone_roots(c, lo, hi, turns, n_turns, roots);
+}
+
+// The polynomial's sign over all of [0, 1] when its Bernstein coefficients (whose convex hull
+// holds its graph) all have it by more than margin: 1 or -1; 0 otherwise.
+int ms_exact_certain_sign(vec4 c, float margin) {
+    vec4 b = vec4(c.x, c.x + c.y / 3.0, c.x + (2.0 * c.y + c.z) / 3.0, c.x + c.y + c.z + c.w);
+    if (all(greaterThan(b, vec4(margin)))) return 1;
+    if (all(lessThan(b, vec4(-margin)))) return -1;
+    return 0;
+}
+
+// The start of the range of s that must be free for a receiver to see the light (see the
+// epsilon above): spot, a share of the segment to the light; directional, of `scene_size`.
+float ms_exact_s_min(bool spot, float scene_size) {
+    return spot ? MS_EXACT_SELF_EPSILON : MS_EXACT_SELF_EPSILON * scene_size;
+}
+
+// Whether the ray meets the triangle at time t, from the edge polynomials and the plane's.
+bool ms_exact_blocks(vec4 edges[3], vec4 plane, bool spot, float s_min, float t) {
+    float x = ms_exact_eval(edges[0], t);
+    float y = ms_exact_eval(edges[1], t);
+    float z = ms_exact_eval(edges[2], t);
+    if ((x < 0.0 || y < 0.0 || z < 0.0) && (x > 0.0 || y > 0.0 || z > 0.0)) return false;
+    precise float sum = x + y + z;
+    if (sum == 0.0) return false;
+    float s = ms_exact_eval(plane, t) / sum;
+    return s >= s_min && (!spot || s <= 1.0);
+}
+
+// The intervals of [w0, w1] (within the shutter [0, 1]) during which the triangle with
+// corners t0_corners at t = 0 and t1_corners at t = 1 blocks the shadow ray of the receiver
+// moving from p0 (t = 0) to p1 (t = 1): ascending, disjoint, apart; their count (at most
+// MS_EXACT_MAX_INTERVALS). `light`: the spot's position, or the direction a directional
+// light travels (any length); `s_min` from ms_exact_s_min.
+int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s_min,
+                                vec3 t0_corners[3], vec3 t1_corners[3], float w0, float w1,
+                                out vec2 intervals[MS_EXACT_MAX_INTERVALS]) {
+    for (int i = 0; i < MS_EXACT_MAX_INTERVALS; ++i) intervals[i] = vec2(0.0);
+    if (!(w1 > w0)) return 0;
+    vec3 m = p1 - p0;
+    ms_exact_Linear u;
+    if (spot) {
+        u = ms_exact_Linear(light - p0, -m);
+    } else {
+        u = ms_exact_Linear(-normalize(light), vec3(0.0));
+    }
+    ms_exact_Linear corner[3];
+    for (int i = 0; i < 3; ++i) {
+        corner[i] = ms_exact_Linear(t0_corners[i] - p0, (t1_corners[i] - t0_corners[i]) - m);
+    }
+    vec4 edges[3] = vec4[3](ms_exact_edge(corner[0], corner[1], u),
+                            ms_exact_edge(corner[1], corner[2], u),
+                            ms_exact_edge(corner[2], corner[0], u));
+    // Two edge functions of opposite signs over the whole shutter: never a hit.
+    float r = 0.0;
+    for (int i = 0; i < 3; ++i) r = max(r, length(corner[i].a) + length(corner[i].b));
+    float margin = MS_EXACT_CERTAIN * r * r * (length(u.a) + length(u.b));
+    bool positive = false;
+    bool negative = false;
+    for (int i = 0; i < 3; ++i) {
+        int sign_ = ms_exact_certain_sign(edges[i], margin);
+        positive = positive || sign_ > 0;
+        negative = negative || sign_ < 0;
+    }
+    if (positive && negative) return 0;
+
+    vec4 plane = ms_exact_triple(corner[0], corner[1], corner[2]);
+    vec4 sum = edges[0] + edges[1] + edges[2];
+    float events[MS_EXACT_MAX_EVENTS];
+    int n_events = 0;
+    for (int k = 0; k < 5; ++k) {
+        if (k == 4 && !spot) break;
+        vec4 c = k < 3 ? edges[k] : plane - (k == 3 ? s_min : 1.0) * sum;
+        float roots[3];
+        int n = ms_exact_sign_changes(c, w0, w1, roots);
+        for (int j = 0; j < n; ++j) events[n_events++] = roots[j];
+    }
+    // Insertion sort: at most 15.
+    for (int i = 1; i < n_events; ++i) {
+        float v = events[i];
+        int j = i - 1;
+        while (j >= 0 && events[j] > v) {
+            events[j + 1] = events[j];
+            --j;
+        }
+        events[j + 1] = v;
+    }
+
+    int count = 0;
+    float start = w0;
+    for (int i = 0; i <= n_events; ++i) {
+        float end_ = i < n_events ? events[i] : w1;
+        if (end_ > start && ms_exact_blocks(edges, plane, spot, s_min, 0.5 * (start + end_))) {
+            if (count > 0 && intervals[count - 1].y == start) {
+                intervals[count - 1].y = end_;
+            } else if (count < MS_EXACT_MAX_INTERVALS) {
+                intervals[count++] = vec2(start, end_);
+            }
+        }
+        start = max(start, end_);
+    }
+    return count;
+}
+
+// The union of several triangles' shadowed intervals, kept sorted and disjoint.
+struct ms_exact_Union {
+    vec2 span[MS_EXACT_UNION_CAPACITY];
+    int count;
+    // Set when more disjoint intervals came than fit: the two closest were then joined,
+    // shadowing the gap between them (never lighting a shadowed time).
+    bool joined_gaps;
+};
+
+ms_exact_Union ms_exact_union_empty() {
+    ms_exact_Union u;
+    for (int i = 0; i < MS_EXACT_UNION_CAPACITY; ++i) u.span[i] = vec2(0.0);
+    u.count = 0;
+    u.joined_gaps = false;
+    return u;
+}
+
+// Adds [iv.x, iv.y], joining it with every interval it overlaps or touches.
+void ms_exact_union_add(inout ms_exact_Union u, vec2 iv) {
+    if (!(iv.y > iv.x)) return;
+    vec2 merged[MS_EXACT_UNION_CAPACITY + 1];
+    int n = 0;
+    bool placed = false;
+    for (int i = 0; i < u.count; ++i) {
+        vec2 s = u.span[i];
+        if (s.y < iv.x) {
+            merged[n++] = s;
+        } else if (s.x > iv.y) {
+            if (!placed) {
+                merged[n++] = iv;
+                placed = true;
+            }
+            merged[n++] = s;
+        } else {
+            iv = vec2(min(iv.x, s.x), max(iv.y, s.y));
+        }
+    }
+    if (!placed) merged[n++] = iv;
+    if (n > MS_EXACT_UNION_CAPACITY) {
+        int closest = 0;
+        for (int i = 1; i + 1 < n; ++i) {
+            if (merged[i + 1].x - merged[i].y < merged[closest + 1].x - merged[closest].y) {
+                closest = i;
+            }
+        }
+        merged[closest].y = merged[closest + 1].y;
+        for (int i = closest + 1; i + 1 < n; ++i) merged[i] = merged[i + 1];
+        --n;
+        u.joined_gaps = true;
+    }
+    for (int i = 0; i < n; ++i) u.span[i] = merged[i];
+    u.count = n;
+}
+
+// The union's total length: the shadowed time, of which the lit fraction of a window [w0, w1]
+// is 1 - length / (w1 - w0).
+float ms_exact_union_length(ms_exact_Union u) {
+    float total = 0.0;
+    for (int i = 0; i < u.count; ++i) total += u.span[i].y - u.span[i].x;
+    return total;
+}
+
+#endif
