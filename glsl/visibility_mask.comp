@@ -51,22 +51,24 @@ void main() {
     vec3 n = gbuffer_normal(pixel, p, light);
     uint own =
         (pc.flags & MASK_HAS_IDS) != 0u ? texelFetch(id_image, pixel, 0).r : MS_NO_TRIANGLE;
+    MsMap tested = ms_load(map);
     float lit;
-    vec3 motion = MOVING ? texelFetch(motion_image, pixel, 0).xyz : vec3(0.0);
-    if (MOVING && motion == vec3(0.0) && (pc.flags & MASK_STILL_PIXELS_PLANE) != 0u) {
-        // A point that stands still keeps its plane all frame: the standing receiver's test
-        // (its plane's depth at the texel centre, no offset), which the offset meant for
-        // moving receivers (whose surface may turn away from the G-buffer's plane) would
-        // cost contact shadows and detail.
-        MsMap standing = ms_load(map);
-        standing.light.bias.x = 0.0;
-        standing.light.bias.w = 1.0;
-        lit = ms_lit_fraction(standing, p, n, own);
-    } else if (MOVING) {
+    if (MOVING) {
+        vec3 motion = texelFetch(motion_image, pixel, 0).xyz;
+        if (motion == vec3(0.0) && (pc.flags & MASK_STILL_PIXELS_PLANE) != 0u) {
+            // A point that stands still keeps its plane all frame: the standing receiver's
+            // test (its plane's depth at the texel centre, no offset), which the offset meant
+            // for moving receivers (whose surface may turn away from the G-buffer's plane)
+            // would cost contact shadows and detail. One call for both kinds of pixel (the
+            // moving lookup of a still point is the standing one): a second lookup beside it
+            // made the mask slower on lavapipe.
+            tested.light.bias.x = 0.0;
+            tested.light.bias.w = 1.0;
+        }
         vec3 p0 = p - pc.time * motion;
-        lit = ms_lit_fraction_moving(map, p0, p0 + motion, n, own);
+        lit = ms_lit_fraction_moving(tested, p0, p0 + motion, n, own);
     } else {
-        lit = ms_lit_fraction(map, p, n, own);
+        lit = ms_lit_fraction(tested, p, n, own);
     }
     imageStore(mask, pixel, vec4(lit));
     // The device leaves loops past a fixed count: say so when this pixel's lookup may have
