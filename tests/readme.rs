@@ -90,6 +90,7 @@ let inputs = MaskInputs::new(depth, depth_layout, mask_view, size, inv_view_proj
     .with_normals(normals) // or none: rebuilt from the depth; either facing
     .with_motion(MotionImage { view: motion_view, layout: SHADER_READ_ONLY_OPTIMAL }, 1.0);
 // .with_ids(..) your triangle-id image; .with_background_depth(0.0) for reversed Z
+// .with_positions(..) your world positions: receivers exact at grazing light
 unsafe { mask.record(&device, cmd, &mut mask_bindings, &inputs, &map) };
 }
 
