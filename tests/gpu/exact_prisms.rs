@@ -11,7 +11,7 @@ use crate::support::scene::{
     Scene, box_mesh, light_view, mesh, overhead_directional, overhead_spot, scene,
     temporal_map_with,
 };
-use glam::{DVec3, Quat, Vec3};
+use glam::{DMat3, DVec3, Quat, Vec3};
 use motion_shadows::technique::{PrismConstruction, Range, ShadowMapContents};
 
 const SIZE: (u32, u32) = (64, 64);
@@ -343,6 +343,70 @@ fn a_triangle_whose_plane_passes_through_the_light_twice_matches_the_oracle() {
     );
     let checked = compare_with_oracle(&s, &exact_map(&ctx, &s));
     eprintln!("through the light twice: {checked:?}");
+    assert!(checked.pairs > 3000 && checked.split > 3000, "{checked:?}");
+    assert!(checked.slivers * 100 < checked.pairs, "{checked:?}");
+    assert_no_validation_messages(&ctx);
+}
+
+/// Light-relative corners whose plane passes through the light at `roots` (of which those in
+/// (0, 1) are the crossings), containing it at `roots[i]` with barycentric weights
+/// `weights.col(i)`: with the corners as the columns of P at t = 0 and P (I + N) at t = 1,
+/// det(V(t)) = det(P) det(I + t N), so N = W diag(-1 / roots) W^-1 (W: the weights as
+/// columns) gives det(V(t)) = det(P) (1 - t / r_0) (1 - t / r_1) (1 - t / r_2), and
+/// V(r_i) w_i = P (w_i - w_i) = 0: the light is the weighted mean of the corners then.
+fn through_light_at(corners: DMat3, weights: DMat3, roots: [f64; 3]) -> [[DVec3; 3]; 2] {
+    let speeds = DVec3::from(roots.map(|r| -1.0 / r));
+    let n = weights * DMat3::from_diagonal(speeds) * weights.inverse();
+    let end = corners * (DMat3::IDENTITY + n);
+    let cols = |m: DMat3| [m.x_axis, m.y_axis, m.z_axis];
+    [cols(corners), cols(end)]
+}
+
+/// A triangle whose light-crossing cubic det(V(t)) has a t^3 term that moves its critical
+/// points: det(V(t)) = det(P) (1 - t / 0.2) (1 - t / 0.6) (1 + t) by construction
+/// (`through_light_at`), the light inside the triangle at both crossings (weights (1, 1, 1)
+/// and (2, 2, 1)). The derivative 3 t^2 + 0.4 t - 0.68 (up to a factor) vanishes at 0.414,
+/// between the crossings; without the cubic term (c3 = 0) it would at 1.7, and with c3 for
+/// 3 c3 at 0.649: either way both crossings fall in one monotone stretch and neither is
+/// found. At the first crossing the plane cuts only a corner of the light's view (5 texels
+/// along it have a run of under 3e-3 from the crossing, skipped as short), at the second it
+/// grazes a corner: unlike the triangles tried before, whose plane swept across the view at
+/// a crossing, none has runs or gaps next to a crossing shorter than the oracle's time step.
+#[test]
+fn a_triangle_whose_light_crossings_need_the_cubic_term_matches_the_oracle() {
+    let ctx = context();
+    let light = Vec3::new(0.0, 10.0, 0.0);
+    let corners = DMat3::from_cols(
+        DVec3::new(0.0, 2.0, 2.0),
+        DVec3::new(2.0, 0.5, -0.5),
+        DVec3::new(-1.5, -2.0, -1.0),
+    );
+    let weights = DMat3::from_cols(
+        DVec3::ONE,
+        DVec3::new(2.0, 2.0, 1.0),
+        DVec3::new(2.0, -2.0, 1.0),
+    );
+    let [t0, t1] = through_light_at(corners, weights, [0.2, 0.6, -1.0])
+        .map(|c| c.map(|v| light + v.as_vec3()).to_vec());
+    // The closed form's crossings (the f32 corners move them by under 1e-6), found again in
+    // f64, with the light inside the triangle (least barycentric 1/3, then 1/5).
+    let crossings = light_crossings(&t0, &t1, light.as_dvec3());
+    assert!(
+        crossings.len() == 2
+            && crossings
+                .iter()
+                .zip([(0.2, 1.0 / 3.0), (0.6, 0.2)])
+                .all(|(&(t, inside), want)| (t - want.0).abs() < 1e-6
+                    && (inside - want.1).abs() < 1e-5),
+        "crossings (time, least barycentric) {crossings:?}"
+    );
+    let s = scene(
+        "cubic-crossings",
+        overhead_spot(light.y, 45.0),
+        vec![mesh("tumbling-plate", t0, t1, false)],
+    );
+    let checked = compare_with_oracle(&s, &exact_map(&ctx, &s));
+    eprintln!("cubic light crossings: {checked:?}");
     assert!(checked.pairs > 3000 && checked.split > 3000, "{checked:?}");
     assert!(checked.slivers * 100 < checked.pairs, "{checked:?}");
     assert_no_validation_messages(&ctx);
