@@ -318,6 +318,7 @@ impl super::VisibilityMaskPass {
             inputs.normals.map(|n| (n.view, n.layout)),
             inputs.motion.map(|m| (m.view, m.layout)),
             inputs.ids.map(|i| (i.view, i.layout)),
+            inputs.positions.map(|p| (p.view, p.layout)),
         ];
         for (view, layout) in optional.into_iter().flatten() {
             a.add(image(view, layout), sampled, sampled, false);

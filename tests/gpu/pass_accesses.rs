@@ -148,7 +148,9 @@ fn a_missing_host_barrier_is_a_reported_hazard() {
 #[test]
 fn the_mask_pass_publishes_the_hosts_images_and_layouts() {
     use motion_shadows::ash::vk::{self, Handle};
-    use motion_shadows::technique::{MaskInputs, MotionImage, Resource, VisibilityMaskPass};
+    use motion_shadows::technique::{
+        MaskInputs, MotionImage, PositionImage, Resource, VisibilityMaskPass,
+    };
     let ctx = context();
     let mask = VisibilityMaskPass::new(&ctx).expect("mask pass");
     let map = TemporalShadowMap::new(&ctx, 16, 16, 16, 16).expect("map");
@@ -158,8 +160,13 @@ fn the_mask_pass_publishes_the_hosts_images_and_layouts() {
         view: view(3),
         layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
     };
+    let positions = PositionImage {
+        view: view(4),
+        layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+    };
     let inputs = MaskInputs::new(view(1), depth_layout, view(2), (16, 16), Default::default())
-        .with_motion(motion, 1.0);
+        .with_motion(motion, 1.0)
+        .with_positions(positions);
     let accesses = mask.accesses(&inputs, &map);
     let images: Vec<(Resource, vk::AccessFlags2, bool)> = accesses
         .uses
@@ -174,6 +181,7 @@ fn the_mask_pass_publishes_the_hosts_images_and_layouts() {
         [
             (image(view(1), depth_layout), sampled, false),
             (image(view(3), motion.layout), sampled, false),
+            (image(view(4), positions.layout), sampled, false),
             (
                 image(view(2), vk::ImageLayout::GENERAL),
                 vk::AccessFlags2::SHADER_STORAGE_WRITE,
