@@ -114,7 +114,7 @@ impl CoveragePass {
             ..MapDrawPush::default()
         };
         self.reset
-            .draw(device, cmd, light.prisms, draws, constants, true, false);
+            .draw(device, cmd, light.prisms, draws, constants, true, false, false);
         unsafe { device.cmd_end_rendering(cmd) };
         unsafe {
             memory_barrier(

@@ -189,6 +189,10 @@ pub fn temporal_map_stored(
     )
     .expect("temporal shadow map")
     .with_pruning(pruning);
+    if light.lookup == motion_shadows::technique::Lookup::Exact {
+        map.reserve_triangle_records(ctx, u64::from(first_id))
+            .expect("triangle records");
+    }
     loop {
         OneShot::new(ctx)
             .expect("command buffer")

@@ -27,6 +27,7 @@ pub fn deferred_settings(args: &RenderArgs) -> anyhow::Result<DeferredSettings> 
         method,
         camera_time: args.camera_time,
         moving_receivers: !args.static_receivers,
+        lookup: args.lookup.lookup(),
     };
     settings.validate()?;
     if method == DeferredMethod::Raytrace {
@@ -110,6 +111,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         "shadow_height": shadow_height,
         "camera_time": deferred.camera_time,
         "moving_receivers": deferred.moving_receivers,
+        "lookup": args.lookup.name(),
         "passes": passes,
         "shadow_and_mask_ms": result.shadow_and_mask_ms,
         "wall_ms": result.wall_ms,
