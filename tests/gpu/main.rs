@@ -7,6 +7,8 @@
 mod support;
 
 mod analytic;
+mod conservative_collection;
+mod exact_lookup;
 mod crossing_prism;
 mod deferred_host;
 mod device_setup;

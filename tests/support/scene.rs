@@ -136,6 +136,29 @@ pub fn temporal_map_stored(
     pruning: Pruning,
     range_capacity: u32,
 ) -> (ShadowMapContents, Counters) {
+    let (map, counts) = temporal_map_built(
+        ctx,
+        scene,
+        shadow_size,
+        light,
+        storage,
+        pruning,
+        range_capacity,
+    );
+    (map.download(ctx).expect("download"), counts)
+}
+
+/// [`temporal_map_stored`]'s map itself, on the device (for lookups in test shaders), with
+/// triangle records where `light` asks for the exact lookup.
+pub fn temporal_map_built(
+    ctx: &Context,
+    scene: &Scene,
+    shadow_size: (u32, u32),
+    light: &LightView,
+    storage: RangeStorage,
+    pruning: Pruning,
+    range_capacity: u32,
+) -> (TemporalShadowMap, Counters) {
     let vertices: Vec<[Vec4; 2]> = (scene.meshes.iter())
         .flat_map(|m| m.t0.iter().zip(&m.t1))
         .map(|(p0, p1)| [p0.extend(1.0), p1.extend(1.0)])
@@ -211,7 +234,7 @@ pub fn temporal_map_stored(
         let counts = map.read_counters().expect("counters");
         if !map.needs_more_room(&counts) {
             map.check_complete(&counts).expect("complete map");
-            return (map.download(ctx).expect("download"), counts);
+            return (map, counts);
         }
         map.grow_to_fit(ctx, &counts).expect("grow");
     }
