@@ -146,3 +146,38 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     ctx.as_ref().map_or(Ok(()), super::validation_clean)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cli::args::{Cli, Command};
+    use clap::Parser as _;
+    use motion_shadows::technique::Lookup;
+
+    fn render_args(extra: &[&str]) -> RenderArgs {
+        let cli = Cli::try_parse_from(
+            ["motion-shadows", "render", "--frame", "deferred"]
+                .iter()
+                .chain(extra),
+        )
+        .expect("parses");
+        let Some(Command::Render(args)) = cli.command else {
+            panic!("render parses to Command::Render");
+        };
+        args
+    }
+
+    /// `--lookup` reaches the deferred frame's settings (default the depth line), and a
+    /// method without the temporal map refuses the exact lookup, naming it.
+    #[test]
+    fn the_lookup_reaches_the_deferred_settings() {
+        let depth = deferred_settings(&render_args(&[])).expect("settings");
+        assert_eq!(depth.lookup, Lookup::DepthLine);
+        let exact = deferred_settings(&render_args(&["--lookup", "exact"])).expect("settings");
+        assert_eq!(exact.lookup, Lookup::Exact);
+        assert_eq!(exact.name(), "temporal-exact");
+        let tsm = deferred_settings(&render_args(&["--method", "tsm", "--lookup", "exact"]))
+            .expect_err("TSM has no exact lookup");
+        assert!(tsm.to_string().contains("exact lookup"), "{tsm}");
+    }
+}
