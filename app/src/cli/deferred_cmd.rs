@@ -9,6 +9,7 @@ use crate::render::Renderer;
 use crate::render::deferred::{DeferredMethod, DeferredSettings};
 use anyhow::Context as _;
 use motion_shadows::gpu::{Context, ContextOptions};
+use motion_shadows::technique::Lookup;
 
 /// The deferred frame's settings for `args`.
 pub fn deferred_settings(args: &RenderArgs) -> anyhow::Result<DeferredSettings> {
@@ -27,7 +28,13 @@ pub fn deferred_settings(args: &RenderArgs) -> anyhow::Result<DeferredSettings> 
         method,
         camera_time: args.camera_time,
         moving_receivers: !args.static_receivers,
-        lookup: args.lookup.lookup(),
+        // Only the temporal map has the exact lookup; the others refuse `--lookup` by name
+        // (unread_options.rs).
+        lookup: if method == DeferredMethod::Temporal {
+            args.lookup.lookup()
+        } else {
+            Lookup::DepthLine
+        },
     };
     settings.validate()?;
     if method == DeferredMethod::Raytrace {
@@ -151,11 +158,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
 mod tests {
     use super::*;
     use crate::cli::args::{Cli, Command};
-    use clap::Parser as _;
-    use motion_shadows::technique::Lookup;
 
     fn render_args(extra: &[&str]) -> RenderArgs {
-        let cli = Cli::try_parse_from(
+        let cli = Cli::try_parse_recording_given(
             ["motion-shadows", "render", "--frame", "deferred"]
                 .iter()
                 .chain(extra),
@@ -168,7 +173,7 @@ mod tests {
     }
 
     /// `--lookup` reaches the deferred frame's settings (default the depth line), and a
-    /// method without the temporal map refuses the exact lookup, naming it.
+    /// method without the temporal map refuses it by name.
     #[test]
     fn the_lookup_reaches_the_deferred_settings() {
         let depth = deferred_settings(&render_args(&[])).expect("settings");
@@ -176,8 +181,9 @@ mod tests {
         let exact = deferred_settings(&render_args(&["--lookup", "exact"])).expect("settings");
         assert_eq!(exact.lookup, Lookup::Exact);
         assert_eq!(exact.name(), "temporal-exact");
-        let tsm = deferred_settings(&render_args(&["--method", "tsm", "--lookup", "exact"]))
+        let tsm = render_args(&["--method", "tsm", "--lookup", "exact"]);
+        let refused = super::super::render_cmd::refuse_unread_options(&tsm, "render")
             .expect_err("TSM has no exact lookup");
-        assert!(tsm.to_string().contains("exact lookup"), "{tsm}");
+        assert!(refused.to_string().contains("--lookup"), "{refused}");
     }
 }
