@@ -32,7 +32,7 @@ void main() {
             near = min(near, min(in_at0[k].w, in_at1[k].w));
             far = max(far, max(in_at0[k].w, in_at1[k].w));
         }
-        append_range(map, p, vec2(0.0, 1.0), vec2(near, far), in_id);
+        append_named_range(map, p, vec2(near, far), in_id);
         return;
     }
 #endif
