@@ -58,7 +58,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let (bar, mut report) = progress_reporter();
     report("loading the scene");
     let scene = load_scene(args)?;
-    let stem = format!("{}-deferred-{}", scene.name, deferred.method.name());
+    let stem = format!("{}-deferred-{}", scene.name, deferred.name());
     let (exr, png, mask) = (
         format!("{stem}.exr"),
         format!("{stem}.png"),

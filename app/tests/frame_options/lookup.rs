@@ -1,5 +1,6 @@
-//! Issue 35: `--lookup exact` reaches the deferred frame through the binary: `render` names
-//! the method `temporal-exact` and says `lookup` in its JSON; `compare` adds the exact mask
+//! Issue 35: `--lookup exact` reaches the deferred frame through the binary: `render` (and
+//! `animate`, which takes its options) names the method `temporal-exact` (its files too) and
+//! `render` says `lookup` in its JSON; `compare` adds the exact mask
 //! beside the depth-line one, and it is the closer to the truth.
 
 use super::{run, s, temp_dir};
@@ -27,6 +28,22 @@ fn the_exact_lookup_reaches_render_and_compare() {
     .json();
     assert_eq!(render["lookup"], "exact");
     assert_eq!(render["method"], "temporal-exact");
+    let files = render["files"].as_array().expect("files");
+    assert!(
+        files
+            .iter()
+            .all(|f| f.as_str().is_some_and(|f| f.contains("-deferred-temporal-exact"))),
+        "{files:?}"
+    );
+
+    let animate = run(&[
+        &["animate", "--frames", "1", "--frame", "deferred", "--lookup", "exact", "--json"][..],
+        &["--out", s(&dir.join("animate"))],
+        &SMALL[..],
+    ]
+    .concat())
+    .json();
+    assert_eq!(animate["method"], "temporal-exact");
 
     let compare = run(&[
         &["compare", "--frame", "deferred", "--lookup", "exact", "--json"][..],
