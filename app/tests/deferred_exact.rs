@@ -44,9 +44,16 @@ fn block_and_flying_casters() -> Scene {
         Vec3::new(-0.5, 0.4, 0.5),
     );
     let cube = moved(&box_mesh(Vec3::splat(0.4), 1), Vec3::new(1.0, 2.0, -2.0));
-    let plate = [(0.0, 0.0), (0.0, 0.8), (0.8, 0.8), (0.0, 0.0), (0.8, 0.8), (0.8, 0.0)]
-        .map(|(x, z)| Vec3::new(x - 2.5, 1.4, z - 1.0))
-        .to_vec();
+    let plate = [
+        (0.0, 0.0),
+        (0.0, 0.8),
+        (0.8, 0.8),
+        (0.0, 0.0),
+        (0.8, 0.8),
+        (0.8, 0.0),
+    ]
+    .map(|(x, z)| Vec3::new(x - 2.5, 1.4, z - 1.0))
+    .to_vec();
     Scene {
         name: "block-and-flying-casters".into(),
         camera: Camera {
@@ -70,7 +77,12 @@ fn block_and_flying_casters() -> Scene {
         meshes: vec![
             mesh("ground", ground.clone(), ground, false),
             mesh("block", block.clone(), block, true),
-            mesh("cube", cube.clone(), moved(&cube, Vec3::new(0.0, 0.0, 1.5)), true),
+            mesh(
+                "cube",
+                cube.clone(),
+                moved(&cube, Vec3::new(0.0, 0.0, 1.5)),
+                true,
+            ),
             mesh("plate", plate.clone(), moved(&plate, Vec3::X), false),
         ],
     }
@@ -128,8 +140,14 @@ fn the_exact_mask_matches_the_truth_at_fine_and_coarse_maps() {
         let exact = render(Lookup::Exact);
         let depth = render(Lookup::DepthLine);
         println!("{shadow}x{shadow}: exact {exact:?}, depth line {depth:?}");
-        assert!(exact.pixels > 5000 && exact.shadowed_pixels > 500, "{exact:?}");
-        assert!(exact.rmse <= EXACT_RMSE, "{shadow}x{shadow}: exact {exact:?}");
+        assert!(
+            exact.pixels > 5000 && exact.shadowed_pixels > 500,
+            "{exact:?}"
+        );
+        assert!(
+            exact.rmse <= EXACT_RMSE,
+            "{shadow}x{shadow}: exact {exact:?}"
+        );
         if shadow == 64 {
             assert!(depth.rmse > 5.0 * EXACT_RMSE, "depth line {depth:?}");
         }

@@ -327,7 +327,12 @@ impl CollectionPass {
         let conservative = light.lookup == Lookup::Exact;
         let constants = MapDrawPush {
             map: map.header_address(),
-            flags: COUNT_INVALID | if conservative { COLLECT_CONSERVATIVE } else { 0 },
+            flags: COUNT_INVALID
+                | if conservative {
+                    COLLECT_CONSERVATIVE
+                } else {
+                    0
+                },
             ..MapDrawPush::default()
         };
         self.pipelines.draw(

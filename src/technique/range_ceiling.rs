@@ -186,16 +186,18 @@ impl RangeCeiling {
     /// conservative collection (`Lookup::Exact`: it covers whole texels, this counts runs
     /// at texel centres).
     pub fn new(light: &LightView, width: u32, height: u32) -> Option<Self> {
-        (light.prisms == PrismConstruction::Exact && light.lookup == Lookup::DepthLine).then(|| Self {
-            setup: Setup {
-                to_view: light.view.as_dmat4(),
-                proj: light.proj.as_dmat4(),
-                orthographic: !light.is_spot(),
-                map: Map {
-                    width: f64::from(width),
-                    height: f64::from(height),
+        (light.prisms == PrismConstruction::Exact && light.lookup == Lookup::DepthLine).then(|| {
+            Self {
+                setup: Setup {
+                    to_view: light.view.as_dmat4(),
+                    proj: light.proj.as_dmat4(),
+                    orthographic: !light.is_spot(),
+                    map: Map {
+                        width: f64::from(width),
+                        height: f64::from(height),
+                    },
                 },
-            },
+            }
         })
     }
 

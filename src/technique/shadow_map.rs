@@ -7,8 +7,7 @@
 use super::coverage::CoverageMap;
 use super::draws::DrawList;
 use super::gpu_types::{
-    Counters, DRAW_STATIC, DrawRecord, MAX_LIST_NODES, Node, Range, ShadowMapHeader,
-    TriangleRecord,
+    Counters, DRAW_STATIC, DrawRecord, MAX_LIST_NODES, Node, Range, ShadowMapHeader, TriangleRecord,
 };
 use super::pruning::Pruning;
 use super::range_ceiling::{HostDraw, RangeCeiling};
@@ -18,7 +17,7 @@ use crate::gpu::{Access, Buffer, BufferUsage, Context, OneShot, memory_barrier};
 use ash::vk;
 use glam::{Mat4, UVec4};
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 const COUNTER_BYTES: u64 = std::mem::size_of::<Counters>() as u64;
 
@@ -90,6 +89,8 @@ pub struct TemporalShadowMap {
     /// With [`Lookup::Exact`]: one [`super::TriangleRecord`] per global triangle id, written
     /// by the collection ([`Self::reserve_triangle_records`]); none until then.
     pub(crate) triangle_records: Option<Buffer>,
+    /// Whether the last recorded collection built the map for [`Lookup::Exact`].
+    built_for_exact: AtomicBool,
 }
 
 /// What the static layer holds for keeping: nothing is kept on the strength of a recording
@@ -253,6 +254,7 @@ impl TemporalShadowMap {
             static_layer_source: Mutex::new(StaticLayerState::default()),
             static_layer_builds: AtomicU32::new(0),
             triangle_records: None,
+            built_for_exact: AtomicBool::new(false),
         })
     }
 
@@ -279,11 +281,21 @@ impl TemporalShadowMap {
         Ok(())
     }
 
+    /// The lookup the last recorded collection built the map for ([`LightView::lookup`];
+    /// [`Lookup::DepthLine`] before any).
+    pub fn recorded_lookup(&self) -> Lookup {
+        if self.built_for_exact.load(Ordering::Relaxed) {
+            Lookup::Exact
+        } else {
+            Lookup::DepthLine
+        }
+    }
+
     /// Triangle ids the map's triangle records have room for (0 without records).
     pub fn triangle_record_capacity(&self) -> u64 {
-        self.triangle_records
-            .as_ref()
-            .map_or(0, |b| b.size() / std::mem::size_of::<TriangleRecord>() as u64)
+        self.triangle_records.as_ref().map_or(0, |b| {
+            b.size() / std::mem::size_of::<TriangleRecord>() as u64
+        })
     }
 
     /// Texels across.
@@ -367,6 +379,8 @@ impl TemporalShadowMap {
         outer_barriers: bool,
     ) {
         let sorted = self.sorts_ranges(light, coverage);
+        self.built_for_exact
+            .store(light.lookup == Lookup::Exact, Ordering::Relaxed);
         let header = ShadowMapHeader {
             light: light.gpu(),
             size: UVec4::new(self.width, self.height, sorted as u32 * MS_SORTED_RANGES, 0),

@@ -128,7 +128,7 @@ pub enum Lookup {
     /// exact construction and no coverage map, and a map with triangle records
     /// ([`super::TemporalShadowMap::reserve_triangle_records`]). Read by the visibility mask
     /// (receivers still or moving); the lighting pass and `ms_visibility`/`ms_lit_fraction`
-    /// read depth lines, which such a map does not hold.
+    /// read depth lines, which such a map does not hold (the lighting pass refuses it).
     Exact,
 }
 

@@ -48,14 +48,21 @@ fn random_triangles(rng: &mut Rng, n: usize, reach: f32) -> Scene {
             at1.push(corner + motion);
         }
     }
-    scene("random", overhead_directional(4.0), vec![mesh("tris", at0, at1, false)])
+    scene(
+        "random",
+        overhead_directional(4.0),
+        vec![mesh("tris", at0, at1, false)],
+    )
 }
 
 /// Where a world point falls on the map, in texels from its corner (the GPU's convention:
 /// texel (x, y) spans [x, x + 1) x [y, y + 1) of (ndc * 0.5 + 0.5) * size), in f64.
 fn map_point(light: &LightView, p: DVec3) -> DVec2 {
     let clip = light.proj.as_dmat4() * light.view.as_dmat4() * DVec4::from((p, 1.0));
-    assert!(clip.w > 0.0, "the model's triangles stay in front of the light");
+    assert!(
+        clip.w > 0.0,
+        "the model's triangles stay in front of the light"
+    );
     let ndc = DVec2::new(clip.x, clip.y) / clip.w;
     (ndc * 0.5 + 0.5) * DVec2::new(SIZE.0 as f64, SIZE.1 as f64)
 }
@@ -119,7 +126,10 @@ fn check(map: &ShadowMapContents, light: &LightView, s: &Scene) -> (usize, usize
     (checked, held)
 }
 
-fn run(lights: &[(&str, fn() -> crate::support::scene::Light, f32)]) {
+/// A light's name, how to make it, and how far from its axis the random triangles lie.
+type LightCase = (&'static str, fn() -> crate::support::scene::Light, f32);
+
+fn run(lights: &[LightCase]) {
     let ctx = context();
     let mut rng = Rng(35);
     for &(name, light_of, reach) in lights {
@@ -141,8 +151,15 @@ fn run(lights: &[(&str, fn() -> crate::support::scene::Light, f32)]) {
                 1024,
             );
             let (checked, held) = check(&map, &light, &s);
-            assert!(checked > 20, "{}: the model covered only {checked} pairs", s.name);
-            println!("{}: {checked} covered (texel, triangle) pairs, {held} held", s.name);
+            assert!(
+                checked > 20,
+                "{}: the model covered only {checked} pairs",
+                s.name
+            );
+            println!(
+                "{}: {checked} covered (texel, triangle) pairs, {held} held",
+                s.name
+            );
         }
     }
     assert_no_validation_messages(&ctx);

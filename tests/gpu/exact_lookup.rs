@@ -165,7 +165,12 @@ fn a_plate_edge_translating_over_the_ground_matches_the_closed_form() {
         let s = scene(
             "plate",
             light,
-            vec![mesh("plate", plate.clone(), translated(&plate, Vec3::X), false)],
+            vec![mesh(
+                "plate",
+                plate.clone(),
+                translated(&plate, Vec3::X),
+                false,
+            )],
         );
         let mut receivers = Vec::new();
         let mut want = Vec::new();
@@ -212,7 +217,11 @@ fn a_still_edge_moved_by_a_64th_of_a_texel_moves_the_shadow_with_it() {
             let (k, w) = (spread(&light, 1.0), texel(&light));
             let edge = 0.3 + j as f32 * w / 64.0;
             let plate = square(edge - 2.0, -1.0, 2.0, 1.0);
-            let s = scene("still edge", light, vec![mesh("plate", plate.clone(), plate, false)]);
+            let s = scene(
+                "still edge",
+                light,
+                vec![mesh("plate", plate.clone(), plate, false)],
+            );
             let shadow = edge * k;
             let receivers = [
                 still(Vec3::new(shadow - w / 256.0, 0.0, 0.0)),

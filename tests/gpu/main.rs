@@ -8,11 +8,11 @@ mod support;
 
 mod analytic;
 mod conservative_collection;
-mod exact_lookup;
 mod crossing_prism;
 mod deferred_host;
 mod device_setup;
 mod engine_tsm;
+mod exact_lookup;
 mod exact_prisms;
 mod footprint_hull;
 mod footprint_hull_ties;

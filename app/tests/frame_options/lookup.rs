@@ -20,7 +20,9 @@ const SMALL: [&str; 8] = [
 fn the_exact_lookup_reaches_render_and_compare() {
     let dir = temp_dir("lookup");
     let render = run(&[
-        &["render", "--frame", "deferred", "--lookup", "exact", "--json"][..],
+        &[
+            "render", "--frame", "deferred", "--lookup", "exact", "--json",
+        ][..],
         &["--out", s(&dir.join("render"))],
         &SMALL[..],
     ]
@@ -30,14 +32,16 @@ fn the_exact_lookup_reaches_render_and_compare() {
     assert_eq!(render["method"], "temporal-exact");
     let files = render["files"].as_array().expect("files");
     assert!(
-        files
-            .iter()
-            .all(|f| f.as_str().is_some_and(|f| f.contains("-deferred-temporal-exact"))),
+        files.iter().all(|f| f
+            .as_str()
+            .is_some_and(|f| f.contains("-deferred-temporal-exact"))),
         "{files:?}"
     );
 
     let animate = run(&[
-        &["animate", "--frames", "1", "--frame", "deferred", "--lookup", "exact", "--json"][..],
+        &[
+            "animate", "--frames", "1", "--frame", "deferred", "--lookup", "exact", "--json",
+        ][..],
         &["--out", s(&dir.join("animate"))],
         &SMALL[..],
     ]
@@ -46,7 +50,9 @@ fn the_exact_lookup_reaches_render_and_compare() {
     assert_eq!(animate["method"], "temporal-exact");
 
     let compare = run(&[
-        &["compare", "--frame", "deferred", "--lookup", "exact", "--json"][..],
+        &[
+            "compare", "--frame", "deferred", "--lookup", "exact", "--json",
+        ][..],
         &["--out", s(&dir.join("compare"))],
         &SMALL[..],
     ]
@@ -64,6 +70,9 @@ fn the_exact_lookup_reaches_render_and_compare() {
     };
     let (exact, depth) = (rmse("temporal-exact"), rmse("temporal"));
     println!("walker at 48x32, 64x64 map: exact {exact}, depth line {depth}");
-    assert!(exact < 0.005 && exact < depth, "exact {exact}, depth line {depth}");
+    assert!(
+        exact < 0.005 && exact < depth,
+        "exact {exact}, depth line {depth}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
