@@ -109,6 +109,19 @@ fn error(r: &DeferredResult, truth: &DeferredResult) -> MaskError {
     mask_error(&r.lit, &truth.lit, &truth.facing)
 }
 
+/// Any one pixel's lit share off the truth's by at most this (the truth's own per-pixel
+/// visibility: f32 roots against f64 ones, a few ulps of the shutter).
+const LARGEST_DIFFERENCE: f32 = 1e-3;
+
+/// The largest difference of one pixel's lit share from the truth's, over the pixels the
+/// light reaches.
+fn largest_difference(r: &DeferredResult, truth: &DeferredResult) -> f32 {
+    (0..truth.lit.len())
+        .filter(|&i| truth.facing[i])
+        .map(|i| (r.lit[i] - truth.lit[i]).abs())
+        .fold(0.0, f32::max)
+}
+
 /// RMSE <= 0.002 at 512 x 512 and at 64 x 64 maps, where the depth-line mask is many times
 /// that (printed for comparison, and asserted to be worse at the coarse map, so that the
 /// scene's shadows are ones a texel can misplace).
@@ -135,11 +148,18 @@ fn the_exact_mask_matches_the_truth_at_fine_and_coarse_maps() {
                     &mut |_| {},
                 )
                 .expect("deferred frame");
-            error(&r, &truth)
+            (error(&r, &truth), largest_difference(&r, &truth))
         };
-        let exact = render(Lookup::Exact);
-        let depth = render(Lookup::DepthLine);
-        println!("{shadow}x{shadow}: exact {exact:?}, depth line {depth:?}");
+        let (exact, exact_largest) = render(Lookup::Exact);
+        let (depth, _) = render(Lookup::DepthLine);
+        println!(
+            "{shadow}x{shadow}: exact {exact:?} (largest pixel difference {exact_largest}), \
+             depth line {depth:?}"
+        );
+        assert!(
+            exact_largest <= LARGEST_DIFFERENCE,
+            "{shadow}x{shadow}: a pixel {exact_largest} off the truth"
+        );
         assert!(
             exact.pixels > 5000 && exact.shadowed_pixels > 500,
             "{exact:?}"
