@@ -354,16 +354,18 @@ impl TemporalShadowMap {
     /// Whether the collection pass of a frame lit by `light` (with or without a coverage
     /// map) stores each covered run of a moving triangle as its range at once, so that no
     /// node is stored and [`super::GenerationPass`] finds nothing to pair: the exact
-    /// construction with the static layer (the coverage map's passes need the nodes). A map
-    /// used only that way needs no node capacity.
+    /// construction with the static layer or the exact lookup ([`Lookup::Exact`]), without a
+    /// coverage map (its passes need the nodes). A map used only that way needs no node
+    /// capacity.
     pub fn collects_ranges(&self, light: &LightView, coverage: Option<&CoverageMap>) -> bool {
         light.collects_ranges(coverage.is_some())
     }
 
     /// Whether a frame lit by `light` (with or without a coverage map) keeps static draws'
     /// triangles in the static layer rather than in the lists: when `light` asks for it,
-    /// with the exact construction (static draws skip the geometry shader there) and no
-    /// coverage map (its passes need every fragment).
+    /// with the exact construction (static draws skip the geometry shader there), the
+    /// depth-line lookup (the exact lookup needs every triangle named) and no coverage map
+    /// (its passes need every fragment).
     pub fn uses_static_layer(&self, light: &LightView, coverage: Option<&CoverageMap>) -> bool {
         light.uses_static_layer(coverage.is_some())
     }
