@@ -25,14 +25,14 @@ void append_fragment(MsShadowMap map, uint p, float depth, float time, uint id, 
 // length: at most MAX_LIST_NODES fragments, more is an error as in the generation pass; the
 // sorting of MS_SORTED_RANGES takes the texel's place in the range buffer from these counts).
 // A range past the range capacity is counted but not linked.
-void append_range(MsShadowMap map, uint p, vec2 times, vec2 depths, uint id) {
+void append_range_of(MsShadowMap map, uint p, vec2 times, vec2 depths, uint id, bool bounded) {
     CounterRef counters = CounterRef(map.counters);
     // The fragment count is even: 2^32 - 2 is the last before it wraps. (The range count,
     // half of it, cannot wrap first.)
     if (atomicAdd(counters.c.node_count, 2u) == 0xfffffffeu) atomicOr(counters.c.wrapped, 1u);
     uint fragments = 2u * (atomicAdd(UintArray(map.heads).v[p], 1u) + 1u);
     atomicMax(counters.c.longest_list, fragments);
-    if (fragments > MAX_LIST_NODES) {
+    if (bounded && fragments > MAX_LIST_NODES) {
         if (fragments == MAX_LIST_NODES + 2u) atomicAdd(counters.c.overlong_pixels, 1u);
         return;
     }
@@ -42,4 +42,15 @@ void append_range(MsShadowMap map, uint p, vec2 times, vec2 depths, uint id) {
     // list_ranges: the range buffer itself, or, where the map keeps its ranges sorted, the
     // lists the generation pass sorts them from (range_sort.comp).
     store_range(map.list_ranges, index, MsRange(times.x, times.y, depths.x, depths.y, id, next));
+}
+
+void append_range(MsShadowMap map, uint p, vec2 times, vec2 depths, uint id) {
+    append_range_of(map, p, times, depths, id, true);
+}
+
+// The exact lookup's range (the conservative collection): no bound on the texel's list, which
+// is neither paired nor sorted; the exact lookup walks all of it (the mask counts its loop
+// iterations against a device's loop limit).
+void append_named_range(MsShadowMap map, uint p, vec2 depths, uint id) {
+    append_range_of(map, p, vec2(0.0, 1.0), depths, id, false);
 }

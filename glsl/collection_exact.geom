@@ -38,6 +38,11 @@ layout(location = 7) flat out vec3 out_cuts;
 // How far the footprint is pushed out, in texels: far more than the rasterizer's snapping
 // (1/256 texel) and float rounding, far less than a texel.
 const float DILATION_TEXELS = 1.0 / 16.0;
+// The conservative collection (COLLECT_CONSERVATIVE, the exact lookup) grows it by a texel's
+// half-diagonal more: every point of a texel is within that of its centre, so a texel whose
+// area the swept footprint touches has its centre in the grown footprint, and is drawn.
+const float HALF_DIAGONAL_TEXELS = 0.70710678;
+
 // Footprints reaching beyond this many map widths (a corner nearly level with a perspective
 // light) are drawn as the whole map instead: the fragment shader's test is exact either way.
 const float FOOTPRINT_LIMIT_NDC = 64.0;
@@ -97,6 +102,16 @@ void main() {
         return;
     }
     triangle_id = d.first_id + uint(gl_PrimitiveIDIn);
+    bool conservative = (pc.flags & COLLECT_CONSERVATIVE) != 0u;
+    if (conservative && map.triangles != 0UL) {
+        // Once per triangle (one draw per triangle per frame): its world corners at both ends.
+        // MsTriangles in exact_lookup.glsl: six vec4 per triangle.
+        Vec4Array records = Vec4Array(map.triangles);
+        for (int k = 0; k < 3; ++k) {
+            records.v[6u * triangle_id + uint(k)] = vec4(in_p0[k], 1.0);
+            records.v[6u * triangle_id + 3u + uint(k)] = vec4(in_p1[k], 1.0);
+        }
+    }
     MsLight light = map.light;
     bool orthographic = light.position.w == 0.0;
 
@@ -154,7 +169,7 @@ void main() {
     float merge = hull_merge_distance(texels, 6);
     int h = convex_hull(texels, 6, merge, hull);
     // The hull may miss up to `merge` of the footprint (convex_hull.glsl): grown by that too.
-    float grow = DILATION_TEXELS + 1.5 * merge;
+    float grow = DILATION_TEXELS + 1.5 * merge + (conservative ? HALF_DIAGONAL_TEXELS : 0.0);
     if (h < 3) {
         // Seen exactly edge-on all frame long (a wall under a light straight above it): no
         // texel centre is ever covered, nothing to draw. Otherwise a sliver or a speck

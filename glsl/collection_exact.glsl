@@ -22,6 +22,20 @@ void main() {
     ExactCorner corners[3];
     for (int k = 0; k < 3; ++k) corners[k] = ExactCorner(in_at0[k], in_at1[k]);
     uint p = pixel.y * map.size.x + pixel.x;
+#ifdef COLLECT_RANGES
+    if ((pc.flags & COLLECT_CONSERVATIVE) != 0u) {
+        // The exact lookup reads a range's triangle and window only: the whole shutter (it
+        // bounds every time the triangle may cover some point of the texel) and the
+        // triangle's depths over it.
+        float near = in_at0[0].w, far = in_at0[0].w;
+        for (int k = 0; k < 3; ++k) {
+            near = min(near, min(in_at0[k].w, in_at1[k].w));
+            far = max(far, max(in_at0[k].w, in_at1[k].w));
+        }
+        append_named_range(map, p, vec2(near, far), in_id);
+        return;
+    }
+#endif
     vec2 a[3], d[3];
     ExactRuns runs = exact_prism_runs(corners, ndc, in_cuts, a, d);
     for (int i = 0; i < runs.count; ++i) {

@@ -96,6 +96,9 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ms
                               // move, as ms_static_key(depth) << 32 | id (all ones: none)
     uint64_t tiles;           // the generation pass's indirect dispatches (tiles across, down)
     uint64_t list_ranges;     // where the collection links its ranges (the sorting's input)
+    uint64_t triangles;       // 0, or with the exact lookup: MsTriangles, per global triangle
+                              // id its world corners at t = 0 and t = 1 (exact_lookup.glsl)
+    uint64_t reserved;
 };
 
 // Where a world point falls in the light's image, in texels from the map's corner
@@ -279,6 +282,7 @@ struct MsMap {
     uint64_t cover_depth;
     uint64_t static_nearest;
     bool sorted;            // size.z == MS_SORTED_RANGES
+    uint64_t triangles;     // 0, or the exact lookup's triangle records
 };
 
 // The same header as 64-bit words (ms_load reads it so: half the loads of its 32-bit
@@ -300,6 +304,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ms
     uint64_t static_nearest;
     uint64_t tiles;
     uint64_t list_ranges;
+    uint64_t triangles;
+    uint64_t reserved;
 };
 
 // The vec4 of two words (the first word's halves are x and y).
@@ -321,7 +327,7 @@ MsMap ms_load(MsShadowMap header) {
     MsLight light = ms_load_light(uint64_t(header));
     return MsMap(light, unpackUint2x32(words.size), words.range_heads, words.ranges,
                  words.coverage, words.cover_depth, words.static_nearest,
-                 unpackUint2x32(words.size_zw).x == MS_SORTED_RANGES);
+                 unpackUint2x32(words.size_zw).x == MS_SORTED_RANGES, words.triangles);
 }
 
 // The bits of a depth as an unsigned key in the depth's order (negative depths too: a

@@ -9,6 +9,7 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_buffer_reference : require
 #include "motion_shadows.glsl"
+#include "exact_lookup.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -53,8 +54,13 @@ void main() {
         (pc.flags & MASK_HAS_IDS) != 0u ? texelFetch(id_image, pixel, 0).r : MS_NO_TRIANGLE;
     MsMap tested = ms_load(map);
     float lit;
-    if (MOVING) {
-        vec3 motion = texelFetch(motion_image, pixel, 0).xyz;
+    vec3 motion = MOVING ? texelFetch(motion_image, pixel, 0).xyz : vec3(0.0);
+    if (tested.triangles != 0UL) {
+        // A map built for the exact lookup (Lookup::Exact): the receiver's own shadow ray
+        // against the triangles named along its path; no normal, offset or bias.
+        vec3 p0 = p - pc.time * motion;
+        lit = ms_lit_fraction_exact_moving(tested, p0, p0 + motion, own);
+    } else if (MOVING) {
         if (motion == vec3(0.0) && (pc.flags & MASK_STILL_PIXELS_PLANE) != 0u) {
             // A point that stands still keeps its plane all frame: the standing receiver's
             // test (its plane's depth at the texel centre, no offset), which the offset meant

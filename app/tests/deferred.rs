@@ -89,6 +89,7 @@ fn deferred(method: DeferredMethod, moving_receivers: bool) -> DeferredSettings 
         method,
         camera_time: 1.0,
         moving_receivers,
+        ..DeferredSettings::default()
     }
 }
 

@@ -6,11 +6,12 @@
 
 use super::coverage::{CoverageMap, MAX_COVERAGE_TRIANGLES};
 use super::draws::DrawList;
+use super::gpu_constants::COLLECT_CONSERVATIVE;
 use super::gpu_types::{COUNT_INVALID, Counters, DRAW_STATIC, DrawRecord};
 use super::push_constants::{DrawPush, DrawnPush, MapDrawPush, PushBlock};
 use super::shaders;
 use super::shadow_map::{StaticLayerSource, TemporalShadowMap};
-use super::view::{LightView, PrismConstruction};
+use super::view::{LightView, Lookup, PrismConstruction};
 use crate::error::{Error, Result};
 use crate::gpu::Spirv;
 use crate::gpu::{
@@ -104,6 +105,7 @@ impl PrismPipelines {
         constants: MapDrawPush,
         with_static: bool,
         ranges: bool,
+        conservative: bool,
     ) {
         let exact_moving = match &self.exact_ranges {
             Some(pipeline) if ranges => pipeline,
@@ -111,7 +113,9 @@ impl PrismPipelines {
         };
         let pipeline_of = |record: &DrawRecord| match construction {
             PrismConstruction::Paper => &self.paper,
-            _ if record.flags() & DRAW_STATIC != 0 => &self.exact_static,
+            // The conservative collection (Lookup::Exact) gives static triangles the moving
+            // ones' footprints: its lists name every triangle near a texel.
+            _ if record.flags() & DRAW_STATIC != 0 && !conservative => &self.exact_static,
             PrismConstruction::Exact => exact_moving,
         };
         let mut bound: Option<vk::Pipeline> = None;
@@ -259,6 +263,9 @@ impl CollectionPass {
                 )));
             }
         }
+        if light.lookup == Lookup::Exact {
+            check_exact_lookup(draws, light, map, coverage)?;
+        }
         let static_layer = map.uses_static_layer(light, coverage);
         // A kept static layer (LightView::keep_static_layer) is neither cleared nor redrawn;
         // what it was drawn for is only tracked when it may be kept.
@@ -317,9 +324,15 @@ impl CollectionPass {
             )
         };
         unsafe { begin_attachmentless(device, cmd, map.width(), map.height()) };
+        let conservative = light.lookup == Lookup::Exact;
         let constants = MapDrawPush {
             map: map.header_address(),
-            flags: COUNT_INVALID,
+            flags: COUNT_INVALID
+                | if conservative {
+                    COLLECT_CONSERVATIVE
+                } else {
+                    0
+                },
             ..MapDrawPush::default()
         };
         self.pipelines.draw(
@@ -330,6 +343,7 @@ impl CollectionPass {
             constants,
             !keep,
             collects_ranges,
+            conservative,
         );
         unsafe { device.cmd_end_rendering(cmd) };
         if redraw_layer {
@@ -370,4 +384,32 @@ impl CollectionPass {
         }
         Ok(())
     }
+}
+
+/// What the exact lookup's collection needs: the exact construction (its footprints), no
+/// coverage map (its passes need the depth lines' fragments) and a record for every id.
+fn check_exact_lookup(
+    draws: &DrawList,
+    light: &LightView,
+    map: &TemporalShadowMap,
+    coverage: Option<&CoverageMap>,
+) -> Result<()> {
+    if light.prisms != PrismConstruction::Exact {
+        return Err(Error::InvalidArgument(
+            "the exact lookup (Lookup::Exact) needs the exact construction (PrismConstruction::Exact), not the papers' prisms".into(),
+        ));
+    }
+    if coverage.is_some() {
+        return Err(Error::InvalidArgument(
+            "the exact lookup (Lookup::Exact) does not take a coverage map".into(),
+        ));
+    }
+    if map.triangle_record_capacity() < draws.id_end() {
+        return Err(Error::InvalidArgument(format!(
+            "the exact lookup (Lookup::Exact) needs a triangle record per id: the draws reach {}, the map has room for {} (TemporalShadowMap::reserve_triangle_records)",
+            draws.id_end(),
+            map.triangle_record_capacity()
+        )));
+    }
+    Ok(())
 }

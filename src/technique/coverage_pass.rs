@@ -113,8 +113,16 @@ impl CoveragePass {
             map: map.header_address(),
             ..MapDrawPush::default()
         };
-        self.reset
-            .draw(device, cmd, light.prisms, draws, constants, true, false);
+        self.reset.draw(
+            device,
+            cmd,
+            light.prisms,
+            draws,
+            constants,
+            true,
+            false,
+            false,
+        );
         unsafe { device.cmd_end_rendering(cmd) };
         unsafe {
             memory_barrier(

@@ -128,7 +128,7 @@ pub struct GpuLight {
     pub bias: Vec4,
 }
 
-/// The header of a temporal shadow map (`MsShadowMap` in GLSL, 304 bytes): what a host
+/// The header of a temporal shadow map (`MsShadowMap` in GLSL, 320 bytes): what a host
 /// shader reads through the address [`super::TemporalShadowMap::header_address`].
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -165,6 +165,23 @@ pub struct ShadowMapHeader {
     /// Where the collection links the ranges it stores itself: `ranges`, or with
     /// [`super::RangeStorage::Sorted`] the lists the generation pass sorts into `ranges`.
     pub list_ranges: u64,
+    /// 0, or with [`super::Lookup::Exact`] the triangle records ([`TriangleRecord`], by
+    /// global triangle id): what the exact lookup tests each named triangle with.
+    pub triangles: u64,
+    /// Unused (0).
+    pub reserved: u64,
+}
+
+/// One triangle as the exact lookup reads it (`MsTriangle` in GLSL, 96 bytes), written by
+/// the collection pass at the triangle's global id: its world-space corners at t = 0 and at
+/// t = 1 (w unused).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TriangleRecord {
+    /// Corners 0, 1, 2 at shutter open.
+    pub at0: [Vec4; 3],
+    /// Corners 0, 1, 2 at shutter close.
+    pub at1: [Vec4; 3],
 }
 
 /// The header of ordinary shadow maps (224 bytes); starts like [`ShadowMapHeader`].
@@ -300,7 +317,8 @@ const _: () = {
     assert!(std::mem::size_of::<Counters>() == 48);
     assert!(std::mem::size_of::<LongListHeader>() == 16);
     assert!(std::mem::size_of::<GpuLight>() == 192);
-    assert!(std::mem::size_of::<ShadowMapHeader>() == 304);
+    assert!(std::mem::size_of::<ShadowMapHeader>() == 320);
+    assert!(std::mem::size_of::<TriangleRecord>() == 96);
     assert!(std::mem::size_of::<PlainMapHeader>() == 224);
     assert!(std::mem::size_of::<DrawRecord>() == 160);
     assert!(std::mem::size_of::<DrawRecord>() == 8 * DRAW_RECORD_WORDS as usize);

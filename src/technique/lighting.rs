@@ -13,7 +13,7 @@ use super::plain_shadow::PlainShadowMap;
 use super::push_constants::{LightingRasterPush, PushBlock, RasterCamera, RasterPush, ShadePush};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
-use super::view::{LightingView, ShadowEstimator, ShadowFilter};
+use super::view::{LightingView, Lookup, ShadowEstimator, ShadowFilter};
 use crate::error::{Error, Result};
 use crate::gpu::{
     Access, Buffer, BufferUsage, ComputeVariants, Context, Pipeline, TimestampQueries,
@@ -340,7 +340,9 @@ impl LightingPass {
     /// `timestamps`, marks "lighting raster" and "lighting shade" after each chunk's halves.
     ///
     /// Errors (nothing recorded) when a shading pipeline this frame needs cannot be made
-    /// (each variant is made on first use).
+    /// (each variant is made on first use), or when `shadow` is a temporal map whose last
+    /// recorded collection built it for the exact lookup ([`Lookup::Exact`]: it holds no
+    /// depth lines).
     ///
     /// # Safety
     /// - As [`super::CollectionPass::record`] for `cmd` and `draws`.
@@ -363,6 +365,13 @@ impl LightingPass {
         target: &LightingTarget,
         mut timestamps: Option<&mut TimestampQueries>,
     ) -> Result<()> {
+        if let ShadowSource::Temporal(map) = shadow
+            && map.recorded_lookup() == Lookup::Exact
+        {
+            return Err(Error::InvalidArgument(
+                "the lighting pass reads the temporal map's depth lines: a map built for the exact lookup (Lookup::Exact) holds none (only the visibility mask reads it)".into(),
+            ));
+        }
         // Every chunk is full but maybe the last: both pipelines are made before anything
         // is recorded.
         let full = target.samples_per_chunk.min(target.spp);

@@ -69,6 +69,7 @@ pub use generation::GenerationPass;
 pub use gpu_types::{
     CameraParams, Counters, DepthFormat, DrawRecord, FIXED_TIME, GpuLight, LongListHeader,
     MAX_LIST_NODES, NO_TRIANGLE, Node, PlainMapHeader, Range, ShadowMapHeader, ShadowMode,
+    TriangleRecord,
 };
 #[cfg(feature = "research")]
 pub use image_output::LightingImageOutput;
@@ -86,7 +87,7 @@ pub use sampling::{pixel_key, pixel_sample};
 pub use shadow_map::{RangeStorage, ShadowMapContents, TemporalShadowMap};
 pub use view::{
     CameraView, DEFAULT_DEPTH_BIAS, DEFAULT_NORMAL_OFFSET_TEXELS, LightKind, LightView,
-    LightingView, PrismConstruction, ShadowEstimator, ShadowFilter,
+    LightingView, Lookup, PrismConstruction, ShadowEstimator, ShadowFilter,
 };
 
 /// `glsl/motion_shadows.glsl`: the GLSL include a host's own shaders use to test visibility
@@ -95,3 +96,12 @@ pub use view::{
 /// include callback. With shaderc, target Vulkan 1.2 (`EnvVersion::Vulkan1_2`) unless the
 /// device has maintenance4: for 1.3 glslang declares workgroup sizes with LocalSizeId.
 pub const GLSL_INCLUDE: &str = include_str!("../../glsl/motion_shadows.glsl");
+
+/// `glsl/exact_lookup.glsl`: the exact lookup ([`Lookup::Exact`]:
+/// `ms_lit_fraction_exact`, `ms_lit_fraction_exact_moving`), included after
+/// [`GLSL_INCLUDE`]; it includes `exact_shadow.glsl` ([`GLSL_EXACT_SHADOW_INCLUDE`]).
+pub const GLSL_EXACT_LOOKUP_INCLUDE: &str = include_str!("../../glsl/exact_lookup.glsl");
+
+/// `glsl/exact_shadow.glsl`: the exact shadow test of one receiver against one moving
+/// triangle (self-contained), included by [`GLSL_EXACT_LOOKUP_INCLUDE`].
+pub const GLSL_EXACT_SHADOW_INCLUDE: &str = include_str!("../../glsl/exact_shadow.glsl");

@@ -56,7 +56,7 @@
 
 use glam::{DMat4, DVec2, DVec3, DVec4, Mat4, Vec3};
 
-use super::view::{LightView, PrismConstruction};
+use super::view::{LightView, Lookup, PrismConstruction};
 use crate::error::{Error, Result};
 
 /// `EXACT_MAX_RUNS` of `glsl/exact_prism.glsl`: at most 6 edge roots and 3 light crossings
@@ -182,18 +182,22 @@ pub struct RangeCeiling {
 
 impl RangeCeiling {
     /// For a map of `width` x `height` texels lit by `light`; None with the papers' prisms
-    /// (`PrismConstruction::Paper`, not bounded here).
+    /// (`PrismConstruction::Paper`, not bounded here) and with the exact lookup's
+    /// conservative collection (`Lookup::Exact`: it covers whole texels, this counts runs
+    /// at texel centres).
     pub fn new(light: &LightView, width: u32, height: u32) -> Option<Self> {
-        (light.prisms == PrismConstruction::Exact).then(|| Self {
-            setup: Setup {
-                to_view: light.view.as_dmat4(),
-                proj: light.proj.as_dmat4(),
-                orthographic: !light.is_spot(),
-                map: Map {
-                    width: f64::from(width),
-                    height: f64::from(height),
+        (light.prisms == PrismConstruction::Exact && light.lookup == Lookup::DepthLine).then(|| {
+            Self {
+                setup: Setup {
+                    to_view: light.view.as_dmat4(),
+                    proj: light.proj.as_dmat4(),
+                    orthographic: !light.is_spot(),
+                    map: Map {
+                        width: f64::from(width),
+                        height: f64::from(height),
+                    },
                 },
-            },
+            }
         })
     }
 

@@ -7,17 +7,17 @@
 use super::coverage::CoverageMap;
 use super::draws::DrawList;
 use super::gpu_types::{
-    Counters, DRAW_STATIC, DrawRecord, MAX_LIST_NODES, Node, Range, ShadowMapHeader,
+    Counters, DRAW_STATIC, DrawRecord, MAX_LIST_NODES, Node, Range, ShadowMapHeader, TriangleRecord,
 };
 use super::pruning::Pruning;
 use super::range_ceiling::{HostDraw, RangeCeiling};
-use super::view::LightView;
+use super::view::{LightView, Lookup};
 use crate::error::{Error, Result};
 use crate::gpu::{Access, Buffer, BufferUsage, Context, OneShot, memory_barrier};
 use ash::vk;
 use glam::{Mat4, UVec4};
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 const COUNTER_BYTES: u64 = std::mem::size_of::<Counters>() as u64;
 
@@ -86,6 +86,11 @@ pub struct TemporalShadowMap {
     static_layer_source: Mutex<StaticLayerState>,
     /// Times the collection pass has drawn the static layer into this map.
     static_layer_builds: AtomicU32,
+    /// With [`Lookup::Exact`]: one [`super::TriangleRecord`] per global triangle id, written
+    /// by the collection ([`Self::reserve_triangle_records`]); none until then.
+    pub(crate) triangle_records: Option<Buffer>,
+    /// Whether the last recorded collection built the map for [`Lookup::Exact`].
+    built_for_exact: AtomicBool,
 }
 
 /// What the static layer holds for keeping: nothing is kept on the strength of a recording
@@ -248,6 +253,48 @@ impl TemporalShadowMap {
             )?,
             static_layer_source: Mutex::new(StaticLayerState::default()),
             static_layer_builds: AtomicU32::new(0),
+            triangle_records: None,
+            built_for_exact: AtomicBool::new(false),
+        })
+    }
+
+    /// Makes room for the triangle records of the exact lookup ([`Lookup::Exact`]): one per
+    /// global triangle id below `triangles` (a [`super::DrawList`]'s `id_end()`), 96 bytes
+    /// each. Only grows; the old buffer is retired like the others ([`Self::reserve`]). A
+    /// map without room for every id of its draws refuses the exact collection.
+    pub fn reserve_triangle_records(&mut self, ctx: &Context, triangles: u64) -> Result<()> {
+        if triangles <= self.triangle_record_capacity() {
+            return Ok(());
+        }
+        let bytes = checked_bytes(
+            "the triangle records",
+            triangles,
+            std::mem::size_of::<TriangleRecord>() as u64,
+            ctx.max_addressed_buffer_bytes(),
+        )?;
+        self.triangle_records = Some(Buffer::new(
+            ctx,
+            "triangle records",
+            bytes,
+            BufferUsage::Storage,
+        )?);
+        Ok(())
+    }
+
+    /// The lookup the last recorded collection built the map for ([`LightView::lookup`];
+    /// [`Lookup::DepthLine`] before any).
+    pub fn recorded_lookup(&self) -> Lookup {
+        if self.built_for_exact.load(Ordering::Relaxed) {
+            Lookup::Exact
+        } else {
+            Lookup::DepthLine
+        }
+    }
+
+    /// Triangle ids the map's triangle records have room for (0 without records).
+    pub fn triangle_record_capacity(&self) -> u64 {
+        self.triangle_records.as_ref().map_or(0, |b| {
+            b.size() / std::mem::size_of::<TriangleRecord>() as u64
         })
     }
 
@@ -291,7 +338,10 @@ impl TemporalShadowMap {
     /// ranges contiguous and in order of start time (the header's `MS_SORTED_RANGES`): with
     /// [`RangeStorage::Sorted`] where the collection stores the ranges itself.
     pub fn sorts_ranges(&self, light: &LightView, coverage: Option<&CoverageMap>) -> bool {
-        self.range_storage == RangeStorage::Sorted && self.collects_ranges(light, coverage)
+        self.range_storage == RangeStorage::Sorted
+            && self.collects_ranges(light, coverage)
+            // Pruning decides at texel centres: not sound for the exact lookup's ranges.
+            && light.lookup == Lookup::DepthLine
     }
 
     /// The device address of the map's header (`MsShadowMap` in `glsl/motion_shadows.glsl`):
@@ -304,18 +354,20 @@ impl TemporalShadowMap {
     /// Whether the collection pass of a frame lit by `light` (with or without a coverage
     /// map) stores each covered run of a moving triangle as its range at once, so that no
     /// node is stored and [`super::GenerationPass`] finds nothing to pair: the exact
-    /// construction with the static layer (the coverage map's passes need the nodes). A map
-    /// used only that way needs no node capacity.
+    /// construction with the static layer or the exact lookup ([`Lookup::Exact`]), without a
+    /// coverage map (its passes need the nodes). A map used only that way needs no node
+    /// capacity.
     pub fn collects_ranges(&self, light: &LightView, coverage: Option<&CoverageMap>) -> bool {
         light.collects_ranges(coverage.is_some())
     }
 
     /// Whether a frame lit by `light` (with or without a coverage map) keeps static draws'
     /// triangles in the static layer rather than in the lists: when `light` asks for it,
-    /// with the exact construction (static draws skip the geometry shader there) and no
-    /// coverage map (its passes need every fragment).
+    /// with the exact construction (static draws skip the geometry shader there), the
+    /// depth-line lookup (the exact lookup needs every triangle named) and no coverage map
+    /// (its passes need every fragment).
     pub fn uses_static_layer(&self, light: &LightView, coverage: Option<&CoverageMap>) -> bool {
-        light.collects_ranges(coverage.is_some())
+        light.uses_static_layer(coverage.is_some())
     }
 
     /// Records the header's update for a frame lit by `light` (with or without a coverage
@@ -329,6 +381,8 @@ impl TemporalShadowMap {
         outer_barriers: bool,
     ) {
         let sorted = self.sorts_ranges(light, coverage);
+        self.built_for_exact
+            .store(light.lookup == Lookup::Exact, Ordering::Relaxed);
         let header = ShadowMapHeader {
             light: light.gpu(),
             size: UVec4::new(self.width, self.height, sorted as u32 * MS_SORTED_RANGES, 0),
@@ -352,6 +406,11 @@ impl TemporalShadowMap {
             } else {
                 self.ranges.device_address()
             },
+            triangles: match (&self.triangle_records, light.lookup) {
+                (Some(records), Lookup::Exact) => records.device_address(),
+                _ => 0,
+            },
+            reserved: 0,
         };
         if outer_barriers {
             unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
@@ -469,7 +528,8 @@ impl TemporalShadowMap {
 
     /// Bytes of GPU memory the map's buffers occupy.
     pub fn allocated_bytes(&self) -> u64 {
-        self.pass_buffers().iter().map(|b| b.size()).sum()
+        self.pass_buffers().iter().map(|b| b.size()).sum::<u64>()
+            + self.triangle_records.as_ref().map_or(0, |b| b.size())
     }
 
     /// Each buffer the map allocated, by its allocation's name, with the bytes of its
@@ -478,6 +538,7 @@ impl TemporalShadowMap {
         self.pass_buffers()
             .into_iter()
             .chain([&self.counters_readback])
+            .chain(self.triangle_records.as_ref())
             .map(|b| (b.name(), b.allocated_bytes()))
             .collect()
     }
@@ -528,6 +589,7 @@ impl TemporalShadowMap {
         let nodes = nodes.max(self.node_capacity);
         let ranges = ranges.max(self.range_capacity);
         if (nodes, ranges) != (self.node_capacity, self.range_capacity) {
+            let records = self.triangle_records.take();
             *self = Self::with_storage(
                 ctx,
                 self.width,
@@ -537,6 +599,7 @@ impl TemporalShadowMap {
                 self.range_storage,
             )?
             .with_pruning(self.pruning);
+            self.triangle_records = records;
         }
         Ok(())
     }
@@ -544,7 +607,8 @@ impl TemporalShadowMap {
     /// Reserves room for all that a frame of `draws` lit by `light` (with or without a
     /// coverage map) can store, bounded from the host's positions by [`RangeCeiling`]: such
     /// a frame never runs out of room, so it never has to be grown a frame late. Returns the
-    /// ranges it has room for, or None with the papers' prisms, which are not bounded (grow
+    /// ranges it has room for, or None with the papers' prisms or the exact lookup
+    /// ([`RangeCeiling::new`]), which are not bounded (grow
     /// after a frame that overflowed instead). Static draws are left out where the frame
     /// keeps them in the static layer. Like [`Self::reserve`], it only grows, and retires the
     /// old buffers. Errors if the bound is more than a map counts (u32) or the device holds.
@@ -608,6 +672,7 @@ impl TemporalShadowMap {
             0
         };
         let ranges = counts.range_count.max(self.range_capacity).max(estimate);
+        let records = self.triangle_records.take();
         *self = Self::with_storage(
             ctx,
             self.width,
@@ -617,6 +682,7 @@ impl TemporalShadowMap {
             self.range_storage,
         )?
         .with_pruning(self.pruning);
+        self.triangle_records = records;
         Ok(())
     }
 

@@ -107,6 +107,29 @@ pub struct LightView {
     /// once the host has said the pass that drew it was submitted
     /// ([`super::TemporalShadowMap::static_layer_submitted`]).
     pub keep_static_layer: bool,
+    /// What the map's ranges are for (default [`Lookup::DepthLine`], the papers' test).
+    pub lookup: Lookup,
+}
+
+/// What a temporal shadow map's ranges answer, and so how the collection builds them.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Lookup {
+    /// The papers' test: each range's depth line against the receiver's depth (with the
+    /// receiver offset and bias), per texel.
+    #[default]
+    DepthLine,
+    /// The exact lookup (docs/src/exact-lookups.md): each range only names a triangle that
+    /// may block some point of its texel during the shutter, and the lookup tests the
+    /// receiver's shadow ray against the named triangles themselves (their corners at t = 0
+    /// and t = 1, from triangle records the collection writes): no texels, no offset, no
+    /// bias. The collection is conservative (every texel whose area a triangle's swept
+    /// shadow touches gets a range over the whole shutter), so the static layer and pruning,
+    /// decided at texel centres, are off: static triangles go into the lists. Wants the
+    /// exact construction and no coverage map, and a map with triangle records
+    /// ([`super::TemporalShadowMap::reserve_triangle_records`]). Read by the visibility mask
+    /// (receivers still or moving); the lighting pass and `ms_visibility`/`ms_lit_fraction`
+    /// read depth lines, which such a map does not hold (the lighting pass refuses it).
+    Exact,
 }
 
 /// How the collection pass finds, per shadow-map texel, when a moving triangle covers it.
@@ -167,6 +190,7 @@ impl LightView {
             static_layer: true,
             keep_static_layer: false,
             receiver_plane: false,
+            lookup: Lookup::DepthLine,
         }
     }
 
@@ -200,6 +224,7 @@ impl LightView {
             static_layer: true,
             keep_static_layer: false,
             receiver_plane: false,
+            lookup: Lookup::DepthLine,
         }
     }
 
@@ -208,8 +233,22 @@ impl LightView {
     /// triangle as its range at once (no node stored, nothing left for the generation pass):
     /// the exact construction with [`Self::static_layer`] and no coverage map (whose passes
     /// need every fragment). See [`super::TemporalShadowMap::collects_ranges`].
+    /// With [`Lookup::Exact`] always (its collection stores ranges directly, see
+    /// [`super::CollectionPass::record`] for what it needs).
     pub fn collects_ranges(&self, with_coverage_map: bool) -> bool {
-        self.static_layer && self.prisms == PrismConstruction::Exact && !with_coverage_map
+        (self.static_layer || self.lookup == Lookup::Exact)
+            && self.prisms == PrismConstruction::Exact
+            && !with_coverage_map
+    }
+
+    /// Whether static draws go to the static layer rather than the lists: where the
+    /// collection stores ranges directly ([`Self::collects_ranges`]) and the lookup is the
+    /// depth line (the layer keeps the nearest static triangle at each texel centre, which
+    /// the exact lookup cannot use).
+    pub fn uses_static_layer(&self, with_coverage_map: bool) -> bool {
+        self.static_layer
+            && self.lookup == Lookup::DepthLine
+            && self.collects_ranges(with_coverage_map)
     }
 
     /// Whether it is a spot light (perspective map) rather than directional (orthographic).

@@ -102,6 +102,7 @@ void main() {
     put(m.light); put(m.size); put(m.range_heads); put(m.ranges); put(m.coverage);
     put(m.cover_depth); put(m.heads); put(m.nodes); put(m.counters); put(m.long_pixels);
     put(m.nearest); put(m.static_nearest); put(m.tiles); put(m.list_ranges);
+    put(m.triangles); put(m.reserved);
 
     PlainHeader p = PlainHeader(table.plain_header);
     put(p.light); put(p.size); put(p.depths); put(p.ids);
@@ -147,7 +148,7 @@ void main() {
     MsMap loaded = ms_load(m);
     put(loaded.light); put(uvec4(loaded.size, 0u, 0u)); put(loaded.range_heads);
     put(loaded.ranges); put(loaded.coverage); put(loaded.cover_depth);
-    put(loaded.static_nearest);
+    put(loaded.static_nearest); put(loaded.triangles);
     // And draws through load_draw's words.
     put(load_draw(table.draw, 0u));
     // And the camera through load_camera's.

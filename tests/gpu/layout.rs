@@ -147,6 +147,8 @@ fn shared_structs_match_glsl() {
         static_nearest: val.a(),
         tiles: val.a(),
         list_ranges: val.a(),
+        triangles: val.a(),
+        reserved: val.a(),
     };
     let plain = PlainMapHeader {
         light: val.light(),
@@ -344,6 +346,8 @@ fn shared_structs_match_glsl() {
         shadow.static_nearest,
         shadow.tiles,
         shadow.list_ranges,
+        shadow.triangles,
+        shadow.reserved,
     ] {
         expected.a(a);
     }
@@ -463,6 +467,7 @@ fn shared_structs_match_glsl() {
         shadow.coverage,
         shadow.cover_depth,
         shadow.static_nearest,
+        shadow.triangles,
     ] {
         expected.a(a);
     }

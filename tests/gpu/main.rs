@@ -7,10 +7,12 @@
 mod support;
 
 mod analytic;
+mod conservative_collection;
 mod crossing_prism;
 mod deferred_host;
 mod device_setup;
 mod engine_tsm;
+mod exact_lookup;
 mod exact_prisms;
 mod footprint_hull;
 mod footprint_hull_ties;

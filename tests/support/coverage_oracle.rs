@@ -21,9 +21,15 @@ pub struct TexelRay {
 }
 
 pub fn texel_ray(light: &LightView, size: (u32, u32), x: u32, y: u32) -> TexelRay {
+    map_ray(light, size, x as f64 + 0.5, y as f64 + 0.5)
+}
+
+/// The ray through the point (u, v) of the map, in texels from its corner (texel (x, y)
+/// spans [x, x + 1) x [y, y + 1)).
+pub fn map_ray(light: &LightView, size: (u32, u32), u: f64, v: f64) -> TexelRay {
     let inverse = (light.proj.as_dmat4() * light.view.as_dmat4()).inverse();
-    let ndc_x = (x as f64 + 0.5) / size.0 as f64 * 2.0 - 1.0;
-    let ndc_y = (y as f64 + 0.5) / size.1 as f64 * 2.0 - 1.0;
+    let ndc_x = u / size.0 as f64 * 2.0 - 1.0;
+    let ndc_y = v / size.1 as f64 * 2.0 - 1.0;
     let unproject = |z: f64| {
         let p = inverse * DVec4::new(ndc_x, ndc_y, z, 1.0);
         p.truncate() / p.w

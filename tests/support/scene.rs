@@ -136,6 +136,29 @@ pub fn temporal_map_stored(
     pruning: Pruning,
     range_capacity: u32,
 ) -> (ShadowMapContents, Counters) {
+    let (map, counts) = temporal_map_built(
+        ctx,
+        scene,
+        shadow_size,
+        light,
+        storage,
+        pruning,
+        range_capacity,
+    );
+    (map.download(ctx).expect("download"), counts)
+}
+
+/// [`temporal_map_stored`]'s map itself, on the device (for lookups in test shaders), with
+/// triangle records where `light` asks for the exact lookup.
+pub fn temporal_map_built(
+    ctx: &Context,
+    scene: &Scene,
+    shadow_size: (u32, u32),
+    light: &LightView,
+    storage: RangeStorage,
+    pruning: Pruning,
+    range_capacity: u32,
+) -> (TemporalShadowMap, Counters) {
     let vertices: Vec<[Vec4; 2]> = (scene.meshes.iter())
         .flat_map(|m| m.t0.iter().zip(&m.t1))
         .map(|(p0, p1)| [p0.extend(1.0), p1.extend(1.0)])
@@ -189,6 +212,10 @@ pub fn temporal_map_stored(
     )
     .expect("temporal shadow map")
     .with_pruning(pruning);
+    if light.lookup == motion_shadows::technique::Lookup::Exact {
+        map.reserve_triangle_records(ctx, u64::from(first_id))
+            .expect("triangle records");
+    }
     loop {
         OneShot::new(ctx)
             .expect("command buffer")
@@ -207,7 +234,7 @@ pub fn temporal_map_stored(
         let counts = map.read_counters().expect("counters");
         if !map.needs_more_room(&counts) {
             map.check_complete(&counts).expect("complete map");
-            return (map.download(ctx).expect("download"), counts);
+            return (map, counts);
         }
         map.grow_to_fit(ctx, &counts).expect("grow");
     }

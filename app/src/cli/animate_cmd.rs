@@ -144,7 +144,7 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
         },
         method: deferred
             .as_ref()
-            .map_or_else(|| settings.method.name().to_owned(), |d| d.method.name()),
+            .map_or_else(|| settings.method.name().to_owned(), |d| d.name()),
         frames: args.frames,
         fps: args.fps,
         start: args.start,

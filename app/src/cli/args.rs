@@ -186,6 +186,13 @@ pub struct CompareArgs {
     /// sort). The image is the same.
     #[arg(long, value_enum, default_value_t = PruningArg::StaticLayer)]
     pub pruning: PruningArg,
+    /// Deferred: `exact` adds the temporal map's exact mask (`temporal-exact`) to the
+    /// methods; `depth` (the default) compares the papers' depth-line mask only. The lookups: `depth` (the papers' depth lines, per texel,
+    /// with the receiver offset and bias) or `exact` (the receiver's shadow ray against the
+    /// triangles the map names, corners at t = 0 and t = 1: no texels, no offset, no bias;
+    /// the map's collection is conservative and keeps static triangles in its lists).
+    #[arg(long, value_enum, default_value_t = LookupArg::Depth)]
+    pub lookup: LookupArg,
     /// What the other methods are measured against: the brute-force reference, or the ray
     /// tracer (then the reference is one more method measured against it).
     #[arg(long, value_enum, default_value_t = TruthArg::Reference)]
@@ -349,6 +356,32 @@ pub enum PrismsArg {
     /// The papers' prism (caps and sides triangulated around their centres): exact only for
     /// translation.
     Paper,
+}
+
+/// `--lookup`: how the deferred frame's temporal mask reads the map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum LookupArg {
+    /// The papers' depth-line test per texel.
+    Depth,
+    /// The exact test against the triangles the map names.
+    Exact,
+}
+
+impl LookupArg {
+    pub fn lookup(self) -> motion_shadows::technique::Lookup {
+        match self {
+            Self::Depth => motion_shadows::technique::Lookup::DepthLine,
+            Self::Exact => motion_shadows::technique::Lookup::Exact,
+        }
+    }
+
+    /// As typed, and in the JSON's `lookup`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Depth => "depth",
+            Self::Exact => "exact",
+        }
+    }
 }
 
 /// `--range-storage`: how the temporal map keeps the ranges its collection stores.
@@ -552,6 +585,12 @@ pub struct RenderArgs {
     /// sort). The image is the same.
     #[arg(long, value_enum, default_value_t = PruningArg::StaticLayer)]
     pub pruning: PruningArg,
+    /// Deferred, temporal: the mask's lookup: `depth` (the papers' depth lines, per texel,
+    /// with the receiver offset and bias) or `exact` (the receiver's shadow ray against the
+    /// triangles the map names, corners at t = 0 and t = 1: no texels, no offset, no bias;
+    /// the map's collection is conservative and keeps static triangles in its lists).
+    #[arg(long, value_enum, default_value_t = LookupArg::Depth)]
+    pub lookup: LookupArg,
     /// Render the frame this many times (1 to 100) and report the fastest, as `bench` does:
     /// the first frame's GPU times include first-use costs (lavapipe compiles shader variants
     /// at the first draw).

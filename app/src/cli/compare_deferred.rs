@@ -3,7 +3,7 @@
 //! the masks, and a table of each mask's RMSE against the truth (over the pixels the light
 //! reaches, and over those in shadow) and its shadow pass + mask time.
 
-use super::args::CompareArgs;
+use super::args::{CompareArgs, LookupArg};
 use super::render_cmd::{builtin_options, commit_outputs, progress_reporter};
 use crate::compare::{Rgb8Image, mask_error, side_by_side};
 use crate::output::{StagedFiles, auto_exposure, write_rgb8_png};
@@ -13,6 +13,7 @@ use crate::render::{RenderSettings, Renderer};
 use crate::scene::{builtin, load_scene_file};
 use anyhow::Context as _;
 use motion_shadows::gpu::{Context, ContextOptions};
+use motion_shadows::technique::Lookup;
 
 /// The frame's settings for `args` (the deferred frame reads its size, shadow size, receiver
 /// test and static layer; the temporal map's options too).
@@ -44,9 +45,21 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         method,
         camera_time: args.camera_time,
         moving_receivers: true,
+        lookup: Lookup::DepthLine,
     };
-    for method in methods {
-        deferred(method).validate()?;
+    // With --lookup exact, the temporal map's exact mask as one more method.
+    let mut runs: Vec<DeferredSettings> = methods.iter().map(|&m| deferred(m)).collect();
+    if args.lookup == LookupArg::Exact {
+        runs.insert(
+            1,
+            DeferredSettings {
+                lookup: Lookup::Exact,
+                ..deferred(DeferredMethod::Temporal)
+            },
+        );
+    }
+    for run in &runs {
+        run.validate()?;
     }
     // Before the scene is loaded: the truth's memory (it would abort past it).
     check_truth_memory(args.width, args.height)?;
@@ -76,13 +89,8 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let ctx = Context::headless(&ContextOptions::from_env())?;
     let mut renderer = Renderer::new(&ctx)?;
     let mut results = Vec::new();
-    for method in methods {
-        results.push(renderer.render_deferred(
-            &scene,
-            &settings,
-            &deferred(method),
-            &mut report,
-        )?);
+    for run in &runs {
+        results.push(renderer.render_deferred(&scene, &settings, run, &mut report)?);
     }
     drop(renderer);
 
@@ -142,6 +150,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             "scene": scene.name,
             "frame": "deferred",
             "camera_time": args.camera_time,
+            "lookup": args.lookup.name(),
             "methods": rows,
             "truth_ms": truth.shadow_and_mask_ms,
             "files": files,
@@ -154,12 +163,12 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             scene.name, args.width, args.height, args.camera_time
         );
         println!(
-            "  {:<10} {:>9} {:>16} {:>22}",
+            "  {:<14} {:>9} {:>16} {:>22}",
             "method", "RMSE", "RMSE (shadowed)", "shadow pass + mask ms"
         );
         for row in &rows {
             println!(
-                "  {:<10} {:>9.5} {:>16.5} {:>22.2}",
+                "  {:<14} {:>9.5} {:>16.5} {:>22.2}",
                 row["method"].as_str().unwrap_or(""),
                 row["rmse"].as_f64().unwrap_or(f64::NAN),
                 row["rmse_shadowed"].as_f64().unwrap_or(f64::NAN),

@@ -9,6 +9,7 @@ use crate::render::Renderer;
 use crate::render::deferred::{DeferredMethod, DeferredSettings};
 use anyhow::Context as _;
 use motion_shadows::gpu::{Context, ContextOptions};
+use motion_shadows::technique::Lookup;
 
 /// The deferred frame's settings for `args`.
 pub fn deferred_settings(args: &RenderArgs) -> anyhow::Result<DeferredSettings> {
@@ -27,6 +28,13 @@ pub fn deferred_settings(args: &RenderArgs) -> anyhow::Result<DeferredSettings> 
         method,
         camera_time: args.camera_time,
         moving_receivers: !args.static_receivers,
+        // Only the temporal map has the exact lookup; the others refuse `--lookup` by name
+        // (unread_options.rs).
+        lookup: if method == DeferredMethod::Temporal {
+            args.lookup.lookup()
+        } else {
+            Lookup::DepthLine
+        },
     };
     settings.validate()?;
     if method == DeferredMethod::Raytrace {
@@ -50,7 +58,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let (bar, mut report) = progress_reporter();
     report("loading the scene");
     let scene = load_scene(args)?;
-    let stem = format!("{}-deferred-{}", scene.name, deferred.method.name());
+    let stem = format!("{}-deferred-{}", scene.name, deferred.name());
     let (exr, png, mask) = (
         format!("{stem}.exr"),
         format!("{stem}.png"),
@@ -110,6 +118,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         "shadow_height": shadow_height,
         "camera_time": deferred.camera_time,
         "moving_receivers": deferred.moving_receivers,
+        "lookup": args.lookup.name(),
         "passes": passes,
         "shadow_and_mask_ms": result.shadow_and_mask_ms,
         "wall_ms": result.wall_ms,
@@ -143,4 +152,38 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         println!("PNG exposure: {exposure:+.2} stops");
     }
     ctx.as_ref().map_or(Ok(()), super::validation_clean)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cli::args::{Cli, Command};
+
+    fn render_args(extra: &[&str]) -> RenderArgs {
+        let cli = Cli::try_parse_recording_given(
+            ["motion-shadows", "render", "--frame", "deferred"]
+                .iter()
+                .chain(extra),
+        )
+        .expect("parses");
+        let Some(Command::Render(args)) = cli.command else {
+            panic!("render parses to Command::Render");
+        };
+        args
+    }
+
+    /// `--lookup` reaches the deferred frame's settings (default the depth line), and a
+    /// method without the temporal map refuses it by name.
+    #[test]
+    fn the_lookup_reaches_the_deferred_settings() {
+        let depth = deferred_settings(&render_args(&[])).expect("settings");
+        assert_eq!(depth.lookup, Lookup::DepthLine);
+        let exact = deferred_settings(&render_args(&["--lookup", "exact"])).expect("settings");
+        assert_eq!(exact.lookup, Lookup::Exact);
+        assert_eq!(exact.name(), "temporal-exact");
+        let tsm = render_args(&["--method", "tsm", "--lookup", "exact"]);
+        let refused = super::super::render_cmd::refuse_unread_options(&tsm, "render")
+            .expect_err("TSM has no exact lookup");
+        assert!(refused.to_string().contains("--lookup"), "{refused}");
+    }
 }

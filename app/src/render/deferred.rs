@@ -25,7 +25,7 @@ use motion_shadows::ash::vk;
 use motion_shadows::gpu::{Access, Buffer, BufferUsage, Image, image_barrier, memory_barrier};
 use motion_shadows::technique::{
     DrawList, EngineTsmMap, EngineTsmPass, GBuffer, GBufferCamera, GBufferContents, GBufferPass,
-    LightView, MaskInputs, TemporalShadowMap, TsmStart, VisibilityMaskPass,
+    LightView, Lookup, MaskInputs, TemporalShadowMap, TsmStart, VisibilityMaskPass,
 };
 use std::time::Instant;
 
@@ -57,6 +57,16 @@ impl DeferredMethod {
     }
 }
 
+impl DeferredSettings {
+    /// The method's name, `temporal-exact` for the temporal map with the exact lookup.
+    pub fn name(&self) -> String {
+        match (self.method, self.lookup) {
+            (DeferredMethod::Temporal, Lookup::Exact) => "temporal-exact".to_owned(),
+            (method, _) => method.name(),
+        }
+    }
+}
+
 /// What a deferred frame adds to [`RenderSettings`] (whose size, shadow size, receiver test
 /// and static-layer choice it uses; spp and seed do not apply).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -67,6 +77,9 @@ pub struct DeferredSettings {
     /// Receivers move as the G-buffer's motion image says (off: each stands still where the
     /// G-buffer shows it, as the mask did before receivers could move).
     pub moving_receivers: bool,
+    /// The temporal mask's lookup: the papers' depth lines, or the exact test against the
+    /// triangles the map names (`Lookup::Exact`). Read by the temporal method only.
+    pub lookup: Lookup,
 }
 
 impl Default for DeferredSettings {
@@ -75,6 +88,7 @@ impl Default for DeferredSettings {
             method: DeferredMethod::Temporal,
             camera_time: 1.0,
             moving_receivers: true,
+            lookup: Lookup::DepthLine,
         }
     }
 }
@@ -85,6 +99,12 @@ impl DeferredSettings {
             return Err(Error::InvalidArgument(format!(
                 "camera time {}: must be in [0, 1]",
                 self.camera_time
+            )));
+        }
+        if self.lookup == Lookup::Exact && self.method != DeferredMethod::Temporal {
+            return Err(Error::InvalidArgument(format!(
+                "the exact lookup is the temporal map's: {} has no such lookup",
+                self.method.name()
             )));
         }
         if let DeferredMethod::Tsm { maps } = self.method
@@ -246,7 +266,7 @@ impl Renderer<'_> {
             lit,
             hit,
             facing,
-            method: deferred.method.name(),
+            method: deferred.name(),
             shadow_and_mask_ms: passes.iter().map(|p| p.gpu_ms).sum(),
             passes,
             wall_ms: start.elapsed().as_secs_f64() * 1e3,
@@ -313,6 +333,7 @@ impl Renderer<'_> {
             prisms: settings.prisms,
             static_layer: settings.static_layer,
             keep_static_layer: settings.static_layer,
+            lookup: deferred.lookup,
             ..upload::light_view(scene, settings.shadow_size())
         };
         if self.deferred_receiver_plane(settings, deferred) {

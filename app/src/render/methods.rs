@@ -49,7 +49,7 @@ impl RangeBounds {
             scene,
             light,
             size,
-            light.collects_ranges(with_coverage),
+            light.uses_static_layer(with_coverage),
         );
         let range_bytes = std::mem::size_of::<motion_shadows::technique::Range>() as u64;
         match at_most {
@@ -271,6 +271,9 @@ impl Renderer<'_> {
             settings.range_storage,
         )?
         .with_pruning(settings.pruning);
+        if inputs.light.lookup == motion_shadows::technique::Lookup::Exact {
+            map.reserve_triangle_records(self.ctx, inputs.draws.id_end())?;
+        }
         // The cover rule's pipelines compiled here, not in the timed pass.
         self.generation.prepare(settings.pruning)?;
         let coverage = if with_coverage {

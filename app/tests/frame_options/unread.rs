@@ -24,6 +24,7 @@ fn given(flag: &str) -> Vec<&str> {
         "--truth" => Some("raytrace"),
         "--camera-time" => Some("0.5"),
         "--tsm-maps" => Some("4"),
+        "--lookup" => Some("exact"),
         "--heatmaps" | "--receiver-plane" | "--static-receivers" => None,
         other => panic!("{other}: add an example value for the new table row"),
     };

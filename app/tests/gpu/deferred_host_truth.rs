@@ -105,6 +105,7 @@ fn host_masks_with_moving_receivers_match_the_exact_truth() {
         method: DeferredMethod::Raytrace,
         camera_time: 1.0,
         moving_receivers: true,
+        ..DeferredSettings::default()
     };
     let scene = app_scene(&world, frame.frame, 0);
     let truth = render_truth(&scene, &render, &deferred, &mut |_| {}).expect("truth");

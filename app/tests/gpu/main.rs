@@ -15,6 +15,7 @@ mod coverage;
 mod deferred_host;
 mod embedding;
 mod errors;
+mod exact_lookup_lighting;
 mod exact_shadow;
 mod filtered_lookup;
 mod generation;

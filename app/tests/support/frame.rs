@@ -37,6 +37,14 @@ pub fn render_draws(
     let mut list = DrawList::new(ctx, draws.len() as u32)?;
     let pixels = shadow_size.0 * shadow_size.1;
     let mut map = TemporalShadowMap::new(ctx, shadow_size.0, shadow_size.1, pixels, pixels)?;
+    if light.lookup == motion_shadows::technique::Lookup::Exact {
+        let ids = draws
+            .iter()
+            .map(|d| u64::from(d.first_triangle_id) + u64::from(d.triangle_count))
+            .max()
+            .unwrap_or(0);
+        map.reserve_triangle_records(ctx, ids)?;
+    }
     loop {
         OneShot::new(ctx)?.run(|cmd| {
             // SAFETY: a OneShot command buffer of `ctx`, recording, outside rendering; every
