@@ -30,6 +30,28 @@ ROOT = Path(__file__).resolve().parent.parent
 BACKUP = ROOT / "target" / "mutants" / "backup"
 
 
+MUTANT_KEYS = {"name", "pass", "what", "test", "edit", "issue27"}
+EDIT_KEYS = {"file", "from", "to"}
+
+
+def check_shape(mutants):
+    """Refuses a list whose entries are not whole breaks: a `[[mutant]]` header left out
+    makes TOML file the next break's keys under the previous edit, where they would
+    silently never run (it happened to three breaks)."""
+    problems = []
+    for m in mutants:
+        name = m.get("name", "?")
+        if not MUTANT_KEYS >= set(m) or not {"name", "test", "edit"} <= set(m):
+            problems.append(f"{name}: keys {sorted(m)}")
+        for e in m.get("edit", []):
+            if set(e) != EDIT_KEYS:
+                problems.append(f"{name}: an edit with keys {sorted(e)} (a [[mutant]] header missing?)")
+    names = [m.get("name") for m in mutants]
+    problems += [f"{n}: listed twice" for n in sorted({n for n in names if names.count(n) > 1})]
+    if problems:
+        sys.exit("scripts/mutants.toml is malformed:\n" + "\n".join(problems))
+
+
 def restore_backup():
     """Puts back the files a killed run left mutated."""
     if not BACKUP.exists():
@@ -127,6 +149,7 @@ def main():
     restore_backup()
 
     mutants = tomllib.loads(Path(opts.list).read_text())["mutant"]
+    check_shape(mutants)
     if opts.only:
         unknown = set(opts.only) - {m["name"] for m in mutants}
         if unknown:

@@ -319,8 +319,9 @@ impl VisibilityMaskPass {
             ],
             MaskPush::BYTES,
             ("visibility_mask.comp", shaders::VISIBILITY_MASK_COMP),
-            // Receivers standing still; receivers moving (MOVING = true).
-            &[&[0], &[1]],
+            // (MOVING, EXACT): receivers standing still or moving, against a map built for the
+            // depth-line test or for the exact lookup.
+            &[&[0, 0], &[1, 0], &[0, 1], &[1, 1]],
         )?;
         Ok(Self {
             pass,
@@ -422,7 +423,8 @@ impl VisibilityMaskPass {
             time: inputs.time,
             padding: [0; 2],
         };
-        let variant = usize::from(inputs.motion.is_some());
+        let exact = map.recorded_lookup() == super::view::Lookup::Exact;
+        let variant = usize::from(inputs.motion.is_some()) + 2 * usize::from(exact);
         let counter = bindings.over_budget.raw();
         // SAFETY: the caller's contract; the set was just written; the counter is the
         // bindings' own, not in use by a pending command buffer (the caller's contract).
