@@ -13,7 +13,10 @@ layout(push_constant) uniform Push { MapDrawPush pc; };
 layout(location = 0) flat in vec4 in_at0[3];
 layout(location = 3) flat in vec4 in_at1[3];
 layout(location = 6) flat in uint in_id;
+#ifndef CONSERVATIVE_COLLECTION
+// (The conservative collection's ranges span the whole shutter: it needs no cuts.)
 layout(location = 7) flat in vec3 in_cuts;
+#endif
 
 void main() {
     MsShadowMap map = MsShadowMap(pc.map);
@@ -22,8 +25,8 @@ void main() {
     ExactCorner corners[3];
     for (int k = 0; k < 3; ++k) corners[k] = ExactCorner(in_at0[k], in_at1[k]);
     uint p = pixel.y * map.size.x + pixel.x;
-#ifdef COLLECT_RANGES
-    if ((pc.flags & COLLECT_CONSERVATIVE) != 0u) {
+#ifdef CONSERVATIVE_COLLECTION
+    {
         // The exact lookup reads a range's triangle and window only: the whole shutter (it
         // bounds every time the triangle may cover some point of the texel) and the
         // triangle's depths over it.
@@ -33,9 +36,8 @@ void main() {
             far = max(far, max(in_at0[k].w, in_at1[k].w));
         }
         append_named_range(map, p, vec2(near, far), in_id);
-        return;
     }
-#endif
+#else
     vec2 a[3], d[3];
     ExactRuns runs = exact_prism_runs(corners, ndc, in_cuts, a, d);
     for (int i = 0; i < runs.count; ++i) {
@@ -48,4 +50,5 @@ void main() {
         append_fragment(map, p, depths.y, times.y, in_id, exact_surface(times.y));
 #endif
     }
+#endif
 }

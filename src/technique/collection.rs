@@ -6,7 +6,6 @@
 
 use super::coverage::{CoverageMap, MAX_COVERAGE_TRIANGLES};
 use super::draws::DrawList;
-use super::gpu_constants::COLLECT_CONSERVATIVE;
 use super::gpu_types::{COUNT_INVALID, Counters, DRAW_STATIC, DrawRecord};
 use super::push_constants::{DrawPush, DrawnPush, MapDrawPush, PushBlock};
 use super::shaders;
@@ -38,6 +37,9 @@ pub(crate) struct PrismShaders {
     pub static_fragment: (&'static str, Spirv<'static>),
     /// The exact construction storing each run as its range (the collection pass only).
     pub ranges_fragment: Option<(&'static str, Spirv<'static>)>,
+    /// Whether to make the conservative collection's pipeline (the exact lookup; the
+    /// collection pass only).
+    pub conservative: bool,
 }
 
 /// One pipeline per [`PrismConstruction`] (and one for the exact construction's static
@@ -46,6 +48,9 @@ pub(crate) struct PrismPipelines {
     exact: Pipeline,
     exact_static: Pipeline,
     exact_ranges: Option<Pipeline>,
+    /// The conservative collection (Lookup::Exact): its own shaders, so that its code stays
+    /// out of the default pipelines.
+    exact_conservative: Option<Pipeline>,
     paper: Pipeline,
 }
 
@@ -83,6 +88,22 @@ impl PrismPipelines {
                     )
                 })
                 .transpose()?,
+            exact_conservative: shaders
+                .conservative
+                .then(|| {
+                    prism_pipeline(
+                        ctx,
+                        (
+                            "collection_conservative.geom",
+                            shaders::COLLECTION_CONSERVATIVE_GEOM,
+                        ),
+                        (
+                            "collection_conservative.frag",
+                            shaders::COLLECTION_CONSERVATIVE_FRAG,
+                        ),
+                    )
+                })
+                .transpose()?,
             paper: prism_pipeline(
                 ctx,
                 ("collection.geom", shaders::COLLECTION_GEOM),
@@ -107,8 +128,9 @@ impl PrismPipelines {
         ranges: bool,
         conservative: bool,
     ) {
-        let exact_moving = match &self.exact_ranges {
-            Some(pipeline) if ranges => pipeline,
+        let exact_moving = match (&self.exact_conservative, &self.exact_ranges) {
+            (Some(pipeline), _) if conservative => pipeline,
+            (_, Some(pipeline)) if ranges => pipeline,
             _ => &self.exact,
         };
         let pipeline_of = |record: &DrawRecord| match construction {
@@ -199,6 +221,7 @@ impl CollectionPass {
                 exact_fragment: ("collection_exact.frag", shaders::COLLECTION_EXACT_FRAG),
                 static_fragment: ("collection_static.frag", shaders::COLLECTION_STATIC_FRAG),
                 ranges_fragment: Some(("collection_ranges.frag", shaders::COLLECTION_RANGES_FRAG)),
+                conservative: true,
             },
         )?;
         Ok(Self {
@@ -327,12 +350,7 @@ impl CollectionPass {
         let conservative = light.lookup == Lookup::Exact;
         let constants = MapDrawPush {
             map: map.header_address(),
-            flags: COUNT_INVALID
-                | if conservative {
-                    COLLECT_CONSERVATIVE
-                } else {
-                    0
-                },
+            flags: COUNT_INVALID,
             ..MapDrawPush::default()
         };
         self.pipelines.draw(

@@ -55,6 +55,7 @@ impl CoveragePass {
                     shaders::COVERAGE_RESET_STATIC_FRAG,
                 ),
                 ranges_fragment: None,
+                conservative: false,
             },
         )?;
         Ok(Self { caps, reset })

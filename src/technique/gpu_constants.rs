@@ -52,10 +52,6 @@ pub const MAX_SAMPLES_PER_CHUNK: u32 = 16;
 pub const FIXED_TIME: u32 = 1;
 /// A drawing pass's push flags: this draw counts its invalid triangles (once per frame).
 pub const COUNT_INVALID: u32 = 4;
-/// The collection's push flags: the conservative collection of the exact lookup
-/// ([`super::Lookup::Exact`]): footprints grown by a texel's half-diagonal, one range per
-/// triangle and texel over the whole shutter, triangle records written.
-pub const COLLECT_CONSERVATIVE: u32 = 8;
 
 /// `PlainMapHeader::size.w`: depth and triangle id.
 pub const DEPTH_AND_ID: u32 = 0;
@@ -105,7 +101,6 @@ pub const GLSL_UINTS: &[(&str, u32)] = &[
     ("MAX_SAMPLES_PER_CHUNK", MAX_SAMPLES_PER_CHUNK),
     ("FIXED_TIME", FIXED_TIME),
     ("COUNT_INVALID", COUNT_INVALID),
-    ("COLLECT_CONSERVATIVE", COLLECT_CONSERVATIVE),
     ("DEPTH_AND_ID", DEPTH_AND_ID),
     ("DEPTH_ONLY", DEPTH_ONLY),
     ("SHADOW_TEMPORAL", SHADOW_TEMPORAL),

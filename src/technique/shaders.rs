@@ -16,6 +16,10 @@ pub const COLLECTION_GEOM: Spirv<'static> = spirv!("collection.geom");
 pub const COLLECTION_FRAG: Spirv<'static> = spirv!("collection.frag");
 /// SPIR-V of `glsl/collection_exact.geom`.
 pub const COLLECTION_EXACT_GEOM: Spirv<'static> = spirv!("collection_exact.geom");
+/// SPIR-V of `glsl/collection_conservative.geom`.
+pub const COLLECTION_CONSERVATIVE_GEOM: Spirv<'static> = spirv!("collection_conservative.geom");
+/// SPIR-V of `glsl/collection_conservative.frag`.
+pub const COLLECTION_CONSERVATIVE_FRAG: Spirv<'static> = spirv!("collection_conservative.frag");
 /// SPIR-V of `glsl/collection_exact.frag`.
 pub const COLLECTION_EXACT_FRAG: Spirv<'static> = spirv!("collection_exact.frag");
 /// SPIR-V of `glsl/collection_ranges.frag`.
