@@ -62,46 +62,17 @@ void ms_exact_texel_shadow(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint
 // Without triangle records (a map not built for the exact lookup): 1.
 float ms_lit_fraction_exact_moving(MsMap map, vec3 p0, vec3 p1, uint own) {
     if (map.triangles == 0UL) return 1.0;
-    MsLight light = map.light;
-    mat4 to_clip = light.proj * light.view;
-    vec4 c0 = to_clip * vec4(p0, 1.0), dc = to_clip * vec4(p1, 1.0) - c0;
-    float lo = 0.0, hi = 1.0;
-    ms_clip_times(c0.w, dc.w, lo, hi);
-    ms_clip_times(c0.w + c0.x, dc.w + dc.x, lo, hi);
-    ms_clip_times(c0.w - c0.x, dc.w - dc.x, lo, hi);
-    ms_clip_times(c0.w + c0.y, dc.w + dc.y, lo, hi);
-    ms_clip_times(c0.w - c0.y, dc.w - dc.y, lo, hi);
-    if (!(hi > lo)) return 1.0;
-    vec2 size = vec2(map.size);
-    ivec2 dir = ivec2(sign(vec2(dc.x * c0.w - c0.x * dc.w, dc.y * c0.w - c0.y * dc.w)));
-    vec4 start = c0 + lo * dc;
-    ivec2 texel = clamp(ivec2(floor((start.xy / start.w * 0.5 + 0.5) * size)), ivec2(0),
-                        ivec2(map.size) - 1);
+    MsLightPath path;
+    if (!ms_path_start(map.light, map.size, p0, p1, path)) return 1.0;
     ms_exact_Union shadowed = ms_exact_union_empty();
-    float t = lo;
-    for (uint crossed = 0u; t < hi && crossed <= map.size.x + map.size.y; ++crossed) {
+    for (uint crossed = 0u; path.t < path.hi && crossed <= map.size.x + map.size.y; ++crossed) {
         ++ms_loop_iterations;
-        float tx = 2.0, ty = 2.0;
-        if (dir.x != 0) {
-            float edge = float(texel.x + max(dir.x, 0)) / size.x * 2.0 - 1.0;
-            tx = ms_boundary_time(c0, dc, 0, edge);
-        }
-        if (dir.y != 0) {
-            float edge = float(texel.y + max(dir.y, 0)) / size.y * 2.0 - 1.0;
-            ty = ms_boundary_time(c0, dc, 1, edge);
-        }
-        float exit = clamp(min(min(tx, ty), hi), t, hi);
-        uint at = uint(texel.y) * map.size.x + uint(texel.x);
+        uint at = uint(path.texel.y) * map.size.x + uint(path.texel.x);
+        float t = path.t, exit;
+        bool inside = ms_path_advance(path, map.size, exit);
         ms_exact_texel_shadow(map, at, p0, p1, vec2(t, exit), own, shadowed);
-        if (tx <= ty) {
-            texel.x += dir.x;
-        } else {
-            texel.y += dir.y;
-        }
-        t = exit;
-        if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, ivec2(map.size)))) {
-            break;
-        }
+        path.t = exit;
+        if (!inside) break;
     }
     return 1.0 - min(ms_exact_union_length(shadowed), 1.0);
 }

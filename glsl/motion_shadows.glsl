@@ -752,6 +752,66 @@ float ms_boundary_time(vec4 c0, vec4 dc, int axis, float edge) {
     return den != 0.0 ? -(c0[axis] - edge * c0.w) / den : 2.0;
 }
 
+// A point's linear path as the light's map sees it: its clip position c0 + t dc, the times
+// [lo, hi] it spends inside the light's view (x/w and y/w in [-1, 1], w > 0), and the texel it
+// is in from `t` on, walked texel by texel (ms_path_advance) in the one direction of travel
+// per axis (the sign of d(x/w)/dt is that of dx w0 - x0 dw, fixed for the whole shutter).
+// Each boundary crossing solves a linear equation, for both light kinds. Shared by the
+// depth-line and the exact moving lookups.
+struct MsLightPath {
+    vec4 c0;
+    vec4 dc;
+    float lo;
+    float hi;
+    ivec2 dir;
+    ivec2 texel;
+    float t;
+};
+
+// False where the path never enters the light's view.
+bool ms_path_start(MsLight light, uvec2 size, vec3 p0, vec3 p1, out MsLightPath path) {
+    mat4 to_clip = light.proj * light.view;
+    path.c0 = to_clip * vec4(p0, 1.0);
+    path.dc = to_clip * vec4(p1, 1.0) - path.c0;
+    vec4 c0 = path.c0, dc = path.dc;
+    path.lo = 0.0;
+    path.hi = 1.0;
+    ms_clip_times(c0.w, dc.w, path.lo, path.hi);
+    ms_clip_times(c0.w + c0.x, dc.w + dc.x, path.lo, path.hi);
+    ms_clip_times(c0.w - c0.x, dc.w - dc.x, path.lo, path.hi);
+    ms_clip_times(c0.w + c0.y, dc.w + dc.y, path.lo, path.hi);
+    ms_clip_times(c0.w - c0.y, dc.w - dc.y, path.lo, path.hi);
+    path.dir = ivec2(sign(vec2(dc.x * c0.w - c0.x * dc.w, dc.y * c0.w - c0.y * dc.w)));
+    vec4 start = c0 + path.lo * dc;
+    path.texel = clamp(ivec2(floor((start.xy / start.w * 0.5 + 0.5) * vec2(size))), ivec2(0),
+                       ivec2(size) - 1);
+    path.t = path.lo;
+    return path.hi > path.lo;
+}
+
+// The time the path leaves its current texel (at most hi), then steps it into the next one;
+// false once it has stepped past the map's border (by rounding only: hi is where it leaves
+// the view).
+bool ms_path_advance(inout MsLightPath path, uvec2 size, out float exit) {
+    vec2 fsize = vec2(size);
+    float tx = 2.0, ty = 2.0;
+    if (path.dir.x != 0) {
+        float edge = float(path.texel.x + max(path.dir.x, 0)) / fsize.x * 2.0 - 1.0;
+        tx = ms_boundary_time(path.c0, path.dc, 0, edge);
+    }
+    if (path.dir.y != 0) {
+        float edge = float(path.texel.y + max(path.dir.y, 0)) / fsize.y * 2.0 - 1.0;
+        ty = ms_boundary_time(path.c0, path.dc, 1, edge);
+    }
+    exit = clamp(min(min(tx, ty), path.hi), path.t, path.hi);
+    if (tx <= ty) {
+        path.texel.x += path.dir.x;
+    } else {
+        path.texel.y += path.dir.y;
+    }
+    return all(greaterThanEqual(path.texel, ivec2(0))) && all(lessThan(path.texel, ivec2(size)));
+}
+
 // The fraction of the shutter [0, 1] during which a receiver moving linearly from p0 (at
 // t = 0) to p1 (at t = 1), unit normal n (on the side facing the light; taken as constant),
 // on triangle `own`, sees the light: each range tested where the point is when it holds.
@@ -769,52 +829,23 @@ float ms_lit_fraction_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own) {
     // The normal offset is linear in the point's light depth, so the offset point moves
     // linearly too.
     vec3 q0 = ms_offset_receiver(light, p0, n), q1 = ms_offset_receiver(light, p1, n);
-    mat4 to_clip = light.proj * light.view;
-    vec4 c0 = to_clip * vec4(q0, 1.0), dc = to_clip * vec4(q1, 1.0) - c0;
-    float lo = 0.0, hi = 1.0;
-    ms_clip_times(c0.w, dc.w, lo, hi);
-    ms_clip_times(c0.w + c0.x, dc.w + dc.x, lo, hi);
-    ms_clip_times(c0.w - c0.x, dc.w - dc.x, lo, hi);
-    ms_clip_times(c0.w + c0.y, dc.w + dc.y, lo, hi);
-    ms_clip_times(c0.w - c0.y, dc.w - dc.y, lo, hi);
-    if (!(hi > lo)) return 1.0;
-    vec2 size = vec2(map.size);
-    // The sign of d(x/w)/dt is that of dx w0 - x0 dw: one direction of travel per axis for
-    // the whole shutter.
-    ivec2 dir = ivec2(sign(vec2(dc.x * c0.w - c0.x * dc.w, dc.y * c0.w - c0.y * dc.w)));
-    vec4 start = c0 + lo * dc;
-    ivec2 texel = clamp(ivec2(floor((start.xy / start.w * 0.5 + 0.5) * size)), ivec2(0),
-                        ivec2(map.size) - 1);
-    float lit = 1.0 - (hi - lo);    // outside the light's view
-    float t = lo;
+    MsLightPath path;
+    if (!ms_path_start(light, map.size, q0, q1, path)) return 1.0;
+    float lit = 1.0 - (path.hi - path.lo);    // outside the light's view
     float depth0 = -(light.view * vec4(q0, 1.0)).z, depth1 = -(light.view * vec4(q1, 1.0)).z;
-    for (uint crossed = 0u; t < hi && crossed <= map.size.x + map.size.y; ++crossed) {
+    for (uint crossed = 0u; path.t < path.hi && crossed <= map.size.x + map.size.y; ++crossed) {
         ++ms_loop_iterations;
-        float tx = 2.0, ty = 2.0;
-        if (dir.x != 0) {
-            float edge = float(texel.x + max(dir.x, 0)) / size.x * 2.0 - 1.0;
-            tx = ms_boundary_time(c0, dc, 0, edge);
-        }
-        if (dir.y != 0) {
-            float edge = float(texel.y + max(dir.y, 0)) / size.y * 2.0 - 1.0;
-            ty = ms_boundary_time(c0, dc, 1, edge);
-        }
-        float exit = clamp(min(min(tx, ty), hi), t, hi);
-        uvec2 at = uvec2(texel);
+        uvec2 at = uvec2(path.texel);
+        float t = path.t, exit;
+        bool inside = ms_path_advance(path, map.size, exit);
         float da = ms_tested_depth(light, map.size, at, mix(q0, q1, t), n, mix(depth0, depth1, t));
         float db = ms_tested_depth(light, map.size, at, mix(q0, q1, exit), n,
                                    mix(depth0, depth1, exit));
         lit += ms_texel_lit_span(map, at.y * map.size.x + at.x, vec2(t, exit), vec2(da, db), own);
-        if (tx <= ty) {
-            texel.x += dir.x;
-        } else {
-            texel.y += dir.y;
-        }
-        t = exit;
-        // Past the map's border by rounding only (hi is where the path leaves the view): the
-        // sliver left is counted lit, as outside.
-        if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, ivec2(map.size)))) {
-            lit += hi - t;
+        path.t = exit;
+        // Past the map's border by rounding only: the sliver left is counted lit, as outside.
+        if (!inside) {
+            lit += path.hi - path.t;
             break;
         }
     }
