@@ -28,15 +28,16 @@ float ms_exact_scene_size(MsMap map) {
     return map.light.bias.z * float(max(map.size.x, map.size.y));
 }
 
-// Adds to `shadowed` the times of the window w during which a triangle named in `texel`
-// (other than `own`) blocks the shadow ray of the receiver moving from p0 (t = 0) to p1
-// (t = 1). Each range's own times narrow the window (the conservative collection gives the
-// whole shutter).
-void ms_exact_texel_shadow(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint own,
-                           inout ms_exact_Union shadowed) {
+// The time of the window w during which a triangle named in `texel` (other than `own`)
+// blocks the shadow ray of the receiver moving from p0 (t = 0) to p1 (t = 1): the length of
+// the union of their shadowed intervals. Each range's own times narrow the window (the
+// conservative collection gives the whole shutter). A triangle that shadows all of the window
+// ends the walk of the list.
+float ms_exact_texel_shadow(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint own) {
     bool spot = map.light.position.w != 0.0;
     vec3 light = spot ? map.light.position.xyz : map.light.direction.xyz;
     float s_min = ms_exact_s_min(spot, ms_exact_scene_size(map));
+    ms_exact_Union shadowed = ms_exact_union_empty();
     for (uint r = MsUints(map.range_heads).v[texel]; r != MS_END_OF_LIST;) {
         ++ms_loop_iterations;
         MsRange range = ms_range(map.ranges, r);
@@ -50,31 +51,33 @@ void ms_exact_texel_shadow(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint
         vec2 iv[MS_EXACT_MAX_INTERVALS];
         int n = ms_exact_shadowed_intervals(p0, p1, spot, light, s_min, at0, at1, w0, w1, iv);
         for (int i = 0; i < n; ++i) ms_exact_union_add(shadowed, iv[i]);
+        if (ms_exact_union_covers(shadowed, w.x, w.y)) return w.y - w.x;
     }
+    return min(ms_exact_union_length(shadowed), w.y - w.x);
 }
 
 // The fraction of the shutter [0, 1] during which a receiver moving linearly from p0 (t = 0)
 // to p1 (t = 1), on triangle `own` (MS_NO_TRIANGLE for none), sees the light. Its path is cut
 // where its projection crosses texel boundaries (as ms_lit_fraction_moving does); while it is
 // in a texel, whatever blocks it then covers a point of that texel, so is named there: each
-// texel's triangles are tested over that sub-window, and every interval goes into one union
-// (a triangle named in several texels counts once). Time outside the light's view is lit.
-// Without triangle records (a map not built for the exact lookup): 1.
+// texel's triangles are tested over that sub-window. The sub-windows are disjoint, so their
+// shadowed times add up. Time outside the light's view is lit. Without triangle records (a map
+// not built for the exact lookup): 1.
 float ms_lit_fraction_exact_moving(MsMap map, vec3 p0, vec3 p1, uint own) {
     if (map.triangles == 0UL) return 1.0;
     MsLightPath path;
     if (!ms_path_start(map.light, map.size, p0, p1, path)) return 1.0;
-    ms_exact_Union shadowed = ms_exact_union_empty();
+    float shadowed = 0.0;
     for (uint crossed = 0u; path.t < path.hi && crossed <= map.size.x + map.size.y; ++crossed) {
         ++ms_loop_iterations;
         uint at = uint(path.texel.y) * map.size.x + uint(path.texel.x);
         float t = path.t, exit;
         bool inside = ms_path_advance(path, map.size, exit);
-        ms_exact_texel_shadow(map, at, p0, p1, vec2(t, exit), own, shadowed);
+        shadowed += ms_exact_texel_shadow(map, at, p0, p1, vec2(t, exit), own);
         path.t = exit;
         if (!inside) break;
     }
-    return 1.0 - min(ms_exact_union_length(shadowed), 1.0);
+    return 1.0 - min(shadowed, 1.0);
 }
 
 // The same for a receiver that stands at p all shutter long: its one texel's triangles.

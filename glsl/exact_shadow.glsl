@@ -59,7 +59,7 @@
 // f32 rounding of the coefficients is ~1e-6 of it).
 #define MS_EXACT_CERTAIN 1e-5
 // The union of several triangles' intervals holds this many disjoint ones at most.
-#define MS_EXACT_UNION_CAPACITY 16
+#define MS_EXACT_UNION_CAPACITY 8
 
 // A vector linear in t: a + t b.
 struct ms_exact_Linear {
@@ -221,30 +221,11 @@ bool ms_exact_blocks(vec4 edges[3], vec4 plane, bool spot, float s_min, float t)
     return s >= s_min && (!spot || s <= 1.0);
 }
 
-// The intervals of [w0, w1] (within the shutter [0, 1]) during which the triangle with
-// corners t0_corners at t = 0 and t1_corners at t = 1 blocks the shadow ray of the receiver
-// moving from p0 (t = 0) to p1 (t = 1): ascending, disjoint, apart; their count (at most
-// MS_EXACT_MAX_INTERVALS). `light`: the spot's position, or the direction a directional
-// light travels (any length); `s_min` from ms_exact_s_min.
-int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s_min,
-                                vec3 t0_corners[3], vec3 t1_corners[3], float w0, float w1,
-                                out vec2 intervals[MS_EXACT_MAX_INTERVALS]) {
-    for (int i = 0; i < MS_EXACT_MAX_INTERVALS; ++i) intervals[i] = vec2(0.0);
-    if (!(w1 > w0)) return 0;
-    vec3 m = p1 - p0;
-    ms_exact_Linear u;
-    if (spot) {
-        u = ms_exact_Linear(light - p0, -m);
-    } else {
-        u = ms_exact_Linear(-normalize(light), vec3(0.0));
-    }
-    ms_exact_Linear corner[3];
-    for (int i = 0; i < 3; ++i) {
-        corner[i] = ms_exact_Linear(t0_corners[i] - p0, (t1_corners[i] - t0_corners[i]) - m);
-    }
-    vec4 edges[3] = vec4[3](ms_exact_edge(corner[0], corner[1], u),
-                            ms_exact_edge(corner[1], corner[2], u),
-                            ms_exact_edge(corner[2], corner[0], u));
+// ms_exact_shadowed_intervals's general case: the test's changes found as the polynomials'
+// sign changes in [w0, w1], and the test asked once between consecutive ones.
+int ms_exact_general_intervals(ms_exact_Linear corner[3], ms_exact_Linear u, vec4 edges[3],
+                               vec4 plane, bool spot, float s_min, float w0, float w1,
+                               inout vec2 intervals[MS_EXACT_MAX_INTERVALS]) {
     // Two edge functions of opposite signs over the whole shutter: never a hit.
     float r = 0.0;
     for (int i = 0; i < 3; ++i) r = max(r, length(corner[i].a) + length(corner[i].b));
@@ -258,7 +239,6 @@ int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s
     }
     if (positive && negative) return 0;
 
-    vec4 plane = ms_exact_triple(corner[0], corner[1], corner[2]);
     vec4 sum = edges[0] + edges[1] + edges[2];
     float events[MS_EXACT_MAX_EVENTS];
     int n_events = 0;
@@ -296,66 +276,138 @@ int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s
     return count;
 }
 
-// The union of several triangles' shadowed intervals, kept sorted and disjoint.
+// The intervals of [w0, w1] (within the shutter [0, 1]) during which the triangle with
+// corners t0_corners at t = 0 and t1_corners at t = 1 blocks the shadow ray of the receiver
+// moving from p0 (t = 0) to p1 (t = 1): ascending, disjoint, apart; their count (at most
+// MS_EXACT_MAX_INTERVALS). `light`: the spot's position, or the direction a directional
+// light travels (any length); `s_min` from ms_exact_s_min.
+int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s_min,
+                                vec3 t0_corners[3], vec3 t1_corners[3], float w0, float w1,
+                                out vec2 intervals[MS_EXACT_MAX_INTERVALS]) {
+    for (int i = 0; i < MS_EXACT_MAX_INTERVALS; ++i) intervals[i] = vec2(0.0);
+    if (!(w1 > w0)) return 0;
+    vec3 m = p1 - p0;
+    ms_exact_Linear u;
+    if (spot) {
+        u = ms_exact_Linear(light - p0, -m);
+    } else {
+        u = ms_exact_Linear(-normalize(light), vec3(0.0));
+    }
+    ms_exact_Linear corner[3];
+    for (int i = 0; i < 3; ++i) {
+        corner[i] = ms_exact_Linear(t0_corners[i] - p0, (t1_corners[i] - t0_corners[i]) - m);
+    }
+    vec4 edges[3] = vec4[3](ms_exact_edge(corner[0], corner[1], u),
+                            ms_exact_edge(corner[1], corner[2], u),
+                            ms_exact_edge(corner[2], corner[0], u));
+    vec4 plane = ms_exact_triple(corner[0], corner[1], corner[2]);
+    // Nothing moves relative to the receiver (a still triangle and a still receiver, the
+    // common case of a level's static geometry): every polynomial is a constant, the answer
+    // is the same all window long (the general case would find no root and ask the same test
+    // once).
+    bool still = u.b == vec3(0.0) && corner[0].b == vec3(0.0) && corner[1].b == vec3(0.0)
+        && corner[2].b == vec3(0.0);
+    int count = 0;
+    if (still && ms_exact_blocks(edges, plane, spot, s_min, w0)) {
+        intervals[0] = vec2(w0, w1);
+        count = 1;
+    }
+    // The general case as a loop run at most once: lavapipe runs a branch's body for its whole
+    // SIMD group, even where no lane takes it, but leaves a loop once no lane is in it.
+    for (int general = still ? 1 : 0; general < 1; ++general) {
+        count = ms_exact_general_intervals(corner, u, edges, plane, spot, s_min, w0, w1, intervals);
+    }
+    return count;
+}
+
+// The union of several triangles' shadowed intervals: up to MS_EXACT_UNION_CAPACITY disjoint
+// intervals, in no order, held in vector registers (starts s0 s1, ends e0 e1; an empty slot
+// holds MS_EXACT_EMPTY in both). Every operation works on the whole vectors with constant
+// indices: kept as a sorted array (dynamically indexed, copied on every insertion) the union
+// made the exact mask 4x slower on lavapipe, whose arrays with run-time indices live in memory.
 struct ms_exact_Union {
-    vec2 span[MS_EXACT_UNION_CAPACITY];
-    int count;
-    // Set when more disjoint intervals came than fit: the two closest were then joined,
-    // shadowing the gap between them (never lighting a shadowed time).
+    vec4 s0;
+    vec4 s1;
+    vec4 e0;
+    vec4 e1;
+    // Set when more disjoint intervals came than fit: one was then joined with its nearest
+    // neighbour, shadowing the gap between them (never lighting a shadowed time).
     bool joined_gaps;
 };
 
+// Outside the shutter [0, 1]: an empty slot overlaps no interval and has no length.
+#define MS_EXACT_EMPTY -1.0
+
 ms_exact_Union ms_exact_union_empty() {
-    ms_exact_Union u;
-    for (int i = 0; i < MS_EXACT_UNION_CAPACITY; ++i) u.span[i] = vec2(0.0);
-    u.count = 0;
-    u.joined_gaps = false;
-    return u;
+    vec4 empty = vec4(MS_EXACT_EMPTY);
+    return ms_exact_Union(empty, empty, empty, empty, false);
 }
 
-// Adds [iv.x, iv.y], joining it with every interval it overlaps or touches.
+// Puts [lo, hi] into the first empty slot; false when there is none.
+bool ms_exact_union_place(inout ms_exact_Union u, float lo, float hi) {
+    if (u.e0.x == MS_EXACT_EMPTY) { u.s0.x = lo; u.e0.x = hi; }
+    else if (u.e0.y == MS_EXACT_EMPTY) { u.s0.y = lo; u.e0.y = hi; }
+    else if (u.e0.z == MS_EXACT_EMPTY) { u.s0.z = lo; u.e0.z = hi; }
+    else if (u.e0.w == MS_EXACT_EMPTY) { u.s0.w = lo; u.e0.w = hi; }
+    else if (u.e1.x == MS_EXACT_EMPTY) { u.s1.x = lo; u.e1.x = hi; }
+    else if (u.e1.y == MS_EXACT_EMPTY) { u.s1.y = lo; u.e1.y = hi; }
+    else if (u.e1.z == MS_EXACT_EMPTY) { u.s1.z = lo; u.e1.z = hi; }
+    else if (u.e1.w == MS_EXACT_EMPTY) { u.s1.w = lo; u.e1.w = hi; }
+    else return false;
+    return true;
+}
+
+// Adds [iv.x, iv.y] (within [0, 1]), joining it with every interval it overlaps or touches.
+// One pass is enough: the intervals are disjoint, so growing iv by those it meets never makes
+// it meet another.
 void ms_exact_union_add(inout ms_exact_Union u, vec2 iv) {
     if (!(iv.y > iv.x)) return;
-    vec2 merged[MS_EXACT_UNION_CAPACITY + 1];
-    int n = 0;
-    bool placed = false;
-    for (int i = 0; i < u.count; ++i) {
-        vec2 s = u.span[i];
-        if (s.y < iv.x) {
-            merged[n++] = s;
-        } else if (s.x > iv.y) {
-            if (!placed) {
-                merged[n++] = iv;
-                placed = true;
-            }
-            merged[n++] = s;
-        } else {
-            iv = vec2(min(iv.x, s.x), max(iv.y, s.y));
-        }
-    }
-    if (!placed) merged[n++] = iv;
-    if (n > MS_EXACT_UNION_CAPACITY) {
-        int closest = 0;
-        for (int i = 1; i + 1 < n; ++i) {
-            if (merged[i + 1].x - merged[i].y < merged[closest + 1].x - merged[closest].y) {
-                closest = i;
-            }
-        }
-        merged[closest].y = merged[closest + 1].y;
-        for (int i = closest + 1; i + 1 < n; ++i) merged[i] = merged[i + 1];
-        --n;
-        u.joined_gaps = true;
-    }
-    for (int i = 0; i < n; ++i) u.span[i] = merged[i];
-    u.count = n;
+    bvec4 m0 = bvec4(uvec4(lessThanEqual(u.s0, vec4(iv.y))) & uvec4(greaterThanEqual(u.e0, vec4(iv.x))));
+    bvec4 m1 = bvec4(uvec4(lessThanEqual(u.s1, vec4(iv.y))) & uvec4(greaterThanEqual(u.e1, vec4(iv.x))));
+    vec4 lo4 = min(mix(vec4(iv.x), u.s0, m0), mix(vec4(iv.x), u.s1, m1));
+    vec4 hi4 = max(mix(vec4(iv.y), u.e0, m0), mix(vec4(iv.y), u.e1, m1));
+    float lo = min(min(lo4.x, lo4.y), min(lo4.z, lo4.w));
+    float hi = max(max(hi4.x, hi4.y), max(hi4.z, hi4.w));
+    vec4 empty = vec4(MS_EXACT_EMPTY);
+    u.s0 = mix(u.s0, empty, m0);
+    u.e0 = mix(u.e0, empty, m0);
+    u.s1 = mix(u.s1, empty, m1);
+    u.e1 = mix(u.e1, empty, m1);
+    if (ms_exact_union_place(u, lo, hi)) return;
+    // Full, and [lo, hi] met none of the intervals: join it with the nearest, across a gap
+    // that holds no other interval (it would be nearer).
+    vec4 gap0 = max(u.s0 - vec4(hi), vec4(lo) - u.e0);
+    vec4 gap1 = max(u.s1 - vec4(hi), vec4(lo) - u.e1);
+    vec4 g = min(gap0, gap1);
+    float nearest = min(min(g.x, g.y), min(g.z, g.w));
+    bvec4 n0 = equal(gap0, vec4(nearest));
+    bvec4 n1 = any(n0) ? bvec4(false) : equal(gap1, vec4(nearest));
+    // Only the first of equally near slots takes it.
+    n0 = bvec4(n0.x, n0.y && !n0.x, n0.z && !any(n0.xy), n0.w && !any(n0.xyz));
+    n1 = bvec4(n1.x, n1.y && !n1.x, n1.z && !any(n1.xy), n1.w && !any(n1.xyz));
+    u.s0 = mix(u.s0, min(u.s0, vec4(lo)), n0);
+    u.e0 = mix(u.e0, max(u.e0, vec4(hi)), n0);
+    u.s1 = mix(u.s1, min(u.s1, vec4(lo)), n1);
+    u.e1 = mix(u.e1, max(u.e1, vec4(hi)), n1);
+    u.joined_gaps = true;
 }
 
 // The union's total length: the shadowed time, of which the lit fraction of a window [w0, w1]
 // is 1 - length / (w1 - w0).
 float ms_exact_union_length(ms_exact_Union u) {
-    float total = 0.0;
-    for (int i = 0; i < u.count; ++i) total += u.span[i].y - u.span[i].x;
-    return total;
+    return dot(u.e0 - u.s0, vec4(1.0)) + dot(u.e1 - u.s1, vec4(1.0));
+}
+
+// Whether one interval of the union holds all of [w0, w1].
+bool ms_exact_union_covers(ms_exact_Union u, float w0, float w1) {
+    bvec4 c0 = bvec4(uvec4(lessThanEqual(u.s0, vec4(w0))) & uvec4(greaterThanEqual(u.e0, vec4(w1))));
+    bvec4 c1 = bvec4(uvec4(lessThanEqual(u.s1, vec4(w0))) & uvec4(greaterThanEqual(u.e1, vec4(w1))));
+    return any(c0) || any(c1);
+}
+
+// Slot i (0 to MS_EXACT_UNION_CAPACITY - 1): its interval, or (MS_EXACT_EMPTY, MS_EXACT_EMPTY).
+vec2 ms_exact_union_slot(ms_exact_Union u, int i) {
+    return i < 4 ? vec2(u.s0[i], u.e0[i]) : vec2(u.s1[i - 4], u.e1[i - 4]);
 }
 
 #endif

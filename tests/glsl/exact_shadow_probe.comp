@@ -60,9 +60,11 @@ void main() {
     }
     out_.v[o] = ms_exact_union_length(shadow);
     out_.v[o + 1u] = shadow.joined_gaps ? 1.0 : 0.0;
-    out_.v[o + 2u] = float(shadow.count);
+    // Every slot, empty ones included (MS_EXACT_EMPTY): the union keeps no order.
+    out_.v[o + 2u] = float(MS_EXACT_UNION_CAPACITY);
     for (int i = 0; i < MS_EXACT_UNION_CAPACITY; ++i) {
-        out_.v[o + 3u + 2u * uint(i)] = shadow.span[i].x;
-        out_.v[o + 4u + 2u * uint(i)] = shadow.span[i].y;
+        vec2 span = ms_exact_union_slot(shadow, i);
+        out_.v[o + 3u + 2u * uint(i)] = span.x;
+        out_.v[o + 4u + 2u * uint(i)] = span.y;
     }
 }

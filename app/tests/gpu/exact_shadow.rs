@@ -20,7 +20,9 @@ use motion_shadows_app::raytrace::triangles::Triangle;
 /// The probe's limits (tests/glsl/exact_shadow_probe.comp, glsl/exact_shadow.glsl).
 const TRIANGLES: usize = 12;
 const MAX_INTERVALS: usize = 8;
-const UNION_CAPACITY: usize = 16;
+const UNION_CAPACITY: usize = 8;
+/// glsl/exact_shadow.glsl's MS_EXACT_EMPTY: an empty slot of the union.
+const EMPTY: f64 = -1.0;
 const CONFIG_VEC4S: usize = 4 + 6 * TRIANGLES;
 const RESULT_FLOATS: usize = 3 + 2 * UNION_CAPACITY + TRIANGLES * (1 + 2 * MAX_INTERVALS);
 /// glsl/exact_shadow.glsl's MS_EXACT_SELF_EPSILON.
@@ -231,13 +233,20 @@ fn probe(configs: &[Config]) -> Vec<Answer> {
             Answer {
                 shadowed: f(0),
                 joined_gaps: r[1] != 0.0,
-                union: (0..spans).map(|i| (f(3 + 2 * i), f(4 + 2 * i))).collect(),
+                union: sorted_spans((0..spans).map(|i| (f(3 + 2 * i), f(4 + 2 * i)))),
                 per_triangle: (0..TRIANGLES)
                     .map(|k| r[3 + 2 * UNION_CAPACITY + k * (1 + 2 * MAX_INTERVALS)] as usize)
                     .collect(),
             }
         })
         .collect()
+}
+
+/// The union's slots, empty ones left out, in order (the include keeps them in none).
+fn sorted_spans(slots: impl Iterator<Item = (f64, f64)>) -> Vec<(f64, f64)> {
+    let mut spans: Vec<_> = slots.filter(|&(a, b)| (a, b) != (EMPTY, EMPTY)).collect();
+    spans.sort_by(|a, b| a.0.total_cmp(&b.0));
+    spans
 }
 
 fn v(x: f32, y: f32, z: f32) -> Vec3 {
@@ -583,6 +592,51 @@ fn edge_on_configs() -> Vec<Config> {
     out
 }
 
+/// The union past its capacity: ten triangles cross a still receiver's ray one after the
+/// other (each covers it for 0.04, apart by unequal gaps), more disjoint intervals than the
+/// union's 8 slots. Added in order, the ninth is joined with the eighth (its nearest) and the
+/// tenth with that pair: the union shadows those two gaps and says so (`joined_gaps`), and
+/// keeps every other interval as it was.
+fn past_capacity_configs() -> Vec<Config> {
+    let (length, count) = (0.04f32, 10usize);
+    let gaps: Vec<f32> = (0..count - 1)
+        .map(|k| 0.03 + 0.004 * ((k * 7) % 10) as f32)
+        .collect();
+    let mut starts = vec![0.01f32];
+    for gap in &gaps {
+        starts.push(starts.last().unwrap() + length + gap);
+    }
+    let mut out = Vec::new();
+    for (spot, light) in [(false, v(0.0, -1.0, 0.0)), (true, v(0.0, 8.0, 0.0))] {
+        let mut c = config(PAST_CAPACITY, Vec3::ZERO, Vec3::ZERO, spot, light);
+        for (k, &start) in starts.iter().enumerate() {
+            // At z = 0 the triangle spans x in [x0, x0 + 2w] (its apex at x0 + 2w); moving by
+            // +1 in x it covers x = 0 during [-x0 - 2w, -x0]. Under the spot light its shadow
+            // is wider by the height's share: its corners are scaled to keep the interval.
+            let y = 1.0 + 0.1 * k as f32;
+            let scale = if spot { (8.0 - y) / 8.0 } else { 1.0 };
+            let x0 = -(start + length);
+            let tri = [v(x0, y, -1.0), v(x0, y, 1.0), v(x0 + length, y, 0.0)]
+                .map(|p| v(p.x * scale, p.y, p.z));
+            c.triangles.extend(moving(&[tri], v(scale, 0.0, 0.0)));
+        }
+        let mut expected: Vec<(f64, f64)> = starts[..count - 3]
+            .iter()
+            .map(|&s| (f64::from(s), f64::from(s + length)))
+            .collect();
+        expected.push((
+            f64::from(starts[count - 3]),
+            f64::from(starts[count - 1] + length),
+        ));
+        c.closed_form = Some(expected);
+        out.push(c);
+    }
+    out
+}
+
+/// The class whose union overflows on purpose (past_capacity_configs).
+const PAST_CAPACITY: &str = "union past its capacity";
+
 /// A tilted ground of four triangles around a centre; the receiver on triangle 0 (left out,
 /// as the caller leaves out its own), on its edge shared with triangle 1, at the shared
 /// centre, or inside near that edge, in f32 as a G-buffer would give it: no shadow from its
@@ -653,6 +707,7 @@ fn exact_shadow_intervals_match_the_ray_tracer_and_closed_forms() {
     configs.extend(rounded_shared_edge_configs(&mut rng));
     configs.extend(edge_on_configs());
     configs.extend(own_surface_configs());
+    configs.extend(past_capacity_configs());
     let answers = probe(&configs);
 
     let mut worst: std::collections::BTreeMap<&str, Worst> = Default::default();
@@ -671,7 +726,16 @@ fn exact_shadow_intervals_match_the_ray_tracer_and_closed_forms() {
         w.sampled = w.sampled.max(sampled);
         // Sampling misses at most one step per interval end; a few ends per config.
         let sample_tolerance = 8.0 * length / SAMPLES as f64;
-        if tracer > 2e-5 || sampled > sample_tolerance || got.joined_gaps {
+        if c.class == PAST_CAPACITY {
+            // Checked against its closed form below: the joined gaps shadow more than the truth.
+            let joined: f64 = (c.closed_form.iter().flatten()).map(|(a, b)| b - a).sum();
+            if !got.joined_gaps || (got.shadowed - joined).abs() > 2e-5 {
+                failures.push(format!(
+                    "{}: shadowed {} (joined gaps: {}), expected {joined} with gaps joined: {:?}",
+                    c.class, got.shadowed, got.joined_gaps, got.union
+                ));
+            }
+        } else if tracer > 2e-5 || sampled > sample_tolerance || got.joined_gaps {
             failures.push(format!(
                 "{}: shadowed {} (tracer off by {tracer:.2e}, sampling by {sampled:.2e}), \
                  per triangle {:?}, union {:?}: {c:?}",
