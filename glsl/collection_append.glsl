@@ -54,3 +54,25 @@ void append_range(MsShadowMap map, uint p, vec2 times, vec2 depths, uint id) {
 void append_named_range(MsShadowMap map, uint p, vec2 depths, uint id) {
     append_range_of(map, p, vec2(0.0, 1.0), depths, id, false);
 }
+
+// The exact lookup's static layer (MsStaticNames in exact_lookup.glsl): a count and a
+// capacity, two unused words, a head per texel, then (id, next) pairs.
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer StaticNames {
+    uint count;
+    uint capacity;
+    uint unused[2];
+    uint v[];
+};
+
+// Names static triangle `id` in texel p's static list (kept across frames with the static
+// layer). A name past the capacity is counted but not linked (the map then needs more room).
+void append_static_name(MsShadowMap map, uint p, uint id) {
+    StaticNames names = StaticNames(map.static_names);
+    uint index = atomicAdd(names.count, 1u);
+    if (index == 0xffffffffu) atomicOr(CounterRef(map.counters).c.wrapped, 1u);
+    if (index >= names.capacity) return;
+    uint texels = map.size.x * map.size.y;
+    uint next = atomicExchange(names.v[p], index + 1u);
+    names.v[texels + 2u * index] = id;
+    names.v[texels + 2u * index + 1u] = next;
+}

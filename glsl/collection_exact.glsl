@@ -35,7 +35,11 @@ void main() {
             near = min(near, min(in_at0[k].w, in_at1[k].w));
             far = max(far, max(in_at0[k].w, in_at1[k].w));
         }
-        append_named_range(map, p, vec2(near, far), in_id);
+        if ((pc.flags & STATIC_NAMES) != 0u) {
+            append_static_name(map, p, in_id);
+        } else {
+            append_named_range(map, p, vec2(near, far), in_id);
+        }
     }
 #else
     vec2 a[3], d[3];

@@ -22,6 +22,16 @@ void ms_exact_triangle(uint64_t triangles, uint id, out vec3 at0[3], out vec3 at
     }
 }
 
+// The static name lists (the map's static_names; written by collection_append.glsl's
+// append_static_name): a count, a capacity, two unused words, then per texel the index + 1
+// of its first name (0: none), then the names as (triangle id, index + 1 of the next) pairs.
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer MsStaticNames {
+    uint count;
+    uint capacity;
+    uint unused[2];
+    uint v[];
+};
+
 // The size the directional light's self-shadow epsilon is relative to (ms_exact_s_min): the
 // map's width in the world, which holds every caster it names.
 float ms_exact_scene_size(MsMap map) {
@@ -38,6 +48,25 @@ float ms_exact_texel_shadow(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uin
     vec3 light = spot ? map.light.position.xyz : map.light.direction.xyz;
     float s_min = ms_exact_s_min(spot, ms_exact_scene_size(map));
     ms_exact_Union shadowed = ms_exact_union_empty();
+    // The static triangles first: they are most of a level's casters, and one that shadows
+    // the whole window (a wall) spares the walk of the moving ones.
+    if (map.static_names != 0UL) {
+        MsStaticNames names = MsStaticNames(map.static_names);
+        uint texels = map.size.x * map.size.y;
+        for (uint r = names.v[texel]; r != 0u;) {
+            ++ms_loop_iterations;
+            uint id = names.v[texels + 2u * (r - 1u)];
+            r = names.v[texels + 2u * (r - 1u) + 1u];
+            if (id == own) continue;
+            vec3 at0[3], at1[3];
+            ms_exact_triangle(map.triangles, id, at0, at1);
+            vec2 iv[MS_EXACT_MAX_INTERVALS];
+            int n = ms_exact_shadowed_intervals(p0, p1, spot, light, s_min, at0, at1, w.x, w.y,
+                                                iv);
+            for (int i = 0; i < n; ++i) ms_exact_union_add(shadowed, iv[i]);
+            if (ms_exact_union_covers(shadowed, w.x, w.y)) return w.y - w.x;
+        }
+    }
     for (uint r = MsUints(map.range_heads).v[texel]; r != MS_END_OF_LIST;) {
         ++ms_loop_iterations;
         MsRange range = ms_range(map.ranges, r);

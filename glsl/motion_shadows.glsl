@@ -98,7 +98,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ms
     uint64_t list_ranges;     // where the collection links its ranges (the sorting's input)
     uint64_t triangles;       // 0, or with the exact lookup: MsTriangles, per global triangle
                               // id its world corners at t = 0 and t = 1 (exact_lookup.glsl)
-    uint64_t reserved;
+    uint64_t static_names;    // 0, or with the exact lookup and the static layer: MsStaticNames,
+                              // per texel the static triangles whose shadow touches it
 };
 
 // Where a world point falls in the light's image, in texels from the map's corner
@@ -283,6 +284,7 @@ struct MsMap {
     uint64_t static_nearest;
     bool sorted;            // size.z == MS_SORTED_RANGES
     uint64_t triangles;     // 0, or the exact lookup's triangle records
+    uint64_t static_names;  // 0, or the exact lookup's static name lists
 };
 
 // The same header as 64-bit words (ms_load reads it so: half the loads of its 32-bit
@@ -305,7 +307,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ms
     uint64_t tiles;
     uint64_t list_ranges;
     uint64_t triangles;
-    uint64_t reserved;
+    uint64_t static_names;
 };
 
 // The vec4 of two words (the first word's halves are x and y).
@@ -327,7 +329,8 @@ MsMap ms_load(MsShadowMap header) {
     MsLight light = ms_load_light(uint64_t(header));
     return MsMap(light, unpackUint2x32(words.size), words.range_heads, words.ranges,
                  words.coverage, words.cover_depth, words.static_nearest,
-                 unpackUint2x32(words.size_zw).x == MS_SORTED_RANGES, words.triangles);
+                 unpackUint2x32(words.size_zw).x == MS_SORTED_RANGES, words.triangles,
+                 words.static_names);
 }
 
 // The bits of a depth as an unsigned key in the depth's order (negative depths too: a

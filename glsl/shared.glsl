@@ -39,7 +39,7 @@ struct Counters {
     uint wrapped;                   // 1 if node_count passed 2^32 - 1 (the frame is an error)
     uint ranges_direct;             // 1: the collection stored ranges, no nodes (host-written)
     uint sorted_count;              // MS_SORTED_RANGES: the ranges the texels' places hold
-    uint reserved2;
+    uint static_names;              // the static name lists' count, copied after the collection
 };
 
 // MAX_LIST_NODES (the most fragments one shadow-map pixel may hold), TILE_TEXELS, INDEX_*,

@@ -226,7 +226,31 @@ impl CollectionPass {
             Access::FRAGMENT_RW,
             true,
         );
-        if map.uses_static_layer(light, coverage) {
+        if light.lookup == super::Lookup::Exact {
+            // Written once per drawn triangle by the geometry shader.
+            if let Some(records) = &map.triangle_records {
+                a.buffer(
+                    (records, "triangle records"),
+                    DRAW_STAGES_RW,
+                    DRAW_STAGES_RW,
+                    true,
+                );
+            }
+        }
+        if let Some(names) = map
+            .static_names
+            .as_ref()
+            .filter(|_| map.uses_static_names(light, coverage))
+        {
+            // Cleared by transfer when redrawn, linked by the fragment shader, its count
+            // copied into the counters at the end.
+            a.buffer(
+                (names, "static names"),
+                Access::TRANSFER_WRITE.and(DRAW_STAGES_RW),
+                DRAW_STAGES_RW.and(Access::TRANSFER_READ),
+                true,
+            );
+        } else if map.uses_static_layer(light, coverage) {
             a.buffer(
                 (&map.static_nearest, "static layer"),
                 Access::TRANSFER_WRITE.and(DRAW_STAGES_RW),
@@ -353,6 +377,13 @@ impl TemporalShadowMap {
             (&self.static_nearest, "static layer"),
         ] {
             a.buffer((buffer, name), read, read, false);
+        }
+        // The exact lookup's: the triangles it tests, and the static ones named per texel.
+        if let Some(records) = &self.triangle_records {
+            a.buffer((records, "triangle records"), read, read, false);
+        }
+        if let Some(names) = &self.static_names {
+            a.buffer((names, "static names"), read, read, false);
         }
         a
     }

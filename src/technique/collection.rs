@@ -6,6 +6,7 @@
 
 use super::coverage::{CoverageMap, MAX_COVERAGE_TRIANGLES};
 use super::draws::DrawList;
+use super::gpu_constants::STATIC_NAMES;
 use super::gpu_types::{COUNT_INVALID, Counters, DRAW_STATIC, DrawRecord};
 use super::push_constants::{DrawPush, DrawnPush, MapDrawPush, PushBlock};
 use super::shaders;
@@ -113,7 +114,8 @@ impl PrismPipelines {
     }
 
     /// Records every draw's prisms with `construction`'s pipelines (binding them), pushing
-    /// `constants` with each draw's index; static draws only if `with_static`; the exact
+    /// `constants` with each draw's index; static draws only if `with_static` (with
+    /// `static_names`, the conservative collection's into the static name lists); the exact
     /// construction's moving draws as ranges if `ranges` (and the pipelines have it). Inside
     /// dynamic rendering.
     #[allow(clippy::too_many_arguments)]
@@ -127,6 +129,7 @@ impl PrismPipelines {
         with_static: bool,
         ranges: bool,
         conservative: bool,
+        static_names: bool,
     ) {
         let exact_moving = match (&self.exact_conservative, &self.exact_ranges) {
             (Some(pipeline), _) if conservative => pipeline,
@@ -149,6 +152,10 @@ impl PrismPipelines {
             if bound != Some(pipeline.raw()) {
                 unsafe { pipeline.bind(device, cmd) };
                 bound = Some(pipeline.raw());
+            }
+            let mut constants = constants;
+            if static_names && record.flags() & DRAW_STATIC != 0 {
+                constants.flags |= STATIC_NAMES;
             }
             draw_one(device, cmd, pipeline, draws, i, record, constants);
         }
@@ -296,6 +303,7 @@ impl CollectionPass {
             (static_layer && light.keep_static_layer).then(|| StaticLayerSource::of(light, draws));
         let keep = source.as_ref().is_some_and(|s| map.static_layer_is(s));
         let redraw_layer = static_layer && !keep;
+        let static_names = map.uses_static_names(light, coverage);
         let collects_ranges = map.collects_ranges(light, coverage);
         // Earlier frames may still read these lists.
         if self.outer_barriers {
@@ -327,7 +335,17 @@ impl CollectionPass {
                 collects_ranges,
                 map.sorts_ranges(light, coverage),
             );
-            if redraw_layer {
+            if redraw_layer && static_names {
+                // The count, the capacity, then empty heads (the names need no clearing).
+                let names = map
+                    .static_names
+                    .as_ref()
+                    .map_or(vk::Buffer::null(), |b| b.raw());
+                let heads_end = 16 + 4 * u64::from(map.width()) * u64::from(map.height());
+                device.cmd_fill_buffer(cmd, names, 0, 4, 0);
+                device.cmd_fill_buffer(cmd, names, 4, 4, map.static_name_capacity());
+                device.cmd_fill_buffer(cmd, names, 8, heads_end - 8, 0);
+            } else if redraw_layer {
                 let empty = u32::MAX;
                 device.cmd_fill_buffer(cmd, map.static_nearest.raw(), 0, vk::WHOLE_SIZE, empty);
             }
@@ -362,6 +380,7 @@ impl CollectionPass {
             !keep,
             collects_ranges,
             conservative,
+            static_names,
         );
         unsafe { device.cmd_end_rendering(cmd) };
         if redraw_layer {
@@ -387,6 +406,15 @@ impl CollectionPass {
             }];
             let counters = map.counters.raw();
             unsafe { device.cmd_copy_buffer(cmd, counters, counters, &region) };
+            if let Some(names) = map.static_names.as_ref().filter(|_| static_names) {
+                // The lists' count, kept with them across frames, for needs_more_room.
+                let region = [vk::BufferCopy {
+                    src_offset: 0,
+                    dst_offset: std::mem::offset_of!(Counters, static_names) as u64,
+                    size: 4,
+                }];
+                unsafe { device.cmd_copy_buffer(cmd, names.raw(), counters, &region) };
+            }
         }
         if self.outer_barriers {
             unsafe {
@@ -420,6 +448,11 @@ fn check_exact_lookup(
     if coverage.is_some() {
         return Err(Error::InvalidArgument(
             "the exact lookup (Lookup::Exact) does not take a coverage map".into(),
+        ));
+    }
+    if map.uses_static_names(light, coverage) && map.static_name_capacity() == 0 {
+        return Err(Error::InvalidArgument(
+            "the exact lookup (Lookup::Exact) with the static layer needs the map's static name lists (TemporalShadowMap::reserve_triangle_records makes them)".into(),
         ));
     }
     if map.triangle_record_capacity() < draws.id_end() {

@@ -123,6 +123,7 @@ impl CoveragePass {
             true,
             false,
             false,
+            false,
         );
         unsafe { device.cmd_end_rendering(cmd) };
         unsafe {

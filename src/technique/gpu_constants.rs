@@ -52,6 +52,9 @@ pub const MAX_SAMPLES_PER_CHUNK: u32 = 16;
 pub const FIXED_TIME: u32 = 1;
 /// A drawing pass's push flags: this draw counts its invalid triangles (once per frame).
 pub const COUNT_INVALID: u32 = 4;
+/// The conservative collection's push flag: this (static) draw's triangles go to the static
+/// name lists (the exact lookup's static layer), not to the frame's ranges.
+pub const STATIC_NAMES: u32 = 8;
 
 /// `PlainMapHeader::size.w`: depth and triangle id.
 pub const DEPTH_AND_ID: u32 = 0;
@@ -101,6 +104,7 @@ pub const GLSL_UINTS: &[(&str, u32)] = &[
     ("MAX_SAMPLES_PER_CHUNK", MAX_SAMPLES_PER_CHUNK),
     ("FIXED_TIME", FIXED_TIME),
     ("COUNT_INVALID", COUNT_INVALID),
+    ("STATIC_NAMES", STATIC_NAMES),
     ("DEPTH_AND_ID", DEPTH_AND_ID),
     ("DEPTH_ONLY", DEPTH_ONLY),
     ("SHADOW_TEMPORAL", SHADOW_TEMPORAL),

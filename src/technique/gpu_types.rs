@@ -96,8 +96,10 @@ pub struct Counters {
     /// ranges the sorted buffer holds, `range_count` less those pruned (docs/src/pruning.md);
     /// 0 otherwise.
     pub sorted_count: u32,
-    /// Unused (0).
-    pub reserved: u32,
+    /// With [`super::Lookup::Exact`] and the static layer: the names the static name lists
+    /// hold, as counted when they were last drawn (stored up to
+    /// [`super::TemporalShadowMap::static_name_capacity`]); 0 otherwise.
+    pub static_names: u32,
 }
 
 pub use super::gpu_constants::{
@@ -168,8 +170,12 @@ pub struct ShadowMapHeader {
     /// 0, or with [`super::Lookup::Exact`] the triangle records ([`TriangleRecord`], by
     /// global triangle id): what the exact lookup tests each named triangle with.
     pub triangles: u64,
-    /// Unused (0).
-    pub reserved: u64,
+    /// 0, or with [`super::Lookup::Exact`] and the static layer the static name lists (the
+    /// map's `static names` buffer: a count and a capacity, 2 unused words, a head per texel
+    /// (index + 1 of its first name, 0 for none), then the names, (triangle id, next) pairs):
+    /// per texel, the static triangles whose shadow touches it, kept across frames as the
+    /// static layer is.
+    pub static_names: u64,
 }
 
 /// One triangle as the exact lookup reads it (`MsTriangle` in GLSL, 96 bytes), written by

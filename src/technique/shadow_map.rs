@@ -20,6 +20,8 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 const COUNTER_BYTES: u64 = std::mem::size_of::<Counters>() as u64;
+/// The static name lists' first words: the count, the capacity and two unused.
+const STATIC_NAMES_HEADER_BYTES: u64 = 16;
 
 /// How a map keeps the ranges its collection pass stores itself
 /// ([`TemporalShadowMap::collects_ranges`]; frames that store nodes are paired by the
@@ -89,6 +91,10 @@ pub struct TemporalShadowMap {
     /// With [`Lookup::Exact`]: one [`super::TriangleRecord`] per global triangle id, written
     /// by the collection ([`Self::reserve_triangle_records`]); none until then.
     pub(crate) triangle_records: Option<Buffer>,
+    /// With [`Lookup::Exact`] and the static layer: the static name lists (a count, a
+    /// capacity, 2 unused words, a head per texel, then (id, next) pairs; see
+    /// [`super::ShadowMapHeader::static_names`]), made with the triangle records.
+    pub(crate) static_names: Option<Buffer>,
     /// Whether the last recorded collection built the map for [`Lookup::Exact`].
     built_for_exact: AtomicBool,
 }
@@ -254,6 +260,7 @@ impl TemporalShadowMap {
             static_layer_source: Mutex::new(StaticLayerState::default()),
             static_layer_builds: AtomicU32::new(0),
             triangle_records: None,
+            static_names: None,
             built_for_exact: AtomicBool::new(false),
         })
     }
@@ -261,11 +268,20 @@ impl TemporalShadowMap {
     /// Makes room for the triangle records of the exact lookup ([`Lookup::Exact`]): one per
     /// global triangle id below `triangles` (a [`super::DrawList`]'s `id_end()`), 96 bytes
     /// each. Only grows; the old buffer is retired like the others ([`Self::reserve`]). A
-    /// map without room for every id of its draws refuses the exact collection.
+    /// map without room for every id of its draws refuses the exact collection. The first
+    /// call also makes the static name lists (the exact lookup's static layer) with room for
+    /// one name per texel; a frame that needs more says so ([`Self::needs_more_room`]) and
+    /// [`Self::grow_to_fit`] makes it.
     pub fn reserve_triangle_records(&mut self, ctx: &Context, triangles: u64) -> Result<()> {
+        if self.static_names.is_none() {
+            let texels = u64::from(self.width) * u64::from(self.height);
+            self.reserve_static_names(ctx, u32::try_from(texels).unwrap_or(u32::MAX))?;
+        }
         if triangles <= self.triangle_record_capacity() {
             return Ok(());
         }
+        // A kept static layer's records are in the old buffer.
+        self.forget_static_layer();
         let bytes = checked_bytes(
             "the triangle records",
             triangles,
@@ -279,6 +295,53 @@ impl TemporalShadowMap {
             BufferUsage::Storage,
         )?);
         Ok(())
+    }
+
+    /// Makes room for `names` names in the static name lists of the exact lookup's static
+    /// layer (each static triangle once per texel its shadow touches, 8 bytes; plus 4 bytes
+    /// a texel). Only grows; a new buffer holds no layer, so the next collection redraws it.
+    pub fn reserve_static_names(&mut self, ctx: &Context, names: u32) -> Result<()> {
+        if self.static_names.is_some() && names <= self.static_name_capacity() {
+            return Ok(());
+        }
+        let texels = u64::from(self.width) * u64::from(self.height);
+        let addressed = ctx.max_addressed_buffer_bytes();
+        let bytes = checked_bytes("the static name lists", u64::from(names.max(1)), 8, addressed)?
+            .checked_add(STATIC_NAMES_HEADER_BYTES + 4 * texels)
+            .filter(|&b| b <= addressed)
+            .ok_or_else(|| {
+                Error::InvalidArgument(format!(
+                    "the static name lists for {names} names over {texels} texels are more than the device addresses ({addressed} bytes)"
+                ))
+            })?;
+        self.static_names = Some(Buffer::new(
+            ctx,
+            "static names",
+            bytes,
+            BufferUsage::Storage,
+        )?);
+        self.forget_static_layer();
+        Ok(())
+    }
+
+    /// Names the static name lists have room for (0 without them; see
+    /// [`Self::reserve_static_names`]).
+    pub fn static_name_capacity(&self) -> u32 {
+        let texels = u64::from(self.width) * u64::from(self.height);
+        self.static_names.as_ref().map_or(0, |b| {
+            let names = (b.size() - STATIC_NAMES_HEADER_BYTES - 4 * texels) / 8;
+            u32::try_from(names).unwrap_or(u32::MAX)
+        })
+    }
+
+    /// Whether a frame lit by `light` keeps its static triangles in the static name lists
+    /// (the exact lookup with the static layer).
+    pub(crate) fn uses_static_names(
+        &self,
+        light: &LightView,
+        coverage: Option<&CoverageMap>,
+    ) -> bool {
+        light.lookup == Lookup::Exact && self.uses_static_layer(light, coverage)
     }
 
     /// The lookup the last recorded collection built the map for ([`LightView::lookup`];
@@ -395,7 +458,9 @@ impl TemporalShadowMap {
             counters: self.counters.device_address(),
             long_pixels: self.long_pixels.device_address(),
             nearest: coverage.map_or(0, |c| c.nearest.device_address()),
-            static_nearest: if self.uses_static_layer(light, coverage) {
+            static_nearest: if self.uses_static_layer(light, coverage)
+                && light.lookup == Lookup::DepthLine
+            {
                 self.static_nearest.device_address()
             } else {
                 0
@@ -410,7 +475,10 @@ impl TemporalShadowMap {
                 (Some(records), Lookup::Exact) => records.device_address(),
                 _ => 0,
             },
-            reserved: 0,
+            static_names: match &self.static_names {
+                Some(names) if self.uses_static_names(light, coverage) => names.device_address(),
+                _ => 0,
+            },
         };
         if outer_barriers {
             unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
@@ -530,6 +598,7 @@ impl TemporalShadowMap {
     pub fn allocated_bytes(&self) -> u64 {
         self.pass_buffers().iter().map(|b| b.size()).sum::<u64>()
             + self.triangle_records.as_ref().map_or(0, |b| b.size())
+            + self.static_names.as_ref().map_or(0, |b| b.size())
     }
 
     /// Each buffer the map allocated, by its allocation's name, with the bytes of its
@@ -539,6 +608,7 @@ impl TemporalShadowMap {
             .into_iter()
             .chain([&self.counters_readback])
             .chain(self.triangle_records.as_ref())
+            .chain(self.static_names.as_ref())
             .map(|b| (b.name(), b.allocated_bytes()))
             .collect()
     }
@@ -550,6 +620,7 @@ impl TemporalShadowMap {
         counts.wrapped != 0
             || (nodes_stored && counts.node_count > self.node_capacity)
             || counts.range_count > self.range_capacity
+            || counts.static_names > self.static_name_capacity()
     }
 
     /// An error if the frame that produced `counts` had pixels whose fragment lists were too
@@ -590,6 +661,7 @@ impl TemporalShadowMap {
         let ranges = ranges.max(self.range_capacity);
         if (nodes, ranges) != (self.node_capacity, self.range_capacity) {
             let records = self.triangle_records.take();
+            let names = self.static_names.take();
             *self = Self::with_storage(
                 ctx,
                 self.width,
@@ -600,6 +672,7 @@ impl TemporalShadowMap {
             )?
             .with_pruning(self.pruning);
             self.triangle_records = records;
+            self.static_names = names;
         }
         Ok(())
     }
@@ -673,6 +746,7 @@ impl TemporalShadowMap {
         };
         let ranges = counts.range_count.max(self.range_capacity).max(estimate);
         let records = self.triangle_records.take();
+        let names = self.static_names.take();
         *self = Self::with_storage(
             ctx,
             self.width,
@@ -683,6 +757,10 @@ impl TemporalShadowMap {
         )?
         .with_pruning(self.pruning);
         self.triangle_records = records;
+        self.static_names = names;
+        if counts.static_names > self.static_name_capacity() {
+            self.reserve_static_names(ctx, counts.static_names)?;
+        }
         Ok(())
     }
 
@@ -761,6 +839,15 @@ impl TemporalShadowMap {
             range_heads: download(ctx, &self.range_heads, pixels)?,
             ranges: download(ctx, &self.ranges, ranges)?,
             static_layer: self.download_static_layer(ctx)?,
+            static_names: match &self.static_names {
+                Some(buffer) if counts.static_names > 0 => {
+                    let names = counts.static_names.min(self.static_name_capacity()) as usize;
+                    let header = (STATIC_NAMES_HEADER_BYTES / 4) as usize;
+                    let words: Vec<u32> = download(ctx, buffer, header + pixels + 2 * names)?;
+                    words[header..].to_vec()
+                }
+                _ => Vec::new(),
+            },
         })
     }
 }
@@ -826,6 +913,10 @@ pub struct ShadowMapContents {
     /// for none). Meaningful when the frame used the static layer
     /// ([`TemporalShadowMap::uses_static_layer`]); static triangles are in the lists otherwise.
     pub static_layer: Vec<u64>,
+    /// With [`super::Lookup::Exact`] and the static layer: the static name lists, a head per
+    /// texel (index + 1 of its first name, 0 for none) then (triangle id, next) pairs; empty
+    /// otherwise (see [`Self::static_names_at`]).
+    pub static_names: Vec<u32>,
 }
 
 impl ShadowMapContents {
@@ -834,6 +925,22 @@ impl ShadowMapContents {
         let key = self.static_layer[(y * self.width + x) as usize];
         let id = key as u32;
         (id != super::gpu_types::NO_TRIANGLE).then(|| (id, static_depth((key >> 32) as u32)))
+    }
+
+    /// The static triangles texel (x, y)'s static name list holds (the exact lookup's static
+    /// layer), newest first; none without the lists.
+    pub fn static_names_at(&self, x: u32, y: u32) -> Vec<u32> {
+        let texels = (self.width * self.height) as usize;
+        if self.static_names.len() < texels {
+            return Vec::new();
+        }
+        let (heads, pairs) = self.static_names.split_at(texels);
+        let names: Vec<[u32; 2]> = pairs.chunks_exact(2).map(|p| [p[0], p[1]]).collect();
+        let first = heads[(y * self.width + x) as usize];
+        Self::walk(&names, first, |n| n[1])
+            .iter()
+            .map(|n| n[0])
+            .collect()
     }
 
     fn walk<T: Copy>(items: &[T], first: u32, next: impl Fn(&T) -> u32) -> Vec<T> {

@@ -93,7 +93,8 @@ pub struct LightView {
     /// with it on, `normal_offset_texels` is usually 0. Applies to every map's lookup.
     pub receiver_plane: bool,
     /// Keep static draws' triangles in the temporal map's static layer (the nearest one per
-    /// texel) rather than as fragments and ranges in the lists (default on; used with the
+    /// texel; with [`Lookup::Exact`], a list per texel of those whose shadow touches it)
+    /// rather than as fragments and ranges in the lists (default on; used with the
     /// exact construction and no coverage map, see
     /// [`super::TemporalShadowMap::uses_static_layer`]). Off reproduces the papers' lists.
     pub static_layer: bool,
@@ -242,13 +243,13 @@ impl LightView {
     }
 
     /// Whether static draws go to the static layer rather than the lists: where the
-    /// collection stores ranges directly ([`Self::collects_ranges`]) and the lookup is the
-    /// depth line (the layer keeps the nearest static triangle at each texel centre, which
-    /// the exact lookup cannot use).
+    /// collection stores ranges directly ([`Self::collects_ranges`]). For the depth-line
+    /// lookup the layer keeps the nearest static triangle at each texel centre; for the exact
+    /// lookup, which needs every triangle near a texel named, it is a list per texel of the
+    /// static triangles whose shadow touches it (the static name lists,
+    /// [`super::TemporalShadowMap::static_name_capacity`]).
     pub fn uses_static_layer(&self, with_coverage_map: bool) -> bool {
-        self.static_layer
-            && self.lookup == Lookup::DepthLine
-            && self.collects_ranges(with_coverage_map)
+        self.static_layer && self.collects_ranges(with_coverage_map)
     }
 
     /// Whether it is a spot light (perspective map) rather than directional (orthographic).

@@ -102,7 +102,7 @@ void main() {
     put(m.light); put(m.size); put(m.range_heads); put(m.ranges); put(m.coverage);
     put(m.cover_depth); put(m.heads); put(m.nodes); put(m.counters); put(m.long_pixels);
     put(m.nearest); put(m.static_nearest); put(m.tiles); put(m.list_ranges);
-    put(m.triangles); put(m.reserved);
+    put(m.triangles); put(m.static_names);
 
     PlainHeader p = PlainHeader(table.plain_header);
     put(p.light); put(p.size); put(p.depths); put(p.ids);

@@ -3,7 +3,8 @@
 //! its corners say, is sampled at many times, and each map point of a dense grid (16 x 16
 //! per texel) its projection covers then is looked up. Every texel holding such a point must
 //! name the triangle in its list: the exact lookup tests only the triangles a texel names, so
-//! one missing would let light through.
+//! one missing would let light through. Still triangles go to the static layer's name lists
+//! (kept across frames): the same holds for them there.
 
 use crate::support::coverage_oracle::{MovingTriangle, scene_triangles};
 use crate::support::gpu::{assert_no_validation_messages, context};
@@ -21,12 +22,14 @@ const POINTS: u32 = 16;
 const TIMES: u32 = 64;
 
 /// `n` triangles with random corners and random per-corner motion (translation, turns and
-/// deformation alike), within `reach` of the light's axis, between heights 0.5 and 3.
-fn random_triangles(rng: &mut Rng, n: usize, reach: f32) -> Scene {
+/// deformation alike), within `reach` of the light's axis, between heights 0.5 and 3; then
+/// `still` more that do not move, in a static draw of their own.
+fn random_triangles(rng: &mut Rng, n: usize, still: usize, reach: f32) -> Scene {
     let mut at0 = Vec::new();
     let mut at1 = Vec::new();
+    let mut still_at = Vec::new();
     let coord = |rng: &mut Rng, lo: f32, hi: f32| lo + (hi - lo) * rng.unit();
-    for _ in 0..n {
+    for k in 0..n + still {
         let centre = Vec3::new(
             coord(rng, -reach, reach),
             coord(rng, 0.5, 3.0),
@@ -44,14 +47,21 @@ fn random_triangles(rng: &mut Rng, n: usize, reach: f32) -> Scene {
                 coord(rng, -0.3, 0.3),
                 coord(rng, -1.5, 1.5),
             );
-            at0.push(corner);
-            at1.push(corner + motion);
+            if k < n {
+                at0.push(corner);
+                at1.push(corner + motion);
+            } else {
+                still_at.push(corner);
+            }
         }
     }
     scene(
         "random",
         overhead_directional(4.0),
-        vec![mesh("tris", at0, at1, false)],
+        vec![
+            mesh("tris", at0, at1, false),
+            mesh("still", still_at.clone(), still_at, false),
+        ],
     )
 }
 
@@ -105,23 +115,39 @@ fn covered_texels(light: &LightView, tri: &MovingTriangle) -> Vec<(u32, u32)> {
         .collect()
 }
 
-/// Every (texel, triangle) pair the model covers is in the map's lists; returns how many
-/// pairs were checked and how many the lists hold in all (the collection's overhead).
-fn check(map: &ShadowMapContents, light: &LightView, s: &Scene) -> (usize, usize) {
+/// Every (texel, triangle) pair the model covers is in the map's lists: a moving triangle's
+/// in the texel's ranges, a still one's (ids from `first_still`) in its static name list,
+/// and neither in the other; returns how many pairs were checked and how many the lists
+/// hold in all (the collection's overhead).
+fn check(
+    map: &ShadowMapContents,
+    light: &LightView,
+    s: &Scene,
+    first_still: u32,
+) -> (usize, usize) {
     let mut checked = 0;
     for (id, tri) in scene_triangles(s).iter().enumerate() {
+        let id = id as u32;
         for (x, y) in covered_texels(light, tri) {
             checked += 1;
+            let in_ranges = map.ranges_at(x, y).iter().any(|r| r.id == id);
+            let in_static = map.static_names_at(x, y).contains(&id);
+            let (found, list) = if id >= first_still {
+                (in_static && !in_ranges, "static name list")
+            } else {
+                (in_ranges && !in_static, "ranges")
+            };
             assert!(
-                map.ranges_at(x, y).iter().any(|r| r.id == id as u32),
-                "{}: triangle {id} covers texel ({x}, {y}) but is not in its list",
+                found,
+                "{}: triangle {id} covers texel ({x}, {y}) but is not (only) in its {list} \
+                 (in the ranges: {in_ranges}, in the static names: {in_static})",
                 s.name
             );
         }
     }
     let held = (0..SIZE.1)
         .flat_map(|y| (0..SIZE.0).map(move |x| (x, y)))
-        .map(|(x, y)| map.ranges_at(x, y).len())
+        .map(|(x, y)| map.ranges_at(x, y).len() + map.static_names_at(x, y).len())
         .sum();
     (checked, held)
 }
@@ -134,7 +160,8 @@ fn run(lights: &[LightCase]) {
     let mut rng = Rng(35);
     for &(name, light_of, reach) in lights {
         for round in 0..4 {
-            let mut s = random_triangles(&mut rng, 6, reach);
+            let (moving, still) = (6, 4);
+            let mut s = random_triangles(&mut rng, moving, still, reach);
             s.light = light_of();
             s.name = format!("{name} round {round}");
             let light = LightView {
@@ -150,7 +177,7 @@ fn run(lights: &[LightCase]) {
                 Pruning::default(),
                 1024,
             );
-            let (checked, held) = check(&map, &light, &s);
+            let (checked, held) = check(&map, &light, &s, moving as u32);
             assert!(
                 checked > 20,
                 "{}: the model covered only {checked} pairs",
@@ -166,11 +193,71 @@ fn run(lights: &[LightCase]) {
 }
 
 #[test]
-fn every_texel_a_moving_triangle_touches_names_it_orthographic() {
+fn every_texel_a_triangle_touches_names_it_orthographic() {
     run(&[("directional", || overhead_directional(4.0), 2.5)]);
 }
 
 #[test]
-fn every_texel_a_moving_triangle_touches_names_it_spot() {
+fn every_texel_a_triangle_touches_names_it_spot() {
     run(&[("spot", || overhead_spot(6.0, 40.0), 1.8)]);
+}
+
+/// Five still triangles each covering the whole 16 x 16 map (and one moving): 1,280 names at
+/// least, five times the static name lists' first capacity (one per texel). The frame that
+/// overflows says so (`needs_more_room`), `grow_to_fit` makes room, and the lists then name
+/// every triangle in every texel, their count exactly the names held.
+#[test]
+fn the_static_name_lists_grow_until_every_name_fits() {
+    let ctx = context();
+    let big = |y: f32, turn: f32| {
+        let (s, c) = turn.sin_cos();
+        [(-12.0f32, -12.0f32), (12.0, -12.0), (0.0, 14.0)]
+            .map(|(x, z)| Vec3::new(c * x - s * z, y, s * x + c * z))
+    };
+    let still: Vec<Vec3> = (0..5)
+        .flat_map(|k| big(0.8 + 0.4 * k as f32, 0.3 * k as f32))
+        .collect();
+    let flyer = vec![
+        Vec3::new(-1.0, 3.0, 0.0),
+        Vec3::new(0.0, 3.0, 1.0),
+        Vec3::new(1.0, 3.0, 0.0),
+    ];
+    let flown = flyer.iter().map(|&p| p + Vec3::X).collect();
+    let mut s = scene(
+        "five still covers",
+        overhead_directional(4.0),
+        vec![
+            mesh("flyer", flyer, flown, false),
+            mesh("still", still.clone(), still, false),
+        ],
+    );
+    s.name = "five still covers".into();
+    let light = LightView {
+        lookup: Lookup::Exact,
+        ..light_view(&s, SIZE)
+    };
+    let (map, counts) = temporal_map_stored(
+        &ctx,
+        &s,
+        SIZE,
+        &light,
+        RangeStorage::Lists,
+        Pruning::default(),
+        1024,
+    );
+    let texels = SIZE.0 * SIZE.1;
+    let mut held = 0;
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let mut names = map.static_names_at(x, y);
+            held += names.len() as u32;
+            names.sort_unstable();
+            assert_eq!(names, vec![1, 2, 3, 4, 5], "texel ({x}, {y})");
+        }
+    }
+    assert_eq!(counts.static_names, held, "the count is the names held");
+    assert!(held >= 5 * texels);
+    let (checked, _) = check(&map, &light, &s, 1);
+    assert!(checked > 5 * texels as usize);
+    assert_no_validation_messages(&ctx);
 }

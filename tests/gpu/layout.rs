@@ -148,7 +148,7 @@ fn shared_structs_match_glsl() {
         tiles: val.a(),
         list_ranges: val.a(),
         triangles: val.a(),
-        reserved: val.a(),
+        static_names: val.a(),
     };
     let plain = PlainMapHeader {
         light: val.light(),
@@ -347,7 +347,7 @@ fn shared_structs_match_glsl() {
         shadow.tiles,
         shadow.list_ranges,
         shadow.triangles,
-        shadow.reserved,
+        shadow.static_names,
     ] {
         expected.a(a);
     }
@@ -566,7 +566,7 @@ fn shared_structs_match_glsl() {
             wrapped: 35,
             ranges_direct: 36,
             sorted_count: 37,
-            reserved: 38,
+            static_names: 38,
         }
     );
     drop(pipeline);
