@@ -102,6 +102,13 @@ vec4 ms_exact_edge(ms_exact_Linear x, ms_exact_Linear y, ms_exact_Linear u) {
     return ms_exact_triple(x, y, u);
 }
 
+// The same edge function where nothing moves (x.b == y.b == u.b == 0): its constant term
+// alone, bit for bit the one ms_exact_edge computes (the other terms are exactly 0).
+float ms_exact_edge_still(ms_exact_Linear x, ms_exact_Linear y, ms_exact_Linear u) {
+    if (ms_exact_before(y, x)) return -ms_exact_det(y.a, x.a, u.a);
+    return ms_exact_det(x.a, y.a, u.a);
+}
+
 float ms_exact_eval(vec4 c, float t) {
     precise float r = ((c.w * t + c.z) * t + c.y) * t + c.x;
     return r;
@@ -297,27 +304,26 @@ int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s
     for (int i = 0; i < 3; ++i) {
         corner[i] = ms_exact_Linear(t0_corners[i] - p0, (t1_corners[i] - t0_corners[i]) - m);
     }
+    // Nothing moves relative to the receiver (a still triangle and a still receiver, the
+    // common case of a level's static geometry): every polynomial is a constant, the answer
+    // is the same all window long (the general case would find no root and ask the same test
+    // once, on the same constants).
+    bool still = u.b == vec3(0.0) && corner[0].b == vec3(0.0) && corner[1].b == vec3(0.0)
+        && corner[2].b == vec3(0.0);
+    if (still) {
+        vec4 edges[3] = vec4[3](vec4(ms_exact_edge_still(corner[0], corner[1], u), vec3(0.0)),
+                                vec4(ms_exact_edge_still(corner[1], corner[2], u), vec3(0.0)),
+                                vec4(ms_exact_edge_still(corner[2], corner[0], u), vec3(0.0)));
+        vec4 plane = vec4(ms_exact_det(corner[0].a, corner[1].a, corner[2].a), vec3(0.0));
+        if (!ms_exact_blocks(edges, plane, spot, s_min, w0)) return 0;
+        intervals[0] = vec2(w0, w1);
+        return 1;
+    }
     vec4 edges[3] = vec4[3](ms_exact_edge(corner[0], corner[1], u),
                             ms_exact_edge(corner[1], corner[2], u),
                             ms_exact_edge(corner[2], corner[0], u));
     vec4 plane = ms_exact_triple(corner[0], corner[1], corner[2]);
-    // Nothing moves relative to the receiver (a still triangle and a still receiver, the
-    // common case of a level's static geometry): every polynomial is a constant, the answer
-    // is the same all window long (the general case would find no root and ask the same test
-    // once).
-    bool still = u.b == vec3(0.0) && corner[0].b == vec3(0.0) && corner[1].b == vec3(0.0)
-        && corner[2].b == vec3(0.0);
-    int count = 0;
-    if (still && ms_exact_blocks(edges, plane, spot, s_min, w0)) {
-        intervals[0] = vec2(w0, w1);
-        count = 1;
-    }
-    // The general case as a loop run at most once: lavapipe runs a branch's body for its whole
-    // SIMD group, even where no lane takes it, but leaves a loop once no lane is in it.
-    for (int general = still ? 1 : 0; general < 1; ++general) {
-        count = ms_exact_general_intervals(corner, u, edges, plane, spot, s_min, w0, w1, intervals);
-    }
-    return count;
+    return ms_exact_general_intervals(corner, u, edges, plane, spot, s_min, w0, w1, intervals);
 }
 
 // The union of several triangles' shadowed intervals: up to MS_EXACT_UNION_CAPACITY disjoint
