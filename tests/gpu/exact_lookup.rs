@@ -278,18 +278,40 @@ fn a_closed_box_lets_no_light_through_its_shared_edges() {
 
 /// A receiver rebuilt 0.01 below its own ground triangle (a depth buffer's rounding): the
 /// triangle blocks its ray (lit 0 when the receiver is on no triangle), but never shadows
-/// the receiver that names it as its own (lit 1).
+/// the receiver that names it as its own (lit 1). Both for a still ground (its triangles in
+/// the static name lists) and for one sliding by 0.5 with the receiver on it (in the
+/// frame's ranges).
 #[test]
 fn the_receivers_own_triangle_never_shadows_it() {
     let ground = square(-1.0, -1.0, 2.0, 0.0);
-    let s = scene(
-        "own",
-        overhead_directional(HALF_EXTENT),
-        vec![mesh("ground", ground.clone(), ground, false)],
-    );
-    // Triangle 0 is (-1, -1), (-1, 1), (1, 1) in xz: where x <= z.
-    let p = Vec3::new(-0.5, -0.01, 0.5);
-    let receivers = [still(p), Receiver { own: 0, ..still(p) }];
-    let got = lit_fractions(&s, &receivers);
-    assert_near("own triangle", &got, &[0.0, 1.0], &receivers);
+    let slide = Vec3::new(0.5, 0.0, 0.0);
+    for by in [Vec3::ZERO, slide] {
+        let moved = ground.iter().map(|&q| q + by).collect();
+        let s = scene(
+            "own",
+            overhead_directional(HALF_EXTENT),
+            vec![mesh("ground", ground.clone(), moved, false)],
+        );
+        // Triangle 0 is (-1, -1), (-1, 1), (1, 1) in xz: where x <= z.
+        let p = Vec3::new(-0.5, -0.01, 0.5);
+        let on_ground = Receiver {
+            p0: p,
+            p1: p + by,
+            own: NO_TRIANGLE,
+        };
+        let receivers = [
+            on_ground,
+            Receiver {
+                own: 0,
+                ..on_ground
+            },
+        ];
+        let got = lit_fractions(&s, &receivers);
+        assert_near(
+            &format!("own triangle, moved by {by}"),
+            &got,
+            &[0.0, 1.0],
+            &receivers,
+        );
+    }
 }
