@@ -29,6 +29,8 @@ pub const GBUFFER_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 pub const GBUFFER_COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 /// The triangle-id image's format (cleared to `u32::MAX`: none).
 pub const GBUFFER_ID_FORMAT: vk::Format = vk::Format::R32_UINT;
+/// Bytes a pixel of the readback: depth (4), normal, albedo and motion (16 each), id (4).
+const READBACK_BYTES_PER_PIXEL: u64 = 4 + 3 * 16 + 4;
 
 /// The layout the colour images are left in by [`GBufferPass::record`].
 const COLOR_READ_LAYOUT: vk::ImageLayout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
@@ -59,6 +61,8 @@ pub struct GBufferContents {
     pub albedo: Vec<Vec3>,
     /// World displacement over the shutter, `p(1) - p(0)`.
     pub motion: Vec<Vec3>,
+    /// The triangle each pixel shows (its global id; `u32::MAX` where nothing was drawn).
+    pub ids: Vec<u32>,
 }
 
 /// A G-buffer's images, and a buffer to read them back.
@@ -68,7 +72,7 @@ pub struct GBuffer {
     depth: Image,
     /// Normal, albedo, motion.
     colors: [Image; 3],
-    /// The triangle ids (not read back).
+    /// The triangle ids.
     ids: Image,
     /// World positions at the time drawn (not read back): the mask's receivers, without the
     /// error of rebuilding them from the depth.
@@ -119,7 +123,7 @@ impl GBuffer {
         let readback = Buffer::new(
             ctx,
             "G-buffer readback",
-            pixels * (4 + 3 * 16),
+            pixels * READBACK_BYTES_PER_PIXEL,
             BufferUsage::Readback,
         )?;
         Ok(Self {
@@ -195,7 +199,8 @@ impl GBuffer {
     pub unsafe fn record_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
         let pixels = self.width as u64 * self.height as u64;
         let mut offset = 0;
-        for (image, layout) in self.images() {
+        let ids = std::iter::once((&self.ids, COLOR_READ_LAYOUT));
+        for (image, layout) in self.images().chain(ids) {
             let range = image.layers_range(0, 1);
             let before = Access::COMPUTE_SAMPLED_READ;
             let transfer = (layout, vk::ImageLayout::TRANSFER_SRC_OPTIMAL);
@@ -210,8 +215,8 @@ impl GBuffer {
                     Access::TRANSFER_READ,
                 )
             };
-            // SAFETY: the caller's contract; the buffer holds every image (4 + 3 x 16 bytes a
-            // pixel) and is the G-buffer's own.
+            // SAFETY: the caller's contract; the buffer holds every image
+            // (READBACK_BYTES_PER_PIXEL) and is the G-buffer's own.
             unsafe { image.record_copy_to_buffer(device, cmd, self.readback.raw(), offset) };
             let back = (vk::ImageLayout::TRANSFER_SRC_OPTIMAL, layout);
             unsafe {
@@ -225,7 +230,8 @@ impl GBuffer {
                     before,
                 )
             };
-            offset += pixels * if offset == 0 { 4 } else { 16 };
+            let four_bytes = std::ptr::eq(image, &self.depth) || std::ptr::eq(image, &self.ids);
+            offset += pixels * if four_bytes { 4 } else { 16 };
         }
         unsafe {
             crate::gpu::memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ)
@@ -235,7 +241,9 @@ impl GBuffer {
     /// The contents copied by [`Self::record_readback`] (after its command buffer completed).
     pub fn read(&self) -> Result<GBufferContents> {
         let pixels = self.width as usize * self.height as usize;
-        let floats: Vec<f32> = self.readback.read(pixels * 13)?;
+        let words: Vec<u32> = self.readback.read(pixels * 14)?;
+        let (floats, ids) = words.split_at(pixels * 13);
+        let floats: Vec<f32> = floats.iter().map(|&w| f32::from_bits(w)).collect();
         let (depth, rest) = floats.split_at(pixels);
         let plane = |i: usize| -> Vec<Vec3> {
             rest[i * 4 * pixels..(i + 1) * 4 * pixels]
@@ -250,6 +258,7 @@ impl GBuffer {
             normal: plane(0),
             albedo: plane(1),
             motion: plane(2),
+            ids: ids.to_vec(),
         })
     }
 }

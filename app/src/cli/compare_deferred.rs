@@ -5,7 +5,7 @@
 
 use super::args::{CompareArgs, LookupArg};
 use super::render_cmd::{builtin_options, commit_outputs, progress_reporter};
-use crate::compare::{Rgb8Image, mask_error, side_by_side};
+use crate::compare::{Rgb8Image, mask_error, same_surface, side_by_side};
 use crate::output::{StagedFiles, auto_exposure, write_rgb8_png};
 use crate::raytrace::deferred::{check_truth_memory, render_truth};
 use crate::render::deferred::{DeferredMethod, DeferredSettings};
@@ -135,12 +135,16 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         .iter()
         .map(|r| {
             let e = mask_error(&r.lit, &truth.lit, &truth.facing);
+            let same = same_surface(&truth.facing, &r.triangle, &truth.triangle);
+            let s = mask_error(&r.lit, &truth.lit, &same);
             serde_json::json!({
                 "method": r.method,
                 "rmse": e.rmse,
                 "rmse_shadowed": e.rmse_shadowed,
                 "pixels": e.pixels,
                 "shadowed_pixels": e.shadowed_pixels,
+                "rmse_same_surface": s.rmse,
+                "pixels_same_surface": s.pixels,
                 "shadow_and_mask_ms": r.shadow_and_mask_ms,
             })
         })
@@ -163,15 +167,16 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             scene.name, args.width, args.height, args.camera_time
         );
         println!(
-            "  {:<14} {:>9} {:>16} {:>22}",
-            "method", "RMSE", "RMSE (shadowed)", "shadow pass + mask ms"
+            "  {:<14} {:>9} {:>16} {:>20} {:>22}",
+            "method", "RMSE", "RMSE (shadowed)", "RMSE (same surface)", "shadow pass + mask ms"
         );
         for row in &rows {
             println!(
-                "  {:<14} {:>9.5} {:>16.5} {:>22.2}",
+                "  {:<14} {:>9.5} {:>16.5} {:>20.5} {:>22.2}",
                 row["method"].as_str().unwrap_or(""),
                 row["rmse"].as_f64().unwrap_or(f64::NAN),
                 row["rmse_shadowed"].as_f64().unwrap_or(f64::NAN),
+                row["rmse_same_surface"].as_f64().unwrap_or(f64::NAN),
                 row["shadow_and_mask_ms"].as_f64().unwrap_or(f64::NAN),
             );
         }

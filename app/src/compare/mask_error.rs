@@ -37,6 +37,16 @@ pub fn mask_error(lit: &[f32], truth: &[f32], counted: &[bool]) -> MaskError {
     }
 }
 
+/// Pixels where both see the same triangle, among those `counted` marks: there the two lit
+/// shares belong to the same point (up to rounding), so their difference is the mask's own;
+/// elsewhere (silhouettes, where rasterization and a ray may see different faces) it may be
+/// the difference of two points.
+pub fn same_surface(counted: &[bool], seen: &[u32], truth_seen: &[u32]) -> Vec<bool> {
+    (counted.iter().zip(seen).zip(truth_seen))
+        .map(|((&c, &a), &b)| c && a == b)
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -50,5 +60,12 @@ mod tests {
         assert_eq!((e.pixels, e.shadowed_pixels), (3, 2));
         assert!((e.rmse - ((0.04f64 + 0.01) / 3.0).sqrt()).abs() < 1e-6);
         assert!((e.rmse_shadowed - ((0.04f64 + 0.01) / 2.0).sqrt()).abs() < 1e-6);
+    }
+
+    /// Counted pixels where both saw the same triangle, and only those.
+    #[test]
+    fn same_surface_keeps_counted_pixels_that_see_one_triangle() {
+        let same = same_surface(&[true, true, false, true], &[3, 4, 5, 7], &[3, 9, 5, 7]);
+        assert_eq!(same, [true, false, false, true]);
     }
 }

@@ -14,7 +14,7 @@ mod metrics;
 pub use self::false_color::{Rgb8Image, error_image, heat_map, inferno};
 pub use self::font::{GLYPH_HEIGHT, GLYPH_WIDTH, draw_text, text_width};
 pub use self::layout::{TITLE_BAR_HEIGHT, side_by_side};
-pub use self::mask_error::{MaskError, mask_error};
+pub use self::mask_error::{MaskError, mask_error, same_surface};
 pub use self::metrics::{ErrorStats, error_stats, peak_radiance, psnr, rmse};
 
 /// Why two images could not be compared.

@@ -42,6 +42,9 @@ pub struct DeferredTruth {
     pub hit: Vec<bool>,
     /// The camera ray's hit point at time T.
     pub position: Vec<[f32; 3]>,
+    /// The triangle the camera ray hits (its global id, as the G-buffer's id image holds
+    /// it); `u32::MAX` where it hits nothing.
+    pub triangle: Vec<u32>,
     /// The unit normal at time T, turned toward the camera.
     pub normal: Vec<[f32; 3]>,
     pub albedo: Vec<[f32; 3]>,
@@ -54,6 +57,7 @@ struct Pixel {
     lit: f32,
     hit: bool,
     position: [f32; 3],
+    triangle: u32,
     normal: [f32; 3],
     albedo: [f32; 3],
     rgb: [f32; 3],
@@ -169,6 +173,7 @@ pub fn deferred_truth_with(
         lit: Vec::with_capacity(n),
         hit: Vec::with_capacity(n),
         position: Vec::with_capacity(n),
+        triangle: Vec::with_capacity(n),
         normal: Vec::with_capacity(n),
         albedo: Vec::with_capacity(n),
         rgb: Vec::with_capacity(3 * n),
@@ -195,6 +200,7 @@ pub fn deferred_truth_with(
             out.lit.push(p.lit);
             out.hit.push(p.hit);
             out.position.push(p.position);
+            out.triangle.push(p.triangle);
             out.normal.push(p.normal);
             out.albedo.push(p.albedo);
             out.rgb.extend_from_slice(&p.rgb);
@@ -209,6 +215,7 @@ fn pixel(ray: &Ray, t: f64, (near, far): (f64, f64), shading: &Shading, moving: 
     let Some(hit) = shading.bvh.closest(ray, t, near, far) else {
         return Pixel {
             lit: 1.0,
+            triangle: u32::MAX,
             ..Pixel::default()
         };
     };
@@ -231,6 +238,7 @@ fn pixel(ray: &Ray, t: f64, (near, far): (f64, f64), shading: &Shading, moving: 
         lit: lit as f32,
         hit: true,
         position: p.as_vec3().to_array(),
+        triangle: tri.id,
         normal: facing_normal(tri, t, ray.dir).as_vec3().to_array(),
         albedo: shading.albedo[tri.mesh as usize].0.as_vec3().to_array(),
         rgb: rgb.as_vec3().to_array(),
@@ -292,6 +300,7 @@ pub fn render_truth(
         image: RadianceImage::new(settings.width, settings.height, truth.rgb)?,
         lit: truth.lit,
         hit: truth.hit,
+        triangle: truth.triangle,
         facing,
         method: deferred.method.name(),
         passes: vec![PassTime {

@@ -125,6 +125,11 @@ pub struct DeferredResult {
     pub lit: Vec<f32>,
     /// Per pixel: whether a surface is seen.
     pub hit: Vec<bool>,
+    /// Per pixel: the triangle seen (its global id), `u32::MAX` for none: the G-buffer's id
+    /// image, or the truth's camera ray's hit. Where a method's and the truth's differ (at
+    /// silhouettes, rasterization and the ray may see different faces) their lit shares
+    /// belong to different points.
+    pub triangle: Vec<u32>,
     /// Per pixel: whether the light reaches the surface at the camera time but for shadows
     /// (it faces the light, inside a spot's cone): where the lit share multiplies the light,
     /// and where comparisons measure it.
@@ -265,6 +270,7 @@ impl Renderer<'_> {
             image,
             lit,
             hit,
+            triangle: contents.ids,
             facing,
             method: deferred.name(),
             shadow_and_mask_ms: passes.iter().map(|p| p.gpu_ms).sum(),
