@@ -32,6 +32,13 @@ layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer MsS
     uint v[];
 };
 
+// A still triangle's corners (its record's t = 0 ones: the t = 1 ones are the same): half the
+// loads, which a CPU device makes lane by lane.
+void ms_exact_still_triangle(uint64_t triangles, uint id, out vec3 at[3]) {
+    MsTriangles records = MsTriangles(triangles);
+    for (uint k = 0u; k < 3u; ++k) at[k] = records.v[6u * id + k].xyz;
+}
+
 // The size the directional light's self-shadow epsilon is relative to (ms_exact_s_min): the
 // map's width in the world, which holds every caster it names.
 float ms_exact_scene_size(MsMap map) {
@@ -58,11 +65,10 @@ float ms_exact_texel_shadow(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uin
             uint id = names.v[texels + 2u * (r - 1u)];
             r = names.v[texels + 2u * (r - 1u) + 1u];
             if (id == own) continue;
-            vec3 at0[3], at1[3];
-            ms_exact_triangle(map.triangles, id, at0, at1);
+            vec3 at[3];
+            ms_exact_still_triangle(map.triangles, id, at);
             vec2 iv[MS_EXACT_MAX_INTERVALS];
-            int n = ms_exact_shadowed_intervals(p0, p1, spot, light, s_min, at0, at1, w.x, w.y,
-                                                iv);
+            int n = ms_exact_shadowed_intervals(p0, p1, spot, light, s_min, at, at, w.x, w.y, iv);
             for (int i = 0; i < n; ++i) ms_exact_union_add(shadowed, iv[i]);
             if (ms_exact_union_covers(shadowed, w.x, w.y)) return w.y - w.x;
         }
