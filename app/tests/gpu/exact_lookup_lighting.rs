@@ -1,38 +1,154 @@
-//! The lighting pass reads the temporal map's depth lines; a map built for the exact lookup
-//! (`Lookup::Exact`: ranges over the whole shutter at the triangles' depth bounds) holds none,
-//! so the pass refuses it by name instead of shading from them.
+//! The forward frame's lighting pass with the exact lookup (`Lookup::Exact`, `--lookup exact`):
+//! each sample's shadow ray at its own time against the triangles its texel names
+//! (`ms_visible_exact`), against the ray tracer on the same samples (same seed: the same
+//! positions and times; no shadow map, nothing shared with the technique's passes). A still
+//! block and ground, a cube and a plate flying past (moving casters, and moving receivers
+//! on their faces), under a directional and a spot light, at a fine and a coarse map: the
+//! map's resolution must not matter. The depth-line lookup on the same frames is printed
+//! beside it, and must be worse at the coarse map (shadows a texel can misplace).
 
-use crate::support::frame::render_draws;
-use crate::support::gpu::{assert_no_validation_messages, context};
-use motion_shadows::technique::{LightView, LightingView, Lookup};
-use motion_shadows_app::render::upload::{SceneGeometry, camera_view, light_view};
-use motion_shadows_app::scene::{BuiltinOptions, builtin};
+use crate::support::gpu::{assert_no_validation_messages, context, render};
+use crate::support::ray_traced::rmse_against_the_ray_tracer;
+use glam::{Vec2, Vec3};
+use motion_shadows::technique::Lookup;
+use motion_shadows_app::render::{RenderSettings, RenderResult};
+use motion_shadows_app::scene::{
+    Camera, DirectionalLight, Light, Mesh, Scene, SpotLight, box_mesh, plane_mesh,
+};
 
-const SIZE: (u32, u32) = (32, 24);
+const SIZE: (u32, u32) = (160, 120);
+/// The exact lookup's RMSE against the ray tracer, at any map size (issue 35's target).
+const EXACT_RMSE: f64 = 0.0005;
+
+fn mesh(name: &str, t0: Vec<Vec3>, t1: Vec<Vec3>, closed: bool) -> Mesh {
+    Mesh {
+        name: name.into(),
+        albedo: Vec3::splat(0.7),
+        closed,
+        t0,
+        t1,
+    }
+}
+
+fn moved(points: &[Vec3], by: Vec3) -> Vec<Vec3> {
+    points.iter().map(|&p| p + by).collect()
+}
+
+/// Ground, a still block (1.6 x 0.8 x 1.6) on it, a cube (side 0.4) flying 1.5 along z at
+/// height 2 and a plate sliding 1 along x at height 1.4, under `light`.
+fn block_and_flying_casters(light: Light) -> Scene {
+    let ground = plane_mesh(Vec2::splat(8.0), 8);
+    let block = moved(
+        &box_mesh(Vec3::new(1.6, 0.8, 1.6), 2),
+        Vec3::new(-0.5, 0.4, 0.5),
+    );
+    let cube = moved(&box_mesh(Vec3::splat(0.4), 1), Vec3::new(1.0, 2.0, -2.0));
+    let plate = [
+        (0.0, 0.0),
+        (0.0, 0.8),
+        (0.8, 0.8),
+        (0.0, 0.0),
+        (0.8, 0.8),
+        (0.8, 0.0),
+    ]
+    .map(|(x, z)| Vec3::new(x - 2.5, 1.4, z - 1.0))
+    .to_vec();
+    Scene {
+        name: "block-and-flying-casters".into(),
+        camera: Camera {
+            position: Vec3::new(2.5, 4.0, 4.5),
+            target: Vec3::new(-0.3, 0.3, 0.0),
+            up: Vec3::Y,
+            fov_y_deg: 40.0,
+            near: 0.1,
+            far: 50.0,
+        },
+        light,
+        ambient: 0.05,
+        meshes: vec![
+            mesh("ground", ground.clone(), ground, false),
+            mesh("block", block.clone(), block, true),
+            mesh(
+                "cube",
+                cube.clone(),
+                moved(&cube, Vec3::new(0.0, 0.0, 1.5)),
+                true,
+            ),
+            mesh("plate", plate.clone(), moved(&plate, Vec3::X), false),
+        ],
+    }
+}
+
+/// 22 degrees above the ground's plane, and a spot light up and to the side.
+fn lights() -> [(&'static str, Light); 2] {
+    [
+        (
+            "directional",
+            Light::Directional(DirectionalLight {
+                direction: Vec3::new(2.0, -1.0, 1.2),
+                irradiance: 3.0,
+                center: Vec3::ZERO,
+                half_extent: 5.0,
+                distance: 10.0,
+                near: 0.5,
+                far: 30.0,
+            }),
+        ),
+        (
+            "spot",
+            Light::Spot(SpotLight {
+                position: Vec3::new(-3.0, 5.0, -2.0),
+                direction: Vec3::new(0.5, -1.0, 0.35).normalize(),
+                cone_angle_deg: 50.0,
+                intensity: 60.0,
+                near: 0.5,
+                far: 30.0,
+            }),
+        ),
+    ]
+}
+
+fn settings(shadow: u32, lookup: Lookup) -> RenderSettings {
+    RenderSettings {
+        width: SIZE.0,
+        height: SIZE.1,
+        spp: 4,
+        seed: 7,
+        shadow_size: Some((shadow, shadow)),
+        lookup,
+        ..RenderSettings::default()
+    }
+}
 
 #[test]
-fn the_lighting_pass_refuses_a_map_built_for_the_exact_lookup() {
+fn the_forward_exact_lookup_matches_the_ray_tracer_at_fine_and_coarse_maps() {
     let ctx = context();
-    let scene = builtin("cubes-toward-light", &BuiltinOptions::default()).expect("scene");
-    let geometry = SceneGeometry::upload(&ctx, &scene).expect("upload");
-    let view = LightingView {
-        camera: camera_view(&scene, SIZE),
-        seed: 1,
-        ambient: scene.ambient,
-        estimator: Default::default(),
-        filter: Default::default(),
-    };
-    let depth_line = light_view(&scene, SIZE);
-    render_draws(&ctx, &geometry.draws, &depth_line, &view, SIZE, SIZE, 1)
-        .expect("the depth-line map lights the frame");
-    let exact = LightView {
-        lookup: Lookup::Exact,
-        ..depth_line
-    };
-    let refused = render_draws(&ctx, &geometry.draws, &exact, &view, SIZE, SIZE, 1)
-        .err()
-        .expect("an exact map is refused by the lighting pass");
-    assert!(refused.to_string().contains("Lookup::Exact"), "{refused}");
-    drop(geometry);
+    for (name, light) in lights() {
+        let scene = block_and_flying_casters(light);
+        for shadow in [512, 64] {
+            let rmse = |lookup| {
+                let s = settings(shadow, lookup);
+                let r: RenderResult = render(&ctx, &scene, &s);
+                assert_eq!(r.stats.method, s.method_name());
+                // For a look at the frames: MOTION_SHADOWS_TEST_IMAGES=DIR.
+                if let Ok(dir) = std::env::var("MOTION_SHADOWS_TEST_IMAGES") {
+                    let dir = std::path::Path::new(&dir);
+                    std::fs::create_dir_all(dir).expect("image directory");
+                    let path = dir.join(format!("{name}-{shadow}-{}.png", s.method_name()));
+                    motion_shadows_app::output::write_png(&path, &r.image, 0.0).expect("png");
+                }
+                rmse_against_the_ray_tracer(&scene, &s, &r.image)
+            };
+            let (exact, depth) = (rmse(Lookup::Exact), rmse(Lookup::DepthLine));
+            println!(
+                "{name}, {shadow}x{shadow} map: RMSE against the ray tracer: exact {exact:.2e}, \
+                 depth line {depth:.2e}"
+            );
+            assert!(exact <= EXACT_RMSE, "{name} {shadow}: exact {exact}");
+            if shadow == 64 {
+                assert!(depth > 4.0 * exact.max(EXACT_RMSE / 4.0), "{name}: depth line {depth}");
+            }
+        }
+    }
     assert_no_validation_messages(&ctx);
 }
