@@ -17,7 +17,7 @@ const SMALL: [&str; 10] = [
     "--shadow-size",
     "64x64",
     "--scene",
-    "cubes-toward-light",
+    "walker-toward-light",
 ];
 
 #[test]
@@ -79,7 +79,7 @@ fn the_exact_lookup_reaches_the_forward_render_animate_and_compare() {
             .expect("rmse")
     };
     let (exact, depth) = (rmse("temporal-exact"), rmse("temporal"));
-    println!("cubes at 48x32, 2 spp, 64x64 map, against the ray tracer: exact {exact}, depth line {depth}");
+    println!("walker at 48x32, 2 spp, 64x64 map, against the ray tracer: exact {exact}, depth line {depth}");
     assert!(
         exact < 0.002 && exact < depth,
         "exact {exact}, depth line {depth}"
