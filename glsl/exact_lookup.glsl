@@ -144,7 +144,8 @@ bool ms_visible_exact(MsMap map, vec3 p, float t, uint own) {
         ++ms_loop_iterations;
         MsRange range = ms_range(map.ranges, r);
         r = range.next;
-        if (range.id == own) continue;
+        // The sample's own triangle: its ray leaves from it.
+        if (own == range.id) continue;
         vec3 at0[3], at1[3];
         ms_exact_triangle(map.triangles, range.id, at0, at1);
         if (ms_exact_blocks_at(p, u, at0, at1, t, spot, s_min)) return false;

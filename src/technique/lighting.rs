@@ -263,12 +263,7 @@ struct ShadeVariant {
 impl ShadeVariant {
     /// The variant that renders `mode` with `estimator` and `filter` (choices a test does
     /// not have are dropped, so that they do not make pipelines that differ for nothing).
-    fn of(
-        mode: ShadowMode,
-        estimator: ShadowEstimator,
-        filter: ShadowFilter,
-        exact: bool,
-    ) -> Self {
+    fn of(mode: ShadowMode, estimator: ShadowEstimator, filter: ShadowFilter, exact: bool) -> Self {
         Self {
             exact: mode == ShadowMode::Temporal && exact,
             mode,
@@ -352,8 +347,12 @@ impl LightingPass {
             )));
         }
         let (mode, _) = shadow.mode_and_header();
-        let variant =
-            ShadeVariant::of(mode, view.estimator, view.filter, shadow.reads_exact_lookup());
+        let variant = ShadeVariant::of(
+            mode,
+            view.estimator,
+            view.filter,
+            shadow.reads_exact_lookup(),
+        );
         self.resolve
             .get(&variant.constants(self.loop_budget, samples))
     }

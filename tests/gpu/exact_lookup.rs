@@ -9,8 +9,8 @@
 
 use crate::support::gpu::{assert_no_validation_messages, context};
 use crate::support::scene::{
-    DirectionalLight, Light, Scene, box_mesh, light_view, mesh, overhead_directional, overhead_spot, scene, square,
-    temporal_map_built, translated,
+    DirectionalLight, Light, Scene, box_mesh, light_view, mesh, overhead_directional,
+    overhead_spot, scene, square, temporal_map_built, translated,
 };
 use crate::support::test_shader::compile_compute;
 use glam::{Vec3, Vec4};

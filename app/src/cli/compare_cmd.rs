@@ -171,10 +171,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             &builtin_options(&args.random),
         )?,
     };
-    let names: Vec<&str> = methods
-        .iter()
-        .map(|&m| settings(m).method_name())
-        .collect();
+    let names: Vec<&str> = methods.iter().map(|&m| settings(m).method_name()).collect();
     let staged = StagedFiles::prepare(&args.out, &output_names(&scene.name, &names))
         .with_context(|| format!("preparing the output directory {}", args.out.display()))?;
     let ctx = Context::headless(&ContextOptions::from_env())?;
@@ -216,13 +213,13 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         let label = match method.as_str() {
             "reference" => format!("reference M={}", args.slices),
             _ => {
-                let estimator =
-                    if method.starts_with("temporal") && result.stats.shadow_estimator == "analytic"
-                    {
-                        " analytic"
-                    } else {
-                        ""
-                    };
+                let estimator = if method.starts_with("temporal")
+                    && result.stats.shadow_estimator == "analytic"
+                {
+                    " analytic"
+                } else {
+                    ""
+                };
                 let filter = match result.stats.shadow_filter.as_str() {
                     "none" => String::new(),
                     other => format!(" {other}"),

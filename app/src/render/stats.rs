@@ -24,7 +24,10 @@ pub fn prisms_name(construction: motion_shadows::technique::PrismConstruction) -
 }
 
 /// The name `--lookup` and the JSON outputs give the lookup of a frame of `method`.
-pub fn lookup_name(method: super::Method, lookup: motion_shadows::technique::Lookup) -> &'static str {
+pub fn lookup_name(
+    method: super::Method,
+    lookup: motion_shadows::technique::Lookup,
+) -> &'static str {
     use motion_shadows::technique::Lookup;
     match (method, lookup) {
         (super::Method::Temporal | super::Method::Coverage, Lookup::DepthLine) => "depth",

@@ -34,9 +34,9 @@ fn the_exact_lookup_reaches_the_forward_render_animate_and_compare() {
     assert_eq!(render["method"], "temporal-exact");
     let files = render["files"].as_array().expect("files");
     assert!(
-        files.iter().all(|f| f
-            .as_str()
-            .is_some_and(|f| f.contains("-temporal-exact."))),
+        files
+            .iter()
+            .all(|f| f.as_str().is_some_and(|f| f.contains("-temporal-exact."))),
         "{files:?}"
     );
     let depth = run(&[
@@ -79,7 +79,9 @@ fn the_exact_lookup_reaches_the_forward_render_animate_and_compare() {
             .expect("rmse")
     };
     let (exact, depth) = (rmse("temporal-exact"), rmse("temporal"));
-    println!("walker at 48x32, 2 spp, 64x64 map, against the ray tracer: exact {exact}, depth line {depth}");
+    println!(
+        "walker at 48x32, 2 spp, 64x64 map, against the ray tracer: exact {exact}, depth line {depth}"
+    );
     assert!(
         exact < 0.002 && exact < depth,
         "exact {exact}, depth line {depth}"

@@ -11,7 +11,7 @@ use crate::support::gpu::{assert_no_validation_messages, context, render};
 use crate::support::ray_traced::rmse_against_the_ray_tracer;
 use glam::{Vec2, Vec3};
 use motion_shadows::technique::Lookup;
-use motion_shadows_app::render::{RenderSettings, RenderResult};
+use motion_shadows_app::render::{RenderResult, RenderSettings};
 use motion_shadows_app::scene::{
     Camera, DirectionalLight, Light, Mesh, Scene, SpotLight, box_mesh, plane_mesh,
 };
@@ -146,7 +146,10 @@ fn the_forward_exact_lookup_matches_the_ray_tracer_at_fine_and_coarse_maps() {
             );
             assert!(exact <= EXACT_RMSE, "{name} {shadow}: exact {exact}");
             if shadow == 64 {
-                assert!(depth > 4.0 * exact.max(EXACT_RMSE / 4.0), "{name}: depth line {depth}");
+                assert!(
+                    depth > 4.0 * exact.max(EXACT_RMSE / 4.0),
+                    "{name}: depth line {depth}"
+                );
             }
         }
     }
