@@ -5,12 +5,22 @@
 //! block and ground, a cube and a plate flying past (moving casters, and moving receivers
 //! on their faces), under a directional and a spot light, at a fine and a coarse map: the
 //! map's resolution must not matter. The depth-line lookup on the same frames is printed
-//! beside it, and must be worse at the coarse map (shadows a texel can misplace).
+//! beside it, and must be worse at the coarse map (shadows a texel can misplace). With the
+//! analytic estimator, against the exact lit shares of the same samples' points.
 
 use crate::support::gpu::{assert_no_validation_messages, context, render};
 use crate::support::ray_traced::rmse_against_the_ray_tracer;
-use glam::{Vec2, Vec3};
-use motion_shadows::technique::Lookup;
+use glam::{DVec3, Vec2, Vec3};
+use motion_shadows::technique::sampling::{pixel_key, pixel_sample};
+use motion_shadows::technique::{CameraParams, LightingView, Lookup, ShadowEstimator};
+use motion_shadows_app::compare::error_stats;
+use motion_shadows_app::output::RadianceImage;
+use motion_shadows_app::raytrace::bvh::Bvh;
+use motion_shadows_app::raytrace::pixels::CameraRays;
+use motion_shadows_app::raytrace::shade::{Shading, ShadingLight};
+use motion_shadows_app::raytrace::shutter::lit_fraction;
+use motion_shadows_app::raytrace::triangles::scene_triangles;
+use motion_shadows_app::render::upload::{camera_view, light_view};
 use motion_shadows_app::render::{RenderResult, RenderSettings};
 use motion_shadows_app::scene::{
     Camera, DirectionalLight, Light, Mesh, Scene, SpotLight, box_mesh, plane_mesh,
@@ -151,6 +161,101 @@ fn the_forward_exact_lookup_matches_the_ray_tracer_at_fine_and_coarse_maps() {
                     "{name}: depth line {depth}"
                 );
             }
+        }
+    }
+    assert_no_validation_messages(&ctx);
+}
+
+/// The expectation of the analytic estimator, from the ray tracer's parts (f64, no shadow
+/// map): each sample of the lighting pass (the same positions and times) traced to its hit;
+/// a hit on a still triangle lit for its point's exact share of the shutter
+/// (`shutter::lit_fraction`), one on a moving triangle by its shadow ray at the sample's
+/// time; averaged per pixel, as the ray tracer averages.
+fn analytic_expectation(scene: &Scene, s: &RenderSettings) -> RadianceImage {
+    let (width, height) = (s.width, s.height);
+    let bvh = Bvh::new(&scene_triangles(scene));
+    let view = LightingView {
+        camera: camera_view(scene, (width, height)),
+        seed: s.seed,
+        ambient: scene.ambient,
+        estimator: ShadowEstimator::Analytic,
+        filter: Default::default(),
+    };
+    let rays = CameraRays::new(&CameraParams::new(&view, (width, height), s.spp));
+    let (lo, hi) = scene.bounds();
+    let scale = f64::from((hi - lo).length().max(lo.abs().max(hi.abs()).max_element()));
+    let ambient = f64::from(scene.ambient);
+    let shading = Shading {
+        bvh: &bvh,
+        light: ShadingLight::new(&light_view(scene, s.shadow_size()), scale),
+        albedo: scene
+            .meshes
+            .iter()
+            .map(|m| (m.albedo.as_dvec3(), ambient * m.albedo.as_dvec3()))
+            .collect(),
+    };
+    let (near, far) = (f64::from(scene.camera.near), f64::from(scene.camera.far));
+    let mut rgb = Vec::with_capacity((3 * width * height) as usize);
+    for y in 0..height {
+        for x in 0..width {
+            let key = pixel_key(x, y, s.seed);
+            let mut sum = DVec3::ZERO;
+            for k in 0..s.spp {
+                let (t, offset) = pixel_sample(key, k, s.spp);
+                let t = f64::from(t);
+                let ray = rays.ray(Vec2::new(x as f32, y as f32) + offset);
+                let Some(hit) = bvh.closest(&ray, t, near, far) else {
+                    continue;
+                };
+                let tri = &bvh.triangles()[hit.index as usize];
+                let p = ray.origin + hit.s * ray.dir;
+                let (direct, ambient) = shading.unshadowed(p, ray.dir, tri, t);
+                let lit = match (direct, tri.moving) {
+                    (None, _) => 0.0,
+                    (Some(_), true) => f64::from(u8::from(!shading.occluded(p, t, tri.id))),
+                    (Some(_), false) => lit_fraction(&bvh, &shading.light, p, p, tri.id),
+                };
+                sum += ambient + direct.unwrap_or(DVec3::ZERO) * lit;
+            }
+            rgb.extend((sum / f64::from(s.spp)).as_vec3().to_array());
+        }
+    }
+    RadianceImage::new(width, height, rgb).expect("an image of the frame's size")
+}
+
+/// With the analytic estimator, a sample on a still triangle takes its point's exact lit
+/// share of the shutter (`ms_lit_fraction_exact`), one on a moving triangle its exact
+/// visibility at its time: the frame matches the expectation above to RMSE <= 0.0005 at a
+/// fine and a coarse map, both lights. The sampled exact frame differs from it by its time
+/// noise (it is the ray tracer's), which shows the comparison sees the estimator.
+#[test]
+fn the_forward_exact_lookup_with_the_analytic_estimator_takes_exact_lit_shares() {
+    let ctx = context();
+    for (name, light) in lights() {
+        let scene = block_and_flying_casters(light);
+        for shadow in [512, 64] {
+            let settings = |estimator| RenderSettings {
+                shadow_estimator: estimator,
+                ..settings(shadow, Lookup::Exact)
+            };
+            let analytic = settings(ShadowEstimator::Analytic);
+            let expected = analytic_expectation(&scene, &analytic);
+            let rmse = |s: &RenderSettings| {
+                let image = render(&ctx, &scene, s).image;
+                error_stats(&image, &expected, None)
+                    .expect("images of one size")
+                    .rmse
+            };
+            let (exact, sampled) = (rmse(&analytic), rmse(&settings(ShadowEstimator::Sampled)));
+            println!(
+                "{name}, {shadow}x{shadow} map: RMSE against the exact lit shares: analytic \
+                 {exact:.2e}, sampled {sampled:.2e}"
+            );
+            assert!(exact <= EXACT_RMSE, "{name} {shadow}: analytic {exact}");
+            assert!(
+                sampled > 4.0 * EXACT_RMSE,
+                "{name} {shadow}: sampled {sampled}"
+            );
         }
     }
     assert_no_validation_messages(&ctx);
