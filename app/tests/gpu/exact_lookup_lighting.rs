@@ -8,11 +8,14 @@
 //! beside it, and must be worse at the coarse map (shadows a texel can misplace). With the
 //! analytic estimator, against the exact lit shares of the same samples' points.
 
+use crate::support::frame::render_draws;
 use crate::support::gpu::{assert_no_validation_messages, context, render};
 use crate::support::ray_traced::rmse_against_the_ray_tracer;
 use glam::{DVec3, Vec2, Vec3};
 use motion_shadows::technique::sampling::{pixel_key, pixel_sample};
-use motion_shadows::technique::{CameraParams, LightingView, Lookup, ShadowEstimator};
+use motion_shadows::technique::{
+    CameraParams, LightView, LightingView, Lookup, ShadowEstimator, ShadowFilter,
+};
 use motion_shadows_app::compare::error_stats;
 use motion_shadows_app::output::RadianceImage;
 use motion_shadows_app::raytrace::bvh::Bvh;
@@ -20,7 +23,7 @@ use motion_shadows_app::raytrace::pixels::CameraRays;
 use motion_shadows_app::raytrace::shade::{Shading, ShadingLight};
 use motion_shadows_app::raytrace::shutter::lit_fraction;
 use motion_shadows_app::raytrace::triangles::scene_triangles;
-use motion_shadows_app::render::upload::{camera_view, light_view};
+use motion_shadows_app::render::upload::{SceneGeometry, camera_view, light_view};
 use motion_shadows_app::render::{RenderResult, RenderSettings};
 use motion_shadows_app::scene::{
     Camera, DirectionalLight, Light, Mesh, Scene, SpotLight, box_mesh, plane_mesh,
@@ -258,5 +261,58 @@ fn the_forward_exact_lookup_with_the_analytic_estimator_takes_exact_lit_shares()
             );
         }
     }
+    assert_no_validation_messages(&ctx);
+}
+
+/// The library's lighting pass reads a map built for the exact lookup (it refused it before)
+/// and refuses a shadow filter with it by name (the exact test has no texels to filter)
+/// rather than dropping the filter.
+#[test]
+fn the_lighting_pass_reads_an_exact_map_and_refuses_a_filter_with_it() {
+    let ctx = context();
+    let scene = block_and_flying_casters(lights()[0].1.clone());
+    let geometry = SceneGeometry::upload(&ctx, &scene).expect("upload");
+    let size = (32, 24);
+    let view = |filter| LightingView {
+        camera: camera_view(&scene, size),
+        seed: 1,
+        ambient: scene.ambient,
+        estimator: Default::default(),
+        filter,
+    };
+    let exact = LightView {
+        lookup: Lookup::Exact,
+        ..light_view(&scene, (64, 64))
+    };
+    render_draws(
+        &ctx,
+        &geometry.draws,
+        &exact,
+        &view(ShadowFilter::None),
+        size,
+        (64, 64),
+        1,
+    )
+    .expect("the exact map lights the frame");
+    for filter in [ShadowFilter::Bilinear, ShadowFilter::Footprint] {
+        let refused = render_draws(
+            &ctx,
+            &geometry.draws,
+            &exact,
+            &view(filter),
+            size,
+            (64, 64),
+            1,
+        )
+        .err()
+        .expect("a filter is refused with the exact lookup");
+        assert!(
+            refused
+                .to_string()
+                .contains(&format!("ShadowFilter::{filter:?}")),
+            "{refused}"
+        );
+    }
+    drop(geometry);
     assert_no_validation_messages(&ctx);
 }
