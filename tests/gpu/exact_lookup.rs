@@ -473,3 +473,39 @@ fn at_one_time_the_receivers_own_triangle_never_shadows_it_at_grazing_light() {
     let got = lit_fractions(&s, &receivers);
     assert_near(&s.name, &got, &want, &receivers);
 }
+
+/// One time: the closed box of the shutter test, moving by 0.3 along x, asked at t = 0.37
+/// where it then is: ground receivers densely along the projections of its top face's
+/// shared edges (grid lines and diagonals) are never lit (each shared edge computed in one
+/// canonical order by both of its triangles).
+#[test]
+fn at_one_time_a_closed_box_lets_no_light_through_its_shared_edges() {
+    let t = 0.37;
+    for light in lights() {
+        let k = spread(&light, 2.0);
+        let centre = Vec3::new(0.013, 1.5, 0.007);
+        let cube = translated(&box_mesh(Vec3::ONE, 3), centre);
+        let moved = translated(&cube, Vec3::X * 0.3);
+        let s = scene(
+            "box at one time",
+            light,
+            vec![mesh("box", cube, moved, true)],
+        );
+        let shift = 0.3 * t;
+        let mut receivers = Vec::new();
+        for i in 0..160 {
+            let u = -0.4 + 0.8 * (i as f32 + 0.5) / 160.0;
+            let top =
+                |x: f32, z: f32| Vec3::new((centre.x + shift + x) * k, 0.0, (centre.z + z) * k);
+            for line in [-1.0 / 6.0, 1.0 / 6.0] {
+                receivers.push(at_time(top(line, u), t));
+                receivers.push(at_time(top(u, line), t));
+            }
+            receivers.push(at_time(top(u, u), t));
+            receivers.push(at_time(top(u, -u), t));
+        }
+        let want = vec![0.0; receivers.len()];
+        let got = lit_fractions(&s, &receivers);
+        assert_near(&s.name, &got, &want, &receivers);
+    }
+}
