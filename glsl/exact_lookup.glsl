@@ -1,7 +1,8 @@
 // The exact lookup (issue 35, docs/src/exact-lookups.md): the fraction of the shutter a
 // receiver sees the light, from its shadow ray tested against the triangles its texels'
 // ranges name, their corners at t = 0 and t = 1 (exact_shadow.glsl): no texels, no receiver
-// offset, no depth bias. Reads a map built with the exact lookup (LightView::lookup =
+// offset, no depth bias; and whether it sees the light at one time (ms_visible_exact, the
+// lighting pass's samples). Reads a map built with the exact lookup (LightView::lookup =
 // Lookup::Exact): its conservative collection names, in every texel, each triangle whose
 // swept shadow touches the texel's area during the shutter, and writes each triangle's
 // record. Include after motion_shadows.glsl.
@@ -126,6 +127,73 @@ float ms_lit_fraction_exact(MsShadowMap header, vec3 p, uint own) {
 
 float ms_lit_fraction_exact_moving(MsShadowMap header, vec3 p0, vec3 p1, uint own) {
     return ms_lit_fraction_exact_moving(ms_load(header), p0, p1, own);
+}
+
+// Whether the triangle with corners at0 (t = 0) and at1 (t = 1), where it is at time t,
+// blocks the shadow ray from p along u (ms_exact_blocks: the same sign rule, plane and range
+// of s as the shutter-long test).
+bool ms_exact_blocks_at(vec3 p, vec3 u, vec3 at0[3], vec3 at1[3], float t, bool spot,
+                        float s_min) {
+    vec3 c[3];
+    for (int k = 0; k < 3; ++k) {
+        // at0 + t (at1 - at0), not mix(): a corner that does not move is at0 exactly at
+        // every time, as in the triangles that share it (the edges' canonical order and
+        // values then agree, and no light passes between them).
+        precise vec3 at = at0[k] + t * (at1[k] - at0[k]);
+        c[k] = at - p;
+    }
+    vec4 edges[3] = vec4[3](vec4(ms_exact_edge_still(c[0], c[1], u), vec3(0.0)),
+                            vec4(ms_exact_edge_still(c[1], c[2], u), vec3(0.0)),
+                            vec4(ms_exact_edge_still(c[2], c[0], u), vec3(0.0)));
+    vec4 plane = vec4(ms_exact_det(c[0], c[1], c[2]), vec3(0.0));
+    return ms_exact_blocks(edges, plane, spot, s_min, 0.0);
+}
+
+// Whether a receiver at p at time t (its position then), on triangle `own` (MS_NO_TRIANGLE
+// for none), sees the light at that time: its shadow ray against every triangle but `own`
+// named in the texel p falls in (the same projection as the depth-line lookups', without
+// their receiver offset), each where it is at t. Whatever blocks the ray at t covers p's
+// projection then, so it is named in that texel (the conservative collection names each
+// triangle in every texel its swept shadow touches). No normal, offset or bias. Outside the
+// light's view, or without triangle records (a map not built for the exact lookup): lit.
+bool ms_visible_exact(MsMap map, vec3 p, float t, uint own) {
+    if (map.triangles == 0UL) return true;
+    uint texel;
+    float depth;
+    if (!ms_project(map.light, map.size, p, texel, depth)) return true;
+    bool spot = map.light.position.w != 0.0;
+    vec3 u = spot ? map.light.position.xyz - p : -normalize(map.light.direction.xyz);
+    float s_min = ms_exact_s_min(spot, ms_exact_scene_size(map));
+    // The still triangles named in the texel (the static name lists), then the moving ones.
+    if (map.static_names != 0UL) {
+        MsStaticNames names = MsStaticNames(map.static_names);
+        uint texels = map.size.x * map.size.y;
+        for (uint r = names.v[texel]; r != 0u;) {
+            ++ms_loop_iterations;
+            uint id = names.v[texels + 2u * (r - 1u)];
+            r = names.v[texels + 2u * (r - 1u) + 1u];
+            // The sample's own still triangle.
+            if (own == id) continue;
+            vec3 at[3];
+            ms_exact_still_triangle(map.triangles, id, at);
+            if (ms_exact_blocks_at(p, u, at, at, t, spot, s_min)) return false;
+        }
+    }
+    for (uint r = MsUints(map.range_heads).v[texel]; r != MS_END_OF_LIST;) {
+        ++ms_loop_iterations;
+        MsRange range = ms_range(map.ranges, r);
+        r = range.next;
+        // The sample's own triangle: its ray leaves from it.
+        if (own == range.id) continue;
+        vec3 at0[3], at1[3];
+        ms_exact_triangle(map.triangles, range.id, at0, at1);
+        if (ms_exact_blocks_at(p, u, at0, at1, t, spot, s_min)) return false;
+    }
+    return true;
+}
+
+bool ms_visible_exact(MsShadowMap header, vec3 p, float t, uint own) {
+    return ms_visible_exact(ms_load(header), p, t, own);
 }
 
 #endif

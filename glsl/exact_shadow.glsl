@@ -102,11 +102,15 @@ vec4 ms_exact_edge(ms_exact_Linear x, ms_exact_Linear y, ms_exact_Linear u) {
     return ms_exact_triple(x, y, u);
 }
 
-// The same edge function where nothing moves (x.b == y.b == u.b == 0): its constant term
-// alone, bit for bit the one ms_exact_edge computes (the other terms are exactly 0).
-float ms_exact_edge_still(ms_exact_Linear x, ms_exact_Linear y, ms_exact_Linear u) {
-    if (ms_exact_before(y, x)) return -ms_exact_det(y.a, x.a, u.a);
-    return ms_exact_det(x.a, y.a, u.a);
+// The same edge function of corners x, y and a ray u that stand still: its constant term
+// alone, bit for bit the one ms_exact_edge computes for linears whose moving parts are 0 (the
+// other terms are then exactly 0), in the same canonical edge order, for a quarter of the
+// determinants.
+float ms_exact_edge_still(vec3 x, vec3 y, vec3 u) {
+    ms_exact_Linear lx = ms_exact_Linear(x, vec3(0.0));
+    ms_exact_Linear ly = ms_exact_Linear(y, vec3(0.0));
+    if (ms_exact_before(ly, lx)) return -ms_exact_det(y, x, u);
+    return ms_exact_det(x, y, u);
 }
 
 float ms_exact_eval(vec4 c, float t) {
@@ -311,9 +315,10 @@ int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s
     bool still = u.b == vec3(0.0) && corner[0].b == vec3(0.0) && corner[1].b == vec3(0.0)
         && corner[2].b == vec3(0.0);
     if (still) {
-        vec4 edges[3] = vec4[3](vec4(ms_exact_edge_still(corner[0], corner[1], u), vec3(0.0)),
-                                vec4(ms_exact_edge_still(corner[1], corner[2], u), vec3(0.0)),
-                                vec4(ms_exact_edge_still(corner[2], corner[0], u), vec3(0.0)));
+        vec3 c[3] = vec3[3](corner[0].a, corner[1].a, corner[2].a);
+        vec4 edges[3] = vec4[3](vec4(ms_exact_edge_still(c[0], c[1], u.a), vec3(0.0)),
+                                vec4(ms_exact_edge_still(c[1], c[2], u.a), vec3(0.0)),
+                                vec4(ms_exact_edge_still(c[2], c[0], u.a), vec3(0.0)));
         vec4 plane = vec4(ms_exact_det(corner[0].a, corner[1].a, corner[2].a), vec3(0.0));
         if (!ms_exact_blocks(edges, plane, spot, s_min, w0)) return 0;
         intervals[0] = vec2(w0, w1);

@@ -27,8 +27,14 @@ layout(constant_id = 3) const uint SHADE_LOOP_BUDGET = 0u;
 // Samples per pixel in the chunk (the chunk's samples): the loops over a pixel's
 // samples unroll, and their arrays stay in registers.
 layout(constant_id = 4) const uint SHADE_SAMPLES = 1u;
+// Temporal: the map was built for the exact lookup (Lookup::Exact, triangle records in its
+// header): each sample's shadow ray against the triangles its texel names
+// (exact_lookup.glsl). A specialization of its own, so that the exact test's code is not
+// compiled into the depth-line variants.
+layout(constant_id = 5) const bool SHADE_EXACT = false;
 
 #include "temporal_samples.glsl"
+#include "exact_lookup.glsl"
 
 const uint SHADE_FILTER_NONE = 0u;        // the receiver's texel
 const uint SHADE_FILTER_BILINEAR = 1u;    // 2x2 texels, bilinear weights
@@ -173,7 +179,12 @@ float sample_lit(uvec2 pixel, uint rotation, uint k, vec2 offset, vec3 p, vec3 n
     // the per-sample path's answer instead.
     float lit = 1.0;
     uint stratum = time_stratum(rotation, k, camera.image.z);
-    if (SHADE_SHADOW == SHADOW_TEMPORAL && SHADE_ANALYTIC && !moving) {
+    if (SHADE_SHADOW == SHADOW_TEMPORAL && SHADE_EXACT) {
+        // The exact lookup has no texels to filter (the host refuses a filter with it); the
+        // analytic estimator's standing receivers take their exact lit share of the shutter.
+        lit = SHADE_ANALYTIC && !moving ? ms_lit_fraction_exact(temporal, p, id)
+                                        : (ms_visible_exact(temporal, p, t, id) ? 1.0 : 0.0);
+    } else if (SHADE_SHADOW == SHADOW_TEMPORAL && SHADE_ANALYTIC && !moving) {
         // The analytic estimator: a receiver that stays put all frame is lit for exactly
         // ms_lit_fraction of the shutter, whatever the sample's time.
         lit = footprint ? ms_lit_fraction_footprint(temporal, centre, n, id, dpdx, dpdy)
@@ -193,7 +204,7 @@ float sample_lit(uvec2 pixel, uint rotation, uint k, vec2 offset, vec3 p, vec3 n
 // The papers' test on the temporal map, unfiltered: every sample of the pixel tested in one
 // pass over each texel's data (temporal_samples.glsl).
 const bool SHADE_PER_TEXEL = SHADE_SHADOW == SHADOW_TEMPORAL && !SHADE_ANALYTIC
-                             && SHADE_FILTER == SHADE_FILTER_NONE;
+                             && SHADE_FILTER == SHADE_FILTER_NONE && !SHADE_EXACT;
 
 void main() {
     camera = load_camera(pc.target);

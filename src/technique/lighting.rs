@@ -220,6 +220,13 @@ pub enum ShadowSource<'a> {
 }
 
 impl ShadowSource<'_> {
+    /// Whether it is a temporal map whose last recorded collection built it for the exact
+    /// lookup ([`Lookup::Exact`]): the pass then tests each sample's shadow ray against the
+    /// triangles its texel names (`ms_visible_exact`) instead of the depth lines.
+    fn reads_exact_lookup(&self) -> bool {
+        matches!(self, Self::Temporal(map) if map.recorded_lookup() == Lookup::Exact)
+    }
+
     fn mode_and_header(&self) -> (ShadowMode, u64) {
         match self {
             Self::Temporal(map) => (ShadowMode::Temporal, map.header_address()),
@@ -249,13 +256,16 @@ struct ShadeVariant {
     mode: ShadowMode,
     analytic: bool,
     filter: ShadowFilter,
+    /// Temporal: the exact lookup's test (`SHADE_EXACT`).
+    exact: bool,
 }
 
 impl ShadeVariant {
     /// The variant that renders `mode` with `estimator` and `filter` (choices a test does
     /// not have are dropped, so that they do not make pipelines that differ for nothing).
-    fn of(mode: ShadowMode, estimator: ShadowEstimator, filter: ShadowFilter) -> Self {
+    fn of(mode: ShadowMode, estimator: ShadowEstimator, filter: ShadowFilter, exact: bool) -> Self {
         Self {
+            exact: mode == ShadowMode::Temporal && exact,
             mode,
             analytic: mode == ShadowMode::Temporal && estimator == ShadowEstimator::Analytic,
             filter: if mode == ShadowMode::None {
@@ -268,7 +278,7 @@ impl ShadeVariant {
 
     /// The values of `resolve.comp`'s specialization constants for a chunk of `samples`
     /// samples per pixel on a device with `loop_budget`.
-    fn constants(self, loop_budget: u32, samples: u32) -> [u32; 5] {
+    fn constants(self, loop_budget: u32, samples: u32) -> [u32; 6] {
         let filter = match self.filter {
             ShadowFilter::None => 0,
             ShadowFilter::Bilinear => 1,
@@ -280,6 +290,7 @@ impl ShadeVariant {
             filter,
             loop_budget,
             samples,
+            self.exact as u32,
         ]
     }
 }
@@ -329,8 +340,19 @@ impl LightingPass {
         view: &LightingView,
         samples: u32,
     ) -> Result<Arc<Pipeline>> {
+        if shadow.reads_exact_lookup() && view.filter != ShadowFilter::None {
+            return Err(Error::InvalidArgument(format!(
+                "the exact lookup (a temporal map built with Lookup::Exact) tests each sample's shadow ray, it has no texels to filter: ShadowFilter::{:?} does not apply, use ShadowFilter::None",
+                view.filter
+            )));
+        }
         let (mode, _) = shadow.mode_and_header();
-        let variant = ShadeVariant::of(mode, view.estimator, view.filter);
+        let variant = ShadeVariant::of(
+            mode,
+            view.estimator,
+            view.filter,
+            shadow.reads_exact_lookup(),
+        );
         self.resolve
             .get(&variant.constants(self.loop_budget, samples))
     }
@@ -339,10 +361,16 @@ impl LightingPass {
     /// the target needs), leaving the averaged radiance in `target.radiance`. With
     /// `timestamps`, marks "lighting raster" and "lighting shade" after each chunk's halves.
     ///
+    /// A temporal map whose last recorded collection built it for the exact lookup
+    /// ([`Lookup::Exact`]) is read with it: each sample's shadow ray at the sample's time
+    /// against the triangles its texel names (`ms_visible_exact`; with
+    /// [`ShadowEstimator::Analytic`], a receiver on a still triangle takes its exact lit share
+    /// of the shutter, `ms_lit_fraction_exact`).
+    ///
     /// Errors (nothing recorded) when a shading pipeline this frame needs cannot be made
-    /// (each variant is made on first use), or when `shadow` is a temporal map whose last
-    /// recorded collection built it for the exact lookup ([`Lookup::Exact`]: it holds no
-    /// depth lines).
+    /// (each variant is made on first use), or when `shadow` is read with the exact lookup
+    /// and `view.filter` is not [`ShadowFilter::None`] (the exact test has no texels to
+    /// filter).
     ///
     /// # Safety
     /// - As [`super::CollectionPass::record`] for `cmd` and `draws`.
@@ -365,13 +393,6 @@ impl LightingPass {
         target: &LightingTarget,
         mut timestamps: Option<&mut TimestampQueries>,
     ) -> Result<()> {
-        if let ShadowSource::Temporal(map) = shadow
-            && map.recorded_lookup() == Lookup::Exact
-        {
-            return Err(Error::InvalidArgument(
-                "the lighting pass reads the temporal map's depth lines: a map built for the exact lookup (Lookup::Exact) holds none (only the visibility mask reads it)".into(),
-            ));
-        }
         // Every chunk is full but maybe the last: both pipelines are made before anything
         // is recorded.
         let full = target.samples_per_chunk.min(target.spp);

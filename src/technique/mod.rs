@@ -98,7 +98,8 @@ pub use view::{
 pub const GLSL_INCLUDE: &str = include_str!("../../glsl/motion_shadows.glsl");
 
 /// `glsl/exact_lookup.glsl`: the exact lookup ([`Lookup::Exact`]:
-/// `ms_lit_fraction_exact`, `ms_lit_fraction_exact_moving`), included after
+/// `ms_lit_fraction_exact`, `ms_lit_fraction_exact_moving`, `ms_visible_exact` for one time),
+/// included after
 /// [`GLSL_INCLUDE`]; it includes `exact_shadow.glsl` ([`GLSL_EXACT_SHADOW_INCLUDE`]).
 pub const GLSL_EXACT_LOOKUP_INCLUDE: &str = include_str!("../../glsl/exact_lookup.glsl");
 

@@ -128,8 +128,9 @@ pub enum Lookup {
     /// decided at texel centres, are off: static triangles go into the lists. Wants the
     /// exact construction and no coverage map, and a map with triangle records
     /// ([`super::TemporalShadowMap::reserve_triangle_records`]). Read by the visibility mask
-    /// (receivers still or moving); the lighting pass and `ms_visibility`/`ms_lit_fraction`
-    /// read depth lines, which such a map does not hold (the lighting pass refuses it).
+    /// (receivers still or moving) and by the lighting pass (each sample's ray at its time,
+    /// `ms_visible_exact`; no shadow filter); `ms_visibility`/`ms_lit_fraction` read depth
+    /// lines, which such a map does not hold.
     Exact,
 }
 

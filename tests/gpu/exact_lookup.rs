@@ -3,12 +3,14 @@
 //! closed forms: a plate's edge translating over the ground (still and moving receivers,
 //! within 0.01 texel of the shadow's edges, on a coarse 64 x 64 map), a still edge moved by
 //! 1/64 texel, closed boxes whose shared edges let no light through, and the receiver's own
-//! triangle, which never shadows it.
+//! triangle, which never shadows it. The same for one time (`ms_visible_exact`, the lighting
+//! pass's samples): a moving edge where it is at that time, a still edge moved by 1/64
+//! texel, casters smaller than a texel, and the own triangle at grazing light.
 
 use crate::support::gpu::{assert_no_validation_messages, context};
 use crate::support::scene::{
-    Light, Scene, box_mesh, light_view, mesh, overhead_directional, overhead_spot, scene, square,
-    temporal_map_built, translated,
+    DirectionalLight, Light, Scene, box_mesh, light_view, mesh, overhead_directional,
+    overhead_spot, scene, square, temporal_map_built, translated,
 };
 use crate::support::test_shader::compile_compute;
 use glam::{Vec3, Vec4};
@@ -35,12 +37,14 @@ struct Push {
     pad: u32,
 }
 
-/// A receiver moving from `p0` to `p1` over the shutter, on triangle `own`.
+/// A receiver moving from `p0` to `p1` over the shutter, on triangle `own`; with `at`, the
+/// receiver at `p0` asked whether it sees the light at that one time (`ms_visible_exact`).
 #[derive(Debug, Clone, Copy)]
 struct Receiver {
     p0: Vec3,
     p1: Vec3,
     own: u32,
+    at: Option<f32>,
 }
 
 fn still(p: Vec3) -> Receiver {
@@ -48,10 +52,20 @@ fn still(p: Vec3) -> Receiver {
         p0: p,
         p1: p,
         own: NO_TRIANGLE,
+        at: None,
     }
 }
 
-/// The exact lit fraction of each receiver, from the map of `s` built for the exact lookup.
+/// The receiver at `p` at time `t` alone.
+fn at_time(p: Vec3, t: f32) -> Receiver {
+    Receiver {
+        at: Some(t),
+        ..still(p)
+    }
+}
+
+/// The exact lit fraction of each receiver (with `at`: 1 where it sees the light at that
+/// time, 0 where not), from the map of `s` built for the exact lookup.
 fn lit_fractions(s: &Scene, receivers: &[Receiver]) -> Vec<f32> {
     let ctx = context();
     let device = ctx.device();
@@ -70,7 +84,12 @@ fn lit_fractions(s: &Scene, receivers: &[Receiver]) -> Vec<f32> {
     );
     let packed: Vec<[Vec4; 2]> = receivers
         .iter()
-        .map(|r| [r.p0.extend(f32::from_bits(r.own)), r.p1.extend(0.0)])
+        .map(|r| {
+            [
+                r.p0.extend(f32::from_bits(r.own)),
+                r.p1.extend(r.at.unwrap_or(-1.0)),
+            ]
+        })
         .collect();
     let input = Buffer::with_data(&ctx, "receivers", BufferUsage::HostToDevice, &packed)
         .expect("receivers");
@@ -298,6 +317,7 @@ fn the_receivers_own_triangle_never_shadows_it() {
             p0: p,
             p1: p + by,
             own: NO_TRIANGLE,
+            at: None,
         };
         let receivers = [
             on_ground,
@@ -313,5 +333,202 @@ fn the_receivers_own_triangle_never_shadows_it() {
             &[0.0, 1.0],
             &receivers,
         );
+    }
+}
+
+/// One time: the plate of the closed-form test (x from -2 to 0 at t = 0, moving by 1 along
+/// x) has its leading edge at x = t, whose shadow is at k t on the ground: receivers 1/256
+/// texel on either side of it are in shadow and lit at that time, and the receivers of the
+/// other end of the shutter's edge are not (each ray tested against the corners where they
+/// are at t).
+#[test]
+fn at_one_time_a_moving_edge_shadows_where_it_is_then() {
+    for light in lights() {
+        let (k, w) = (spread(&light, 1.0), texel(&light));
+        let plate = square(-2.0, -1.0, 2.0, 1.0);
+        let s = scene(
+            "moving edge at one time",
+            light,
+            vec![mesh(
+                "plate",
+                plate.clone(),
+                translated(&plate, Vec3::X),
+                false,
+            )],
+        );
+        let mut receivers = Vec::new();
+        let mut want = Vec::new();
+        for t in [0.0, 0.13, 0.5, 0.77, 1.0] {
+            let shadow = t * k;
+            for (dx, lit) in [(-w / 256.0, 0.0), (w / 256.0, 1.0)] {
+                receivers.push(at_time(Vec3::new(shadow + dx, 0.0, 0.1), t));
+                want.push(lit);
+            }
+            // The edge's shadow at the shutter's other end: lit at t = 0 (the edge has not
+            // got there), shadowed at t = 1 (it has passed).
+            let other = if t < 0.5 { 0.9 * k } else { 0.1 * k };
+            receivers.push(at_time(Vec3::new(other, 0.0, -0.2), t));
+            want.push(if t < 0.5 { 1.0 } else { 0.0 });
+        }
+        let got = lit_fractions(&s, &receivers);
+        assert_near(&s.name, &got, &want, &receivers);
+    }
+}
+
+/// One time: a still plate whose edge sits at 0.3 + j/64 texel (j = 0..4), as the shutter
+/// test's: the receivers 1/256 texel on either side of its shadow are in shadow and lit at
+/// t = 0.37 (no snapping to texels).
+#[test]
+fn at_one_time_a_still_edge_moved_by_a_64th_of_a_texel_moves_the_shadow_with_it() {
+    for light_index in 0..2 {
+        for j in 0..4 {
+            let light = lights().into_iter().nth(light_index).expect("two lights");
+            let (k, w) = (spread(&light, 1.0), texel(&light));
+            let edge = 0.3 + j as f32 * w / 64.0;
+            let plate = square(edge - 2.0, -1.0, 2.0, 1.0);
+            let s = scene(
+                "still edge at one time",
+                light,
+                vec![mesh("plate", plate.clone(), plate, false)],
+            );
+            let shadow = edge * k;
+            let receivers = [
+                at_time(Vec3::new(shadow - w / 256.0, 0.0, 0.0), 0.37),
+                at_time(Vec3::new(shadow + w / 256.0, 0.0, 0.0), 0.37),
+            ];
+            let got = lit_fractions(&s, &receivers);
+            assert_near(&format!("edge {j}/64 texel"), &got, &[0.0, 1.0], &receivers);
+        }
+    }
+}
+
+/// One time: still triangles a fifth of a texel wide, at height 1, whose shadows fall near
+/// either side of their texels and of the map's middle: the receiver under each shadow's
+/// centre is in shadow (only the texel it falls in names the triangle), one a texel beside it
+/// is lit.
+#[test]
+fn at_one_time_casters_smaller_than_a_texel_shadow_the_texel_they_fall_in() {
+    for light in lights() {
+        let (k, w) = (spread(&light, 1.0), texel(&light));
+        let mut meshes = Vec::new();
+        let mut receivers = Vec::new();
+        let mut want = Vec::new();
+        for (i, (fx, fz)) in [(0.2, 0.5), (0.8, 0.5), (0.5, 0.2), (0.5, 0.8), (0.15, 0.85)]
+            .into_iter()
+            .enumerate()
+        {
+            // The shadow's centre on the ground, in texel i along x from the middle, at the
+            // fractions (fx, fz) of the texel; the triangle above it at height 1.
+            let ground = Vec3::new((3.0 * i as f32 + fx) * w, 0.0, (fz - 2.0) * w);
+            let centre = Vec3::new(ground.x / k, 1.0, ground.z / k);
+            let r = 0.1 * w / k;
+            let tri = vec![
+                centre + Vec3::new(-r, 0.0, -r),
+                centre + Vec3::new(0.0, 0.0, r),
+                centre + Vec3::new(r, 0.0, -r),
+            ];
+            meshes.push(mesh("speck", tri.clone(), tri, false));
+            receivers.push(at_time(ground, 0.6));
+            want.push(0.0);
+            receivers.push(at_time(ground + Vec3::X * w, 0.6));
+            want.push(1.0);
+        }
+        let s = scene("specks", light, meshes);
+        let got = lit_fractions(&s, &receivers);
+        assert_near(&s.name, &got, &want, &receivers);
+    }
+}
+
+/// One time, grazing light (1 degree above a tilted ground): receivers on their own ground
+/// triangle (rounded onto it in f32) and 0.01 below it are lit when they name it as their
+/// own; those below it, naming no triangle, are in shadow (their rays cross it ~0.57 away):
+/// the triangle is left out by its id, not by the epsilon.
+#[test]
+fn at_one_time_the_receivers_own_triangle_never_shadows_it_at_grazing_light() {
+    let tilt = |p: Vec3| Vec3::new(p.x, 0.3 * p.x + 0.2 * p.z, p.z);
+    let ground: Vec<Vec3> = square(-2.0, -2.0, 4.0, 0.0).into_iter().map(tilt).collect();
+    let normal = Vec3::new(-0.3, 1.0, -0.2).normalize();
+    let along = Vec3::new(1.0, 0.3, 0.0).normalize();
+    let angle = 1.0f32.to_radians();
+    let direction = along * angle.cos() - normal * angle.sin();
+    let light = Light::Directional(DirectionalLight {
+        direction,
+        irradiance: 3.0,
+        center: Vec3::ZERO,
+        half_extent: 3.0,
+        distance: 10.0,
+        near: 0.5,
+        far: 20.0,
+    });
+    let s = scene(
+        "own at grazing light",
+        light,
+        vec![mesh("ground", ground.clone(), ground, false)],
+    );
+    let mut receivers = Vec::new();
+    let mut want = Vec::new();
+    for i in 0..10 {
+        for j in 0..10 {
+            let (x, z) = (-0.6 + 0.13 * i as f32, -1.2 + 0.27 * j as f32);
+            // Triangle 0 is where x - z <= 0 (square's first half); its ray toward the light
+            // runs to -x, staying in that half.
+            let own = if x <= z { 0 } else { 1 };
+            if x - 0.6 < -2.0 || (own == 1 && x - 0.6 <= z) {
+                continue;
+            }
+            let on = tilt(Vec3::new(x, 0.0, z));
+            let below = on - normal * 0.01;
+            receivers.push(Receiver {
+                own,
+                ..at_time(on, 0.5)
+            });
+            want.push(1.0);
+            receivers.push(Receiver {
+                own,
+                ..at_time(below, 0.5)
+            });
+            want.push(1.0);
+            receivers.push(at_time(below, 0.5));
+            want.push(0.0);
+        }
+    }
+    assert!(receivers.len() > 150, "{} receivers", receivers.len());
+    let got = lit_fractions(&s, &receivers);
+    assert_near(&s.name, &got, &want, &receivers);
+}
+
+/// One time: the closed box of the shutter test, moving by 0.3 along x, asked at t = 0.37
+/// where it then is: ground receivers densely along the projections of its top face's
+/// shared edges (grid lines and diagonals) are never lit (each shared edge computed in one
+/// canonical order by both of its triangles).
+#[test]
+fn at_one_time_a_closed_box_lets_no_light_through_its_shared_edges() {
+    let t = 0.37;
+    for light in lights() {
+        let k = spread(&light, 2.0);
+        let centre = Vec3::new(0.013, 1.5, 0.007);
+        let cube = translated(&box_mesh(Vec3::ONE, 3), centre);
+        let moved = translated(&cube, Vec3::X * 0.3);
+        let s = scene(
+            "box at one time",
+            light,
+            vec![mesh("box", cube, moved, true)],
+        );
+        let shift = 0.3 * t;
+        let mut receivers = Vec::new();
+        for i in 0..160 {
+            let u = -0.4 + 0.8 * (i as f32 + 0.5) / 160.0;
+            let top =
+                |x: f32, z: f32| Vec3::new((centre.x + shift + x) * k, 0.0, (centre.z + z) * k);
+            for line in [-1.0 / 6.0, 1.0 / 6.0] {
+                receivers.push(at_time(top(line, u), t));
+                receivers.push(at_time(top(u, line), t));
+            }
+            receivers.push(at_time(top(u, u), t));
+            receivers.push(at_time(top(u, -u), t));
+        }
+        let want = vec![0.0; receivers.len()];
+        let got = lit_fractions(&s, &receivers);
+        assert_near(&s.name, &got, &want, &receivers);
     }
 }

@@ -31,8 +31,12 @@ struct AnimateSummary {
     scene: String,
     /// `forward` or `deferred` (`--frame`).
     frame: &'static str,
-    /// Deferred: `temporal`, `tsm-N`, `plain` or `raytrace`.
+    /// Forward: the method as `render` names it (`temporal-exact` with `--lookup exact`);
+    /// deferred: `temporal`, `temporal-exact`, `tsm-N`, `plain` or `raytrace`.
     method: String,
+    /// `depth` or `exact` (`--lookup`): how the temporal map is read; `none` for the methods
+    /// without one.
+    lookup: &'static str,
     frames: u32,
     fps: f32,
     /// `--start`; null: the scene's own time (a file's models: each its own `time`).
@@ -144,7 +148,14 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
         },
         method: deferred
             .as_ref()
-            .map_or_else(|| settings.method.name().to_owned(), |d| d.name()),
+            .map_or_else(|| settings.method_name().to_owned(), |d| d.name()),
+        lookup: match &deferred {
+            Some(d) if d.method == crate::render::deferred::DeferredMethod::Temporal => {
+                render.lookup.name()
+            }
+            Some(_) => "none",
+            None => crate::render::stats::lookup_name(settings.method, settings.lookup),
+        },
         frames: args.frames,
         fps: args.fps,
         start: args.start,

@@ -186,11 +186,13 @@ pub struct CompareArgs {
     /// sort). The image is the same.
     #[arg(long, value_enum, default_value_t = PruningArg::StaticLayer)]
     pub pruning: PruningArg,
-    /// Deferred: `exact` adds the temporal map's exact mask (`temporal-exact`) to the
-    /// methods; `depth` (the default) compares the papers' depth-line mask only. The lookups: `depth` (the papers' depth lines, per texel,
-    /// with the receiver offset and bias) or `exact` (the receiver's shadow ray against the
-    /// triangles the map names, corners at t = 0 and t = 1: no texels, no offset, no bias;
-    /// the map's collection is conservative and keeps static triangles in its lists).
+    /// `exact` adds the temporal map read with the exact lookup (`temporal-exact`: the
+    /// forward frame's samples, or the deferred frame's mask) to the methods; `depth` (the
+    /// default) compares the papers' depth lines only. The lookups: `depth` (the papers'
+    /// depth lines, per texel, with the receiver offset and bias) or `exact` (the receiver's
+    /// shadow ray against the triangles the map names, corners at t = 0 and t = 1: no texels,
+    /// no offset, no bias; the map's collection is conservative and keeps static triangles in
+    /// its lists; no --shadow-filter).
     #[arg(long, value_enum, default_value_t = LookupArg::Depth)]
     pub lookup: LookupArg,
     /// What the other methods are measured against: the brute-force reference, or the ray
@@ -358,7 +360,8 @@ pub enum PrismsArg {
     Paper,
 }
 
-/// `--lookup`: how the deferred frame's temporal mask reads the map.
+/// `--lookup`: how the temporal map is read (the forward frame's samples, the deferred
+/// frame's mask).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum LookupArg {
     /// The papers' depth-line test per texel.
@@ -585,10 +588,13 @@ pub struct RenderArgs {
     /// sort). The image is the same.
     #[arg(long, value_enum, default_value_t = PruningArg::StaticLayer)]
     pub pruning: PruningArg,
-    /// Deferred, temporal: the mask's lookup: `depth` (the papers' depth lines, per texel,
-    /// with the receiver offset and bias) or `exact` (the receiver's shadow ray against the
-    /// triangles the map names, corners at t = 0 and t = 1: no texels, no offset, no bias;
-    /// the map's collection is conservative and keeps static triangles in its lists).
+    /// Temporal: how the map is read (the forward frame's samples, the deferred frame's
+    /// mask): `depth` (the papers' depth lines, per texel, with the receiver offset and bias)
+    /// or `exact` (the receiver's shadow ray against the triangles the map names, corners at
+    /// t = 0 and t = 1: no texels, no offset, no bias; the map's collection is conservative
+    /// and keeps static triangles in its lists; the forward frame's method is then named
+    /// `temporal-exact` and takes no --shadow-filter, --static-layer, --range-storage or
+    /// --pruning).
     #[arg(long, value_enum, default_value_t = LookupArg::Depth)]
     pub lookup: LookupArg,
     /// Render the frame this many times (1 to 100) and report the fastest, as `bench` does:

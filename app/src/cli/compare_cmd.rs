@@ -2,7 +2,7 @@
 //! `--truth raytrace`, the ray tracer), judged against the truth over the whole image and over
 //! the moving-object mask.
 
-use super::args::{CompareArgs, Preset, TruthArg};
+use super::args::{CompareArgs, LookupArg, Preset, TruthArg};
 use super::render_cmd::{builtin_options, commit_outputs, progress_reporter};
 use crate::compare::{ErrorStats, Rgb8Image, error_image, error_stats, side_by_side};
 use crate::output::{
@@ -12,7 +12,7 @@ use crate::render::{FrameStats, Method, RenderSettings, Renderer};
 use crate::scene::{builtin, load_scene_file};
 use anyhow::Context as _;
 use motion_shadows::gpu::{Context, ContextOptions};
-use motion_shadows::technique::ShadowFilter;
+use motion_shadows::technique::{Lookup, ShadowFilter};
 use serde::Serialize;
 
 /// A pixel belongs to the moving-object mask when most of its truth's samples see a moving
@@ -41,6 +41,9 @@ struct Report {
     height: u32,
     spp: u32,
     reference_slices: u32,
+    /// `--lookup`: `exact` adds the temporal map read with the exact lookup
+    /// (`temporal-exact`); `depth`, the papers' depth lines only.
+    lookup: &'static str,
     moving_mask_pixels: usize,
     methods: Vec<MethodRow>,
     files: Vec<String>,
@@ -81,22 +84,32 @@ fn write_pair(
     Ok(())
 }
 
-/// The methods a comparison renders, the truth first.
-fn methods(truth: TruthArg, slices: u32) -> Vec<Method> {
+/// The methods a comparison renders, the truth first, each with its lookup; with `--lookup
+/// exact`, the temporal map read with the exact lookup (`temporal-exact`) after the papers'.
+fn methods(truth: TruthArg, slices: u32, lookup: LookupArg) -> Vec<(Method, Lookup)> {
     let reference = Method::Reference { slices };
-    match truth {
+    let mut methods = match truth {
         TruthArg::Reference => vec![reference, Method::Temporal, Method::Tsm],
         TruthArg::Raytrace => vec![Method::Raytrace, reference, Method::Temporal, Method::Tsm],
     }
+    .into_iter()
+    .map(|m| (m, Lookup::DepthLine))
+    .collect::<Vec<_>>();
+    if lookup == LookupArg::Exact {
+        let temporal = methods.len() - 1;
+        methods.insert(temporal, (Method::Temporal, Lookup::Exact));
+    }
+    methods
 }
 
-/// Every file a comparison of `scene` writes, in the order the report lists them.
-fn output_names(scene: &str, methods: &[Method]) -> Vec<String> {
+/// Every file a comparison of `scene` writes, in the order the report lists them (`methods`:
+/// their names).
+fn output_names(scene: &str, methods: &[&str]) -> Vec<String> {
     let mut names = vec![
         format!("{scene}-compare.png"),
         format!("{scene}-compare-error.png"),
     ];
-    for (i, method) in methods.iter().map(Method::name).enumerate() {
+    for (i, method) in methods.iter().enumerate() {
         names.push(format!("{scene}-{method}.exr"));
         names.push(format!("{scene}-{method}.png"));
         if i > 0 {
@@ -120,7 +133,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     }
     let (preset_scene, preset_spp) = preset_defaults(args.preset);
     let spp = args.spp.unwrap_or(preset_spp);
-    let settings = |method| RenderSettings {
+    let settings = |(method, lookup)| RenderSettings {
         width: args.width,
         height: args.height,
         spp,
@@ -140,15 +153,12 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         keep_static_layer: args.static_layer.settings().1,
         range_storage: args.range_storage.storage(),
         pruning: args.pruning.pruning(),
+        lookup,
         ..RenderSettings::default()
     };
+    let methods = methods(args.truth, args.slices, args.lookup);
     // Checked before anything is loaded or rendered.
-    for method in [
-        Method::Reference {
-            slices: args.slices,
-        },
-        Method::Temporal,
-    ] {
+    for &method in &methods {
         settings(method).validate()?;
     }
     let (bar, mut report) = progress_reporter();
@@ -161,15 +171,15 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             &builtin_options(&args.random),
         )?,
     };
-    let methods = methods(args.truth, args.slices);
-    let staged = StagedFiles::prepare(&args.out, &output_names(&scene.name, &methods))
+    let names: Vec<&str> = methods.iter().map(|&m| settings(m).method_name()).collect();
+    let staged = StagedFiles::prepare(&args.out, &output_names(&scene.name, &names))
         .with_context(|| format!("preparing the output directory {}", args.out.display()))?;
     let ctx = Context::headless(&ContextOptions::from_env())?;
     let mut renderer = Renderer::new(&ctx)?;
 
     let mut results = Vec::new();
     for &method in &methods {
-        if let Method::Reference { slices } = method {
+        if let (Method::Reference { slices }, _) = method {
             report(&format!("reference ({slices} slices)"));
         }
         results.push(crate::frame::render(
@@ -203,12 +213,13 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         let label = match method.as_str() {
             "reference" => format!("reference M={}", args.slices),
             _ => {
-                let estimator =
-                    if method == "temporal" && result.stats.shadow_estimator == "analytic" {
-                        " analytic"
-                    } else {
-                        ""
-                    };
+                let estimator = if method.starts_with("temporal")
+                    && result.stats.shadow_estimator == "analytic"
+                {
+                    " analytic"
+                } else {
+                    ""
+                };
                 let filter = match result.stats.shadow_filter.as_str() {
                     "none" => String::new(),
                     other => format!(" {other}"),
@@ -263,11 +274,12 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
 
     let report_data = Report {
         scene: scene.name.clone(),
-        truth: methods[0].name().to_owned(),
+        truth: names[0].to_owned(),
         width: args.width,
         height: args.height,
         spp,
         reference_slices: args.slices,
+        lookup: args.lookup.name(),
         moving_mask_pixels: mask_pixels,
         methods: rows,
         files,
@@ -290,7 +302,7 @@ fn table(r: &Report) -> String {
     );
     let _ = writeln!(
         s,
-        "{:<10} {:>10} {:>9} {:>12} {:>12} {:>11} {:>11} {:>12} {:>12}",
+        "{:<14} {:>10} {:>9} {:>12} {:>12} {:>11} {:>11} {:>12} {:>12}",
         "method",
         "RMSE",
         "PSNR dB",
@@ -314,7 +326,7 @@ fn table(r: &Report) -> String {
         let rmse_s = row.rmse_static.map_or("-".into(), |v| format!("{v:.5}"));
         let _ = writeln!(
             s,
-            "{:<10} {:>10} {:>9} {:>12} {:>12} {:>11} {:>11.1} {:>12.1} {:>12.2}",
+            "{:<14} {:>10} {:>9} {:>12} {:>12} {:>11} {:>11.1} {:>12.1} {:>12.2}",
             row.method,
             rmse,
             psnr,

@@ -95,6 +95,11 @@ pub fn render_settings(args: &RenderArgs) -> RenderSettings {
         keep_static_layer: args.static_layer.settings().1,
         range_storage: args.range_storage.storage(),
         pruning: args.pruning.pruning(),
+        // The deferred frame's lookup is its mask's (deferred_cmd.rs).
+        lookup: match args.frame {
+            FrameArg::Forward => args.lookup.lookup(),
+            FrameArg::Deferred => motion_shadows::technique::Lookup::DepthLine,
+        },
         ..RenderSettings::default()
     }
 }
@@ -148,13 +153,42 @@ pub fn refuse_unread_options(args: &RenderArgs, command: &str) -> anyhow::Result
         .method
         .to_possible_value()
         .map(|v| v.get_name().to_owned());
-    refuse_unread(
-        &args.given,
-        RENDER_OPTIONS,
-        args.frame,
-        method,
-        &context(command, args.frame, name.as_deref()),
-    )
+    let context = context(command, args.frame, name.as_deref());
+    refuse_unread(&args.given, RENDER_OPTIONS, args.frame, method, &context)?;
+    refuse_unread_forward_lookup(args, &context)
+}
+
+/// The forward frame reads `--lookup` with the temporal method only (its map); typed with
+/// another method it is refused by name, as the deferred frame refuses it.
+fn refuse_unread_forward_lookup(args: &RenderArgs, context: &str) -> anyhow::Result<()> {
+    if args.frame == FrameArg::Forward
+        && args.method != MethodArg::Temporal
+        && args.given.iter().any(|g| g == "--lookup")
+    {
+        anyhow::bail!(
+            "--lookup does not apply to {context}: it sets how the temporal map is read \
+             (--method temporal); leave it out"
+        );
+    }
+    // The exact lookup's map keeps no static layer and does not sort or prune its ranges.
+    if args.frame == FrameArg::Forward && args.lookup == super::args::LookupArg::Exact {
+        refuse_with_exact_lookup(&args.given)?;
+    }
+    Ok(())
+}
+
+/// Refuses the options the temporal map built for the exact lookup does not read.
+fn refuse_with_exact_lookup(given: &[String]) -> anyhow::Result<()> {
+    for flag in ["--static-layer", "--range-storage", "--pruning"] {
+        if given.iter().any(|g| g == flag) {
+            anyhow::bail!(
+                "{flag} does not apply with --lookup exact: the exact lookup's map keeps every \
+                 triangle in its lists, unsorted (no static layer, no sorting or pruning); \
+                 leave it out"
+            );
+        }
+    }
+    Ok(())
 }
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
@@ -175,7 +209,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let (bar, mut report) = progress_reporter();
     report("loading the scene");
     let scene = load_scene(args)?;
-    let stem = format!("{}-{}", scene.name, settings.method.name());
+    let stem = format!("{}-{}", scene.name, settings.method_name());
     let (exr, png) = (format!("{stem}.exr"), format!("{stem}.png"));
     let mut names = vec![exr.clone(), png.clone()];
     if args.heatmaps {

@@ -72,8 +72,7 @@ const STATIC_RECEIVERS: &str = "whether the deferred frame's receivers move (the
                                 frame's samples see every receiver where it is at their time)";
 const HEATMAPS: &str = "heat maps of the forward frame's temporal map (the deferred frame \
                         writes its mask instead)";
-const LOOKUP: &str = "how the deferred frame's temporal mask reads the map (the forward frame \
-                      and the other methods read no such lookup)";
+const LOOKUP: &str = "how the temporal map is read (the other methods have no such lookup)";
 const TRUTH: &str = "what the forward comparison measures against (the deferred one is always \
                      against the ray-traced truth)";
 
@@ -94,7 +93,7 @@ pub const RENDER_OPTIONS: &[UnreadOption] = &[
     option("--camera-time", false, ALL, CAMERA_TIME),
     option("--tsm-maps", false, TSM, TSM_MAPS),
     option("--static-receivers", false, ALL, STATIC_RECEIVERS),
-    option("--lookup", false, TEMPORAL, LOOKUP),
+    option("--lookup", true, TEMPORAL, LOOKUP),
 ];
 
 /// `compare`: its deferred frame renders the truth, temporal, TSM and plain.
@@ -107,7 +106,7 @@ pub const COMPARE_OPTIONS: &[UnreadOption] = &[
     option("--truth", true, NONE, TRUTH),
     option("--camera-time", false, ALL, CAMERA_TIME),
     option("--tsm-maps", false, ALL, TSM_MAPS),
-    option("--lookup", false, ALL, LOOKUP),
+    option("--lookup", true, ALL, LOOKUP),
 ];
 
 /// Whether `option` is read by `frame` with `method` (`None`: any method, as `compare`).

@@ -112,6 +112,7 @@ pub fn render(
         prisms: crate::render::stats::prisms_name(settings.prisms).to_owned(),
         range_storage: "lists".to_owned(),
         pruning: "none".to_owned(),
+        lookup: "none".to_owned(),
         receiver_plane: settings.receiver_plane(),
         width,
         height,

@@ -85,6 +85,7 @@ impl Renderer<'_> {
             prisms: settings.prisms,
             static_layer: settings.static_layer,
             keep_static_layer: settings.static_layer && settings.keep_static_layer,
+            lookup: settings.lookup,
             ..upload::light_view(scene, settings.shadow_size())
         };
         if settings.receiver_plane() {
@@ -280,7 +281,7 @@ pub(super) fn stats(
     } = timing;
     Ok(FrameStats {
         scene: scene.name.clone(),
-        method: settings.method.name().to_owned(),
+        method: settings.method_name().to_owned(),
         shadow_estimator: match settings.shadow_estimator {
             ShadowEstimator::Sampled => "sampled",
             ShadowEstimator::Analytic => "analytic",
@@ -295,6 +296,7 @@ pub(super) fn stats(
             "none"
         }
         .to_owned(),
+        lookup: stats::lookup_name(settings.method, settings.lookup).to_owned(),
         receiver_plane: settings.receiver_plane(),
         width: settings.width,
         height: settings.height,

@@ -23,8 +23,8 @@ use crate::scene::Scene;
 use motion_shadows::gpu::{Context, OneShot, TimestampQueries};
 use motion_shadows::technique::{
     CollectionPass, CoveragePass, DrawList, GenerationPass, LightView, LightingPass,
-    LightingTarget, LightingView, MAX_SAMPLES_PER_CHUNK, PlainShadowPass, PrismConstruction,
-    Pruning, RangeStorage, ShadowEstimator, ShadowFilter, TemporalShadowMap,
+    LightingTarget, LightingView, Lookup, MAX_SAMPLES_PER_CHUNK, PlainShadowPass,
+    PrismConstruction, Pruning, RangeStorage, ShadowEstimator, ShadowFilter, TemporalShadowMap,
 };
 pub use receiver::ReceiverTest;
 pub use stats::{
@@ -118,6 +118,11 @@ pub struct RenderSettings {
     pub range_storage: RangeStorage,
     /// Which ranges the sort of sorted ranges leaves out (`--pruning`).
     pub pruning: Pruning,
+    /// How the temporal method's lighting reads its map (`--lookup`): the papers' depth lines,
+    /// or each sample's shadow ray against the triangles its texel names
+    /// ([`Lookup::Exact`]: the conservative collection, static triangles in the lists; the
+    /// static layer, range storage and pruning do not apply).
+    pub lookup: Lookup,
 }
 
 impl Default for RenderSettings {
@@ -140,6 +145,7 @@ impl Default for RenderSettings {
             keep_static_layer: false,
             range_storage: RangeStorage::Sorted,
             pruning: Pruning::StaticLayer,
+            lookup: Lookup::DepthLine,
         }
     }
 }
@@ -152,6 +158,46 @@ impl RenderSettings {
 
     pub fn shadow_size(&self) -> (u32, u32) {
         self.shadow_size.unwrap_or((self.width, self.height))
+    }
+
+    /// The method's name in file names, tables and the JSON: `temporal-exact` for the
+    /// temporal map with the exact lookup (as the deferred frame names it).
+    pub fn method_name(&self) -> &'static str {
+        match (self.method, self.lookup) {
+            (Method::Temporal, Lookup::Exact) => "temporal-exact",
+            (method, _) => method.name(),
+        }
+    }
+
+    /// `--lookup exact` applies to the temporal method only, with the exact construction and
+    /// no shadow filter: the refusal, naming the option, where it does not.
+    fn validate_lookup(&self) -> Result<()> {
+        if self.lookup != Lookup::Exact {
+            return Ok(());
+        }
+        let refuse = |why: String| Err(Error::InvalidArgument(format!("--lookup exact: {why}")));
+        if self.method != Method::Temporal {
+            return refuse(format!(
+                "the exact lookup reads the temporal map (--method temporal); {} has no such \
+                 lookup",
+                self.method.name()
+            ));
+        }
+        if self.prisms != PrismConstruction::Exact {
+            return refuse(
+                "the exact lookup's conservative collection needs the exact construction \
+                 (--prisms exact), not the papers' prisms"
+                    .to_owned(),
+            );
+        }
+        if self.shadow_filter != ShadowFilter::None {
+            return refuse(format!(
+                "--shadow-filter {} does not apply: the exact lookup tests each sample's shadow \
+                 ray, it has no texels to filter; use --shadow-filter none",
+                stats::filter_name(self.shadow_filter)
+            ));
+        }
+        Ok(())
     }
 
     pub fn validate(&self) -> Result<()> {
@@ -194,7 +240,7 @@ impl RenderSettings {
                     stats::filter_name(self.shadow_filter)
                 )))
             }
-            _ => Ok(()),
+            _ => self.validate_lookup(),
         }
     }
 }

@@ -23,6 +23,19 @@ pub fn prisms_name(construction: motion_shadows::technique::PrismConstruction) -
     }
 }
 
+/// The name `--lookup` and the JSON outputs give the lookup of a frame of `method`.
+pub fn lookup_name(
+    method: super::Method,
+    lookup: motion_shadows::technique::Lookup,
+) -> &'static str {
+    use motion_shadows::technique::Lookup;
+    match (method, lookup) {
+        (super::Method::Temporal | super::Method::Coverage, Lookup::DepthLine) => "depth",
+        (super::Method::Temporal | super::Method::Coverage, Lookup::Exact) => "exact",
+        _ => "none",
+    }
+}
+
 /// The name `--pruning` and the JSON outputs give a pruning rule.
 pub fn pruning_name(pruning: motion_shadows::technique::Pruning) -> &'static str {
     match pruning {
@@ -84,6 +97,9 @@ pub struct FrameStats {
     /// "static-layer" or "cover" (`--pruning`): the rule the sort pruned the ranges by, where
     /// `range_storage` is "sorted"; "none" for every other frame and method.
     pub pruning: String,
+    /// "depth" or "exact" (`--lookup`): how the temporal map's samples were tested (the
+    /// coverage method reads depth lines); "none" for the methods without a temporal map.
+    pub lookup: String,
     /// Whether this frame's method tested receivers at their plane's depth at the texel
     /// centre (`--receiver`: `auto` gives it to every method but TSM; never the ray tracer).
     pub receiver_plane: bool,

@@ -4,6 +4,7 @@
 //! would take more memory than it may is refused, not left to abort.
 
 mod device_limit;
+mod forward_lookup;
 mod lookup;
 mod memory;
 mod preset;

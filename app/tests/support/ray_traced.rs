@@ -13,8 +13,10 @@ pub fn rmse_against_the_ray_tracer(
     settings: &RenderSettings,
     image: &RadianceImage,
 ) -> f64 {
+    // The ray tracer has no map to look up.
     let traced = RenderSettings {
         method: Method::Raytrace,
+        lookup: motion_shadows::technique::Lookup::DepthLine,
         ..settings.clone()
     };
     let truth = motion_shadows_app::raytrace::render(scene, &traced, &mut |_| {})

@@ -10,7 +10,7 @@ use crate::error::Result;
 use crate::output::{RadianceImage, auto_exposure};
 use crate::render::{Method, RenderSettings};
 use crate::scene::{BuiltinOptions, HARD_NAMES};
-use motion_shadows::technique::PrismConstruction;
+use motion_shadows::technique::{Lookup, PrismConstruction, ShadowFilter};
 
 /// What the methods are measured against.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -107,6 +107,13 @@ impl HardParams {
     fn row_settings(&self, row: Row, b: &Bench) -> RenderSettings {
         let method = row.method;
         RenderSettings {
+            lookup: row.lookup,
+            // The exact lookup tests each sample's ray: it has no texels to filter (its row is
+            // unfiltered whatever `--shadow-filter` says; the notes say so).
+            shadow_filter: match row.lookup {
+                Lookup::Exact => ShadowFilter::None,
+                Lookup::DepthLine => b.scale.shadow_filter_for(&method),
+            },
             prisms: row.prisms,
             width: self.width,
             height: self.height,
@@ -116,19 +123,22 @@ impl HardParams {
             method,
             shadow_estimator: b.scale.shadow_estimator,
             receiver: b.scale.receiver,
-            shadow_filter: b.scale.shadow_filter_for(&method),
             ..RenderSettings::default()
         }
     }
 
     /// The rows measured: every method except the truth's own, and the temporal method with
-    /// the papers' prisms too.
+    /// the papers' prisms and with the exact lookup too.
     fn methods(&self) -> Vec<Row> {
         [
             Row::of(Method::Temporal),
             Row {
-                method: Method::Temporal,
                 prisms: PrismConstruction::Paper,
+                ..Row::of(Method::Temporal)
+            },
+            Row {
+                lookup: Lookup::Exact,
+                ..Row::of(Method::Temporal)
             },
             Row::of(Method::Coverage),
             Row::of(Method::Tsm),
@@ -143,11 +153,13 @@ impl HardParams {
     }
 }
 
-/// One row of the table: a method, and for the temporal one its prism construction.
+/// One row of the table: a method, and for the temporal one its prism construction and its
+/// lookup.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Row {
     method: Method,
     prisms: PrismConstruction,
+    lookup: Lookup,
 }
 
 impl Row {
@@ -155,16 +167,21 @@ impl Row {
         Self {
             method,
             prisms: PrismConstruction::Exact,
+            lookup: Lookup::DepthLine,
         }
     }
 
     fn name(&self) -> String {
-        match (self.method, self.prisms) {
-            (Method::Temporal, PrismConstruction::Paper) => "temporal-paper-prisms".to_owned(),
-            (m, _) => m.name().to_owned(),
+        match (self.method, self.prisms, self.lookup) {
+            (Method::Temporal, PrismConstruction::Paper, _) => "temporal-paper-prisms".to_owned(),
+            (Method::Temporal, _, Lookup::Exact) => "temporal-exact".to_owned(),
+            (m, _, _) => m.name().to_owned(),
         }
     }
 }
+
+/// Issue 35's target for the exact lookup against an exact truth (the same samples).
+const EXACT_LOOKUP_RMSE: f64 = 0.0005;
 
 /// A pixel is in the moving-object mask when more than half of the truth's samples see a
 /// moving triangle (as `compare` does).
@@ -277,7 +294,8 @@ pub(super) fn hard_with(b: &mut Bench, params: &HardParams) -> Result<()> {
     let title = format!("RMSE against the truth, {}", params.truth.label());
     b.write_chart(RMSE_CHART, &chart(&title, &x_label, "RMSE", lines))?;
     b.report.notes.push(format!(
-        "{}x{}, shadow maps {}x{}, {} spp, seed 1; truth: {}{}",
+        "{}x{}, shadow maps {}x{}, {} spp, seed 1; temporal-exact: the temporal map read with \
+         the exact lookup (unfiltered: it has no texels); truth: {}{}",
         params.width,
         params.height,
         params.shadow_size.0,
@@ -311,6 +329,14 @@ fn push_ratios(b: &mut Bench, params: &HardParams, scene: &str, errors: &[(Row, 
             .find(|(m, _)| m.name() == name)
             .map(|&(_, e)| e)
     };
+    if let (Some(exact), true) = (of("temporal-exact"), params.truth.exact()) {
+        b.report.ratios.push(target(
+            format!("{scene}: temporal-exact RMSE"),
+            exact,
+            EXACT_LOOKUP_RMSE,
+            true,
+        ));
+    }
     let Some(temporal) = of("temporal") else {
         return;
     };
