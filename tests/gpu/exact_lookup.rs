@@ -319,18 +319,25 @@ fn the_receivers_own_triangle_never_shadows_it() {
             own: NO_TRIANGLE,
             at: None,
         };
+        // And at one time (the lighting pass's lookup), where the ground is then.
+        let at_half = Receiver {
+            own: NO_TRIANGLE,
+            ..at_time(p + 0.5 * by, 0.5)
+        };
         let receivers = [
             on_ground,
             Receiver {
                 own: 0,
                 ..on_ground
             },
+            at_half,
+            Receiver { own: 0, ..at_half },
         ];
         let got = lit_fractions(&s, &receivers);
         assert_near(
             &format!("own triangle, moved by {by}"),
             &got,
-            &[0.0, 1.0],
+            &[0.0, 1.0, 0.0, 1.0],
             &receivers,
         );
     }
