@@ -76,6 +76,18 @@ float ms_exact_det(vec3 x, vec3 y, vec3 z) {
 // det(x(t), y(t), z(t)) as c.x + c.y t + c.z t^2 + c.w t^3: trilinear, so the coefficient
 // of t^k sums the determinants taking the moving part b of exactly k of the three.
 vec4 ms_exact_triple(ms_exact_Linear x, ms_exact_Linear y, ms_exact_Linear z) {
+    if (z.b == vec3(0.0)) {
+        // z stands still (the shadow ray of a still receiver, or any directional one): the
+        // four determinants that take z.b are 0; their terms are left out (adding a 0 changes
+        // no sum but a zero's sign, which no test reads). An edge's two triangles see the same
+        // ray, so both take this branch: their values stay exactly opposite.
+        precise vec4 c = vec4(
+            ms_exact_det(x.a, y.a, z.a),
+            ms_exact_det(x.b, y.a, z.a) + ms_exact_det(x.a, y.b, z.a),
+            ms_exact_det(x.b, y.b, z.a),
+            0.0);
+        return c;
+    }
     precise vec4 c = vec4(
         ms_exact_det(x.a, y.a, z.a),
         ms_exact_det(x.b, y.a, z.a) + ms_exact_det(x.a, y.b, z.a) + ms_exact_det(x.a, y.a, z.b),
