@@ -343,7 +343,7 @@ pub(super) fn engine(b: &mut Bench) -> Result<()> {
 
 /// A TSM row as the verdict reads it; `None` for the temporal masks.
 fn tsm_point(r: &Measured) -> Option<TsmPoint> {
-    (r.method == "tsm").then(|| TsmPoint {
+    (r.method == "tsm").then_some(TsmPoint {
         maps: r.maps,
         map: r.map,
         ms: r.result.shadow_and_mask_ms,
