@@ -146,7 +146,9 @@ pub struct DeferredResult {
 /// map and the working map's layers (maps are drawn [`TSM_LAYERS_PER_BATCH`] at a time), 4 a
 /// texel each. Known before the frame, so that a sweep can refuse what cannot fit.
 pub fn deferred_tsm_bytes((width, height): (u32, u32), maps: u32) -> u64 {
-    (1 + u64::from(TSM_LAYERS_PER_BATCH.min(maps))) * 4 * u64::from(width) * u64::from(height)
+    (1 + u64::from(TSM_LAYERS_PER_BATCH.min(maps)))
+        .saturating_mul(4 * u64::from(width))
+        .saturating_mul(u64::from(height))
 }
 
 impl Renderer<'_> {

@@ -560,3 +560,21 @@ fn write_ghosting(
         &picture.data,
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A ladder step whose depth maps cannot fit (36 TiB: the static map and 8 working
+    /// layers of 2^20 x 2^20 texels, 4 bytes each) is refused with a reason that names it,
+    /// which the preset prints as a note; a small one is drawn.
+    #[test]
+    fn a_tsm_step_too_big_for_memory_is_refused_by_name() {
+        let reason = tsm_memory_refusal(1 << 20, 256).expect("36 TiB of depth maps");
+        assert!(
+            reason.contains("TSM-256's depth maps at 1048576x1048576"),
+            "{reason}"
+        );
+        assert_eq!(tsm_memory_refusal(64, 256), None);
+    }
+}
