@@ -20,10 +20,11 @@
 //! against it: the cheapest TSM (N, map) at or below the exact mask's RMSE
 //! ([`super::engine_verdict`]), or TSM's best where none is.
 
+use super::engine_ghosting::write_ghosting;
 use super::engine_verdict::{TsmPoint, Verdict, row_label, verdict};
 use super::{Bench, MIB, RESULTS, bench_error, builtin_scene, chart, ratio, series, target};
 use crate::chart::{LineChart, Table, fmt_num};
-use crate::compare::{MaskError, Rgb8Image, mask_error, side_by_side};
+use crate::compare::{MaskError, mask_error};
 use crate::error::Result;
 use crate::raytrace::deferred::render_truth;
 use crate::render::deferred::{
@@ -48,7 +49,7 @@ const EQUAL_RMSE_SLACK: f64 = 1e-4;
 /// its time, if at all.
 const EXACT_RATIO_TARGET: f64 = 20.0;
 /// The TSM whose ghosts the picture shows.
-const GHOSTING_MAPS: u32 = 8;
+pub(super) const GHOSTING_MAPS: u32 = 8;
 
 /// The files it writes (see `Preset::outputs`): the table, and per scene its chart and
 /// the ghosting picture.
@@ -65,7 +66,7 @@ fn rmse_chart(scene: &str) -> String {
     format!("{scene}-rmse-time.png")
 }
 
-fn ghosting_picture(scene: &str) -> String {
+pub(super) fn ghosting_picture(scene: &str) -> String {
     format!("{scene}-ghosting.png")
 }
 
@@ -492,73 +493,6 @@ fn push_row(
             vs_exact.to_owned(),
         ])
         .map_err(bench_error)
-}
-
-/// The masks of TSM-8, the temporal map and the truth side by side, cropped to the window
-/// (a third of the image each way) where TSM-8 is farthest from the truth: its ghosts.
-fn write_ghosting(
-    b: &mut Bench,
-    name: &str,
-    truth: &DeferredResult,
-    tsm: &DeferredResult,
-    temporal: &DeferredResult,
-) -> Result<()> {
-    let (w, h) = (truth.image.width as usize, truth.image.height as usize);
-    let (cw, ch) = (w / 3, h / 3);
-    // The error summed over each window, by a summed-area table.
-    let mut sat = vec![0.0f64; (w + 1) * (h + 1)];
-    for y in 0..h {
-        for x in 0..w {
-            let i = y * w + x;
-            let e = if truth.facing[i] {
-                (f64::from(tsm.lit[i]) - f64::from(truth.lit[i])).abs()
-            } else {
-                0.0
-            };
-            sat[(y + 1) * (w + 1) + x + 1] =
-                e + sat[y * (w + 1) + x + 1] + sat[(y + 1) * (w + 1) + x] - sat[y * (w + 1) + x];
-        }
-    }
-    let window = |x: usize, y: usize| {
-        sat[(y + ch) * (w + 1) + x + cw] - sat[y * (w + 1) + x + cw] - sat[(y + ch) * (w + 1) + x]
-            + sat[y * (w + 1) + x]
-    };
-    let step = (cw / 8).max(1);
-    let (mut best, mut at) = (-1.0, (0, 0));
-    for y in (0..=h - ch).step_by(step) {
-        for x in (0..=w - cw).step_by(step) {
-            if window(x, y) > best {
-                best = window(x, y);
-                at = (x, y);
-            }
-        }
-    }
-    // Scaled up so that the crop reads at the chart's size.
-    let zoom = (800 / (3 * cw)).max(1);
-    let crop = |lit: &[f32]| {
-        let mut img = Rgb8Image::new((cw * zoom) as u32, (ch * zoom) as u32);
-        for y in 0..ch * zoom {
-            for x in 0..cw * zoom {
-                let v = lit[(at.1 + y / zoom) * w + at.0 + x / zoom];
-                let g = (v.clamp(0.0, 1.0) * 255.0).round() as u8;
-                img.put(x as u32, y as u32, [g, g, g]);
-            }
-        }
-        img
-    };
-    let panels = [
-        (format!("TSM-{GHOSTING_MAPS}"), crop(&tsm.lit)),
-        ("temporal".to_owned(), crop(&temporal.lit)),
-        ("truth".to_owned(), crop(&truth.lit)),
-    ];
-    let refs: Vec<(&str, &Rgb8Image)> = panels.iter().map(|(l, i)| (l.as_str(), i)).collect();
-    let picture = side_by_side(&refs, [32, 32, 32]);
-    b.write_picture(
-        &ghosting_picture(name),
-        picture.width,
-        picture.height,
-        &picture.data,
-    )
 }
 
 #[cfg(test)]
