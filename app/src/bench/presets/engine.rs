@@ -160,27 +160,21 @@ pub(super) fn engine(b: &mut Bench) -> Result<()> {
             let error = mask_error(&r.lit, &truth.lit, &truth.facing);
             Some((r, error))
         };
-        let Some((temporal, temporal_error)) =
-            measure(b, &settings, deferred(DeferredMethod::Temporal))
-        else {
-            continue;
-        };
+        // Each mask on its own: where one is refused (the loop limiter, memory: a note says
+        // why), the others are still measured.
+        let temporal = measure(b, &settings, deferred(DeferredMethod::Temporal));
         let exact = measure(b, &settings, exact_lookup());
-        let mut rows = vec![Measured {
-            method: "temporal",
-            maps: 0,
-            map,
-            result: temporal,
-            error: temporal_error,
-        }];
-        if let Some((result, error)) = exact {
-            rows.push(Measured {
-                method: "temporal-exact",
-                maps: 0,
-                map,
-                result,
-                error,
-            });
+        let mut rows = Vec::new();
+        for (method, measured) in [("temporal", temporal), ("temporal-exact", exact)] {
+            if let Some((result, error)) = measured {
+                rows.push(Measured {
+                    method,
+                    maps: 0,
+                    map,
+                    result,
+                    error,
+                });
+            }
         }
         for &m in &map_sizes {
             let mut maps = 1;
@@ -213,13 +207,13 @@ pub(super) fn engine(b: &mut Bench) -> Result<()> {
             rows.iter()
                 .filter(|r| r.method == "tsm" && r.map == m)
                 .max_by_key(|r| r.maps)
-                .map(|r| (r.maps, &r.result.lit))
+                .map(|r| &r.result.lit)
         };
         let in_time = |r: &Measured| -> Option<f64> {
             if r.method == "temporal-exact" {
                 return None;
             }
-            let (_, lit) = converged(r.map)?;
+            let lit = converged(r.map)?;
             Some(mask_error(&r.result.lit, lit, &truth.facing).rmse)
         };
         for row in &rows {
@@ -230,95 +224,20 @@ pub(super) fn engine(b: &mut Bench) -> Result<()> {
             push_row(&mut table, name, row, in_time(row), vs_exact)?;
         }
 
-        let temporal = &rows[0];
-        let temporal_ms = temporal.result.shadow_and_mask_ms;
-        let temporal_in_time = in_time(temporal).unwrap_or(f64::NAN);
         // The ratios against the depth-line temporal mask: TSM at the preset's map, as before
         // the ladder grew map sizes (both share that map's spatial floor).
         let tsm: Vec<&Measured> = rows
             .iter()
             .filter(|r| r.method == "tsm" && r.map == map)
             .collect();
-        let tsm_in_time: Vec<(u32, f64, f64)> = tsm
-            .iter()
-            .map(|r| {
-                (
-                    r.maps,
-                    r.result.shadow_and_mask_ms,
-                    in_time(r).unwrap_or(f64::NAN),
-                )
-            })
-            .collect();
-        // The converged TSM itself (its error against itself is 0) is left out.
-        let below_converged = &tsm_in_time[..tsm_in_time.len().saturating_sub(1)];
-        match below_converged
-            .iter()
-            .find(|(_, _, e)| *e <= temporal_in_time + EQUAL_RMSE_SLACK)
-        {
-            Some((maps, ms, _)) => b.report.ratios.push(ratio(
-                format!(
-                    "{name}: time-only equal-quality ratio (TSM-{maps} time / temporal time; \
-                     errors against the converged TSM)"
-                ),
-                ms / temporal_ms,
-            )),
-            None => {
-                if let Some((maps, ms, e)) = below_converged.last() {
-                    b.report.notes.push(format!(
-                        "{name}: in time alone (against the converged TSM), TSM-{maps} is still \
-                         {} off where the temporal mask is {} off: the time-only ratio is \
-                         above {}",
-                        fmt_num(*e),
-                        fmt_num(temporal_in_time),
-                        fmt_num(ms / temporal_ms)
-                    ));
-                }
-            }
-        }
-        b.report.ratios.push(target(
-            format!("{name}: temporal mask RMSE vs the truth"),
-            temporal.error.rmse,
-            MASK_RMSE_TARGET,
-            true,
-        ));
-        b.report.ratios.push(ratio(
-            format!("{name}: temporal shadow pass + mask GPU ms"),
-            temporal_ms,
-        ));
-        let equal = tsm
-            .iter()
-            .find(|r| r.error.rmse <= temporal.error.rmse + EQUAL_RMSE_SLACK);
-        match equal {
-            Some(r) => {
-                b.report.ratios.push(target(
-                    format!(
-                        "{name}: equal-quality ratio (TSM-{} time / temporal time)",
-                        r.maps
-                    ),
-                    r.result.shadow_and_mask_ms / temporal_ms,
-                    ratio_target,
-                    false,
-                ));
-            }
-            None => {
-                if let Some(r) = tsm.last() {
-                    b.report.notes.push(format!(
-                        "{name}: no TSM up to {} maps reaches the temporal mask's RMSE \
-                         ({} vs {}); the ratio is above {}",
-                        r.maps,
-                        fmt_num(r.error.rmse),
-                        fmt_num(temporal.error.rmse),
-                        fmt_num(r.result.shadow_and_mask_ms / temporal_ms)
-                    ));
-                }
+        if let Some(temporal) = rows.iter().find(|r| r.method == "temporal") {
+            report_depth_line(b, name, ratio_target, temporal, &tsm, &in_time);
+            if let Some(tsm8) = tsm.iter().find(|r| r.maps == GHOSTING_MAPS) {
+                write_ghosting(b, name, &truth, &tsm8.result, &temporal.result)?;
             }
         }
         if let (Some(exact), Some((_, v))) = (exact_row, &against_exact) {
             report_exact(b, name, exact, v, (max_maps, max_map));
-        }
-        let ghosting = tsm.iter().find(|r| r.maps == GHOSTING_MAPS);
-        if let Some(tsm8) = ghosting {
-            write_ghosting(b, name, &truth, &tsm8.result, &temporal.result)?;
         }
         charts.push((name, chart_series(&rows, &map_sizes)));
     }
@@ -340,6 +259,95 @@ pub(super) fn engine(b: &mut Bench) -> Result<()> {
         )?;
     }
     Ok(())
+}
+
+/// The depth-line temporal mask's ratios (as before the exact mask): its RMSE and time, the
+/// equal-quality ratio of TSM at the same map (`tsm`, N ascending) against it, and the same
+/// in time alone (errors against the converged TSM, `in_time`).
+fn report_depth_line(
+    b: &mut Bench,
+    name: &str,
+    ratio_target: f64,
+    temporal: &Measured,
+    tsm: &[&Measured],
+    in_time: &dyn Fn(&Measured) -> Option<f64>,
+) {
+    let temporal_ms = temporal.result.shadow_and_mask_ms;
+    let temporal_in_time = in_time(temporal).unwrap_or(f64::NAN);
+    let tsm_in_time: Vec<(u32, f64, f64)> = tsm
+        .iter()
+        .map(|r| {
+            (
+                r.maps,
+                r.result.shadow_and_mask_ms,
+                in_time(r).unwrap_or(f64::NAN),
+            )
+        })
+        .collect();
+    // The converged TSM itself (its error against itself is 0) is left out.
+    let below_converged = &tsm_in_time[..tsm_in_time.len().saturating_sub(1)];
+    match below_converged
+        .iter()
+        .find(|(_, _, e)| *e <= temporal_in_time + EQUAL_RMSE_SLACK)
+    {
+        Some((maps, ms, _)) => b.report.ratios.push(ratio(
+            format!(
+                "{name}: time-only equal-quality ratio (TSM-{maps} time / temporal time; \
+                 errors against the converged TSM)"
+            ),
+            ms / temporal_ms,
+        )),
+        None => {
+            if let Some((maps, ms, e)) = below_converged.last() {
+                b.report.notes.push(format!(
+                    "{name}: in time alone (against the converged TSM), TSM-{maps} is still \
+                     {} off where the temporal mask is {} off: the time-only ratio is \
+                     above {}",
+                    fmt_num(*e),
+                    fmt_num(temporal_in_time),
+                    fmt_num(ms / temporal_ms)
+                ));
+            }
+        }
+    }
+    b.report.ratios.push(target(
+        format!("{name}: temporal mask RMSE vs the truth"),
+        temporal.error.rmse,
+        MASK_RMSE_TARGET,
+        true,
+    ));
+    b.report.ratios.push(ratio(
+        format!("{name}: temporal shadow pass + mask GPU ms"),
+        temporal_ms,
+    ));
+    let equal = tsm
+        .iter()
+        .find(|r| r.error.rmse <= temporal.error.rmse + EQUAL_RMSE_SLACK);
+    match equal {
+        Some(r) => {
+            b.report.ratios.push(target(
+                format!(
+                    "{name}: equal-quality ratio (TSM-{} time / temporal time)",
+                    r.maps
+                ),
+                r.result.shadow_and_mask_ms / temporal_ms,
+                ratio_target,
+                false,
+            ));
+        }
+        None => {
+            if let Some(r) = tsm.last() {
+                b.report.notes.push(format!(
+                    "{name}: no TSM up to {} maps reaches the temporal mask's RMSE \
+                     ({} vs {}); the ratio is above {}",
+                    r.maps,
+                    fmt_num(r.error.rmse),
+                    fmt_num(temporal.error.rmse),
+                    fmt_num(r.result.shadow_and_mask_ms / temporal_ms)
+                ));
+            }
+        }
+    }
 }
 
 /// A TSM row as the verdict reads it; `None` for the temporal masks.
