@@ -308,6 +308,7 @@ pub fn render_truth(
             gpu_ms: trace_ms,
         }],
         shadow_and_mask_ms: trace_ms,
+        shadow_bytes: 0,
         wall_ms: trace_ms,
     })
 }

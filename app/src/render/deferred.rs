@@ -140,7 +140,20 @@ pub struct DeferredResult {
     pub passes: Vec<PassTime>,
     /// Sum of `passes`: the shadow side of the frame (shadow pass plus mask).
     pub shadow_and_mask_ms: f64,
+    /// Bytes of GPU memory the frame's shadow maps occupy: the temporal map's buffers (with
+    /// its triangle records, for the exact lookup), or TSM's depth maps (the static map and
+    /// the working layers, [`deferred_tsm_bytes`]); 0 for the ray tracer.
+    pub shadow_bytes: u64,
     pub wall_ms: f64,
+}
+
+/// Bytes of the depth maps a deferred TSM-`maps` frame at `shadow_size` allocates: the static
+/// map and the working map's layers (maps are drawn [`TSM_LAYERS_PER_BATCH`] at a time), 4 a
+/// texel each. Known before the frame, so that a sweep can refuse what cannot fit.
+pub fn deferred_tsm_bytes((width, height): (u32, u32), maps: u32) -> u64 {
+    (1 + u64::from(TSM_LAYERS_PER_BATCH.min(maps)))
+        .saturating_mul(4 * u64::from(width))
+        .saturating_mul(u64::from(height))
 }
 
 impl Renderer<'_> {
@@ -217,7 +230,7 @@ impl Renderer<'_> {
         };
         let mut passes = Vec::new();
         let shadow = settings.shadow_size();
-        match deferred.method {
+        let shadow_bytes = match deferred.method {
             DeferredMethod::Temporal => {
                 // The map is built (grown until it fits) with the static layer kept, then
                 // the timed frame: the shadow pass again, and the mask.
@@ -235,6 +248,7 @@ impl Renderer<'_> {
                     .expect("the temporal shadow step makes a temporal map");
                 progress("timed frame: shadow pass and mask");
                 self.deferred_temporal_frame(frame, &map, &inputs, &mask, &gbuffer, &mut passes)?;
+                map.allocated_bytes()
             }
             DeferredMethod::Tsm { maps } => self.deferred_tsm_frame(
                 frame,
@@ -257,7 +271,7 @@ impl Renderer<'_> {
                 progress,
             )?,
             DeferredMethod::Raytrace => unreachable!("refused above"),
-        }
+        };
         let contents = gbuffer.read()?;
         let lit = mask.read(size)?;
         let (image, hit, facing) = shade(scene, &light, &contents, view_proj.inverse(), &lit)?;
@@ -274,6 +288,7 @@ impl Renderer<'_> {
             facing,
             method: deferred.name(),
             shadow_and_mask_ms: passes.iter().map(|p| p.gpu_ms).sum(),
+            shadow_bytes,
             passes,
             wall_ms: start.elapsed().as_secs_f64() * 1e3,
         })
@@ -396,7 +411,7 @@ impl Renderer<'_> {
 
     /// TSM-`maps`: a warm-up frame draws the static map (kept, as the temporal map's
     /// static layer is), then the timed frame: per batch of maps, copies of the static map,
-    /// the moving draws, and the mask's lookups.
+    /// the moving draws, and the mask's lookups. Returns the bytes of its depth maps.
     #[allow(clippy::too_many_arguments)]
     fn deferred_tsm_frame(
         &mut self,
@@ -408,7 +423,7 @@ impl Renderer<'_> {
         gbuffer: &GBuffer,
         passes: &mut Vec<PassTime>,
         progress: &mut dyn FnMut(&str),
-    ) -> Result<()> {
+    ) -> Result<u64> {
         let ctx = self.ctx;
         let light = frame.light;
         let (width, height) = shadow_size;
@@ -460,7 +475,7 @@ impl Renderer<'_> {
                 passes.extend(spans.into_iter().filter(|p| p.pass != "setup"));
             }
         }
-        Ok(())
+        Ok(tsm_map.bytes())
     }
 }
 

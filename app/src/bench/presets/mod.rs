@@ -3,6 +3,8 @@
 mod characters;
 mod cubes;
 mod engine;
+mod engine_ghosting;
+mod engine_verdict;
 mod equal_quality;
 mod frame;
 mod game;
