@@ -8,7 +8,7 @@ use motion_shadows::Error;
 use motion_shadows::glam::Vec3;
 use motion_shadows::gpu::{Buffer, BufferUsage, Context, OneShot};
 use motion_shadows::technique::{
-    CollectionPass, Draw, DrawList, GenerationPass, Indices, LightView, PositionStream,
+    CollectionPass, Draw, DrawList, GenerationPass, Indices, LightView, Lookup, PositionStream,
     TemporalShadowMap,
 };
 
@@ -133,6 +133,70 @@ fn a_recorded_pass_that_is_not_submitted_needs_nothing_undone() {
     assert_eq!(map.static_layer_builds(), 5);
     assert_eq!(layer_id(&ctx, &map, SIZE / 2, SIZE / 2), Some(ID));
 
+    drop((map, frame, vertices));
+    assert_no_validation_messages(&ctx);
+}
+
+/// The exact lookup's static name lists are redrawn, not added to: after a change of light
+/// the redrawn lists name the triangle once in each texel (not also from the earlier draw),
+/// and the count is the names held.
+#[test]
+fn the_exact_static_names_are_cleared_before_a_redraw() {
+    let ctx = context();
+    let (vertices, draw) = static_triangle(&ctx);
+    let mut draws = DrawList::new(&ctx, 1).expect("draw list");
+    OneShot::new(&ctx)
+        .expect("command buffer")
+        .run(|cmd| unsafe { draws.record_update(ctx.device(), cmd, &[draw]) })
+        .expect("draw list upload");
+    let spot_at = |x: f32| {
+        let mut light = LightView::spot(
+            Vec3::new(x, 8.0, 0.0),
+            Vec3::NEG_Y,
+            40.0,
+            50.0,
+            0.5,
+            50.0,
+            (SIZE, SIZE),
+        );
+        light.keep_static_layer = true;
+        light.lookup = Lookup::Exact;
+        light
+    };
+    let mut frame = Frame {
+        ctx: &ctx,
+        collection: CollectionPass::new(&ctx).expect("collection pass"),
+        generation: GenerationPass::new(&ctx).expect("generation pass"),
+        draws,
+        light: spot_at(0.0),
+    };
+    let mut map = TemporalShadowMap::new(&ctx, SIZE, SIZE, 1, 1 << 12).expect("map");
+    map.reserve_triangle_records(&ctx, u64::from(ID) + 1)
+        .expect("records");
+    // Room enough that no frame overflows.
+    map.reserve_static_names(&ctx, 4 * SIZE * SIZE)
+        .expect("static names");
+    frame.run(&map, true);
+    map.static_layer_submitted();
+    frame.light = spot_at(0.3);
+    frame.run(&map, true);
+    assert_eq!(map.static_layer_builds(), 2, "redrawn for the new light");
+    let contents = map.download(&ctx).expect("download");
+    let mut held = 0;
+    for y in 0..SIZE {
+        for x in 0..SIZE {
+            let names = contents.static_names_at(x, y);
+            assert!(names.len() <= 1, "texel ({x}, {y}) names {names:?}");
+            held += names.len() as u32;
+        }
+    }
+    assert_eq!(
+        contents.static_names_at(SIZE / 2, SIZE / 2),
+        vec![ID],
+        "the triangle at the centre"
+    );
+    let counts = map.read_counters().expect("counters");
+    assert_eq!(counts.static_names, held, "the count is the names held");
     drop((map, frame, vertices));
     assert_no_validation_messages(&ctx);
 }
