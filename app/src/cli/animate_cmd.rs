@@ -12,9 +12,8 @@ use serde::Serialize;
 
 use super::args::{AnimateArgs, FrameArg};
 use super::deferred_cmd::deferred_settings;
-use super::render_cmd::{
-    builtin_options, commit_outputs, device_for, progress_reporter, render_frame, render_settings,
-};
+use super::render_cmd::{device_for, render_frame};
+use super::shared::{builtin_options, commit_outputs, progress_reporter, render_settings};
 use crate::output::{RadianceImage, StagedFiles, auto_exposure, encode_srgb8, write_png};
 use crate::render::Renderer;
 use crate::render::deferred::DeferredSettings;

@@ -1,7 +1,7 @@
 //! `motion-shadows bench`: runs the presets and prints their ratios.
 
 use super::args::BenchArgs;
-use super::render_cmd::progress_reporter;
+use super::shared::progress_reporter;
 use crate::bench::{PRESETS, Preset, Report, Scale, run_preset};
 use crate::output::{StagedFiles, write_file_atomically};
 use crate::render::Renderer;

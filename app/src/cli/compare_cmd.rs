@@ -3,7 +3,7 @@
 //! the moving-object mask.
 
 use super::args::{CompareArgs, LookupArg, Preset, TruthArg};
-use super::render_cmd::{builtin_options, commit_outputs, progress_reporter};
+use super::shared::{builtin_options, commit_outputs, progress_reporter};
 use crate::compare::{ErrorStats, Rgb8Image, error_image, error_stats, side_by_side};
 use crate::output::{
     RadianceImage, StagedFiles, auto_exposure, write_exr, write_png, write_rgb8_png,

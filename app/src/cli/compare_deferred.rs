@@ -4,7 +4,7 @@
 //! reaches, and over those in shadow) and its shadow pass + mask time.
 
 use super::args::{CompareArgs, LookupArg};
-use super::render_cmd::{builtin_options, commit_outputs, progress_reporter};
+use super::shared::{builtin_options, commit_outputs, progress_reporter};
 use crate::compare::{Rgb8Image, mask_error, same_surface, side_by_side};
 use crate::output::{StagedFiles, auto_exposure, write_rgb8_png};
 use crate::raytrace::deferred::{check_truth_memory, render_truth};

@@ -2,7 +2,7 @@
 //! EXR + PNG of the image, a PNG of the lit shares (the mask), and a summary.
 
 use super::args::{MethodArg, RenderArgs};
-use super::render_cmd::{commit_outputs, load_scene, progress_reporter, render_settings};
+use super::shared::{commit_outputs, load_scene, progress_reporter, render_settings};
 use crate::frame;
 use crate::output::{StagedFiles, auto_exposure, write_exr, write_png, write_rgb8_png};
 use crate::render::Renderer;
@@ -172,8 +172,8 @@ mod tests {
         args
     }
 
-    /// `--lookup` reaches the deferred frame's settings (default the depth line), and a
-    /// method without the temporal map refuses it by name.
+    /// `--lookup` reaches the deferred frame's settings (default the depth line); a method
+    /// without the temporal map refuses it (render_cmd's tests).
     #[test]
     fn the_lookup_reaches_the_deferred_settings() {
         let depth = deferred_settings(&render_args(&[])).expect("settings");
@@ -181,9 +181,5 @@ mod tests {
         let exact = deferred_settings(&render_args(&["--lookup", "exact"])).expect("settings");
         assert_eq!(exact.lookup, Lookup::Exact);
         assert_eq!(exact.name(), "temporal-exact");
-        let tsm = render_args(&["--method", "tsm", "--lookup", "exact"]);
-        let refused = super::super::render_cmd::refuse_unread_options(&tsm, "render")
-            .expect_err("TSM has no exact lookup");
-        assert!(refused.to_string().contains("--lookup"), "{refused}");
     }
 }

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use super::args::RandomCubesArgs;
-use super::render_cmd::builtin_options;
+use super::shared::builtin_options;
 use crate::output::write_file_atomically;
 use crate::scene::limits::MAX_SCENE_FILE_BYTES;
 use crate::scene::{builtin_file, scene_to_json};

@@ -9,6 +9,7 @@ pub mod deferred_cmd;
 pub mod export_cmd;
 pub mod install_hint;
 pub mod render_cmd;
+pub mod shared;
 pub mod summary;
 pub mod unread_options;
 

@@ -1,108 +1,13 @@
 //! `motion-shadows render`: scene -> renderer -> EXR + PNG -> summary.
 
-use super::args::{FrameArg, MethodArg, RandomCubesArgs, RenderArgs};
+use super::args::{FrameArg, MethodArg, RenderArgs};
+use super::shared::{commit_outputs, load_scene, progress_reporter, render_settings};
 use super::summary::summary_text;
 use crate::output::{StagedFiles, auto_exposure, write_exr, write_png};
 use crate::render::{Method, RenderResult, RenderSettings, Renderer};
-use crate::scene::{BuiltinOptions, Scene, builtin, load_scene_file};
+use crate::scene::Scene;
 use anyhow::Context as _;
-use indicatif::{ProgressBar, ProgressStyle};
 use motion_shadows::gpu::{Context, ContextOptions};
-use std::io::IsTerminal;
-use std::time::Duration;
-
-pub fn builtin_options(random: &RandomCubesArgs) -> BuiltinOptions {
-    BuiltinOptions {
-        cube_count: random.cubes,
-        speed_min: random.speed_min,
-        speed_max: random.speed_max,
-        cube_size: random.cube_size,
-        seed: random.scene_seed,
-        frame_time: None,
-        subdivide: random.subdivide,
-    }
-}
-
-pub fn load_scene(args: &RenderArgs) -> anyhow::Result<Scene> {
-    crate::scene::memory::set_renderer(args.method == MethodArg::Raytrace);
-    Ok(match &args.scene_file {
-        Some(path) => load_scene_file(path)?,
-        None => builtin(&args.scene, &builtin_options(&args.random))?,
-    })
-}
-
-/// Progress on stderr: a spinner on a terminal, plain lines otherwise (logs, CI).
-/// Renames a run's staged files into place and clears the progress bar: the end of every
-/// command that writes files. Returns the files' paths as the summaries print them.
-pub fn commit_outputs(
-    staged: crate::output::StagedFiles,
-    bar: Option<ProgressBar>,
-) -> anyhow::Result<Vec<String>> {
-    let files = staged
-        .commit()?
-        .iter()
-        .map(|p| p.display().to_string())
-        .collect();
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
-    }
-    Ok(files)
-}
-
-pub fn progress_reporter() -> (Option<ProgressBar>, impl FnMut(&str)) {
-    let bar = std::io::stderr().is_terminal().then(|| {
-        let bar = ProgressBar::new_spinner();
-        bar.set_style(
-            ProgressStyle::with_template("{spinner} [{elapsed}] {msg}")
-                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
-        );
-        bar.enable_steady_tick(Duration::from_millis(120));
-        bar
-    });
-    let handle = bar.clone();
-    // Notes and warnings must stay on screen: printed above the spinner, not as its message.
-    let report = move |msg: &str| match &handle {
-        Some(bar) if msg.starts_with("warning:") || msg.starts_with("note:") => bar.println(msg),
-        Some(bar) => bar.set_message(msg.to_owned()),
-        None => eprintln!("{msg}"),
-    };
-    (bar, report)
-}
-
-/// The renderer's settings for `args` (checked by the caller before anything is loaded).
-pub fn render_settings(args: &RenderArgs) -> RenderSettings {
-    RenderSettings {
-        width: args.width,
-        height: args.height,
-        spp: args.spp,
-        seed: args.seed,
-        shadow_size: args.shadow_size,
-        method: match args.method {
-            MethodArg::Temporal => Method::Temporal,
-            MethodArg::Tsm => Method::Tsm,
-            MethodArg::Coverage => Method::Coverage,
-            MethodArg::Reference => Method::Reference {
-                slices: args.slices,
-            },
-            MethodArg::Plain => Method::Plain { time: 0.5 },
-            MethodArg::Raytrace => Method::Raytrace,
-        },
-        shadow_estimator: args.shadow_estimator.estimator(),
-        prisms: args.prisms.construction(),
-        receiver: args.receiver.test(args.receiver_plane),
-        shadow_filter: args.shadow_filter.filter(),
-        static_layer: args.static_layer.settings().0,
-        keep_static_layer: args.static_layer.settings().1,
-        range_storage: args.range_storage.storage(),
-        pruning: args.pruning.pruning(),
-        // The deferred frame's lookup is its mask's (deferred_cmd.rs).
-        lookup: match args.frame {
-            FrameArg::Forward => args.lookup.lookup(),
-            FrameArg::Deferred => motion_shadows::technique::Lookup::DepthLine,
-        },
-        ..RenderSettings::default()
-    }
-}
 
 /// The Vulkan device `settings`' method renders on; none for the ray tracer, which needs
 /// no device (nor a Vulkan installation).
@@ -170,7 +75,7 @@ fn refuse_unread_forward_lookup(args: &RenderArgs, context: &str) -> anyhow::Res
              (--method temporal); leave it out"
         );
     }
-    // The exact lookup's map keeps no static layer and does not sort or prune its ranges.
+    // The exact lookup's map does not sort or prune its ranges.
     if args.frame == FrameArg::Forward && args.lookup == super::args::LookupArg::Exact {
         refuse_with_exact_lookup(&args.given)?;
     }
@@ -179,12 +84,11 @@ fn refuse_unread_forward_lookup(args: &RenderArgs, context: &str) -> anyhow::Res
 
 /// Refuses the options the temporal map built for the exact lookup does not read.
 fn refuse_with_exact_lookup(given: &[String]) -> anyhow::Result<()> {
-    for flag in ["--static-layer", "--range-storage", "--pruning"] {
+    for flag in ["--range-storage", "--pruning"] {
         if given.iter().any(|g| g == flag) {
             anyhow::bail!(
-                "{flag} does not apply with --lookup exact: the exact lookup's map keeps every \
-                 triangle in its lists, unsorted (no static layer, no sorting or pruning); \
-                 leave it out"
+                "{flag} does not apply with --lookup exact: the exact lookup's map keeps its \
+                 ranges unsorted (no sorting, no pruning); leave it out"
             );
         }
     }
@@ -298,4 +202,31 @@ fn write_heat_maps(
         )?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cli::args::{Cli, Command};
+
+    /// The deferred frame with a method that has no temporal map refuses `--lookup` by name.
+    #[test]
+    fn a_deferred_tsm_frame_refuses_the_lookup() {
+        let cli = Cli::try_parse_recording_given([
+            "motion-shadows",
+            "render",
+            "--frame",
+            "deferred",
+            "--method",
+            "tsm",
+            "--lookup",
+            "exact",
+        ])
+        .expect("parses");
+        let Some(Command::Render(tsm)) = cli.command else {
+            panic!("render parses to Command::Render");
+        };
+        let refused = refuse_unread_options(&tsm, "render").expect_err("TSM has no exact lookup");
+        assert!(refused.to_string().contains("--lookup"), "{refused}");
+    }
 }
