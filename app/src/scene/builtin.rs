@@ -3,17 +3,17 @@
 
 use std::path::Path;
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
 use super::file::{
-    BoxSpec, CameraFile, LightFile, MeshSpec, ObjectFile, PlaneSpec, SCENE_FORMAT, SceneFile,
-    TransformFile,
+    BoxSpec, CameraFile, LightFile, MeshSpec, SCENE_FORMAT, SceneFile, TransformFile,
 };
 use super::fox::{FOX_TIME, fox_run};
 use super::game::{GAME_TIME, game_level};
 use super::hard::hard_scene;
 use super::leg::leg_toward_light;
 use super::limits::{CUBE_SIZE_RANGE, MAX_CUBE_SPEED, MAX_SCENE_TRIANGLES};
+use super::parts::{ground, object, random_moving_cube, translate};
 use super::rng::SplitMix64;
 use super::walker::{WALKER_TIME, walker_toward_light};
 use super::{Scene, SceneError};
@@ -110,46 +110,6 @@ fn frame_time(opts: &BuiltinOptions, own: f32) -> f64 {
     opts.frame_time.unwrap_or(f64::from(own))
 }
 
-pub(super) fn translate(t: Vec3) -> TransformFile {
-    TransformFile {
-        translation: Some(t),
-        ..Default::default()
-    }
-}
-
-pub(super) fn object(
-    name: &str,
-    albedo: Vec3,
-    closed: bool,
-    mesh: MeshSpec,
-    t0: TransformFile,
-    t1: Option<TransformFile>,
-) -> ObjectFile {
-    ObjectFile {
-        name: name.to_owned(),
-        albedo,
-        closed,
-        mesh,
-        t0: (t0 != TransformFile::default()).then_some(t0),
-        t1,
-    }
-}
-
-pub(super) fn ground(size: f32, subdivisions: u32) -> ObjectFile {
-    let mesh = MeshSpec::Plane(PlaneSpec {
-        size: Vec2::splat(size),
-        subdivisions,
-    });
-    object(
-        "ground",
-        Vec3::splat(0.8),
-        false,
-        mesh,
-        TransformFile::default(),
-        None,
-    )
-}
-
 /// Hong & Oh 2018, Fig. 9: two finely tessellated cubes fly toward a spot light, so their
 /// shadows grow and blur, next to a static pillar whose shadow must stay sharp. The cubes
 /// hang well away from the light axis so the camera sees their shadows beside them.
@@ -230,49 +190,8 @@ fn cubes_toward_light() -> SceneFile {
 const GROUND_SUBDIVISIONS: u32 = 8;
 const RANDOM_CUBES_GROUND_TRIANGLES: u64 = 2 * (GROUND_SUBDIVISIONS as u64).pow(2);
 
-/// Pleasant, not garish: moderate saturation and value, any hue.
-pub(super) fn random_albedo(rng: &mut SplitMix64) -> Vec3 {
-    let (h, s, v) = (
-        rng.range(0.0, 6.0),
-        rng.range(0.45, 0.75),
-        rng.range(0.6, 0.9),
-    );
-    let f = |n: f32| {
-        let k = (n + h) % 6.0;
-        v - v * s * k.min(4.0 - k).clamp(0.0, 1.0)
-    };
-    Vec3::new(f(5.0), f(3.0), f(1.0))
-}
-
 /// Hong & Oh 2017, Fig. 8: a dense field of unit cubes each flying in its own random
 /// direction, over a ground plane, lit from above by a spot light covering the field.
-/// Cube `i` of a random field (`random-cubes`, `hard-small-cubes`): at `p0` in a random
-/// orientation, moving a random distance in `speed` in a random direction, a random albedo.
-pub(super) fn random_moving_cube(
-    rng: &mut SplitMix64,
-    i: usize,
-    unit: &MeshSpec,
-    p0: Vec3,
-    speed: (f32, f32),
-) -> ObjectFile {
-    let t0 = TransformFile {
-        translation: Some(p0),
-        rotation_axis: Some(rng.unit_vector()),
-        rotation_deg: Some(rng.range(0.0, 360.0)),
-        scale: None,
-    };
-    let p1 = p0 + rng.unit_vector() * rng.range(speed.0, speed.1);
-    let albedo = random_albedo(rng);
-    object(
-        &format!("cube-{i}"),
-        albedo,
-        true,
-        unit.clone(),
-        t0,
-        Some(translate(p1)),
-    )
-}
-
 fn random_cubes(opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
     let BuiltinOptions {
         cube_count,

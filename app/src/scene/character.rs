@@ -5,9 +5,9 @@
 use glam::Vec3;
 
 use super::SceneError;
-use super::builtin::object;
 use super::file::{MeshSpec, ObjectFile, SCENE_FORMAT, SceneFile, TransformFile, TrianglesSpec};
 use super::gltf::{GltfOptions, load_gltf_motion_from_bytes};
+use super::parts::object;
 
 pub(super) const CESIUM_MAN: (&str, &[u8]) = (
     "assets/models/CesiumMan.gltf",

@@ -10,11 +10,11 @@
 
 use glam::{Quat, Vec2, Vec3};
 
-use super::builtin::{object, translate};
 use super::file::{
     BoxSpec, CameraFile, LightFile, MeshSpec, ObjectFile, PlaneSpec, SCENE_FORMAT, SceneFile,
     TransformFile,
 };
+use super::parts::{object, translate};
 
 /// The character faces +z, toward the light; x is to its left, the kicking leg is on -x.
 const HIP_Y: f32 = 0.9;

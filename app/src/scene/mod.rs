@@ -22,6 +22,7 @@ pub mod limits;
 pub mod memory;
 mod name;
 mod obj;
+mod parts;
 mod precision;
 mod pretty;
 mod primitives;

@@ -10,8 +10,8 @@
 
 use glam::{Vec2, Vec3};
 
-use super::super::builtin::{object, translate};
 use super::super::file::{BoxSpec, MeshSpec, ObjectFile, PlaneSpec, TrianglesSpec};
+use super::super::parts::{object, translate};
 use super::cylinder::cylinder_mesh;
 
 pub(super) const ROOM_HALF_X: f32 = 8.0;

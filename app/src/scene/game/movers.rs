@@ -11,10 +11,10 @@
 use glam::Vec3;
 
 use super::super::SceneError;
-use super::super::builtin::{object, translate};
 use super::super::character::{CESIUM_MAN, animated_object};
 use super::super::file::{BoxSpec, MeshSpec, ObjectFile, TransformFile};
 use super::super::gltf::{AnimationRef, GltfOptions};
+use super::super::parts::{object, translate};
 use super::level::{CRATE_ALBEDO, LANDING_HEIGHT, SPINNER_AT, SPINNER_POST_HEIGHT};
 
 /// Shutter: 180 degrees at 30 fps, half a frame.

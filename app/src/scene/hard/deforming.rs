@@ -13,8 +13,8 @@
 
 use glam::{Vec2, Vec3};
 
-use super::super::builtin::{ground, object};
 use super::super::file::{SceneFile, TransformFile};
+use super::super::parts::{ground, object};
 use super::{camera, scene_file, spot, triangles};
 
 const LIGHT: Vec3 = Vec3::new(-3.0, 8.0, 2.0);

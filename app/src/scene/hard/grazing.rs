@@ -13,10 +13,10 @@
 
 use glam::{Vec2, Vec3};
 
-use super::super::builtin::{object, translate};
 use super::super::file::{
     BoxSpec, LightFile, MeshSpec, ObjectFile, PlaneSpec, SceneFile, TransformFile,
 };
+use super::super::parts::{object, translate};
 use super::{GROUND_ALBEDO, camera, scene_file};
 
 /// The light's elevation above the ground, degrees.

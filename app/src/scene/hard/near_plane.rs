@@ -13,8 +13,8 @@
 
 use glam::{Vec2, Vec3};
 
-use super::super::builtin::{ground, object, translate};
 use super::super::file::{MeshSpec, PlaneSpec, SceneFile};
+use super::super::parts::{ground, object, translate};
 use super::{camera, scene_file, spot};
 
 const LIGHT: Vec3 = Vec3::new(0.0, 7.0, 0.0);

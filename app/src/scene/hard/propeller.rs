@@ -14,8 +14,8 @@
 
 use glam::Vec3;
 
-use super::super::builtin::{ground, object, translate};
 use super::super::file::{BoxSpec, MeshSpec, SceneFile, TransformFile};
+use super::super::parts::{ground, object, translate};
 use super::{camera, scene_file, spot, turn};
 
 const LIGHT: Vec3 = Vec3::new(-2.0, 8.0, 2.5);

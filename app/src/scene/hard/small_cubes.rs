@@ -9,8 +9,8 @@
 
 use glam::Vec3;
 
-use super::super::builtin::{ground, random_moving_cube};
 use super::super::file::{BoxSpec, MeshSpec, SceneFile};
+use super::super::parts::{ground, random_moving_cube};
 use super::super::rng::SplitMix64;
 use super::{camera, scene_file, spot};
 

@@ -16,8 +16,8 @@
 
 use glam::Vec3;
 
-use super::super::builtin::{ground, object};
 use super::super::file::{SceneFile, TransformFile};
+use super::super::parts::{ground, object};
 use super::super::primitives::box_mesh;
 use super::{camera, scene_file, spot, triangles};
 

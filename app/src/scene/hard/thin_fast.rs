@@ -10,8 +10,8 @@
 
 use glam::Vec3;
 
-use super::super::builtin::{ground, object, translate};
 use super::super::file::{BoxSpec, MeshSpec, ObjectFile, SceneFile};
+use super::super::parts::{ground, object, translate};
 use super::{camera, scene_file, spot};
 
 const LIGHT: Vec3 = Vec3::new(-2.0, 8.0, 2.5);
