@@ -72,4 +72,25 @@ impl ImagePass {
         unsafe { pipeline.push(device, cmd, constants) };
         unsafe { device.cmd_dispatch(cmd, size.0.div_ceil(8), size.1.div_ceil(8), 1) };
     }
+
+    /// Records one more dispatch of pipeline `variant`, already bound with its set by
+    /// [`Self::record`], with `constants` pushed and its group counts read from `args` at
+    /// `offset` (`VkDispatchIndirectCommand`).
+    ///
+    /// # Safety
+    /// As [`Self::record`], which was recorded earlier in `cmd` with the same variant, and no
+    /// other pipeline or set was bound since; `args` has indirect usage, holds the command
+    /// at `offset`, made visible to `DRAW_INDIRECT` reads, and outlives `cmd`.
+    pub unsafe fn record_indirect<T: bytemuck::Pod>(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        variant: usize,
+        constants: &T,
+        (args, offset): (vk::Buffer, u64),
+    ) {
+        let pipeline = &self.pipelines[variant];
+        unsafe { pipeline.push(device, cmd, constants) };
+        unsafe { device.cmd_dispatch_indirect(cmd, args, offset) };
+    }
 }
