@@ -138,10 +138,11 @@ void main() {
     if (EXACT) {
         // A map built for the exact lookup (Lookup::Exact): the receiver's own shadow ray
         // against the triangles named along its path; no normal, offset or bias.
-        // A quarter of the budget: the exact test's own loops (its roots, its union's slots)
-        // are not all in ms_loop_iterations; with half, lavapipe cut a few walks at a
-        // 256 x 256 map (8 of 3,024 pixels of deferred_long_paths off the truth).
-        ms_walk_exact(tested, p0, p0 + motion, own, pc.loop_budget / 4u, walk);
+        // An eighth of the budget: the exact test's own loops (its roots, its union's slots)
+        // are not all in ms_loop_iterations; with all of it, lavapipe cut a few walks at a
+        // 256 x 256 map (8 of 3,024 pixels of deferred_long_paths off the truth), and at a
+        // quarter, its limiter still ran out often on cubes-toward-light (loops_were_cut).
+        ms_walk_exact(tested, p0, p0 + motion, own, pc.loop_budget / 8u, walk);
     } else if (MOVING) {
         if (motion == vec3(0.0) && (pc.flags & MASK_STILL_PIXELS_PLANE) != 0u) {
             // A point that stands still keeps its plane all frame: the standing receiver's

@@ -18,7 +18,7 @@ use ash::vk;
 
 /// Follow-up rounds after the mask's first dispatch, by default: each walks at least half of
 /// an invocation's loop budget further along every unfinished path.
-pub const DEFAULT_MASK_FOLLOW_UP_ROUNDS: u32 = 16;
+pub const DEFAULT_MASK_FOLLOW_UP_ROUNDS: u32 = 32;
 
 const HEADER_WORDS: u64 = 4;
 const ENTRY_WORDS: u64 = 5;
