@@ -111,10 +111,10 @@ void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     // Where this invocation's walk starts (moving receivers and the exact lookup).
     MsWalk walk = ms_walk_start();
+    uint index = gl_WorkGroupID.x * GROUP_SIZE + gl_LocalInvocationIndex;
     if (pc.round == 0u) {
         if (any(greaterThanEqual(uvec2(pixel), pc.size))) return;
     } else {
-        uint index = gl_WorkGroupID.x * GROUP_SIZE + gl_LocalInvocationIndex;
         uint count = MaskQueue(pc.queue).v[QUEUE_HEADER_WORDS * (pc.round - 1u) + 3u];
         if (index >= min(count, pc.capacity)) return;
         walk = queue_read(pc.round, index, pixel);
@@ -134,7 +134,6 @@ void main() {
     MsMap tested = ms_load(map);
     vec3 motion = MOVING ? texelFetch(motion_image, pixel, 0).xyz : vec3(0.0);
     vec3 p0 = p - pc.time * motion;
-    MsWalk start = walk;
     if (EXACT) {
         // A map built for the exact lookup (Lookup::Exact): the receiver's own shadow ray
         // against the triangles named along its path; no normal, offset or bias.
@@ -177,6 +176,9 @@ void main() {
     } else if (walk.state == MS_WALK_PAST && walk.walked == 0u) {
         over = true;    // one texel's list alone is longer than an invocation can walk
     } else {
+        // Read again rather than kept: a copy live across the walk made the mask slower.
+        ivec2 same_pixel;
+        MsWalk start = pc.round == 0u ? ms_walk_start() : queue_read(pc.round, index, same_pixel);
         // Again from where this invocation started, walking fewer texels: a walk that ran
         // past its budget stops before the texel that did (its next invocation starts with
         // it), the others of a group whose loops were cut walk half as many as they did.

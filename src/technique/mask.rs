@@ -340,9 +340,9 @@ impl VisibilityMaskPass {
     }
 
     /// With `rounds` follow-up dispatches (default [`DEFAULT_MASK_FOLLOW_UP_ROUNDS`]) for the
-    /// moving receivers' walks that a device with a loop limit stopped: each goes on at least
-    /// half an invocation's budget further. Set it before making bindings (they hold a
-    /// header per round). Read only on such a device (lavapipe).
+    /// moving receivers' walks that a device with a loop limit stopped: each goes on with a
+    /// fresh budget. Set it before making bindings (they hold a header per round). Read only
+    /// on such a device (lavapipe).
     pub fn with_follow_up_rounds(self, rounds: u32) -> Self {
         Self {
             follow_up_rounds: rounds,
