@@ -77,20 +77,23 @@ void ms_walk_exact(MsMap map, vec3 p0, vec3 p1, uint own, uint budget, inout MsW
         path.texel = walk.texel;
         shadowed = walk.sum;
     }
-    walk.state = MS_WALK_DONE;
+    uint stop_count = ms_walk_stop_count(budget);
+    bool stopped = false;
     for (uint crossed = 0u; path.t < path.hi && crossed <= map.size.x + map.size.y; ++crossed) {
-        if (ms_walk_stops(walk, budget, path.t, path.texel, shadowed)) return;
+        if (ms_walk_stops(walk, stop_count)) {
+            stopped = true;
+            break;
+        }
         ++ms_loop_iterations;
         uint at = uint(path.texel.y) * map.size.x + uint(path.texel.x);
         float t = path.t, exit;
         bool inside = ms_path_advance(path, map.size, exit);
-        float texel_shadow = ms_exact_texel_shadow(map, at, p0, p1, vec2(t, exit), own);
-        if (ms_walk_ran_past(walk, budget)) return;
-        shadowed += texel_shadow;
+        shadowed += ms_exact_texel_shadow(map, at, p0, p1, vec2(t, exit), own);
+        ++walk.walked;
         path.t = exit;
         if (!inside) break;
     }
-    walk.sum = 1.0 - min(shadowed, 1.0);
+    ms_walk_end(walk, budget, stopped, path.t, path.texel, shadowed, 1.0 - min(shadowed, 1.0));
 }
 
 float ms_lit_fraction_exact_moving(MsMap map, vec3 p0, vec3 p1, uint own) {

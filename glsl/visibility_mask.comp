@@ -34,6 +34,11 @@ layout(constant_id = 0) const bool MOVING = false;
 // pipeline, so that the exact test's code is not compiled into the depth-line masks (beside
 // them it made the default mask 1.65x slower on lavapipe).
 layout(constant_id = 1) const bool EXACT = false;
+// The follow-up rounds' own pipelines (pc.round > 0): only they stop walks on the way. Round 0
+// walks as a device without a loop limit does and hands what ran too long to round 1 from its
+// start: the stop's test in the walk's loop, even with a budget of 0 at run time, made the
+// default frame's mask 1.3x slower on lavapipe, folded away here.
+layout(constant_id = 2) const bool FOLLOW_UP = false;
 
 // MASK_* flags (MASK_HAS_IDS: read the triangle-id image), from src/technique/gpu_constants.rs.
 #include "gpu_constants.glsl"
@@ -107,6 +112,14 @@ bool loops_were_cut() {
     return ran < pc.probe;
 }
 
+// The walks' budget with the exact lookup: an eighth of the device's. The exact test's own loops
+// (its roots, its union's slots) are not all in ms_loop_iterations; with all of it, lavapipe
+// cut a few walks at a 256 x 256 map (8 of 3,024 pixels of deferred_long_paths off the
+// truth), and at a quarter its limiter still ran out often on cubes-toward-light.
+uint exact_budget() {
+    return pc.loop_budget / 8u;
+}
+
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     // Where this invocation's walk starts (moving receivers and the exact lookup).
@@ -137,11 +150,7 @@ void main() {
     if (EXACT) {
         // A map built for the exact lookup (Lookup::Exact): the receiver's own shadow ray
         // against the triangles named along its path; no normal, offset or bias.
-        // An eighth of the budget: the exact test's own loops (its roots, its union's slots)
-        // are not all in ms_loop_iterations; with all of it, lavapipe cut a few walks at a
-        // 256 x 256 map (8 of 3,024 pixels of deferred_long_paths off the truth), and at a
-        // quarter, its limiter still ran out often on cubes-toward-light (loops_were_cut).
-        ms_walk_exact(tested, p0, p0 + motion, own, pc.loop_budget / 8u, walk);
+        ms_walk_exact(tested, p0, p0 + motion, own, FOLLOW_UP ? exact_budget() : 0u, walk);
     } else if (MOVING) {
         if (motion == vec3(0.0) && (pc.flags & MASK_STILL_PIXELS_PLANE) != 0u) {
             // A point that stands still keeps its plane all frame: the standing receiver's
@@ -153,7 +162,7 @@ void main() {
             tested.light.bias.x = 0.0;
             tested.light.bias.w = 1.0;
         }
-        ms_walk_moving(tested, p0, p0 + motion, n, own, pc.loop_budget, walk);
+        ms_walk_moving(tested, p0, p0 + motion, n, own, FOLLOW_UP ? pc.loop_budget : 0u, walk);
     } else {
         float lit = ms_lit_fraction(tested, p, n, own);
         imageStore(mask, pixel, vec4(lit));
@@ -166,9 +175,19 @@ void main() {
     }
     // llvmpipe's loop counter is shared by the lanes of a SIMD group (a subgroup): one lane
     // past its budget may have cut the loops of the others, whose answers are then unsure.
-    bool cut = subgroupAny(walk.state == MS_WALK_PAST || loops_were_cut());
+    // (Round 0's exact walks run their course: the probe catches what the limiter cut.)
+    bool past = walk.state == MS_WALK_PAST
+        || (!FOLLOW_UP && pc.loop_budget > 0u && ms_loop_iterations > pc.loop_budget);
+    bool cut = subgroupAny(past || loops_were_cut());
     bool over = false;
-    if (walk.state == MS_WALK_DONE && !cut) {
+    if (!FOLLOW_UP) {
+        // Round 0: what ran too long, or shared a group with it, goes on from its start.
+        if (!cut) {
+            imageStore(mask, pixel, vec4(walk.sum));
+        } else {
+            over = !queue_append(pixel, ms_walk_start());
+        }
+    } else if (walk.state == MS_WALK_DONE && !cut) {
         imageStore(mask, pixel, vec4(walk.sum));
     } else if (walk.state == MS_WALK_STOPPED && !cut) {
         walk.state = MS_WALK_RESUME;
@@ -178,7 +197,7 @@ void main() {
     } else {
         // Read again rather than kept: a copy live across the walk made the mask slower.
         ivec2 same_pixel;
-        MsWalk start = pc.round == 0u ? ms_walk_start() : queue_read(pc.round, index, same_pixel);
+        MsWalk start = queue_read(pc.round, index, same_pixel);
         // Again from where this invocation started, walking fewer texels: a walk that ran
         // past its budget stops before the texel that did (its next invocation starts with
         // it), the others of a group whose loops were cut walk half as many as they did.

@@ -296,6 +296,9 @@ pub(super) fn mask_position_flag(inputs: &MaskInputs) -> u32 {
     }
 }
 
+/// Where the follow-up rounds' pipelines start among the pass's variants.
+const FOLLOW_UP_VARIANTS: usize = 4;
+
 /// The visibility-mask pass. Immutable after creation.
 ///
 /// For each pixel of the host's depth image: the fraction of the shutter during which that
@@ -328,9 +331,19 @@ impl VisibilityMaskPass {
             ],
             MaskPush::BYTES,
             ("visibility_mask.comp", shaders::VISIBILITY_MASK_COMP),
-            // (MOVING, EXACT): receivers standing still or moving, against a map built for the
-            // depth-line test or for the exact lookup.
-            &[&[0, 0], &[1, 0], &[0, 1], &[1, 1]],
+            // (MOVING, EXACT, FOLLOW_UP): receivers standing still or moving, against a map
+            // built for the depth-line test or for the exact lookup; the first dispatch, then
+            // the follow-up rounds' (variant + FOLLOW_UP_VARIANTS).
+            &[
+                &[0, 0, 0],
+                &[1, 0, 0],
+                &[0, 1, 0],
+                &[1, 1, 0],
+                &[0, 0, 1],
+                &[1, 0, 1],
+                &[0, 1, 1],
+                &[1, 1, 1],
+            ],
         )?;
         Ok(Self {
             pass,
@@ -522,10 +535,12 @@ impl VisibilityMaskPass {
                     Access::COMPUTE_RW,
                     Access::COMPUTE_RW.and(Access::INDIRECT_READ),
                 );
+                self.pass
+                    .bind(device, cmd, variant + FOLLOW_UP_VARIANTS, &bindings.images);
                 self.pass.record_indirect(
                     device,
                     cmd,
-                    variant,
+                    variant + FOLLOW_UP_VARIANTS,
                     &MaskPush { round, ..constants },
                     (queue, MaskQueue::groups_offset(round)),
                 );
