@@ -125,7 +125,9 @@ void main() {
     // Where this invocation's walk starts (moving receivers and the exact lookup).
     MsWalk walk = ms_walk_start();
     uint index = gl_WorkGroupID.x * GROUP_SIZE + gl_LocalInvocationIndex;
-    if (pc.round == 0u) {
+    // (Keyed on the pipeline, not on pc.round: round 0's walk then starts from constants, and
+    // its loop's texel-limit test folds away.)
+    if (!FOLLOW_UP) {
         if (any(greaterThanEqual(uvec2(pixel), pc.size))) return;
     } else {
         uint count = MaskQueue(pc.queue).v[QUEUE_HEADER_WORDS * (pc.round - 1u) + 3u];
