@@ -98,22 +98,44 @@ float ms_exact_texel_shadow(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uin
 // in a texel, whatever blocks it then covers a point of that texel, so is named there: each
 // texel's triangles are tested over that sub-window. The sub-windows are disjoint, so their
 // shadowed times add up. Time outside the light's view is lit. Without triangle records (a map
-// not built for the exact lookup): 1.
-float ms_lit_fraction_exact_moving(MsMap map, vec3 p0, vec3 p1, uint own) {
-    if (map.triangles == 0UL) return 1.0;
+// not built for the exact lookup): 1. Walked from `walk` (see MsWalk) until done or, with a
+// loop `budget` (0: none), stopped between two texels.
+void ms_walk_exact(MsMap map, vec3 p0, vec3 p1, uint own, uint budget, inout MsWalk walk) {
     MsLightPath path;
-    if (!ms_path_start(map.light, map.size, p0, p1, path)) return 1.0;
+    if (map.triangles == 0UL || !ms_path_start(map.light, map.size, p0, p1, path)) {
+        walk.state = MS_WALK_DONE;
+        walk.sum = 1.0;
+        return;
+    }
     float shadowed = 0.0;
+    if (walk.state == MS_WALK_RESUME) {
+        path.t = walk.t;
+        path.texel = walk.texel;
+        shadowed = walk.sum;
+    }
+    uint stop_count = ms_walk_stop_count(budget);
+    bool stopped = false;
     for (uint crossed = 0u; path.t < path.hi && crossed <= map.size.x + map.size.y; ++crossed) {
+        if (ms_walk_stops(walk, stop_count)) {
+            stopped = true;
+            break;
+        }
         ++ms_loop_iterations;
         uint at = uint(path.texel.y) * map.size.x + uint(path.texel.x);
         float t = path.t, exit;
         bool inside = ms_path_advance(path, map.size, exit);
         shadowed += ms_exact_texel_shadow(map, at, p0, p1, vec2(t, exit), own);
+        ++walk.walked;
         path.t = exit;
         if (!inside) break;
     }
-    return 1.0 - min(shadowed, 1.0);
+    ms_walk_end(walk, budget, stopped, path.t, path.texel, shadowed, 1.0 - min(shadowed, 1.0));
+}
+
+float ms_lit_fraction_exact_moving(MsMap map, vec3 p0, vec3 p1, uint own) {
+    MsWalk walk = ms_walk_start();
+    ms_walk_exact(map, p0, p1, own, 0u, walk);
+    return walk.sum;
 }
 
 // The same for a receiver that stands at p all shutter long: its one texel's triangles.

@@ -5,7 +5,7 @@
 #ifndef MS_IMAGE_PUSH_GLSL
 #define MS_IMAGE_PUSH_GLSL
 
-// The temporal map's visibility mask (visibility_mask.comp; 112 bytes).
+// The temporal map's visibility mask (visibility_mask.comp; 128 bytes).
 struct MaskPush {
     mat4 inv_view_proj;     // camera clip -> world (the host's matrices, Vulkan NDC)
     uint64_t map;           // MsShadowMap header
@@ -15,6 +15,11 @@ struct MaskPush {
     uint64_t over_budget;   // u32: pixels whose lookups ran past loop_budget iterations
     uint loop_budget;       // 0: the device does not limit loops
     float time;             // the shutter time the depth image shows (read when MOVING)
+    uint64_t queue;         // the overflow queues (moving receivers, exact lookup)
+    uint round;             // 0: every pixel; r > 0: the pixels of round r's queue
+    uint rounds;            // follow-up rounds recorded after round 0
+    uint capacity;          // entries per queue
+    uint probe;             // 2 on a device with a loop limit, else 0 (loops_were_cut)
 };
 
 // The engine TSM's mask of one batch of maps (tsm_mask.comp; 128 bytes).

@@ -815,6 +815,66 @@ bool ms_path_advance(inout MsLightPath path, uvec2 size, out float exit) {
     return all(greaterThanEqual(path.texel, ivec2(0))) && all(lessThan(path.texel, ivec2(size)));
 }
 
+// A moving lookup's walk along its path, resumable between two texels (issue 35): the texels'
+// time windows are disjoint and their shares add up, so a walk may stop before any texel and
+// go on later, in another invocation, from the time and texel it reached and its sum so far.
+// On a device that leaves loops after a fixed count (lavapipe), the visibility mask cuts a
+// long walk into pieces that each fit one invocation's budget.
+const uint MS_WALK_START = 0u;      // in: from the path's start
+const uint MS_WALK_RESUME = 1u;     // in: from t, texel and sum
+const uint MS_WALK_DONE = 2u;       // out: sum is the lit fraction
+const uint MS_WALK_STOPPED = 3u;    // out: stopped before `texel` at time t: resume from there
+const uint MS_WALK_PAST = 4u;       // out: texel number `walked` ran past the budget: the loops
+                                    // of this invocation may have been cut, nothing is sure
+const uint MS_WALK_NO_LIMIT = 0xffffffffu;
+
+struct MsWalk {
+    uint state;
+    float t;
+    ivec2 texel;
+    float sum;      // so far: the lit time (depth lines), the shadowed time (exact)
+    uint limit;     // texels this invocation may walk (MS_WALK_NO_LIMIT: any number)
+    uint walked;    // texels this invocation has walked
+};
+
+MsWalk ms_walk_start() {
+    return MsWalk(MS_WALK_START, 0.0, ivec2(0), 0.0, MS_WALK_NO_LIMIT, 0u);
+}
+
+// The count a walk stops at, before its next texel, to go on with a fresh budget: half of
+// `budget` (the other half for the texel it is in, which may be long); never with budget 0
+// (no loop limit).
+uint ms_walk_stop_count(uint budget) {
+    return budget == 0u ? 0xffffffffu : budget / 2u;
+}
+
+// Whether the walk stops before its next texel (past its stop count or its texel limit).
+// Tested at the top of the walk's loop: a caller that passes a budget of 0 known when the
+// shader is compiled has it folded away (a test left there made the visibility mask 1.3x
+// slower on lavapipe).
+bool ms_walk_stops(MsWalk walk, uint stop_count) {
+    return ms_loop_iterations > stop_count || walk.walked >= walk.limit;
+}
+
+// The walk's state once its loop is left: past `budget` (the last texel walked ran past it:
+// nothing this invocation did is sure; `walked` is that texel's number), stopped before the
+// texel at t (resume there with `sum`), or done (`sum` is the lit fraction).
+void ms_walk_end(inout MsWalk walk, uint budget, bool stopped, float t, ivec2 texel, float sum,
+                 float lit) {
+    if (budget != 0u && ms_loop_iterations > budget) {
+        walk.state = MS_WALK_PAST;
+        walk.walked -= 1u;
+    } else if (stopped) {
+        walk.state = MS_WALK_STOPPED;
+        walk.t = t;
+        walk.texel = texel;
+        walk.sum = sum;
+    } else {
+        walk.state = MS_WALK_DONE;
+        walk.sum = lit;
+    }
+}
+
 // The fraction of the shutter [0, 1] during which a receiver moving linearly from p0 (at
 // t = 0) to p1 (at t = 1), unit normal n (on the side facing the light; taken as constant),
 // on triangle `own`, sees the light: each range tested where the point is when it holds.
@@ -826,17 +886,34 @@ bool ms_path_advance(inout MsLightPath path, uvec2 size, out float exit) {
 // in t, and each crossing time solves a linear equation, for both light kinds); within one
 // texel its light depth, and its tangent plane's depth at the texel centre, are linear in t,
 // so every range shadows it during one interval (ms_texel_lit_span). Time spent outside the
-// light's view is lit. The cost is one list walk per texel crossed.
-float ms_lit_fraction_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own) {
+// light's view is lit. The cost is one list walk per texel crossed. Walked from `walk` (see
+// MsWalk) until done or, with a loop `budget` (0: none), stopped between two texels.
+void ms_walk_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own, uint budget,
+                    inout MsWalk walk) {
     MsLight light = map.light;
     // The normal offset is linear in the point's light depth, so the offset point moves
     // linearly too.
     vec3 q0 = ms_offset_receiver(light, p0, n), q1 = ms_offset_receiver(light, p1, n);
     MsLightPath path;
-    if (!ms_path_start(light, map.size, q0, q1, path)) return 1.0;
+    if (!ms_path_start(light, map.size, q0, q1, path)) {
+        walk.state = MS_WALK_DONE;
+        walk.sum = 1.0;
+        return;
+    }
     float lit = 1.0 - (path.hi - path.lo);    // outside the light's view
+    if (walk.state == MS_WALK_RESUME) {
+        path.t = walk.t;
+        path.texel = walk.texel;
+        lit = walk.sum;
+    }
     float depth0 = -(light.view * vec4(q0, 1.0)).z, depth1 = -(light.view * vec4(q1, 1.0)).z;
+    uint stop_count = ms_walk_stop_count(budget);
+    bool stopped = false;
     for (uint crossed = 0u; path.t < path.hi && crossed <= map.size.x + map.size.y; ++crossed) {
+        if (ms_walk_stops(walk, stop_count)) {
+            stopped = true;
+            break;
+        }
         ++ms_loop_iterations;
         uvec2 at = uvec2(path.texel);
         float t = path.t, exit;
@@ -845,6 +922,7 @@ float ms_lit_fraction_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own) {
         float db = ms_tested_depth(light, map.size, at, mix(q0, q1, exit), n,
                                    mix(depth0, depth1, exit));
         lit += ms_texel_lit_span(map, at.y * map.size.x + at.x, vec2(t, exit), vec2(da, db), own);
+        ++walk.walked;
         path.t = exit;
         // Past the map's border by rounding only: the sliver left is counted lit, as outside.
         if (!inside) {
@@ -852,7 +930,13 @@ float ms_lit_fraction_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own) {
             break;
         }
     }
-    return min(lit, 1.0);
+    ms_walk_end(walk, budget, stopped, path.t, path.texel, lit, min(lit, 1.0));
+}
+
+float ms_lit_fraction_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own) {
+    MsWalk walk = ms_walk_start();
+    ms_walk_moving(map, p0, p1, n, own, 0u, walk);
+    return walk.sum;
 }
 
 float ms_lit_fraction_moving(MsShadowMap header, vec3 p0, vec3 p1, vec3 n, uint own) {

@@ -6,8 +6,14 @@
 // Two variants (specialization constant MOVING): receivers standing still (ms_lit_fraction)
 // or moving as the host's motion image says (ms_lit_fraction_moving: each range tested
 // where the point is at that time).
+//
+// On a device that leaves loops after a fixed count (lavapipe), a moving receiver's walk along
+// its path may be longer than one invocation can run: it stops between two texels and joins
+// the overflow queue, and follow-up dispatches (rounds 1 .. pc.rounds, indirect, sized by the
+// queue's count) go on from where it stopped (MsWalk), each with a fresh budget.
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_buffer_reference : require
+#extension GL_KHR_shader_subgroup_vote : require
 #include "motion_shadows.glsl"
 #include "exact_lookup.glsl"
 
@@ -28,6 +34,11 @@ layout(constant_id = 0) const bool MOVING = false;
 // pipeline, so that the exact test's code is not compiled into the depth-line masks (beside
 // them it made the default mask 1.65x slower on lavapipe).
 layout(constant_id = 1) const bool EXACT = false;
+// The follow-up rounds' own pipelines (pc.round > 0): only they stop walks on the way. Round 0
+// walks as a device without a loop limit does and hands what ran too long to round 1 from its
+// start: the stop's test in the walk's loop, even with a budget of 0 at run time, made the
+// default frame's mask 1.3x slower on lavapipe, folded away here.
+layout(constant_id = 2) const bool FOLLOW_UP = false;
 
 // MASK_* flags (MASK_HAS_IDS: read the triangle-id image), from src/technique/gpu_constants.rs.
 #include "gpu_constants.glsl"
@@ -36,14 +47,93 @@ layout(constant_id = 1) const bool EXACT = false;
 layout(push_constant) uniform Push { MaskPush pc; };
 
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer Counter { uint count; };
+// The overflow queues (src/technique/mask_queue.rs): per follow-up round r = 1 .. rounds, the
+// indirect dispatch of round r and its count of entries (header r - 1), then two queues of
+// pc.capacity entries, round r reading queue r % 2 (written by round r - 1).
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer MaskQueue { uint v[]; };
+const uint QUEUE_HEADER_WORDS = 4u;     // groups x, y, z (the indirect dispatch), count
+const uint QUEUE_ENTRY_WORDS = 5u;      // pixel, t, texel (or QUEUE_FROM_START), sum, limit
+const uint QUEUE_FROM_START = 0xffffffffu;
+const uint GROUP_SIZE = 64u;            // local_size_x * local_size_y
+
+uint queue_entry(uint round, uint index) {
+    return QUEUE_HEADER_WORDS * pc.rounds
+        + ((round & 1u) * pc.capacity + index) * QUEUE_ENTRY_WORDS;
+}
+
+// Entry `index` of round `round`'s queue: its pixel and where its walk goes on from.
+MsWalk queue_read(uint round, uint index, out ivec2 pixel) {
+    MaskQueue q = MaskQueue(pc.queue);
+    uint at = queue_entry(round, index);
+    uint packed_pixel = q.v[at], packed_texel = q.v[at + 2u];
+    pixel = ivec2(packed_pixel & 0xffffu, packed_pixel >> 16u);
+    MsWalk walk = ms_walk_start();
+    if (packed_texel != QUEUE_FROM_START) {
+        walk.state = MS_WALK_RESUME;
+        walk.t = uintBitsToFloat(q.v[at + 1u]);
+        walk.texel = ivec2(packed_texel & 0xffffu, packed_texel >> 16u);
+        walk.sum = uintBitsToFloat(q.v[at + 3u]);
+    }
+    walk.limit = q.v[at + 4u];
+    return walk;
+}
+
+// Puts the pixel's walk into the next round's queue; false where there is no next round or
+// the queue is full (the pixel is then over budget).
+bool queue_append(ivec2 pixel, MsWalk walk) {
+    uint next = pc.round + 1u;
+    if (next > pc.rounds) return false;
+    MaskQueue q = MaskQueue(pc.queue);
+    uint header = QUEUE_HEADER_WORDS * (next - 1u);
+    uint index = atomicAdd(q.v[header + 3u], 1u);
+    if (index >= pc.capacity) return false;
+    uint at = queue_entry(next, index);
+    q.v[at] = uint(pixel.x) | (uint(pixel.y) << 16u);
+    bool resume = walk.state == MS_WALK_RESUME;
+    q.v[at + 1u] = floatBitsToUint(walk.t);
+    q.v[at + 2u] = resume ? uint(walk.texel.x) | (uint(walk.texel.y) << 16u) : QUEUE_FROM_START;
+    q.v[at + 3u] = floatBitsToUint(walk.sum);
+    q.v[at + 4u] = walk.limit;
+    atomicMax(q.v[header], index / GROUP_SIZE + 1u);
+    return true;
+}
 
 // world_at, normal_from_depth, gbuffer_normal and the MASK_* flags (shared with
 // tsm_mask.comp, so both masks test the same receivers).
 #include "mask_gbuffer.glsl"
 
+// Whether the device's loop limiter (lavapipe) has run out in this SIMD group: every loop then
+// leaves after its first iteration, and this one, of pc.probe iterations (2; from the host,
+// so that it is not unrolled), runs once. The walks' own counts are upper bounds of their
+// loops but not of every loop inside the exact test: this catches what they miss.
+bool loops_were_cut() {
+    uint ran = 0u;
+    for (uint i = 0u; i < pc.probe; ++i) ++ran;
+    return ran < pc.probe;
+}
+
+// The walks' budget with the exact lookup: an eighth of the device's. The exact test's own loops
+// (its roots, its union's slots) are not all in ms_loop_iterations; with all of it, lavapipe
+// cut a few walks at a 256 x 256 map (8 of 3,024 pixels of deferred_long_paths off the
+// truth), and at a quarter its limiter still ran out often on cubes-toward-light.
+uint exact_budget() {
+    return pc.loop_budget / 8u;
+}
+
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(uvec2(pixel), pc.size))) return;
+    // Where this invocation's walk starts (moving receivers and the exact lookup).
+    MsWalk walk = ms_walk_start();
+    uint index = gl_WorkGroupID.x * GROUP_SIZE + gl_LocalInvocationIndex;
+    // (Keyed on the pipeline, not on pc.round: round 0's walk then starts from constants, and
+    // its loop's texel-limit test folds away.)
+    if (!FOLLOW_UP) {
+        if (any(greaterThanEqual(uvec2(pixel), pc.size))) return;
+    } else {
+        uint count = MaskQueue(pc.queue).v[QUEUE_HEADER_WORDS * (pc.round - 1u) + 3u];
+        if (index >= min(count, pc.capacity)) return;
+        walk = queue_read(pc.round, index, pixel);
+    }
     float depth = texelFetch(depth_image, pixel, 0).r;
     if (depth == pc.background_depth) {
         imageStore(mask, pixel, vec4(1.0));
@@ -57,13 +147,12 @@ void main() {
     uint own =
         (pc.flags & MASK_HAS_IDS) != 0u ? texelFetch(id_image, pixel, 0).r : MS_NO_TRIANGLE;
     MsMap tested = ms_load(map);
-    float lit;
     vec3 motion = MOVING ? texelFetch(motion_image, pixel, 0).xyz : vec3(0.0);
+    vec3 p0 = p - pc.time * motion;
     if (EXACT) {
         // A map built for the exact lookup (Lookup::Exact): the receiver's own shadow ray
         // against the triangles named along its path; no normal, offset or bias.
-        vec3 p0 = p - pc.time * motion;
-        lit = ms_lit_fraction_exact_moving(tested, p0, p0 + motion, own);
+        ms_walk_exact(tested, p0, p0 + motion, own, FOLLOW_UP ? exact_budget() : 0u, walk);
     } else if (MOVING) {
         if (motion == vec3(0.0) && (pc.flags & MASK_STILL_PIXELS_PLANE) != 0u) {
             // A point that stands still keeps its plane all frame: the standing receiver's
@@ -75,15 +164,47 @@ void main() {
             tested.light.bias.x = 0.0;
             tested.light.bias.w = 1.0;
         }
-        vec3 p0 = p - pc.time * motion;
-        lit = ms_lit_fraction_moving(tested, p0, p0 + motion, n, own);
+        ms_walk_moving(tested, p0, p0 + motion, n, own, FOLLOW_UP ? pc.loop_budget : 0u, walk);
     } else {
-        lit = ms_lit_fraction(tested, p, n, own);
+        float lit = ms_lit_fraction(tested, p, n, own);
+        imageStore(mask, pixel, vec4(lit));
+        // The device leaves loops past a fixed count: say so when this pixel's lookup may
+        // have come near it (the value above may then be cut short).
+        if (pc.loop_budget > 0u && ms_loop_iterations > pc.loop_budget) {
+            atomicAdd(Counter(pc.over_budget).count, 1u);
+        }
+        return;
     }
-    imageStore(mask, pixel, vec4(lit));
-    // The device leaves loops past a fixed count: say so when this pixel's lookup may have
-    // come near it (the value above may then be cut short).
-    if (pc.loop_budget > 0u && ms_loop_iterations > pc.loop_budget) {
-        atomicAdd(Counter(pc.over_budget).count, 1u);
+    // llvmpipe's loop counter is shared by the lanes of a SIMD group (a subgroup): one lane
+    // past its budget may have cut the loops of the others, whose answers are then unsure.
+    // (Round 0's exact walks run their course: the probe catches what the limiter cut.)
+    bool past = walk.state == MS_WALK_PAST
+        || (!FOLLOW_UP && pc.loop_budget > 0u && ms_loop_iterations > pc.loop_budget);
+    bool cut = subgroupAny(past || loops_were_cut());
+    bool over = false;
+    if (!FOLLOW_UP) {
+        // Round 0: what ran too long, or shared a group with it, goes on from its start.
+        if (!cut) {
+            imageStore(mask, pixel, vec4(walk.sum));
+        } else {
+            over = !queue_append(pixel, ms_walk_start());
+        }
+    } else if (walk.state == MS_WALK_DONE && !cut) {
+        imageStore(mask, pixel, vec4(walk.sum));
+    } else if (walk.state == MS_WALK_STOPPED && !cut) {
+        walk.state = MS_WALK_RESUME;
+        over = !queue_append(pixel, walk);
+    } else if (walk.state == MS_WALK_PAST && walk.walked == 0u) {
+        over = true;    // one texel's list alone is longer than an invocation can walk
+    } else {
+        // Read again rather than kept: a copy live across the walk made the mask slower.
+        ivec2 same_pixel;
+        MsWalk start = queue_read(pc.round, index, same_pixel);
+        // Again from where this invocation started, walking fewer texels: a walk that ran
+        // past its budget stops before the texel that did (its next invocation starts with
+        // it), the others of a group whose loops were cut walk half as many as they did.
+        start.limit = walk.state == MS_WALK_PAST ? walk.walked : max(walk.walked / 2u, 1u);
+        over = !queue_append(pixel, start);
     }
+    if (over) atomicAdd(Counter(pc.over_budget).count, 1u);
 }

@@ -30,9 +30,10 @@ pub enum Error {
     Memory(String),
 
     /// The deferred mask: `pixels` pixels walked more texels' ranges than the device's shader
-    /// loop `limit` lets one invocation run, so their lit share could be wrong.
+    /// loop `limit` lets the mask run (one texel's list in one invocation, a moving
+    /// receiver's whole path in its follow-up rounds), so their lit share could be wrong.
     #[error(
-        "{pixels} pixel(s) of the deferred mask need more shader loop iterations than this device runs ({limit} per invocation, lavapipe's loop limiter): their lit share could be wrong. Each moving receiver walks the ranges of every shadow texel it crosses: let receivers stand still (render --static-receivers: one texel each), store fewer ranges per texel (--pruning cover), use --method tsm, or a device without the limit"
+        "{pixels} pixel(s) of the deferred mask need more shader loop iterations than this device runs ({limit} per invocation, lavapipe's loop limiter, even with a moving receiver's path walked over follow-up rounds): their lit share could be wrong. One shadow texel's ranges, or all the texels a moving receiver crosses, are too many: let receivers stand still (render --static-receivers: one texel each), use a coarser map (--shadow-size: fewer texels crossed), store fewer ranges per texel (--pruning cover), use --method tsm, or a device without the limit"
     )]
     MaskLoopLimit {
         /// Pixels over the budget.

@@ -785,7 +785,7 @@ impl<'h> Engine<'h> {
                     .map(|_| TemporalShadowMap::new(&self.ctx, sw, sh, nodes, ranges))
                     .collect::<motion_shadows::Result<_>>()?,
                 mask_bindings: (0..lights)
-                    .map(|_| self.passes.mask.bindings(&self.ctx))
+                    .map(|_| self.passes.mask.bindings(&self.ctx, size))
                     .collect::<motion_shadows::Result<_>>()?,
             };
             self.write_descriptors(&slot);

@@ -324,8 +324,9 @@ impl GenerationPass {
 
 impl super::VisibilityMaskPass {
     /// What [`Self::record`] with these inputs reads and writes of the host's images and of
-    /// `map` (its own counter it orders itself). The images' barriers and layout transitions
-    /// are always the host's (the record function's contract); the map's ranges must be
+    /// `map` (its own counter and overflow queues it orders itself). The images' barriers and
+    /// layout transitions are always the host's (the record function's contract); the map's
+    /// ranges must be
     /// visible to compute reads, which the generation pass's exit barrier (or the host's,
     /// from [`GenerationPass::accesses`]) does.
     pub fn accesses(&self, inputs: &super::MaskInputs, map: &TemporalShadowMap) -> PassAccesses {

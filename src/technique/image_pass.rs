@@ -57,6 +57,23 @@ impl ImagePass {
         constants: &T,
         size: (u32, u32),
     ) {
+        unsafe { self.bind(device, cmd, variant, bindings) };
+        let pipeline = &self.pipelines[variant];
+        unsafe { pipeline.push(device, cmd, constants) };
+        unsafe { device.cmd_dispatch(cmd, size.0.div_ceil(8), size.1.div_ceil(8), 1) };
+    }
+
+    /// Binds pipeline `variant` and `bindings` (already written) as set 0.
+    ///
+    /// # Safety
+    /// As [`Self::record`].
+    pub unsafe fn bind(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        variant: usize,
+        bindings: &ImageBindings,
+    ) {
         let pipeline = &self.pipelines[variant];
         unsafe { pipeline.bind(device, cmd) };
         unsafe {
@@ -69,7 +86,27 @@ impl ImagePass {
                 &[],
             )
         };
+    }
+
+    /// Records one more dispatch of pipeline `variant`, already bound with its set by
+    /// [`Self::bind`], with `constants` pushed and its group counts read from `args` at
+    /// `offset` (`VkDispatchIndirectCommand`).
+    ///
+    /// # Safety
+    /// As [`Self::record`]; [`Self::bind`] was recorded earlier in `cmd` with the same
+    /// variant, and no other pipeline or set was bound since; `args` has indirect usage,
+    /// holds the command at `offset`, made visible to `DRAW_INDIRECT` reads, and outlives
+    /// `cmd`.
+    pub unsafe fn record_indirect<T: bytemuck::Pod>(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        variant: usize,
+        constants: &T,
+        (args, offset): (vk::Buffer, u64),
+    ) {
+        let pipeline = &self.pipelines[variant];
         unsafe { pipeline.push(device, cmd, constants) };
-        unsafe { device.cmd_dispatch(cmd, size.0.div_ceil(8), size.1.div_ceil(8), 1) };
+        unsafe { device.cmd_dispatch_indirect(cmd, args, offset) };
     }
 }

@@ -8,6 +8,7 @@
 //! descriptor set: one [`MaskBindings`] per use in flight (per frame in flight and light).
 
 use super::image_pass::ImagePass;
+use super::mask_queue::{DEFAULT_MASK_FOLLOW_UP_ROUNDS, MaskQueue};
 use super::push_constants::{MaskPush, PushBlock};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
@@ -19,13 +20,16 @@ use ash::vk;
 use glam::Mat4;
 
 /// What one mask dispatch binds and reports: the descriptor set of the host's depth, normal
-/// and output views, and the count of pixels whose lookups may have been cut short. One per
-/// dispatch that may be pending at the same time (per frame in flight and light), used once
-/// per command buffer. Made by [`VisibilityMaskPass::bindings`].
+/// and output views, the overflow queues of walks that did not finish in one invocation, and
+/// the count of pixels whose lookups may have been cut short. One per dispatch that may be
+/// pending at the same time (per frame in flight and light), used once per command buffer.
+/// Made by [`VisibilityMaskPass::bindings`].
 pub struct MaskBindings {
     images: ImageBindings,
     /// One u32: pixels past the device's loop budget (written by the shader, read by the host).
     over_budget: Buffer,
+    /// Where moving receivers' walks that stopped go on (a device with a loop limit only).
+    queue: MaskQueue,
     /// A 1x1 R32_UINT image bound in place of the host's id image when it has none: the
     /// shader never reads it then, but the binding is an unsigned-integer sampler, and a view
     /// of another numeric format there is invalid.
@@ -39,6 +43,7 @@ impl MaskBindings {
     pub fn allocations(&self) -> Vec<(&str, u64)> {
         vec![
             (self.over_budget.name(), self.over_budget.allocated_bytes()),
+            (MaskQueue::NAME, self.queue.buffer().allocated_bytes()),
             (
                 "visibility-mask stand-in id image",
                 self.no_ids.allocated_bytes(),
@@ -50,9 +55,12 @@ impl MaskBindings {
     /// loop iterations that a device with a loop limit
     /// ([`crate::gpu::DeviceInfo::shader_loop_limit`], lavapipe) may have cut them short:
     /// their mask values may be wrong. Read after that command buffer completed. Always 0 on
-    /// devices without such a limit; where it is not 0, the map's lists are too long for this
-    /// device at those pixels (the texel's shadow comes and goes more than 32 times in the
-    /// shutter over hundreds of ranges) and the host should not trust the mask.
+    /// devices without such a limit. A moving receiver's walk along its path goes on over
+    /// follow-up rounds ([`VisibilityMaskPass::with_follow_up_rounds`]), so a long path alone
+    /// is not counted; where it is not 0, one texel's list is too long for this device at
+    /// those pixels (its shadow comes and goes more than 32 times in the shutter over
+    /// hundreds of ranges), a path needed more rounds than recorded, or the mask had more
+    /// pixels than the bindings were made for, and the host should not trust the mask.
     pub fn read_over_budget_pixels(&self) -> Result<u32> {
         Ok(self.over_budget.read::<u32>(1)?[0])
     }
@@ -288,6 +296,9 @@ pub(super) fn mask_position_flag(inputs: &MaskInputs) -> u32 {
     }
 }
 
+/// Where the follow-up rounds' pipelines start among the pass's variants.
+const FOLLOW_UP_VARIANTS: usize = 4;
+
 /// The visibility-mask pass. Immutable after creation.
 ///
 /// For each pixel of the host's depth image: the fraction of the shutter during which that
@@ -298,6 +309,7 @@ pub(super) fn mask_position_flag(inputs: &MaskInputs) -> u32 {
 pub struct VisibilityMaskPass {
     pass: ImagePass,
     loop_budget: u32,
+    follow_up_rounds: u32,
 }
 
 impl VisibilityMaskPass {
@@ -319,20 +331,60 @@ impl VisibilityMaskPass {
             ],
             MaskPush::BYTES,
             ("visibility_mask.comp", shaders::VISIBILITY_MASK_COMP),
-            // (MOVING, EXACT): receivers standing still or moving, against a map built for the
-            // depth-line test or for the exact lookup.
-            &[&[0, 0], &[1, 0], &[0, 1], &[1, 1]],
+            // (MOVING, EXACT, FOLLOW_UP): receivers standing still or moving, against a map
+            // built for the depth-line test or for the exact lookup; the first dispatch, then
+            // the follow-up rounds' (variant + FOLLOW_UP_VARIANTS).
+            &[
+                &[0, 0, 0],
+                &[1, 0, 0],
+                &[0, 1, 0],
+                &[1, 1, 0],
+                &[0, 0, 1],
+                &[1, 0, 1],
+                &[0, 1, 1],
+                &[1, 1, 1],
+            ],
         )?;
         Ok(Self {
             pass,
             loop_budget: ctx.info().shader_loop_budget(),
+            follow_up_rounds: DEFAULT_MASK_FOLLOW_UP_ROUNDS,
         })
     }
 
-    /// The bindings for one dispatch in flight.
-    pub fn bindings(&self, ctx: &Context) -> Result<MaskBindings> {
+    /// With `rounds` follow-up dispatches (default [`DEFAULT_MASK_FOLLOW_UP_ROUNDS`]) for the
+    /// moving receivers' walks that a device with a loop limit stopped: each goes on with a
+    /// fresh budget. Set it before making bindings (they hold a header per round). Read only
+    /// on such a device (lavapipe).
+    pub fn with_follow_up_rounds(self, rounds: u32) -> Self {
+        Self {
+            follow_up_rounds: rounds,
+            ..self
+        }
+    }
+
+    /// Follow-up rounds recorded on a device with a loop limit (0 elsewhere).
+    fn rounds(&self) -> u32 {
+        if self.loop_budget > 0 {
+            self.follow_up_rounds
+        } else {
+            0
+        }
+    }
+
+    /// The bindings for one dispatch in flight, of a mask of up to `size` pixels. On a device
+    /// with a loop limit (lavapipe) they hold the overflow queues: two entries of 20 bytes per
+    /// pixel (elsewhere nothing, as no walk stops there).
+    pub fn bindings(&self, ctx: &Context, size: (u32, u32)) -> Result<MaskBindings> {
+        let rounds = self.rounds();
+        let pixels = if rounds > 0 {
+            size.0.saturating_mul(size.1)
+        } else {
+            0
+        };
         Ok(MaskBindings {
             images: self.pass.layout.allocate()?,
+            queue: MaskQueue::new(ctx, pixels, rounds)?,
             over_budget: Buffer::new(
                 ctx,
                 "visibility-mask over-budget pixels",
@@ -367,10 +419,12 @@ impl VisibilityMaskPass {
     ///
     /// Synchronization: leaves the output written by `COMPUTE_SHADER` with
     /// `SHADER_STORAGE_WRITE`, in `GENERAL` layout; the host's barrier makes it visible to
-    /// its lighting. Records its own barriers around the bindings' counter (a transfer fill
-    /// before the dispatch, a compute-to-host barrier after it: after `cmd` completes,
-    /// [`MaskBindings::read_over_budget_pixels`] reads it). State changed: the bound compute
-    /// pipeline, descriptor set 0 of the compute bind point, push constants.
+    /// its lighting. Records its own barriers around the bindings' counter and queues (a
+    /// transfer fill before the first dispatch, a compute-to-compute-and-indirect barrier
+    /// before each follow-up round, a compute-to-host barrier after the last: after `cmd`
+    /// completes, [`MaskBindings::read_over_budget_pixels`] reads the counter). State
+    /// changed: the bound compute pipeline, descriptor set 0 of the compute bind point, push
+    /// constants.
     pub unsafe fn record(
         &self,
         device: &ash::Device,
@@ -421,15 +475,29 @@ impl VisibilityMaskPass {
             over_budget: bindings.over_budget.device_address(),
             loop_budget: self.loop_budget,
             time: inputs.time,
-            padding: [0; 2],
+            queue: bindings.queue.buffer().device_address(),
+            round: 0,
+            rounds: 0,
+            capacity: bindings.queue.capacity(),
+            probe: if self.loop_budget > 0 { 2 } else { 0 },
         };
         let exact = map.recorded_lookup() == super::view::Lookup::Exact;
         let variant = usize::from(inputs.motion.is_some()) + 2 * usize::from(exact);
+        // Only walks along a path stop and go on (moving receivers, the exact lookup).
+        let walks = inputs.motion.is_some() || exact;
+        let rounds = if walks { bindings.queue.rounds() } else { 0 };
+        let constants = MaskPush {
+            rounds,
+            ..constants
+        };
         let counter = bindings.over_budget.raw();
         // SAFETY: the caller's contract; the set was just written; the counter is the
         // bindings' own, not in use by a pending command buffer (the caller's contract).
         unsafe {
             device.cmd_fill_buffer(cmd, counter, 0, vk::WHOLE_SIZE, 0);
+            if rounds > 0 {
+                bindings.queue.record_reset(device, cmd);
+            }
             if inputs.ids.is_none() {
                 // Its contents are never read: a transition from UNDEFINED each time keeps it
                 // in the bound layout without a setup submission.
@@ -443,7 +511,13 @@ impl VisibilityMaskPass {
                     Access::COMPUTE_SAMPLED_READ,
                 );
             }
-            memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_RW);
+            // The rounds' group counts are read as indirect arguments too.
+            memory_barrier(
+                device,
+                cmd,
+                Access::TRANSFER_WRITE,
+                Access::COMPUTE_RW.and(Access::INDIRECT_READ),
+            );
             self.pass.record(
                 device,
                 cmd,
@@ -452,6 +526,25 @@ impl VisibilityMaskPass {
                 &constants,
                 inputs.size,
             );
+            let queue = bindings.queue.buffer().raw();
+            for round in 1..=rounds {
+                // The queue this round reads, its group count and the mask's earlier writes.
+                memory_barrier(
+                    device,
+                    cmd,
+                    Access::COMPUTE_RW,
+                    Access::COMPUTE_RW.and(Access::INDIRECT_READ),
+                );
+                self.pass
+                    .bind(device, cmd, variant + FOLLOW_UP_VARIANTS, &bindings.images);
+                self.pass.record_indirect(
+                    device,
+                    cmd,
+                    variant + FOLLOW_UP_VARIANTS,
+                    &MaskPush { round, ..constants },
+                    (queue, MaskQueue::groups_offset(round)),
+                );
+            }
             memory_barrier(device, cmd, Access::COMPUTE_RW, Access::HOST_READ);
         }
     }

@@ -41,6 +41,7 @@ mod image_pass;
 #[cfg(feature = "research")]
 mod lighting;
 mod mask;
+mod mask_queue;
 #[cfg(feature = "research")]
 mod plain_shadow;
 mod pruning;
@@ -79,6 +80,7 @@ pub use mask::{
     MaskBindings, MaskInputs, MotionImage, NormalEncoding, NormalImage, PositionImage,
     TriangleIdImage, VisibilityMaskPass,
 };
+pub use mask_queue::DEFAULT_MASK_FOLLOW_UP_ROUNDS;
 #[cfg(feature = "research")]
 pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
 pub use pruning::Pruning;

@@ -160,7 +160,7 @@ pub struct ShadePush {
     pub flags: u32,
 }
 
-/// The temporal map's visibility mask, `visibility_mask.comp` (104 bytes of fields, 112 with
+/// The temporal map's visibility mask, `visibility_mask.comp` (124 bytes of fields, 128 with
 /// the padding up to `Mat4`'s 16-byte alignment).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -181,8 +181,17 @@ pub struct MaskPush {
     pub loop_budget: u32,
     /// The shutter time the depth image shows (read for moving receivers).
     pub time: f32,
-    /// Zero: the struct's tail padding, explicit so that it is plain data.
-    pub padding: [u32; 2],
+    /// The overflow queues (`mask_queue.rs`): where walks that stopped go on.
+    pub queue: u64,
+    /// 0: the dispatch over every pixel; r > 0: follow-up round r, over its queue's pixels.
+    pub round: u32,
+    /// Follow-up rounds recorded after round 0.
+    pub rounds: u32,
+    /// Entries per queue.
+    pub capacity: u32,
+    /// Iterations of the shader's probe of the device's loop limiter: 2 where the device has
+    /// one, else 0.
+    pub probe: u32,
 }
 
 /// The engine TSM's mask of one batch of maps, `tsm_mask.comp` (128 bytes).
@@ -271,7 +280,7 @@ const _: () = {
     assert!(std::mem::size_of::<LightingRasterPush>() == 48);
     assert!(std::mem::size_of::<RasterCamera>() == 68);
     assert!(std::mem::size_of::<ShadePush>() == 40);
-    assert!(std::mem::size_of::<MaskPush>() == 112);
+    assert!(std::mem::size_of::<MaskPush>() == 128);
     assert!(std::mem::size_of::<TsmMaskPush>() == 128);
     assert!(std::mem::size_of::<GBufferPush>() == 96);
     assert!(std::mem::size_of::<RadiancePush>() == 16);

@@ -133,7 +133,8 @@ void main() {
     MaskPush mp = MaskPushRef(table.mask_push).v;
     put(mp.inv_view_proj); put(mp.map); put(mp.size.x); put(mp.size.y);
     put(mp.background_depth); put(mp.flags); put(mp.over_budget); put(mp.loop_budget);
-    put(mp.time);
+    put(mp.time); put(mp.queue); put(mp.round); put(mp.rounds); put(mp.capacity);
+    put(mp.probe);
     TsmMaskPush tp = TsmMaskPushRef(table.tsm_mask_push).v;
     put(tp.inv_view_proj); put(tp.light); put(tp.size.x); put(tp.size.y);
     put(tp.background_depth); put(tp.flags); put(tp.map_size.x); put(tp.map_size.y);

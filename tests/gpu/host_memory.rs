@@ -309,7 +309,7 @@ fn the_hosts_allocator_counts_the_librarys_allocations() {
     // The draw list and the mask's bindings report theirs the same way.
     let draws = motion_shadows::technique::DrawList::new(&ctx, 8).expect("draw list");
     let mask = motion_shadows::technique::VisibilityMaskPass::new(&ctx).expect("mask pass");
-    let bindings = mask.bindings(&ctx).expect("bindings");
+    let bindings = mask.bindings(&ctx, (64, 48)).expect("bindings");
     let host_view = allocations(&allocator);
     for (name, bytes) in draws
         .allocations()

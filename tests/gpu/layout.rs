@@ -235,7 +235,11 @@ fn shared_structs_match_glsl() {
         over_budget: val.a(),
         loop_budget: val.u(),
         time: val.f(),
-        padding: [0; 2],
+        queue: val.a(),
+        round: val.u(),
+        rounds: val.u(),
+        capacity: val.u(),
+        probe: val.u(),
     };
     let tsm_mask = TsmMaskPush {
         inv_view_proj: val.m(),
@@ -439,6 +443,11 @@ fn shared_structs_match_glsl() {
     expected.a(mask.over_budget);
     expected.u(mask.loop_budget);
     expected.f(mask.time);
+    expected.a(mask.queue);
+    expected.u(mask.round);
+    expected.u(mask.rounds);
+    expected.u(mask.capacity);
+    expected.u(mask.probe);
     expected.m(tsm_mask.inv_view_proj);
     expected.a(tsm_mask.light);
     tsm_mask.size.iter().for_each(|&x| expected.u(x));

@@ -306,6 +306,21 @@ impl Renderer<'_> {
         Ok(self.deferred_passes_made())
     }
 
+    /// The deferred mask's follow-up rounds on a device with a loop limit (lavapipe): how many
+    /// times a moving receiver's walk that stopped goes on with a fresh budget (default
+    /// [`motion_shadows::technique::DEFAULT_MASK_FOLLOW_UP_ROUNDS`]). Fewer rounds refuse
+    /// frames with long paths sooner (tests use it to reach that error with small scenes).
+    pub fn set_mask_follow_up_rounds(&mut self, rounds: u32) -> Result<()> {
+        self.deferred_passes()?;
+        if let Some(passes) = self.deferred.take() {
+            self.deferred = Some(DeferredPasses {
+                mask: passes.mask.with_follow_up_rounds(rounds),
+                ..passes
+            });
+        }
+        Ok(())
+    }
+
     fn deferred_passes_made(&self) -> &DeferredPasses {
         self.deferred
             .as_ref()
@@ -374,7 +389,7 @@ impl Renderer<'_> {
         passes: &mut Vec<PassTime>,
     ) -> Result<()> {
         let ctx = self.ctx;
-        let mut bindings = self.deferred_passes()?.mask.bindings(ctx)?;
+        let mut bindings = self.deferred_passes()?.mask.bindings(ctx, inputs.size)?;
         self.run_timed(passes, |this, cmd, ts| {
             let device = this.ctx.device();
             let FrameInputs { draws, light } = frame;
