@@ -33,13 +33,15 @@ pub enum Error {
     /// loop `limit` lets the mask run (one texel's list in one invocation, a moving
     /// receiver's whole path in its follow-up rounds), so their lit share could be wrong.
     #[error(
-        "{pixels} pixel(s) of the deferred mask need more shader loop iterations than this device runs ({limit} per invocation, lavapipe's loop limiter, even with a moving receiver's path walked over follow-up rounds): their lit share could be wrong. One shadow texel's ranges, or all the texels a moving receiver crosses, are too many: let receivers stand still (render --static-receivers: one texel each), use a coarser map (--shadow-size: fewer texels crossed), store fewer ranges per texel (--pruning cover), use --method tsm, or a device without the limit"
+        "{pixels} pixel(s) of the deferred mask need more shader loop iterations than this device runs ({limit} per invocation, lavapipe's loop limiter, even with a moving receiver's path walked over follow-up rounds): their lit share could be wrong. One shadow texel's ranges, or all the texels a moving receiver crosses, are too many: let receivers stand still (render --static-receivers: one texel each), use a coarser map (--shadow-size: fewer texels crossed), {fewer_ranges}, use --method tsm, or a device without the limit"
     )]
     MaskLoopLimit {
         /// Pixels over the budget.
         pixels: u32,
         /// The device's limit.
         limit: u32,
+        /// What stores fewer ranges per texel for the map's lookup.
+        fewer_ranges: &'static str,
     },
 }
 

@@ -168,7 +168,13 @@ mod tests {
     /// does not read, by flag or in words.
     #[test]
     fn the_deferred_loop_limit_message_names_only_deferred_options() {
-        let message = crate::render::deferred::loop_limit_error(12, 65535).to_string();
+        use motion_shadows::technique::Lookup;
+        let depth = crate::render::deferred::loop_limit_error(12, 65535, Lookup::DepthLine);
+        let exact = crate::render::deferred::loop_limit_error(12, 65535, Lookup::Exact);
+        // The exact map's lists are not pruned: --pruning would change nothing there.
+        assert!(!exact.to_string().contains("--pruning"), "{exact}");
+        assert!(exact.to_string().contains("--lookup depth"), "{exact}");
+        let message = format!("{depth} {exact}");
         let named = flags(&message);
         assert!(!named.is_empty(), "suggests no option: {message}");
         for flag in &named {

@@ -419,7 +419,7 @@ impl Renderer<'_> {
         let over = bindings.read_over_budget_pixels()?;
         if over > 0 {
             let limit = self.ctx.info().shader_loop_limit.unwrap_or(0);
-            return Err(loop_limit_error(over, limit));
+            return Err(loop_limit_error(over, limit, map.recorded_lookup()));
         }
         Ok(())
     }
@@ -635,8 +635,20 @@ fn shade(
     Ok((RadianceImage::new(g.width, g.height, rgb)?, hit, facing))
 }
 
-/// The refusal of a mask whose `pixels` walked past the device's loop `limit`.
-/// (The forward frame's refusal suggests its own options: a shadow filter, the estimator.)
-pub fn loop_limit_error(pixels: u32, limit: u32) -> Error {
-    Error::MaskLoopLimit { pixels, limit }
+/// The refusal of a mask whose `pixels` walked past the device's loop `limit`, reading a map
+/// built for `lookup`. (The forward frame's refusal suggests its own options: a shadow
+/// filter, the estimator.)
+pub fn loop_limit_error(pixels: u32, limit: u32, lookup: Lookup) -> Error {
+    let fewer_ranges = match lookup {
+        Lookup::DepthLine => "store fewer ranges per texel (--pruning cover)",
+        // Its lists name every triangle near a texel and are not pruned.
+        Lookup::Exact => {
+            "read the map's depth lines instead (--lookup depth: fewer ranges per texel)"
+        }
+    };
+    Error::MaskLoopLimit {
+        pixels,
+        limit,
+        fewer_ranges,
+    }
 }
