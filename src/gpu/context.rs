@@ -55,6 +55,10 @@ pub struct DeviceInfo {
     /// so in [`Context::from_raw`]): without it [`super::TimestampQueries`] records nothing
     /// and says why.
     pub host_query_reset: bool,
+    /// Whether compute shaders have the subgroup vote operations (`subgroupAny`:
+    /// `VkPhysicalDeviceSubgroupProperties` lists `VK_SUBGROUP_FEATURE_VOTE_BIT` for the
+    /// compute stage): the visibility-mask pass needs them.
+    pub subgroup_vote_in_compute: bool,
     /// Loop iterations a shader invocation may run in all before the driver leaves its loops
     /// (silently): 65,535 on lavapipe (llvmpipe's loop limiter, shared by every loop of an
     /// invocation, counted per SIMD group); `None` where the driver has no such limit.
@@ -184,9 +188,11 @@ fn device_info(
 ) -> DeviceInfo {
     let mut p11 = vk::PhysicalDeviceMaintenance3Properties::default();
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
+    let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
     let mut p2 = vk::PhysicalDeviceProperties2::default()
         .push_next(&mut p11)
-        .push_next(&mut driver);
+        .push_next(&mut driver)
+        .push_next(&mut subgroup);
     unsafe { instance.get_physical_device_properties2(pd, &mut p2) };
     let props = p2.properties;
     let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
@@ -202,6 +208,7 @@ fn device_info(
         name,
         device_type: format!("{:?}", props.device_type),
         driver: driver_name,
+        subgroup_vote_in_compute: subgroup_vote_in_compute(&subgroup),
         shader_loop_limit: (driver.driver_id == vk::DriverId::MESA_LLVMPIPE).then_some(65_535),
         max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
         max_allocation_size: p11.max_memory_allocation_size,
@@ -217,6 +224,16 @@ fn device_info(
             unsafe { instance.get_physical_device_format_properties(pd, f) }.optimal_tiling_features
         }),
     }
+}
+
+/// Whether `subgroup` lists the vote operations for the compute stage.
+pub(crate) fn subgroup_vote_in_compute(subgroup: &vk::PhysicalDeviceSubgroupProperties) -> bool {
+    subgroup
+        .supported_stages
+        .contains(vk::ShaderStageFlags::COMPUTE)
+        && subgroup
+            .supported_operations
+            .contains(vk::SubgroupFeatureFlags::VOTE)
 }
 
 /// A gpu-allocator of the library's own on `device`.
@@ -643,5 +660,32 @@ impl Drop for Context {
                 self.shared.device.destroy_command_pool(pool, None);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod subgroup_tests {
+    use super::subgroup_vote_in_compute;
+    use ash::vk;
+
+    /// The vote operations count only where the compute stage has them.
+    #[test]
+    fn subgroup_vote_needs_the_operation_and_the_compute_stage() {
+        let props = |stages, operations| vk::PhysicalDeviceSubgroupProperties {
+            supported_stages: stages,
+            supported_operations: operations,
+            ..Default::default()
+        };
+        let vote = vk::SubgroupFeatureFlags::BASIC | vk::SubgroupFeatureFlags::VOTE;
+        let compute = vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT;
+        assert!(subgroup_vote_in_compute(&props(compute, vote)));
+        assert!(!subgroup_vote_in_compute(&props(
+            vk::ShaderStageFlags::FRAGMENT,
+            vote
+        )));
+        assert!(!subgroup_vote_in_compute(&props(
+            compute,
+            vk::SubgroupFeatureFlags::BASIC
+        )));
     }
 }

@@ -12,7 +12,7 @@ use super::mask_queue::{DEFAULT_MASK_FOLLOW_UP_ROUNDS, MaskQueue};
 use super::push_constants::{MaskPush, PushBlock};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::gpu::{
     Access, Buffer, BufferUsage, Context, Image, ImageBindings, image_barrier, memory_barrier,
 };
@@ -312,11 +312,26 @@ pub struct VisibilityMaskPass {
     follow_up_rounds: u32,
 }
 
+/// The mask's shader votes across its subgroup (`subgroupAny`: whether the loop limiter cut a
+/// lane's walk): a device without the vote operations in compute shaders is refused by name.
+fn check_subgroup_vote(has_vote: bool) -> Result<()> {
+    if has_vote {
+        return Ok(());
+    }
+    Err(Error::MissingFeatures(
+        "the visibility-mask pass needs the subgroup vote operations in compute shaders \
+         (VkPhysicalDeviceSubgroupProperties: VK_SUBGROUP_FEATURE_VOTE_BIT for the compute stage)"
+            .into(),
+    ))
+}
+
 impl VisibilityMaskPass {
-    /// Creates the pass. Errors when the device does not have `shaderStorageImageWriteWithout
+    /// Creates the pass. Errors when the device lacks the subgroup vote operations in compute
+    /// shaders, or does not have `shaderStorageImageWriteWithout
     /// Format` enabled (a headless context enables it where supported; a host says so in
     /// `Context::from_raw`), which lets one pipeline write any of the output formats.
     pub fn new(ctx: &Context) -> Result<Self> {
+        check_subgroup_vote(ctx.info().subgroup_vote_in_compute)?;
         let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
         let pass = ImagePass::new(
             ctx,
@@ -614,6 +629,22 @@ mod tests {
                 plane_test_where_still: true,
                 ..base
             }
+        );
+    }
+}
+
+#[cfg(test)]
+mod subgroup_tests {
+    use super::check_subgroup_vote;
+
+    /// Without the vote operations the pass is refused, naming what is missing.
+    #[test]
+    fn a_device_without_subgroup_vote_is_refused_by_name() {
+        assert!(check_subgroup_vote(true).is_ok());
+        let refused = check_subgroup_vote(false).expect_err("no vote, no mask");
+        assert!(
+            refused.to_string().contains("VK_SUBGROUP_FEATURE_VOTE_BIT"),
+            "{refused}"
         );
     }
 }
