@@ -110,6 +110,7 @@ fn quick_engine_preset_prints_the_exact_row_and_the_cheapest_matching_tsm() {
         .iter()
         .map(|n| n.as_str().unwrap())
         .collect();
+    let mut with_exact_rows = Vec::new();
     for scene in SCENES {
         let of = |method: &str| -> Vec<&Row> {
             all.iter()
@@ -117,7 +118,19 @@ fn quick_engine_preset_prints_the_exact_row_and_the_cheapest_matching_tsm() {
                 .collect()
         };
         let exact = of("temporal-exact");
+        if exact.is_empty() {
+            // Refused by lavapipe's loop limiter (cubes-toward-light's dense lists, since the
+            // mask checks its walks against it): said in a note, never dropped silently.
+            assert!(
+                notes
+                    .iter()
+                    .any(|n| n.starts_with(scene) && n.contains("loop iterations")),
+                "{scene}: no exact row and no note saying why: {notes:?}"
+            );
+            continue;
+        }
         assert_eq!(exact.len(), 1, "{scene}: one exact row: {csv}");
+        with_exact_rows.push(scene);
         let exact = exact[0];
         let temporal = of("temporal")[0];
         assert_eq!((exact.map_size.as_str(), exact.maps), (QUICK_MAP, 0));
@@ -185,6 +198,10 @@ fn quick_engine_preset_prints_the_exact_row_and_the_cheapest_matching_tsm() {
                 );
             }
         }
+    }
+    // The scenes an engine's author reads first are measured in full.
+    for scene in ["game-level", "walker-toward-light"] {
+        assert!(with_exact_rows.contains(&scene), "{scene}: {csv}");
     }
     // The exact mask's RMSE as `compare` measures it at the same settings.
     let compare = run(
