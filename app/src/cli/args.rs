@@ -191,8 +191,8 @@ pub struct CompareArgs {
     /// default) compares the papers' depth lines only. The lookups: `depth` (the papers'
     /// depth lines, per texel, with the receiver offset and bias) or `exact` (the receiver's
     /// shadow ray against the triangles the map names, corners at t = 0 and t = 1: no texels,
-    /// no offset, no bias; the map's collection is conservative and keeps static triangles in
-    /// its lists; no --shadow-filter).
+    /// no offset, no bias; the map's collection is conservative, still triangles in its
+    /// static name lists with the static layer; no --shadow-filter).
     #[arg(long, value_enum, default_value_t = LookupArg::Depth)]
     pub lookup: LookupArg,
     /// What the other methods are measured against: the brute-force reference, or the ray
@@ -591,9 +591,9 @@ pub struct RenderArgs {
     /// Temporal: how the map is read (the forward frame's samples, the deferred frame's
     /// mask): `depth` (the papers' depth lines, per texel, with the receiver offset and bias)
     /// or `exact` (the receiver's shadow ray against the triangles the map names, corners at
-    /// t = 0 and t = 1: no texels, no offset, no bias; the map's collection is conservative
-    /// and keeps static triangles in its lists; the forward frame's method is then named
-    /// `temporal-exact` and takes no --shadow-filter, --static-layer, --range-storage or
+    /// t = 0 and t = 1: no texels, no offset, no bias; the map's collection is conservative,
+    /// still triangles in its static name lists with the static layer; the forward frame's
+    /// method is then named `temporal-exact` and takes no --shadow-filter, --range-storage or
     /// --pruning).
     #[arg(long, value_enum, default_value_t = LookupArg::Depth)]
     pub lookup: LookupArg,

@@ -120,8 +120,8 @@ pub struct RenderSettings {
     pub pruning: Pruning,
     /// How the temporal method's lighting reads its map (`--lookup`): the papers' depth lines,
     /// or each sample's shadow ray against the triangles its texel names
-    /// ([`Lookup::Exact`]: the conservative collection, static triangles in the lists; the
-    /// static layer, range storage and pruning do not apply).
+    /// ([`Lookup::Exact`]: the conservative collection, still triangles in the static name
+    /// lists with the static layer; range storage and pruning do not apply).
     pub lookup: Lookup,
 }
 
