@@ -33,6 +33,19 @@ layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer MsS
     uint v[];
 };
 
+// Index + 1 of the first static name of `texel` (0: none), in a map with static name lists.
+uint ms_static_names_head(MsMap map, uint texel) {
+    return MsStaticNames(map.static_names).v[texel];
+}
+
+// The triangle static name r (index + 1) names; r becomes the texel's next one (0: none).
+uint ms_static_name(MsMap map, inout uint r) {
+    MsStaticNames names = MsStaticNames(map.static_names);
+    uint at = map.size.x * map.size.y + 2u * (r - 1u);
+    r = names.v[at + 1u];
+    return names.v[at];
+}
+
 // A still triangle's corners (its record's t = 0 ones: the t = 1 ones are the same): half the
 // loads, which a CPU device makes lane by lane.
 void ms_exact_still_triangle(uint64_t triangles, uint id, out vec3 at[3]) {
@@ -59,12 +72,9 @@ float ms_exact_texel_shadow(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uin
     // The static triangles first: they are most of a level's casters, and one that shadows
     // the whole window (a wall) spares the walk of the moving ones.
     if (map.static_names != 0UL) {
-        MsStaticNames names = MsStaticNames(map.static_names);
-        uint texels = map.size.x * map.size.y;
-        for (uint r = names.v[texel]; r != 0u;) {
+        for (uint r = ms_static_names_head(map, texel); r != 0u;) {
             ++ms_loop_iterations;
-            uint id = names.v[texels + 2u * (r - 1u)];
-            r = names.v[texels + 2u * (r - 1u) + 1u];
+            uint id = ms_static_name(map, r);
             if (id == own) continue;
             vec3 at[3];
             ms_exact_still_triangle(map.triangles, id, at);
@@ -188,12 +198,9 @@ bool ms_visible_exact(MsMap map, vec3 p, float t, uint own) {
     float s_min = ms_exact_s_min(spot, ms_exact_scene_size(map));
     // The still triangles named in the texel (the static name lists), then the moving ones.
     if (map.static_names != 0UL) {
-        MsStaticNames names = MsStaticNames(map.static_names);
-        uint texels = map.size.x * map.size.y;
-        for (uint r = names.v[texel]; r != 0u;) {
+        for (uint r = ms_static_names_head(map, texel); r != 0u;) {
             ++ms_loop_iterations;
-            uint id = names.v[texels + 2u * (r - 1u)];
-            r = names.v[texels + 2u * (r - 1u) + 1u];
+            uint id = ms_static_name(map, r);
             // The sample's own still triangle.
             if (own == id) continue;
             vec3 at[3];

@@ -660,20 +660,28 @@ impl TemporalShadowMap {
         let nodes = nodes.max(self.node_capacity);
         let ranges = ranges.max(self.range_capacity);
         if (nodes, ranges) != (self.node_capacity, self.range_capacity) {
-            let records = self.triangle_records.take();
-            let names = self.static_names.take();
-            *self = Self::with_storage(
-                ctx,
-                self.width,
-                self.height,
-                nodes,
-                ranges,
-                self.range_storage,
-            )?
-            .with_pruning(self.pruning);
-            self.triangle_records = records;
-            self.static_names = names;
+            self.rebuild(ctx, nodes, ranges)?;
         }
+        Ok(())
+    }
+
+    /// New lists for `nodes` and `ranges` (the old buffers retired), keeping the exact
+    /// lookup's triangle records and static name lists; what the static layer holds is
+    /// forgotten (the next collection redraws it).
+    fn rebuild(&mut self, ctx: &Context, nodes: u32, ranges: u32) -> Result<()> {
+        let records = self.triangle_records.take();
+        let names = self.static_names.take();
+        *self = Self::with_storage(
+            ctx,
+            self.width,
+            self.height,
+            nodes,
+            ranges,
+            self.range_storage,
+        )?
+        .with_pruning(self.pruning);
+        self.triangle_records = records;
+        self.static_names = names;
         Ok(())
     }
 
@@ -745,19 +753,7 @@ impl TemporalShadowMap {
             0
         };
         let ranges = counts.range_count.max(self.range_capacity).max(estimate);
-        let records = self.triangle_records.take();
-        let names = self.static_names.take();
-        *self = Self::with_storage(
-            ctx,
-            self.width,
-            self.height,
-            nodes,
-            ranges,
-            self.range_storage,
-        )?
-        .with_pruning(self.pruning);
-        self.triangle_records = records;
-        self.static_names = names;
+        self.rebuild(ctx, nodes, ranges)?;
         if counts.static_names > self.static_name_capacity() {
             self.reserve_static_names(ctx, counts.static_names)?;
         }
