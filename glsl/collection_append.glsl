@@ -51,8 +51,8 @@ void append_range(MsShadowMap map, uint p, vec2 times, vec2 depths, uint id) {
 // The exact lookup's range (the conservative collection): no bound on the texel's list, which
 // is neither paired nor sorted; the exact lookup walks all of it (the mask counts its loop
 // iterations against a device's loop limit).
-void append_named_range(MsShadowMap map, uint p, vec2 depths, uint id) {
-    append_range_of(map, p, vec2(0.0, 1.0), depths, id, false);
+void append_named_range(MsShadowMap map, uint p, vec2 times, vec2 depths, uint id) {
+    append_range_of(map, p, times, depths, id, false);
 }
 
 // The exact lookup's static layer (MsStaticNames in exact_lookup.glsl): a count and a

@@ -59,20 +59,35 @@ float ms_exact_scene_size(MsMap map) {
     return map.light.bias.z * float(max(map.size.x, map.size.y));
 }
 
-// The time of the window w during which a triangle named in `texel` (other than `own`)
-// blocks the shadow ray of the receiver moving from p0 (t = 0) to p1 (t = 1): the length of
-// the union of their shadowed intervals. Each range's own times narrow the window (the
-// conservative collection gives the whole shutter). A triangle that shadows all of the window
-// ends the walk of the list.
-float ms_exact_texel_shadow(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint own) {
+// Where in a texel's list the exact walk goes on (MsWalk.cursor): from the list's start, or
+// from a static name (its index + 1, flagged) or a range (its index + 1) of it.
+const uint MS_EXACT_CURSOR_START = 0u;
+const uint MS_EXACT_CURSOR_STATIC = 0x80000000u;
+
+// Adds to `shadowed` the times of the window w during which the triangles named in `texel`
+// (other than `own`), from `cursor` on, block the shadow ray of the receiver moving from p0
+// (t = 0) to p1 (t = 1): the union of their shadowed intervals. Each range's own times narrow
+// the window (the conservative collection gives the whole shutter). True when done: the
+// list's end, or a triangle shadowing all of the window (which ends the walk of the list).
+// False when it stopped before the entry `cursor` then names, the invocation's loop
+// iterations (ms_loop_iterations, the exact test's own included) being past `stop`: a later
+// invocation goes on from there with the same union. Tests at least one triangle before it
+// stops where the count is below `stop` when it is called.
+bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint own, uint stop,
+                         inout uint cursor, inout ms_exact_Union shadowed) {
     bool spot = map.light.position.w != 0.0;
     vec3 light = spot ? map.light.position.xyz : map.light.direction.xyz;
     float s_min = ms_exact_s_min(spot, ms_exact_scene_size(map));
-    ms_exact_Union shadowed = ms_exact_union_empty();
+    bool from_start = cursor == MS_EXACT_CURSOR_START;
     // The static triangles first: they are most of a level's casters, and one that shadows
     // the whole window (a wall) spares the walk of the moving ones.
-    if (map.static_names != 0UL) {
-        for (uint r = ms_static_names_head(map, texel); r != 0u;) {
+    if (map.static_names != 0UL && (from_start || (cursor & MS_EXACT_CURSOR_STATIC) != 0u)) {
+        uint r = from_start ? ms_static_names_head(map, texel) : cursor & ~MS_EXACT_CURSOR_STATIC;
+        while (r != 0u) {
+            if (ms_loop_iterations > stop) {
+                cursor = r | MS_EXACT_CURSOR_STATIC;
+                return false;
+            }
             ++ms_loop_iterations;
             uint id = ms_static_name(map, r);
             if (id == own) continue;
@@ -80,11 +95,19 @@ float ms_exact_texel_shadow(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uin
             ms_exact_still_triangle(map.triangles, id, at);
             vec2 iv[MS_EXACT_MAX_INTERVALS];
             int n = ms_exact_shadowed_intervals(p0, p1, spot, light, s_min, at, at, w.x, w.y, iv);
+            ms_loop_iterations += ms_exact_iterations;
+            ms_exact_iterations = 0u;
             for (int i = 0; i < n; ++i) ms_exact_union_add(shadowed, iv[i]);
-            if (ms_exact_union_covers(shadowed, w.x, w.y)) return w.y - w.x;
+            if (ms_exact_union_covers(shadowed, w.x, w.y)) return true;
         }
+        from_start = true;
     }
-    for (uint r = MsUints(map.range_heads).v[texel]; r != MS_END_OF_LIST;) {
+    uint r = from_start ? MsUints(map.range_heads).v[texel] : cursor;
+    while (r != MS_END_OF_LIST) {
+        if (ms_loop_iterations > stop) {
+            cursor = r;
+            return false;
+        }
         ++ms_loop_iterations;
         MsRange range = ms_range(map.ranges, r);
         r = range.next;
@@ -96,10 +119,12 @@ float ms_exact_texel_shadow(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uin
         ms_exact_triangle(map.triangles, range.id, at0, at1);
         vec2 iv[MS_EXACT_MAX_INTERVALS];
         int n = ms_exact_shadowed_intervals(p0, p1, spot, light, s_min, at0, at1, w0, w1, iv);
+        ms_loop_iterations += ms_exact_iterations;
+        ms_exact_iterations = 0u;
         for (int i = 0; i < n; ++i) ms_exact_union_add(shadowed, iv[i]);
-        if (ms_exact_union_covers(shadowed, w.x, w.y)) return w.y - w.x;
+        if (ms_exact_union_covers(shadowed, w.x, w.y)) return true;
     }
-    return min(ms_exact_union_length(shadowed), w.y - w.x);
+    return true;
 }
 
 // The fraction of the shutter [0, 1] during which a receiver moving linearly from p0 (t = 0)
@@ -108,9 +133,17 @@ float ms_exact_texel_shadow(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uin
 // in a texel, whatever blocks it then covers a point of that texel, so is named there: each
 // texel's triangles are tested over that sub-window. The sub-windows are disjoint, so their
 // shadowed times add up. Time outside the light's view is lit. Without triangle records (a map
-// not built for the exact lookup): 1. Walked from `walk` (see MsWalk) until done or, with a
-// loop `budget` (0: none), stopped between two texels.
-void ms_walk_exact(MsMap map, vec3 p0, vec3 p1, uint own, uint budget, inout MsWalk walk) {
+// not built for the exact lookup): 1.
+//
+// Walked from `walk` (see MsWalk) until done or, with a loop `budget` (0: none), stopped
+// between two texels or between two triangles of a texel's list, past half the budget or
+// past walk.limit iterations (what a caller whose loops were cut asks for): walk.cursor then
+// says where in the texel's list it goes on, and `texel_union` holds that texel's shadowed
+// intervals so far, which the caller hands to the walk's next invocation (as `texel_union`,
+// with walk.cursor; it is read only where walk.cursor is not MS_EXACT_CURSOR_START). Its
+// count of loop iterations (the exact test's included) ends in walk.walked.
+void ms_walk_exact(MsMap map, vec3 p0, vec3 p1, uint own, uint budget, inout MsWalk walk,
+                   inout ms_exact_Union texel_union) {
     MsLightPath path;
     if (map.triangles == 0UL || !ms_path_start(map.light, map.size, p0, p1, path)) {
         walk.state = MS_WALK_DONE;
@@ -118,33 +151,48 @@ void ms_walk_exact(MsMap map, vec3 p0, vec3 p1, uint own, uint budget, inout MsW
         return;
     }
     float shadowed = 0.0;
+    uint cursor = MS_EXACT_CURSOR_START;
     if (walk.state == MS_WALK_RESUME) {
         path.t = walk.t;
         path.texel = walk.texel;
         shadowed = walk.sum;
+        cursor = walk.cursor;
     }
-    uint stop_count = ms_walk_stop_count(budget);
+    if (cursor == MS_EXACT_CURSOR_START) texel_union = ms_exact_union_empty();
+    uint stop = min(ms_walk_stop_count(budget), walk.limit);
     bool stopped = false;
     for (uint crossed = 0u; path.t < path.hi && crossed <= map.size.x + map.size.y; ++crossed) {
-        if (ms_walk_stops(walk, stop_count)) {
+        if (ms_loop_iterations > stop) {
             stopped = true;
             break;
         }
         ++ms_loop_iterations;
         uint at = uint(path.texel.y) * map.size.x + uint(path.texel.x);
         float t = path.t, exit;
+        ivec2 here = path.texel;
         bool inside = ms_path_advance(path, map.size, exit);
-        shadowed += ms_exact_texel_shadow(map, at, p0, p1, vec2(t, exit), own);
-        ++walk.walked;
+        if (!ms_exact_texel_walk(map, at, p0, p1, vec2(t, exit), own, stop, cursor, texel_union)) {
+            // Within the texel: its next invocation goes on there, with the union so far.
+            path.t = t;
+            path.texel = here;
+            stopped = true;
+            break;
+        }
+        shadowed += min(ms_exact_union_length(texel_union), exit - t);
+        texel_union = ms_exact_union_empty();
+        cursor = MS_EXACT_CURSOR_START;
         path.t = exit;
         if (!inside) break;
     }
+    walk.cursor = cursor;
     ms_walk_end(walk, budget, stopped, path.t, path.texel, shadowed, 1.0 - min(shadowed, 1.0));
+    walk.walked = ms_loop_iterations;
 }
 
 float ms_lit_fraction_exact_moving(MsMap map, vec3 p0, vec3 p1, uint own) {
     MsWalk walk = ms_walk_start();
-    ms_walk_exact(map, p0, p1, own, 0u, walk);
+    ms_exact_Union texel_union = ms_exact_union_empty();
+    ms_walk_exact(map, p0, p1, own, 0u, walk, texel_union);
     return walk.sum;
 }
 

@@ -33,8 +33,9 @@
 // 1e-4 d from the receiver: 1 mm at 10 units). Directional: u is a unit vector, so the
 // epsilon is relative to the scene's size that the caller hands over (as the ray tracer does).
 // The range ends at s = 1 for a spot light (its position) and nowhere for a directional one.
-// Nothing else is a tolerance: the roots are bracketed as narrowly as f32 resolves t, and the
-// certain-sign early out only skips work that would find nothing.
+// Nothing else is a tolerance: a cubic's roots are bracketed as narrowly as f32 resolves t, a
+// quadratic's (and a cubic's turning points) come from the stable quadratic formula, and the
+// certain-sign early outs only skip work that would find nothing.
 //
 // Ties. A receiver exactly on an edge two triangles share (or its ray through that edge): the
 // edge function of an edge is computed from its two corners in one canonical order (the
@@ -60,6 +61,12 @@
 #define MS_EXACT_CERTAIN 1e-5
 // The union of several triangles' intervals holds this many disjoint ones at most.
 #define MS_EXACT_UNION_CAPACITY 8
+
+// The iterations this invocation's loops below have run (those whose counts depend on the
+// data; loops of a constant count are unrolled): a device that leaves a shader's loops after a
+// fixed count of iterations, all loops together (lavapipe's loop limiter), runs out there
+// first, so a caller that must stop in time counts them (exact_lookup.glsl's walk).
+uint ms_exact_iterations = 0u;
 
 // A vector linear in t: a + t b.
 struct ms_exact_Linear {
@@ -145,6 +152,7 @@ float ms_exact_root_in(vec4 c, float a, float b, bool negative_at_a) {
     float x = 0.5 * (a + b);
     // Enough for bisection alone to reach the width from [0, 1].
     for (int i = 0; i < 40; ++i) {
+        ++ms_exact_iterations;
         float f = ms_exact_eval(c, x);
         if (f == 0.0) return x;
         if ((f < 0.0) == negative_at_a) a = max(a, x); else b = min(b, x);
@@ -186,6 +194,7 @@ int ms_exact_monotone_roots(vec4 c, float lo, float hi, float crit[3], int n_cri
     float a = lo;
     float fa = ms_exact_eval(c, a);
     for (int i = 0; i <= n_crit; ++i) {
+        ++ms_exact_iterations;
         float b = i < n_crit ? crit[i] : hi;
         float fb = ms_exact_eval(c, b);
         if (fa == 0.0) {
@@ -199,28 +208,58 @@ int ms_exact_monotone_roots(vec4 c, float lo, float hi, float crit[3], int n_cri
     return n;
 }
 
+// Where the polynomial c of degree <= 2 (c.w == 0) changes sign in (lo, hi), ascending (at
+// most 2), in closed form (the stable quadratic formula: no loop). A double root changes no
+// sign and is left out; two roots closer than f32 resolves are a double root to it.
+int ms_exact_quadratic_roots(vec4 c, float lo, float hi, out float roots[3]) {
+    roots = float[3](0.0, 0.0, 0.0);
+    float r0, r1;
+    if (c.z == 0.0) {
+        if (c.y == 0.0) return 0;
+        r0 = -c.x / c.y;
+        r1 = r0;
+    } else {
+        float discriminant = c.y * c.y - 4.0 * c.z * c.x;
+        if (!(discriminant > 0.0)) return 0;
+        float q = -0.5 * (c.y + (c.y < 0.0 ? -sqrt(discriminant) : sqrt(discriminant)));
+        r0 = q / c.z;
+        r1 = q != 0.0 ? c.x / q : r0;
+        if (r1 < r0) {
+            float swap = r0;
+            r0 = r1;
+            r1 = swap;
+        }
+    }
+    int n = 0;
+    if (r0 > lo && r0 < hi) roots[n++] = r0;
+    if (r1 != r0 && r1 > lo && r1 < hi) roots[n++] = r1;
+    return n;
+}
+
 // Where the cubic c changes sign in (lo, hi), ascending (at most 3). Between consecutive
-// roots of its derivative it is monotone, so each such piece holds at most one root and a
-// sign change brackets it; the derivative's roots come the same way, from its own
-// derivative's (a linear one, monotone). No tolerance decides a degree: a tiny leading
-// coefficient only adds pieces.
+// roots of its derivative (a quadratic, in closed form) it is monotone, so each such piece
+// holds at most one root and a sign change brackets it. No tolerance decides a degree: a tiny
+// leading coefficient only adds pieces. Of degree <= 2: in closed form.
 int ms_exact_sign_changes(vec4 c, float lo, float hi, out float roots[3]) {
     float none[3] = float[3](0.0, 0.0, 0.0);
     roots = none;
     if (c == vec4(0.0)) return 0;
-    vec4 slope = ms_exact_derivative(c);
-    vec4 curvature = ms_exact_derivative(slope);
-    float bend[3];
-    int n_bend = ms_exact_monotone_roots(curvature, lo, hi, none, 0, bend);
+    if (c.w == 0.0) return ms_exact_quadratic_roots(c, lo, hi, roots);
     float turns[3];
-    int n_turns = ms_exact_monotone_roots(slope, lo, hi, bend, n_bend, turns);
+    int n_turns = ms_exact_quadratic_roots(ms_exact_derivative(c), lo, hi, turns);
     return ms_exact_monotone_roots(c, lo, hi, turns, n_turns, roots);
 }
 
-// The polynomial's sign over all of [0, 1] when its Bernstein coefficients (whose convex hull
-// holds its graph) all have it by more than margin: 1 or -1; 0 otherwise.
-int ms_exact_certain_sign(vec4 c, float margin) {
-    vec4 b = vec4(c.x, c.x + c.y / 3.0, c.x + (2.0 * c.y + c.z) / 3.0, c.x + c.y + c.z + c.w);
+// The polynomial's sign over all of [w0, w1] when its Bernstein coefficients there (whose
+// convex hull holds its graph) all have it by more than margin: 1 or -1; 0 otherwise. The
+// window's polynomial in s = (t - w0) / (w1 - w0) first: its Taylor coefficients at w0, the
+// k-th scaled by (w1 - w0)^k.
+int ms_exact_certain_sign(vec4 c, float w0, float w1, float margin) {
+    float d = w1 - w0;
+    vec4 at = vec4(ms_exact_eval(c, w0), ms_exact_eval(ms_exact_derivative(c), w0),
+                   c.z + 3.0 * c.w * w0, c.w) * vec4(1.0, d, d * d, d * d * d);
+    vec4 b = vec4(at.x, at.x + at.y / 3.0, at.x + (2.0 * at.y + at.z) / 3.0,
+                  at.x + at.y + at.z + at.w);
     if (all(greaterThan(b, vec4(margin)))) return 1;
     if (all(lessThan(b, vec4(-margin)))) return -1;
     return 0;
@@ -249,16 +288,18 @@ bool ms_exact_blocks(vec4 edges[3], vec4 plane, bool spot, float s_min, float t)
 int ms_exact_general_intervals(ms_exact_Linear corner[3], ms_exact_Linear u, vec4 edges[3],
                                vec4 plane, bool spot, float s_min, float w0, float w1,
                                inout vec2 intervals[MS_EXACT_MAX_INTERVALS]) {
-    // Two edge functions of opposite signs over the whole shutter: never a hit.
+    // Two edge functions of opposite signs over the whole window: never a hit.
     float r = 0.0;
     for (int i = 0; i < 3; ++i) r = max(r, length(corner[i].a) + length(corner[i].b));
-    float margin = MS_EXACT_CERTAIN * r * r * (length(u.a) + length(u.b));
+    float ray = length(u.a) + length(u.b);
+    float margin = MS_EXACT_CERTAIN * r * r * ray;
     bool positive = false;
     bool negative = false;
+    int edge_sign[3];
     for (int i = 0; i < 3; ++i) {
-        int sign_ = ms_exact_certain_sign(edges[i], margin);
-        positive = positive || sign_ > 0;
-        negative = negative || sign_ < 0;
+        edge_sign[i] = ms_exact_certain_sign(edges[i], w0, w1, margin);
+        positive = positive || edge_sign[i] > 0;
+        negative = negative || edge_sign[i] < 0;
     }
     if (positive && negative) return 0;
 
@@ -266,17 +307,28 @@ int ms_exact_general_intervals(ms_exact_Linear corner[3], ms_exact_Linear u, vec
     float events[MS_EXACT_MAX_EVENTS];
     int n_events = 0;
     for (int k = 0; k < 5; ++k) {
+        ++ms_exact_iterations;
         if (k == 4 && !spot) break;
-        vec4 c = k < 3 ? edges[k] : plane - (k == 3 ? s_min : 1.0) * sum;
+        float s0 = k == 3 ? s_min : 1.0;
+        vec4 c = k < 3 ? edges[k] : plane - s0 * sum;
+        // A polynomial of a certain sign over the window changes no test there: no roots to
+        // look for (the bound of the plane's terms: det(A', B', C') <= r^3, the sum of the
+        // edges <= 3 r^2 |u|).
+        float plane_margin = MS_EXACT_CERTAIN * r * r * (r + 3.0 * ray * max(s0, 1.0));
+        if (k < 3 ? edge_sign[k] != 0 : ms_exact_certain_sign(c, w0, w1, plane_margin) != 0) {
+            continue;
+        }
         float roots[3];
         int n = ms_exact_sign_changes(c, w0, w1, roots);
         for (int j = 0; j < n; ++j) events[n_events++] = roots[j];
     }
     // Insertion sort: at most 15.
     for (int i = 1; i < n_events; ++i) {
+        ++ms_exact_iterations;
         float v = events[i];
         int j = i - 1;
         while (j >= 0 && events[j] > v) {
+            ++ms_exact_iterations;
             events[j + 1] = events[j];
             --j;
         }
@@ -286,6 +338,7 @@ int ms_exact_general_intervals(ms_exact_Linear corner[3], ms_exact_Linear u, vec
     int count = 0;
     float start = w0;
     for (int i = 0; i <= n_events; ++i) {
+        ++ms_exact_iterations;
         float end_ = i < n_events ? events[i] : w1;
         if (end_ > start && ms_exact_blocks(edges, plane, spot, s_min, 0.5 * (start + end_))) {
             if (count > 0 && intervals[count - 1].y == start) {

@@ -835,10 +835,13 @@ struct MsWalk {
     float sum;      // so far: the lit time (depth lines), the shadowed time (exact)
     uint limit;     // texels this invocation may walk (MS_WALK_NO_LIMIT: any number)
     uint walked;    // texels this invocation has walked
+    // The exact walk (exact_lookup.glsl) only, which may stop within a texel's list too:
+    // where in `texel`'s list it goes on (0: from the list's start).
+    uint cursor;
 };
 
 MsWalk ms_walk_start() {
-    return MsWalk(MS_WALK_START, 0.0, ivec2(0), 0.0, MS_WALK_NO_LIMIT, 0u);
+    return MsWalk(MS_WALK_START, 0.0, ivec2(0), 0.0, MS_WALK_NO_LIMIT, 0u, 0u);
 }
 
 // The count a walk stops at, before its next texel, to go on with a fresh budget: half of

@@ -48,39 +48,72 @@ layout(push_constant) uniform Push { MaskPush pc; };
 
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer Counter { uint count; };
 // The overflow queues (src/technique/mask_queue.rs): per follow-up round r = 1 .. rounds, the
-// indirect dispatch of round r and its count of entries (header r - 1), then two queues of
-// pc.capacity entries, round r reading queue r % 2 (written by round r - 1).
+// indirect dispatch of round r, its count of entries and its count of carried unions (header
+// r - 1); then two queues of pc.capacity entries, round r reading queue r % 2 (written by
+// round r - 1); then two pools of carry_capacity() unions, read and written the same way.
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer MaskQueue { uint v[]; };
-const uint QUEUE_HEADER_WORDS = 4u;     // groups x, y, z (the indirect dispatch), count
-const uint QUEUE_ENTRY_WORDS = 5u;      // pixel, t, texel (or QUEUE_FROM_START), sum, limit
+const uint QUEUE_HEADER_WORDS = 5u;     // groups x, y, z (the indirect dispatch), count, carries
+// pixel, t, texel (or QUEUE_FROM_START), sum, limit, cursor, carry slot (where cursor is not
+// MS_EXACT_CURSOR_START: an exact walk that stopped within a texel's list)
+const uint QUEUE_ENTRY_WORDS = 7u;
 const uint QUEUE_FROM_START = 0xffffffffu;
 const uint GROUP_SIZE = 64u;            // local_size_x * local_size_y
+// A union of shadowed intervals: its vectors s0, s1, e0, e1 (ms_exact_Union).
+const uint CARRY_WORDS = 16u;
+// The fewest loop iterations a follow-up invocation of the exact walk is asked to stop at
+// after its group's loops were cut: enough for its texel and one triangle (ms_walk_exact
+// tests one before it stops), so every invocation gets on.
+const uint EXACT_MIN_LIMIT = 16u;
+
+// Unions per pool: an eighth of the queue's entries (mask_queue.rs's carry_capacity). An exact
+// walk that stops within a texel's list while its pool is full goes on from the texel's start.
+uint carry_capacity() {
+    return (pc.capacity + 7u) / 8u;
+}
 
 uint queue_entry(uint round, uint index) {
     return QUEUE_HEADER_WORDS * pc.rounds
         + ((round & 1u) * pc.capacity + index) * QUEUE_ENTRY_WORDS;
 }
 
-// Entry `index` of round `round`'s queue: its pixel and where its walk goes on from.
-MsWalk queue_read(uint round, uint index, out ivec2 pixel) {
+uint carry_at(uint round, uint slot) {
+    return QUEUE_HEADER_WORDS * pc.rounds + 2u * pc.capacity * QUEUE_ENTRY_WORDS
+        + ((round & 1u) * carry_capacity() + slot) * CARRY_WORDS;
+}
+
+// Entry `index` of round `round`'s queue: its pixel and where its walk goes on from (and, for
+// an exact walk stopped within a texel's list, that texel's union so far).
+MsWalk queue_read(uint round, uint index, out ivec2 pixel, out ms_exact_Union carried) {
     MaskQueue q = MaskQueue(pc.queue);
     uint at = queue_entry(round, index);
     uint packed_pixel = q.v[at], packed_texel = q.v[at + 2u];
     pixel = ivec2(packed_pixel & 0xffffu, packed_pixel >> 16u);
     MsWalk walk = ms_walk_start();
+    carried = ms_exact_union_empty();
     if (packed_texel != QUEUE_FROM_START) {
         walk.state = MS_WALK_RESUME;
         walk.t = uintBitsToFloat(q.v[at + 1u]);
         walk.texel = ivec2(packed_texel & 0xffffu, packed_texel >> 16u);
         walk.sum = uintBitsToFloat(q.v[at + 3u]);
+        walk.cursor = q.v[at + 5u];
+        if (walk.cursor != MS_EXACT_CURSOR_START) {
+            uint c = carry_at(round, q.v[at + 6u]);
+            for (uint k = 0u; k < 4u; ++k) {
+                carried.s0[k] = uintBitsToFloat(q.v[c + k]);
+                carried.s1[k] = uintBitsToFloat(q.v[c + 4u + k]);
+                carried.e0[k] = uintBitsToFloat(q.v[c + 8u + k]);
+                carried.e1[k] = uintBitsToFloat(q.v[c + 12u + k]);
+            }
+        }
     }
     walk.limit = q.v[at + 4u];
     return walk;
 }
 
-// Puts the pixel's walk into the next round's queue; false where there is no next round or
-// the queue is full (the pixel is then over budget).
-bool queue_append(ivec2 pixel, MsWalk walk) {
+// Puts the pixel's walk into the next round's queue (with `carried`, the union of the texel
+// an exact walk stopped in); false where there is no next round or the queue is full (the
+// pixel is then over budget).
+bool queue_append(ivec2 pixel, MsWalk walk, ms_exact_Union carried) {
     uint next = pc.round + 1u;
     if (next > pc.rounds) return false;
     MaskQueue q = MaskQueue(pc.queue);
@@ -88,12 +121,31 @@ bool queue_append(ivec2 pixel, MsWalk walk) {
     uint index = atomicAdd(q.v[header + 3u], 1u);
     if (index >= pc.capacity) return false;
     uint at = queue_entry(next, index);
-    q.v[at] = uint(pixel.x) | (uint(pixel.y) << 16u);
     bool resume = walk.state == MS_WALK_RESUME;
+    uint cursor = resume ? walk.cursor : MS_EXACT_CURSOR_START;
+    if (cursor != MS_EXACT_CURSOR_START) {
+        uint slot = atomicAdd(q.v[header + 4u], 1u);
+        if (slot < carry_capacity()) {
+            uint c = carry_at(next, slot);
+            for (uint k = 0u; k < 4u; ++k) {
+                q.v[c + k] = floatBitsToUint(carried.s0[k]);
+                q.v[c + 4u + k] = floatBitsToUint(carried.s1[k]);
+                q.v[c + 8u + k] = floatBitsToUint(carried.e0[k]);
+                q.v[c + 12u + k] = floatBitsToUint(carried.e1[k]);
+            }
+            q.v[at + 6u] = slot;
+        } else {
+            // No room for the union: the walk goes on from the texel's start (walk.sum is
+            // what the texels before it shadowed), doing the texel's tests again.
+            cursor = MS_EXACT_CURSOR_START;
+        }
+    }
+    q.v[at] = uint(pixel.x) | (uint(pixel.y) << 16u);
     q.v[at + 1u] = floatBitsToUint(walk.t);
     q.v[at + 2u] = resume ? uint(walk.texel.x) | (uint(walk.texel.y) << 16u) : QUEUE_FROM_START;
     q.v[at + 3u] = floatBitsToUint(walk.sum);
     q.v[at + 4u] = walk.limit;
+    q.v[at + 5u] = cursor;
     atomicMax(q.v[header], index / GROUP_SIZE + 1u);
     return true;
 }
@@ -112,18 +164,19 @@ bool loops_were_cut() {
     return ran < pc.probe;
 }
 
-// The walks' budget with the exact lookup: an eighth of the device's. The exact test's own loops
-// (its roots, its union's slots) are not all in ms_loop_iterations; with all of it, lavapipe
-// cut a few walks at a 256 x 256 map (8 of 3,024 pixels of deferred_long_paths off the
-// truth), and at a quarter its limiter still ran out often on cubes-toward-light.
+// The walks' budget with the exact lookup: the device's per-lane share (pc.loop_budget), as
+// ms_loop_iterations counts the exact test's own loops too (its roots, its sort), per lane,
+// and llvmpipe's limiter a SIMD group's iterations, whose lanes may each run their own loops.
 uint exact_budget() {
-    return pc.loop_budget / 8u;
+    return pc.loop_budget;
 }
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     // Where this invocation's walk starts (moving receivers and the exact lookup).
     MsWalk walk = ms_walk_start();
+    // An exact walk's union of the texel it stopped in (read where walk.cursor says so).
+    ms_exact_Union carried = ms_exact_union_empty();
     uint index = gl_WorkGroupID.x * GROUP_SIZE + gl_LocalInvocationIndex;
     // (Keyed on the pipeline, not on pc.round: round 0's walk then starts from constants, and
     // its loop's texel-limit test folds away.)
@@ -132,7 +185,7 @@ void main() {
     } else {
         uint count = MaskQueue(pc.queue).v[QUEUE_HEADER_WORDS * (pc.round - 1u) + 3u];
         if (index >= min(count, pc.capacity)) return;
-        walk = queue_read(pc.round, index, pixel);
+        walk = queue_read(pc.round, index, pixel, carried);
     }
     float depth = texelFetch(depth_image, pixel, 0).r;
     if (depth == pc.background_depth) {
@@ -152,7 +205,8 @@ void main() {
     if (EXACT) {
         // A map built for the exact lookup (Lookup::Exact): the receiver's own shadow ray
         // against the triangles named along its path; no normal, offset or bias.
-        ms_walk_exact(tested, p0, p0 + motion, own, FOLLOW_UP ? exact_budget() : 0u, walk);
+        ms_walk_exact(tested, p0, p0 + motion, own, FOLLOW_UP ? exact_budget() : 0u, walk,
+                      carried);
     } else if (MOVING) {
         if (motion == vec3(0.0) && (pc.flags & MASK_STILL_PIXELS_PLANE) != 0u) {
             // A point that stands still keeps its plane all frame: the standing receiver's
@@ -177,7 +231,7 @@ void main() {
     }
     // llvmpipe's loop counter is shared by the lanes of a SIMD group (a subgroup): one lane
     // past its budget may have cut the loops of the others, whose answers are then unsure.
-    // (Round 0's exact walks run their course: the probe catches what the limiter cut.)
+    // (Round 0's walks run their course: the probe catches what the limiter cut.)
     bool past = walk.state == MS_WALK_PAST
         || (!FOLLOW_UP && pc.loop_budget > 0u && ms_loop_iterations > pc.loop_budget);
     bool cut = subgroupAny(past || loops_were_cut());
@@ -187,24 +241,33 @@ void main() {
         if (!cut) {
             imageStore(mask, pixel, vec4(walk.sum));
         } else {
-            over = !queue_append(pixel, ms_walk_start());
+            over = !queue_append(pixel, ms_walk_start(), carried);
         }
     } else if (walk.state == MS_WALK_DONE && !cut) {
         imageStore(mask, pixel, vec4(walk.sum));
     } else if (walk.state == MS_WALK_STOPPED && !cut) {
         walk.state = MS_WALK_RESUME;
-        over = !queue_append(pixel, walk);
+        over = !queue_append(pixel, walk, carried);
+    } else if (EXACT) {
+        // Read again rather than kept: a copy live across the walk made the mask slower.
+        ivec2 same_pixel;
+        MsWalk start = queue_read(pc.round, index, same_pixel, carried);
+        // Again from where this invocation started, stopping after half the iterations it
+        // ran (it stops within a texel's list too, after one triangle at least), down to
+        // EXACT_MIN_LIMIT: cut even there, it is over budget.
+        over = start.limit <= EXACT_MIN_LIMIT;
+        start.limit = max(min(start.limit, walk.walked) / 2u, EXACT_MIN_LIMIT);
+        if (!over) over = !queue_append(pixel, start, carried);
     } else if (walk.state == MS_WALK_PAST && walk.walked == 0u) {
         over = true;    // one texel's list alone is longer than an invocation can walk
     } else {
-        // Read again rather than kept: a copy live across the walk made the mask slower.
         ivec2 same_pixel;
-        MsWalk start = queue_read(pc.round, index, same_pixel);
+        MsWalk start = queue_read(pc.round, index, same_pixel, carried);
         // Again from where this invocation started, walking fewer texels: a walk that ran
         // past its budget stops before the texel that did (its next invocation starts with
         // it), the others of a group whose loops were cut walk half as many as they did.
         start.limit = walk.state == MS_WALK_PAST ? walk.walked : max(walk.walked / 2u, 1u);
-        over = !queue_append(pixel, start);
+        over = !queue_append(pixel, start, carried);
     }
     if (over) atomicAdd(Counter(pc.over_budget).count, 1u);
 }

@@ -144,7 +144,14 @@ fn assert_silent(ctx: &Context) {
 /// texel in 1/22 of 16/1024 of the shutter (square map), f32 roots elsewhere.
 const LARGEST_DIFFERENCE: f32 = 2e-3;
 
-fn answered_as_the_truth(setup: Setup, lookup: Lookup) {
+/// The mask's loop budget per invocation and its follow-up rounds, where a test sets them.
+#[derive(Clone, Copy)]
+struct Walks {
+    budget: u32,
+    rounds: u32,
+}
+
+fn answered_as_the_truth(setup: Setup, lookup: Lookup, walks: Option<Walks>) {
     let ctx = context();
     let scene = long_paths(setup);
     let truth = render_truth(
@@ -155,6 +162,12 @@ fn answered_as_the_truth(setup: Setup, lookup: Lookup) {
     )
     .expect("truth");
     let mut renderer = Renderer::new(&ctx).expect("renderer");
+    if let Some(walks) = walks {
+        renderer.set_mask_loop_budget(walks.budget).expect("passes");
+        renderer
+            .set_mask_follow_up_rounds(walks.rounds)
+            .expect("passes");
+    }
     let r = render(&mut renderer, setup, lookup).expect("the mask answers every pixel");
     let compared: Vec<usize> = (0..truth.lit.len()).filter(|&i| truth.facing[i]).collect();
     let shadowed = compared.iter().filter(|&&i| truth.lit[i] < 0.99).count();
@@ -194,24 +207,44 @@ fn answered_as_the_truth(setup: Setup, lookup: Lookup) {
 
 #[test]
 fn long_paths_with_depth_lines_are_answered_as_the_truth() {
-    answered_as_the_truth(STRIP, Lookup::DepthLine);
+    answered_as_the_truth(STRIP, Lookup::DepthLine, None);
 }
 
 #[test]
 fn long_paths_with_the_exact_lookup_are_answered_as_the_truth() {
-    answered_as_the_truth(SQUARE, Lookup::Exact);
+    answered_as_the_truth(SQUARE, Lookup::Exact, None);
 }
+
+/// With a budget of a few triangles' tests per invocation, the exact walks stop within texels'
+/// lists too, carrying the texel's shadowed intervals so far to their next round: the answer
+/// is the same.
+#[test]
+fn exact_walks_stopped_within_texel_lists_are_answered_as_the_truth() {
+    answered_as_the_truth(
+        SQUARE,
+        Lookup::Exact,
+        Some(Walks {
+            budget: EXACT_TEST_BUDGET,
+            rounds: 400,
+        }),
+    );
+}
+
+/// A loop budget per invocation (per lane) of a handful of exact tests: the walks over SQUARE
+/// stop within texels' lists and need many rounds.
+const EXACT_TEST_BUDGET: u32 = 64;
 
 /// With too few follow-up rounds the frame is refused, with the count of pixels left and what
 /// the deferred frame can do about it; each round finishes some of them (the exact lookup's
-/// paths here need several invocations each; the first round starts over what the first
-/// dispatch could not finish).
+/// paths here need several invocations each at a budget of 512; the first round starts over
+/// what the first dispatch could not finish).
 #[test]
 fn long_paths_past_the_last_round_are_refused_with_the_count() {
     let ctx = context();
     let mut renderer = Renderer::new(&ctx).expect("renderer");
     let mut left = Vec::new();
-    for rounds in [2, 3, 4] {
+    renderer.set_mask_loop_budget(512).expect("passes");
+    for rounds in [8, 12, 16] {
         renderer.set_mask_follow_up_rounds(rounds).expect("passes");
         let Err(error) = render(&mut renderer, SQUARE, Lookup::Exact) else {
             panic!("{rounds} rounds: the frame must be refused");
@@ -230,7 +263,7 @@ fn long_paths_past_the_last_round_are_refused_with_the_count() {
     }
     assert!(
         left[0] > 1000 && left[1] < left[0] && left[2] < left[1],
-        "pixels left after 2, 3, 4 rounds: {left:?}"
+        "pixels left after 8, 12, 16 rounds: {left:?}"
     );
     drop(renderer);
     assert_silent(&ctx);

@@ -378,6 +378,25 @@ impl VisibilityMaskPass {
         }
     }
 
+    /// With walks that stop after about `budget` loop iterations per invocation (per lane,
+    /// as [`crate::gpu::DeviceInfo::shader_loop_budget`] counts them) instead of the device's
+    /// budget, and go on in the follow-up rounds: never more than the device's (a larger
+    /// `budget` is the device's); on a device without a loop limit, the walks then stop and
+    /// go on as they would on one. For tests of the follow-up rounds with small scenes; 0
+    /// restores the device's budget.
+    pub fn with_loop_budget(self, ctx: &Context, budget: u32) -> Self {
+        let device = ctx.info().shader_loop_budget();
+        let loop_budget = match (device, budget) {
+            (_, 0) => device,
+            (0, budget) => budget,
+            (device, budget) => budget.min(device),
+        };
+        Self {
+            loop_budget,
+            ..self
+        }
+    }
+
     /// Follow-up rounds recorded on a device with a loop limit (0 elsewhere).
     fn rounds(&self) -> u32 {
         if self.loop_budget > 0 {
@@ -388,8 +407,9 @@ impl VisibilityMaskPass {
     }
 
     /// The bindings for one dispatch in flight, of a mask of up to `size` pixels. On a device
-    /// with a loop limit (lavapipe) they hold the overflow queues: two entries of 20 bytes per
-    /// pixel (elsewhere nothing, as no walk stops there).
+    /// with a loop limit (lavapipe) they hold the overflow queues: two entries of 28 bytes per
+    /// pixel and two pools of unions carried by exact walks stopped within a texel's list, 64
+    /// bytes per eight pixels: 72 bytes a pixel (elsewhere nothing, as no walk stops there).
     pub fn bindings(&self, ctx: &Context, size: (u32, u32)) -> Result<MaskBindings> {
         let rounds = self.rounds();
         let pixels = if rounds > 0 {

@@ -5,12 +5,19 @@
 //! pixel joins a queue with where it stopped; follow-up dispatches, one per round, go on from
 //! there with a fresh budget each, sized by the queue's count (indirect, so that an empty
 //! round costs a barrier and an empty dispatch). A pixel still unfinished after the last
-//! round, or one texel's list alone too long for an invocation, is counted over budget.
+//! round, or (depth lines) one texel's list alone too long for an invocation, is counted over
+//! budget.
+//!
+//! The exact lookup's walk may stop within one texel's list too (a texel may name hundreds of
+//! triangles, each tested with loops of its own): it then carries that texel's union of
+//! shadowed intervals so far, in a pool beside the queues.
 //!
 //! Layout (u32 words, mirrored in `glsl/visibility_mask.comp`): per follow-up round r = 1 ..
-//! rounds, a header of 4 words (the indirect dispatch's group counts x, y, z, then the count
-//! of entries), then two queues of `capacity` entries of 5 words each (pixel, time, texel,
-//! sum so far, texel limit); round r reads queue r % 2, which round r - 1 wrote.
+//! rounds, a header of 5 words (the indirect dispatch's group counts x, y, z, the count of
+//! entries, the count of carried unions), then two queues of `capacity` entries of 7 words
+//! each (pixel, time, texel, sum so far, limit, cursor in the texel's list, carry slot), then
+//! two pools of [`carry_capacity`] unions of 16 words; round r reads queue and pool r % 2,
+//! which round r - 1 wrote.
 
 use crate::error::Result;
 use crate::gpu::{Buffer, BufferUsage, Context};
@@ -21,8 +28,9 @@ use ash::vk;
 /// no groups (nothing measurable on lavapipe).
 pub const DEFAULT_MASK_FOLLOW_UP_ROUNDS: u32 = 32;
 
-const HEADER_WORDS: u64 = 4;
-const ENTRY_WORDS: u64 = 5;
+const HEADER_WORDS: u64 = 5;
+const ENTRY_WORDS: u64 = 7;
+const CARRY_WORDS: u64 = 16;
 /// Word of a header holding the count of entries (after the three group counts).
 const COUNT_WORD: usize = 3;
 
@@ -40,7 +48,9 @@ impl MaskQueue {
 
     /// Queues for masks of up to `pixels` pixels and `rounds` follow-up rounds.
     pub fn new(ctx: &Context, pixels: u32, rounds: u32) -> Result<Self> {
-        let words = HEADER_WORDS * u64::from(rounds) + 2 * ENTRY_WORDS * u64::from(pixels);
+        let words = HEADER_WORDS * u64::from(rounds)
+            + 2 * ENTRY_WORDS * u64::from(pixels)
+            + 2 * CARRY_WORDS * u64::from(carry_capacity(pixels));
         Ok(Self {
             buffer: Buffer::new(ctx, Self::NAME, 4 * words, BufferUsage::Storage)?,
             capacity: pixels,
@@ -80,6 +90,13 @@ impl MaskQueue {
     }
 }
 
+/// Carried unions per pool, for queues of `capacity` entries: an eighth of them (only exact
+/// walks that stopped within a texel's list carry one; one that finds its pool full goes on
+/// from the texel's start instead). `carry_capacity()` in `glsl/visibility_mask.comp`.
+pub(super) fn carry_capacity(capacity: u32) -> u32 {
+    capacity.div_ceil(8)
+}
+
 /// Every round's header before the first dispatch.
 fn empty_headers(rounds: u32) -> Vec<u32> {
     let mut header = [0u32; HEADER_WORDS as usize];
@@ -95,8 +112,8 @@ mod tests {
 
     #[test]
     fn every_round_starts_with_no_groups_and_no_entries() {
-        assert_eq!(empty_headers(2), vec![0, 1, 1, 0, 0, 1, 1, 0]);
+        assert_eq!(empty_headers(2), vec![0, 1, 1, 0, 0, 0, 1, 1, 0, 0]);
         assert_eq!(MaskQueue::groups_offset(1), 0);
-        assert_eq!(MaskQueue::groups_offset(3), 32);
+        assert_eq!(MaskQueue::groups_offset(3), 40);
     }
 }

@@ -321,6 +321,21 @@ impl Renderer<'_> {
         Ok(())
     }
 
+    /// The deferred mask's loop budget per invocation (0: the device's; see
+    /// [`motion_shadows::technique::VisibilityMaskPass::with_loop_budget`]): a small one makes
+    /// small scenes' walks stop and go on over the follow-up rounds, as long ones do on
+    /// lavapipe (tests use it).
+    pub fn set_mask_loop_budget(&mut self, budget: u32) -> Result<()> {
+        self.deferred_passes()?;
+        if let Some(passes) = self.deferred.take() {
+            self.deferred = Some(DeferredPasses {
+                mask: passes.mask.with_loop_budget(self.ctx, budget),
+                ..passes
+            });
+        }
+        Ok(())
+    }
+
     fn deferred_passes_made(&self) -> &DeferredPasses {
         self.deferred
             .as_ref()
