@@ -144,6 +144,9 @@ impl LightingTarget {
     /// Synchronization: waits for the compute stage's radiance writes; leaves the copies
     /// visible to host reads once the submission's fence has signalled.
     pub unsafe fn record_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        // SAFETY: `cmd` is of the target's device, recording outside any render pass (the
+        // contract), on the lighting pass's compute queue, so compute and transfer stages are
+        // supported.
         unsafe { memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ) };
         let region = [vk::BufferCopy {
             src_offset: 0,
@@ -155,6 +158,10 @@ impl LightingTarget {
             dst_offset: 0,
             size: 8,
         }];
+        // SAFETY: the radiance and its readback buffer are the target's own, made with the same
+        // size, and the counters' 8 bytes lie within both counter buffers; the radiance writes were
+        // made visible to transfer reads just above, and all four buffers live as long as the
+        // target (dropping retires them past pending frames).
         unsafe {
             device.cmd_copy_buffer(cmd, self.radiance.raw(), self.readback.raw(), &region);
             device.cmd_copy_buffer(
@@ -164,6 +171,8 @@ impl LightingTarget {
                 &counter,
             );
         }
+        // SAFETY: the same command buffer, outside rendering; host reads are a valid destination
+        // once the fence signals.
         unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ) };
     }
 
@@ -400,6 +409,7 @@ impl LightingPass {
         if target.spp % full != 0 {
             self.shading(shadow, view, target.spp % full)?;
         }
+        // SAFETY: this function's contract is record_clear's (it says "As Self::record").
         unsafe { self.record_clear(device, cmd, view, target) };
         let mut first = 0;
         while first < target.spp {
@@ -409,6 +419,8 @@ impl LightingPass {
                 count,
                 fixed_time: None,
             };
+            // SAFETY: record_clear of this frame was recorded just above, as record_samples
+            // requires, and the rest of its contract is this function's.
             unsafe {
                 self.record_samples(
                     device,
@@ -444,6 +456,8 @@ impl LightingPass {
             counters: target.counters.device_address(),
             ..CameraParams::new(view, (target.width, target.height), target.spp)
         };
+        // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue
+        // (CollectionPass::record's contract, taken by record), so every stage named is supported.
         unsafe {
             memory_barrier(
                 device,
@@ -455,11 +469,15 @@ impl LightingPass {
                 Access::TRANSFER_WRITE,
             )
         };
+        // SAFETY: the header gets one CameraParams (its size) and the fills cover the target's own
+        // radiance and counter buffers (WHOLE_SIZE), outside rendering, after their earlier readers
+        // (the barrier above); no other command buffer uses the target meanwhile (the contract).
         unsafe {
             target.header.record_write(device, cmd, &[header]);
             device.cmd_fill_buffer(cmd, target.radiance.raw(), 0, vk::WHOLE_SIZE, 0);
             device.cmd_fill_buffer(cmd, target.counters.raw(), 0, vk::WHOLE_SIZE, 0);
         }
+        // SAFETY: the same command buffer, outside rendering; stages its queue supports.
         unsafe {
             memory_barrier(
                 device,
@@ -513,10 +531,15 @@ impl LightingPass {
             flags: fixed_time,
         };
         // The previous chunk's resolve read the visibility buffer.
+        // SAFETY: outside any render pass (the contract), on a queue with compute and transfer.
         unsafe { memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_WRITE) };
+        // SAFETY: a WHOLE_SIZE fill of the target's own visibility buffer, outside rendering, after
+        // the previous chunk's resolve (the barrier above).
         unsafe {
             device.cmd_fill_buffer(cmd, target.visibility.raw(), 0, vk::WHOLE_SIZE, u32::MAX)
         };
+        // SAFETY: outside rendering; transfer, fragment and compute are on the contract's graphics
+        // and compute queue.
         unsafe {
             memory_barrier(
                 device,
@@ -525,7 +548,10 @@ impl LightingPass {
                 Access::FRAGMENT_RW.and(Access::COMPUTE_RW),
             )
         };
+        // SAFETY: outside rendering, and the target's size is the extent the raster pipeline's
+        // dynamic viewport takes.
         unsafe { begin_attachmentless(device, cmd, target.width, target.height) };
+        // SAFETY: rendering has begun; the raster pipeline is this pass's, alive as long as `self`.
         unsafe { self.raster.bind(device, cmd) };
         let raster = RasterPush {
             pass: LightingRasterPush {
@@ -546,12 +572,19 @@ impl LightingPass {
         };
         // The camera stays pushed while each draw pushes its LightingRasterPush over the first
         // bytes.
+        // SAFETY: the raster pipeline's layout was made with RasterPush's size (its push range),
+        // and it is bound just above.
         unsafe { self.raster.push(device, cmd, &raster) };
         draw_each(device, cmd, &self.raster, draws, raster.pass);
+        // SAFETY: the rendering began above and every draw is recorded into it.
         unsafe { device.cmd_end_rendering(cmd) };
         if let Some(ts) = timestamps.as_deref_mut() {
+            // SAFETY: outside rendering, on the context's device; `mark` records nothing where
+            // timestamps are unsupported, and a dropped TimestampQueries retires its pool until the
+            // frames that may use it complete, so the pool outlives `cmd`.
             unsafe { ts.mark(cmd, "lighting raster") };
         }
+        // SAFETY: outside rendering; fragment, geometry and compute stages are on this queue.
         unsafe {
             memory_barrier(
                 device,
@@ -560,12 +593,21 @@ impl LightingPass {
                 Access::COMPUTE_RW,
             )
         };
+        // SAFETY: the resolve pipeline was made (or fetched) by `shading` for this frame and is
+        // owned by `self`, alive as long as it; a compute bind outside rendering.
         unsafe { resolve.bind(device, cmd) };
+        // SAFETY: the resolve pipeline's push range is the size of `shade`, the struct every
+        // shading variant was made with.
         unsafe { resolve.push(device, cmd, &shade) };
+        // SAFETY: the resolve pipeline is bound with its constants; 8x8 groups cover the target,
+        // and the shader returns for invocations past its edges.
         unsafe { device.cmd_dispatch(cmd, target.width.div_ceil(8), target.height.div_ceil(8), 1) };
         if let Some(ts) = timestamps {
+            // SAFETY: as the mark above: outside rendering, the pool retired rather than destroyed
+            // while frames may use it.
             unsafe { ts.mark(cmd, "lighting shade") };
         }
+        // SAFETY: outside rendering; compute and transfer stages are on this queue.
         unsafe {
             memory_barrier(
                 device,
