@@ -152,7 +152,8 @@ pinned_rust() {
         fi
     done < <(rustup toolchain list)
     echo "setup.sh: installing Rust $channel (rust-toolchain.toml) with rustup" >&2
-    if ! (cd "$root" && rustup toolchain install --no-self-update); then
+    if ! rustup toolchain install "$channel" --profile minimal -c rustfmt -c clippy \
+        --no-self-update; then
         echo "setup.sh: rustup could not install Rust $channel, which rust-toolchain.toml" \
             "pins; install it (rustup toolchain install $channel -c rustfmt,clippy)" >&2
         exit 1
