@@ -229,6 +229,9 @@ fn main() -> Result<()> {
     )?;
     let device = ctx.device();
     let one_shot = OneShot::new(&ctx)?;
+    // SAFETY: the OneShot's command buffer of this context, recording outside rendering on its
+    // graphics and compute queue; the list's update precedes the G-buffer pass that reads it, and
+    // every buffer and image used outlives the run, which waits.
     one_shot.run(|cmd| unsafe {
         list.record_update(device, cmd, &draws)?;
         let camera = GBufferCamera {
@@ -259,8 +262,14 @@ fn main() -> Result<()> {
                 if redraw {
                     map.forget_static_map();
                 }
+                // SAFETY: the previous run waited for its OneShot, so no command buffer with these
+                // marks is pending.
                 unsafe { timestamps.clear() };
                 let cpu = cpu_ms();
+                // SAFETY: the OneShot's recording command buffer of this context; the output image
+                // goes to GENERAL for the mask's storage writes, the G-buffer was drawn in an
+                // earlier run and left in its read layouts, and the map, bindings and timestamps
+                // outlive the run, which waits.
                 one_shot.run(|cmd| unsafe {
                     image_barrier(
                         device,
@@ -366,6 +375,9 @@ fn main() -> Result<()> {
         let (mut wall, mut cpu) = (f64::MAX, f64::MAX);
         for _ in 0..RUNS {
             let (start, start_cpu) = (std::time::Instant::now(), cpu_ms());
+            // SAFETY: the OneShot's recording command buffer, outside rendering; `a` and `b` are
+            // this context's depth images with transfer usage, each moved to the layout its clear
+            // or copy names before it, and `region`/`range` cover exactly their one layer.
             one_shot.run(|cmd| unsafe {
                 let to = |image: &Image, layout| {
                     image_barrier(

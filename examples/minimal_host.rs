@@ -94,6 +94,8 @@ struct Host {
 
 impl Host {
     fn new() -> Result<Self> {
+        // SAFETY: loading the Vulkan loader runs its initialization; `entry` is kept in Host, so
+        // the library stays loaded while the instance lives.
         let entry = unsafe { ash::Entry::load() }?;
         let app = vk::ApplicationInfo::default().api_version(vk::API_VERSION_1_3);
         let layers = [c"VK_LAYER_KHRONOS_validation".as_ptr()];
@@ -106,6 +108,8 @@ impl Host {
             .enabled_layer_names(&layers)
             .enabled_extension_names(&extensions)
             .push_next(&mut features);
+        // SAFETY: `info` and what it points at (application info, layer and extension names,
+        // validation features) are locals alive for the call.
         let instance = unsafe { entry.create_instance(&info, None) }?;
         let debug = ash::ext::debug_utils::Instance::new(&entry, &instance);
         let messenger_info = vk::DebugUtilsMessengerCreateInfoEXT::default()
@@ -118,10 +122,14 @@ impl Host {
                     | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
             )
             .pfn_user_callback(Some(on_message));
+        // SAFETY: the instance has debug utils enabled (the extension above), and `on_message`
+        // touches only the static MESSAGES; `messenger_info` lives through the call.
         let messenger = unsafe { debug.create_debug_utils_messenger(&messenger_info, None) }?;
         // The first device with a graphics+compute queue and what the library needs.
         let mut chosen = None;
+        // SAFETY: `instance` is live.
         for physical in unsafe { instance.enumerate_physical_devices() }? {
+            // SAFETY: `physical` was just enumerated from `instance`.
             let families =
                 unsafe { instance.get_physical_device_queue_family_properties(physical) };
             let family = families.iter().position(|f| {
@@ -146,14 +154,21 @@ impl Host {
                 .queue_create_infos(&queues)
                 .enabled_extension_names(&extensions),
         );
+        // SAFETY: `physical` belongs to `instance` and supports every feature the requirements
+        // chain (DeviceRequirements::for_device checked it); `info` and what it points at are
+        // locals alive for the call.
         let device = unsafe { instance.create_device(physical, &info, None) }?;
+        // SAFETY: the device was created just above with one queue of `family`.
         let queue = unsafe { device.get_device_queue(family, 0) };
         let pool_info = vk::CommandPoolCreateInfo::default().queue_family_index(family);
+        // SAFETY: `family` is a queue family the device was created with.
         let pool = unsafe { device.create_command_pool(&pool_info, None) }?;
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(pool)
             .command_buffer_count(1);
+        // SAFETY: `pool` was just made on this device; one primary buffer.
         let cmd = unsafe { device.allocate_command_buffers(&alloc) }?[0];
+        // SAFETY: creating an unsignalled fence on the live device has no precondition.
         let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }?;
         Ok(Self {
             _entry: entry,
@@ -174,16 +189,23 @@ impl Host {
     /// Records `record` into the host's command buffer, submits it and waits for its fence.
     fn submit_and_wait(&self, record: impl FnOnce(vk::CommandBuffer) -> Result<()>) -> Result<()> {
         let d = &self.device;
+        // SAFETY: the previous submission (if any) was waited for, so nothing from the pool is
+        // pending; one thread uses the host.
         unsafe {
             d.reset_command_pool(self.pool, vk::CommandPoolResetFlags::empty())?;
             d.reset_fences(&[self.fence])?;
             d.begin_command_buffer(self.cmd, &vk::CommandBufferBeginInfo::default())?;
         }
         let recorded = record(self.cmd);
+        // SAFETY: `record` received only the handle and recorded into it; it is still in the
+        // recording state.
         unsafe { d.end_command_buffer(self.cmd) }?;
         recorded?;
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(self.cmd)];
         let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
+        // SAFETY: the command buffer was ended, the fence reset above, and the queue is used by
+        // this thread only; the wait keeps everything the recording used alive until the GPU is
+        // done.
         unsafe {
             d.queue_submit2(self.queue, &submit, self.fence)?;
             d.wait_for_fences(&[self.fence], true, u64::MAX)?;
@@ -194,6 +216,9 @@ impl Host {
 
 impl Drop for Host {
     fn drop(&mut self) {
+        // SAFETY: the context (and every library object) was dropped before the host (`run` drops
+        // `ctx` first), and waiting idle means nothing is pending; children go before their device,
+        // the device and messenger before the instance.
         unsafe {
             let _ = self.device.device_wait_idle();
             self.device.destroy_fence(self.fence, None);
@@ -320,9 +345,9 @@ fn frame(host: &Host, ctx: &Context) -> Result<Outcome> {
         BufferUsage::DeviceToHost,
     )?;
     let spirv = compile_probe()?;
+    let push_bytes = std::mem::size_of::<Push>() as u32;
     // SAFETY: shaderc's SPIR-V for Vulkan 1.2 of PROBE: int64 and buffer references (which
     // the library requires), `Push` as push constants, no descriptor sets.
-    let push_bytes = std::mem::size_of::<Push>() as u32;
     let probe = compute_pipeline(ctx, push_bytes, "probe.comp", unsafe { Spirv::new(&spirv) })?;
     let mut draws = DrawList::new(ctx, 1)?;
     // Room for all this frame can store, from the host's copy of the corners, so it never

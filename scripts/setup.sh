@@ -112,7 +112,53 @@ motion_shadows_setup() (
             "reinstall vulkan-validationlayers" >&2
         exit 1
     fi
+
+    pinned_rust
 )
+
+# The Rust of rust-toolchain.toml, under rustup (without rustup, cargo ignores that file). A
+# machine whose `stable` already is the pinned version would otherwise fail every cargo
+# command (rustup does not map `stable` to a version, and with RUSTUP_AUTO_INSTALL=0 or
+# offline it cannot fetch one), and rustup refuses `toolchain link` under an official name:
+# so the installed toolchain of that exact version, with rustfmt and clippy, gets the pinned
+# name as a link in rustup's toolchain directory, which is what a link is to rustup. Only
+# where no installed toolchain is that version does rustup download it.
+pinned_rust() {
+    command -v rustup >/dev/null 2>&1 || return 0
+    local root channel host home
+    root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+    channel="$(sed -n 's/^channel = "\(.*\)"$/\1/p' "$root/rust-toolchain.toml")"
+    if [[ -z "$channel" ]]; then
+        echo "setup.sh: no channel in $root/rust-toolchain.toml" >&2
+        exit 1
+    fi
+    if (cd "$root" && rustc -V >/dev/null 2>&1); then
+        return 0
+    fi
+    home="${RUSTUP_HOME:-$HOME/.rustup}"
+    local toolchain installed
+    while read -r toolchain _; do
+        [[ -n "$toolchain" ]] || continue
+        if [[ "$(rustup run "$toolchain" rustc -V 2>/dev/null)" == "rustc $channel "* ]]; then
+            installed="$(rustup component list --installed --toolchain "$toolchain" 2>/dev/null)"
+            if [[ "$installed" == *rustfmt* && "$installed" == *clippy* ]]; then
+                host="$(rustup run "$toolchain" rustc -vV | sed -n 's/^host: //p')"
+                ln -s "$(rustup run "$toolchain" rustc --print sysroot)" \
+                    "$home/toolchains/$channel-$host"
+                echo "setup.sh: Rust $channel (rust-toolchain.toml) is the installed" \
+                    "$toolchain; linked under its version" >&2
+                return 0
+            fi
+        fi
+    done < <(rustup toolchain list)
+    echo "setup.sh: installing Rust $channel (rust-toolchain.toml) with rustup" >&2
+    if ! rustup toolchain install "$channel" --profile minimal -c rustfmt -c clippy \
+        --no-self-update; then
+        echo "setup.sh: rustup could not install Rust $channel, which rust-toolchain.toml" \
+            "pins; install it (rustup toolchain install $channel -c rustfmt,clippy)" >&2
+        exit 1
+    fi
+}
 
 if [[ "${BASH_SOURCE[0]}" != "$0" ]]; then
     motion_shadows_setup

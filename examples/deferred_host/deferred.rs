@@ -620,6 +620,7 @@ impl<'h> Engine<'h> {
     }
 
     fn format_features(host: &Host, format: vk::Format) -> vk::FormatFeatureFlags {
+        // SAFETY: `host.physical` is a physical device of the host's live instance.
         unsafe {
             host.instance
                 .get_physical_device_format_properties(host.physical, format)
@@ -681,9 +682,12 @@ impl<'h> Engine<'h> {
             .command_pool(self.pipelines.command_pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
+        // SAFETY: the engine's command pool, made for the host's queue family with
+        // RESET_COMMAND_BUFFER; slots are made on this thread only.
         let cmd =
             unsafe { device.allocate_command_buffers(&alloc) }.vk("vkAllocateCommandBuffers")?[0];
         // Freed with the pool; the fence is destroyed by the engine's Drop once in the slot.
+        // SAFETY: creating an unsignalled fence on the host's live device has no precondition.
         let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
             .vk("vkCreateFence")?;
         let build = || -> Result<Slot> {
@@ -694,6 +698,8 @@ impl<'h> Engine<'h> {
             let alloc = vk::DescriptorSetAllocateInfo::default()
                 .descriptor_pool(self.pipelines.descriptor_pool)
                 .set_layouts(&set_layouts);
+            // SAFETY: the pool was made for FRAMES_IN_FLIGHT slots' two sets each (its sizes count
+            // every binding of both layouts), and at most that many slots are made.
             let sets = unsafe { device.allocate_descriptor_sets(&alloc) }
                 .vk("vkAllocateDescriptorSets")?;
             let (sw, sh) = self.settings.shadow_size;
@@ -791,6 +797,8 @@ impl<'h> Engine<'h> {
             self.write_descriptors(&slot);
             Ok(slot)
         };
+        // SAFETY: the slot was not built, so its fence was never submitted and is destroyed once,
+        // here.
         build().inspect_err(|_| unsafe { device.destroy_fence(fence, None) })
     }
 
@@ -853,6 +861,9 @@ impl<'h> Engine<'h> {
                     .image_info(info),
             );
         }
+        // SAFETY: the slot's sets are written once, while it is being built, before any command
+        // buffer uses them; each write names an image view or buffer of this slot, alive as long as
+        // it.
         unsafe { self.host.device.update_descriptor_sets(&writes, &[]) };
     }
 
@@ -904,6 +915,8 @@ impl<'h> Engine<'h> {
     fn wait_all(&mut self) {
         for slot in &mut self.slots {
             if slot.pending.take().is_some() {
+                // SAFETY: the fence belongs to this slot and was submitted with its frame
+                // (`pending`).
                 let _ = unsafe {
                     self.host
                         .device
@@ -926,6 +939,7 @@ impl<'h> Engine<'h> {
         };
         let device = &self.host.device;
         loop {
+            // SAFETY: the slot's fence was submitted with its pending frame.
             unsafe { device.wait_for_fences(&[self.slots[slot].fence], true, u64::MAX) }
                 .vk("vkWaitForFences")?;
             self.slots[slot].pending = None;
@@ -1081,6 +1095,8 @@ impl<'h> Engine<'h> {
                 s.deformed.write(m.vertex_offset, &packed)?;
             }
         }
+        // SAFETY: the slot is idle (the caller retired it: its fence signalled), so its command
+        // buffer and fence are in no pending work; the pool allows resetting one buffer.
         unsafe {
             device.reset_fences(&[s.fence]).vk("vkResetFences")?;
             let begin = vk::CommandBufferBeginInfo::default()
@@ -1090,10 +1106,14 @@ impl<'h> Engine<'h> {
                 .vk("vkBeginCommandBuffer")?;
         }
         let recorded = recorder.record(s, world, f, &draws, &lights, &constants);
+        // SAFETY: the recorder received only the handle; the command buffer is still recording.
         unsafe { device.end_command_buffer(s.cmd) }.vk("vkEndCommandBuffer")?;
         recorded?;
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(s.cmd)];
         let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
+        // SAFETY: the command buffer was ended and the fence reset above; the host's queue is used
+        // by this thread only, and every object the frame uses belongs to the slot or the engine,
+        // kept until its fence has signalled.
         unsafe { device.queue_submit2(host.queue, &submit, s.fence) }.vk("vkQueueSubmit2")?;
         // The maps' static layers drawn by this frame may be kept by the slot's next one.
         for map in &s.maps {
@@ -1116,18 +1136,22 @@ impl<'h> Engine<'h> {
         let mut draws = Vec::new();
         for (mesh, m) in world.meshes.iter().zip(&g.meshes) {
             let at = IndexStream::from_device_address;
-            // SAFETY (streams): the engine's buffers were made with STORAGE_BUFFER and
-            // SHADER_DEVICE_ADDRESS usage on the context's device; each mesh's vertices and
-            // indices lie inside them (offsets from the upload, the 16-bit indices padded to
-            // a whole word); the static buffers never change and the deformed one is this
-            // slot's, written only when the slot is idle; host writes before the submission
-            // are visible to it without a barrier.
+            // The streams' contract (every unsafe below): the engine's buffers were made with
+            // STORAGE_BUFFER and SHADER_DEVICE_ADDRESS usage on the context's device; each mesh's
+            // vertices and indices lie inside them (offsets from the upload, the 16-bit indices
+            // padded to a whole word); the static buffers never change and the deformed one is this
+            // slot's, written only when the slot is idle; host writes before the submission are
+            // visible to it without a barrier.
             let indices = match m.index_type {
+                // SAFETY: the streams' contract, as stated above, for this mesh's 16-bit indices.
                 vk::IndexType::UINT16 => Indices::U16(unsafe { at(index_base + m.index_offset) }),
+                // SAFETY: the streams' contract, as stated above, for this mesh's 32-bit indices.
                 _ => Indices::U32(unsafe { at(index_base + m.index_offset) }),
             };
             let mut draw = match &mesh.motion {
                 Motion::Rigid(transform) => {
+                    // SAFETY: the streams' contract, as stated above, for this rigid mesh's static
+                    // vertices.
                     let stream = unsafe {
                         PositionStream::from_device_address(statics + m.vertex_offset, 24)
                     };
@@ -1145,6 +1169,8 @@ impl<'h> Engine<'h> {
                 }
                 Motion::Deformed(_) => {
                     let base = deformed + m.vertex_offset;
+                    // SAFETY: the streams' contract, as stated above, for this deformed mesh's two
+                    // position sets in the slot's buffer.
                     let (prev, cur) = unsafe {
                         (
                             PositionStream::from_device_address(base, DEFORMED_STRIDE),
@@ -1311,6 +1337,10 @@ impl Recorder<'_> {
         }
         let push = ShadeConstants { maps, lookup, time };
         let p = &self.pipelines;
+        // SAFETY: the shade pipeline's layout holds both sets (frame constants, images) and a
+        // compute push range of ShadeConstants' size, which `bytes_of(&push)` is; the images were
+        // moved to the layouts the sets name by the barriers above, and 8x8 groups cover the image
+        // (the shader returns past its edges).
         unsafe {
             device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.shade);
             // The mask pass bound its own set 0 on the compute bind point: bind ours again.
@@ -1362,6 +1392,9 @@ impl Recorder<'_> {
             }]
         };
         let color = region(vk::ImageAspectFlags::COLOR);
+        // SAFETY: the radiance and mask images are in TRANSFER_SRC_OPTIMAL (the barriers above),
+        // each readback buffer holds one image of width x height texels (made so in new_slot), and
+        // the region is exactly that.
         unsafe {
             device.cmd_copy_image_to_buffer(
                 cmd,
@@ -1440,6 +1473,9 @@ impl Recorder<'_> {
             .depth_attachment(&depth);
         let p = &self.pipelines;
         let g = &self.geometry;
+        // SAFETY: the barrier recorded just before record_gbuffer moved the attachments to the
+        // layouts `info` names; their views are the slot's, of the render area's size, and the
+        // pipeline was made for these formats.
         unsafe {
             device.cmd_begin_rendering(cmd, &info);
             device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.gbuffer);
@@ -1496,6 +1532,10 @@ impl Recorder<'_> {
                 previous_model: rows(previous_model),
                 albedo: mesh.albedo.extend(1.0),
             };
+            // SAFETY: the buffers and offsets are the engine's (made by the upload, the stride its
+            // vertex layout), the index buffer holds this mesh's indices at its offset, and the
+            // push is DrawConstants' size, the layout's range; inside the rendering begun above
+            // with the G-buffer pipeline bound.
             unsafe {
                 device.cmd_bind_vertex_buffers2(
                     cmd,
@@ -1516,6 +1556,7 @@ impl Recorder<'_> {
                 device.cmd_draw_indexed(cmd, m.index_count, 1, 0, 0, 0);
             }
         }
+        // SAFETY: the rendering began above and every mesh is drawn.
         unsafe { device.cmd_end_rendering(cmd) };
         Ok(())
     }
@@ -1528,6 +1569,8 @@ impl Drop for Engine<'_> {
         self.wait_all();
         let device = &self.host.device;
         for slot in &self.slots {
+            // SAFETY: wait_all just waited for every pending slot, so no fence is in use; each is
+            // destroyed once.
             unsafe { device.destroy_fence(slot.fence, None) };
         }
         // The fields drop next: the pipelines and pools, the slots' images and buffers, the
@@ -1739,6 +1782,8 @@ pub fn compile_glsl(name: &str, source: &str, kind: shaderc::ShaderKind) -> Resu
 /// A shader module of `code`, destroyed by the caller once the pipeline exists.
 pub fn shader_module(device: &ash::Device, code: &[u32]) -> Result<vk::ShaderModule> {
     let info = vk::ShaderModuleCreateInfo::default().code(code);
+    // SAFETY: `code` is SPIR-V that shaderc compiled from the engine's own GLSL for Vulkan 1.3,
+    // read into aligned words.
     unsafe { device.create_shader_module(&info, None) }.vk("vkCreateShaderModule")
 }
 
@@ -1760,8 +1805,11 @@ pub fn compute_pipeline(
     let info = [vk::ComputePipelineCreateInfo::default()
         .stage(stage)
         .layout(layout)];
+    // SAFETY: the module holds shaderc's SPIR-V of the engine's GLSL, whose push constants and
+    // bindings `layout` was made for; `info` lives through the call.
     let pipeline =
         unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &info, None) };
+    // SAFETY: pipeline creation has returned, and a module may go once its pipelines are made.
     unsafe { device.destroy_shader_module(module, None) };
     Ok(pipeline
         .map_err(|(_, e)| e)
@@ -1809,6 +1857,7 @@ impl Pipelines {
         let pool = vk::CommandPoolCreateInfo::default()
             .queue_family_index(queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: the host's queue family, with a pool per engine; destroyed in Pipelines' Drop.
         self.command_pool =
             unsafe { device.create_command_pool(&pool, None) }.vk("vkCreateCommandPool")?;
         let binding = |binding, ty, stages| {
@@ -1826,6 +1875,7 @@ impl Pipelines {
                 | vk::ShaderStageFlags::FRAGMENT
                 | vk::ShaderStageFlags::COMPUTE,
         )];
+        // SAFETY: `frame` is a local binding list alive for the call.
         self.frame_set_layout = unsafe {
             device.create_descriptor_set_layout(
                 &vk::DescriptorSetLayoutCreateInfo::default().bindings(&frame),
@@ -1845,6 +1895,7 @@ impl Pipelines {
             binding(5, vk::DescriptorType::STORAGE_IMAGE, c),
             binding(6, sampled, c),
         ];
+        // SAFETY: `images` is a local binding list alive for the call.
         self.image_set_layout = unsafe {
             device.create_descriptor_set_layout(
                 &vk::DescriptorSetLayoutCreateInfo::default().bindings(&images),
@@ -1867,6 +1918,8 @@ impl Pipelines {
                 descriptor_count: n,
             },
         ];
+        // SAFETY: `sizes` is a local alive for the call, counting every binding of both set layouts
+        // for each of the FRAMES_IN_FLIGHT slots.
         self.descriptor_pool = unsafe {
             device.create_descriptor_pool(
                 &vk::DescriptorPoolCreateInfo::default()
@@ -1882,6 +1935,7 @@ impl Pipelines {
             .min_filter(vk::Filter::NEAREST)
             .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE);
+        // SAFETY: a sampler of fixed, always-supported state (nearest, clamp to edge).
         self.sampler = unsafe { device.create_sampler(&sampler, None) }.vk("vkCreateSampler")?;
 
         let draw_push = [vk::PushConstantRange {
@@ -1890,6 +1944,8 @@ impl Pipelines {
             size: std::mem::size_of::<DrawConstants>() as u32,
         }];
         let set_layouts = [self.frame_set_layout];
+        // SAFETY: the frame set layout is made above; one push range for the vertex and fragment
+        // stages of DrawConstants' size, within any device's 128 bytes.
         self.gbuffer_layout = unsafe {
             device.create_pipeline_layout(
                 &vk::PipelineLayoutCreateInfo::default()
@@ -1905,6 +1961,7 @@ impl Pipelines {
             size: std::mem::size_of::<ShadeConstants>() as u32,
         }];
         let set_layouts = [self.frame_set_layout, self.image_set_layout];
+        // SAFETY: both set layouts are made above; one compute push range of ShadeConstants' size.
         self.shade_layout = unsafe {
             device.create_pipeline_layout(
                 &vk::PipelineLayoutCreateInfo::default()
@@ -1926,6 +1983,9 @@ impl Drop for Pipelines {
         // Null handles (a failed `new`) are ignored; the command buffers go with their pool,
         // the descriptor sets with theirs.
         let device = &self.device;
+        // SAFETY: the engine drops its pipelines after waiting for every slot's frame (its own
+        // Drop), so none is in use; null handles of a failed `new` are ignored by the destroy
+        // calls.
         unsafe {
             device.destroy_pipeline(self.gbuffer, None);
             device.destroy_pipeline(self.shade, None);
@@ -1960,6 +2020,8 @@ fn gbuffer_pipeline(device: &ash::Device, layout: vk::PipelineLayout) -> Result<
     {
         Ok(m) => m,
         Err(e) => {
+            // SAFETY: the fragment module failed, so the vertex module is used by nothing and
+            // destroyed once.
             unsafe { device.destroy_shader_module(vert, None) };
             return Err(e);
         }
@@ -2030,8 +2092,11 @@ fn gbuffer_pipeline(device: &ash::Device, layout: vk::PipelineLayout) -> Result<
         .dynamic_state(&dynamic)
         .layout(layout)
         .push_next(&mut rendering)];
+    // SAFETY: every state struct `info` points at is a local alive for the call, the modules hold
+    // the engine's compiled GLSL, and `layout` was made for its push constants and sets.
     let pipeline =
         unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &info, None) };
+    // SAFETY: pipeline creation has returned; the modules are needed only while it runs.
     unsafe {
         device.destroy_shader_module(vert, None);
         device.destroy_shader_module(frag, None);
@@ -2087,8 +2152,11 @@ impl HostBuffer {
             .size(buffer.size)
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        // SAFETY: `info` is a local; a host-visible buffer of the requested size and usage.
         buffer.buffer = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        // SAFETY: `buffer.buffer` was just created on this device.
         let req = unsafe { device.get_buffer_memory_requirements(buffer.buffer) };
+        // SAFETY: `host.physical` is a physical device of the host's live instance.
         let props = unsafe {
             host.instance
                 .get_physical_device_memory_properties(host.physical)
@@ -2107,9 +2175,15 @@ impl HostBuffer {
         if usage.contains(vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS) {
             alloc = alloc.push_next(&mut flags);
         }
+        // SAFETY: the memory type was chosen from the buffer's requirements' type bits, of its
+        // size, with the device-address flag where the usage needs it.
         buffer.memory = unsafe { device.allocate_memory(&alloc, None) }.vk("vkAllocateMemory")?;
+        // SAFETY: the memory was allocated for this buffer's requirements and is bound once, at
+        // offset 0.
         unsafe { device.bind_buffer_memory(buffer.buffer, buffer.memory, 0) }
             .vk("vkBindBufferMemory")?;
+        // SAFETY: the memory is host-visible (chosen so) and not mapped yet; it stays mapped until
+        // it is freed.
         buffer.mapped = unsafe {
             device.map_memory(
                 buffer.memory,
@@ -2169,6 +2243,8 @@ impl HostBuffer {
     /// The buffer's device address (it must have SHADER_DEVICE_ADDRESS usage).
     pub fn address(&self) -> u64 {
         let info = vk::BufferDeviceAddressInfo::default().buffer(self.buffer);
+        // SAFETY: every buffer the engine asks the address of was made with SHADER_DEVICE_ADDRESS
+        // usage and device-address memory (this method's documented precondition).
         unsafe { self.device.get_buffer_device_address(&info) }
     }
 }
@@ -2177,6 +2253,8 @@ impl Drop for HostBuffer {
     fn drop(&mut self) {
         // Null handles (a failed `new`) are ignored by the destroy calls; freeing the memory
         // unmaps it.
+        // SAFETY: the engine drops its buffers after waiting for the frames that use them; freeing
+        // the memory unmaps it; null handles of a failed `new` are ignored.
         unsafe {
             self.device.destroy_buffer(self.buffer, None);
             self.device.free_memory(self.memory, None);
@@ -2226,8 +2304,13 @@ impl Image {
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: Engine::new checked that the device supports the engine's attachment formats for
+        // these uses (its format checks), and the storage formats are those every device with the
+        // library's features writes; `info` is a local.
         image.image = unsafe { device.create_image(&info, None) }.vk("vkCreateImage")?;
+        // SAFETY: `image.image` was just created on this device.
         let req = unsafe { device.get_image_memory_requirements(image.image) };
+        // SAFETY: `host.physical` is a physical device of the host's live instance.
         let props = unsafe {
             host.instance
                 .get_physical_device_memory_properties(host.physical)
@@ -2240,7 +2323,11 @@ impl Image {
         let alloc = vk::MemoryAllocateInfo::default()
             .allocation_size(req.size)
             .memory_type_index(index);
+        // SAFETY: the memory type was chosen from the image's requirements, device-local, of its
+        // size.
         image.memory = unsafe { device.allocate_memory(&alloc, None) }.vk("vkAllocateMemory")?;
+        // SAFETY: the memory was allocated for this image's requirements and is bound once, at
+        // offset 0.
         unsafe { device.bind_image_memory(image.image, image.memory, 0) }
             .vk("vkBindImageMemory")?;
         let view = vk::ImageViewCreateInfo::default()
@@ -2248,6 +2335,8 @@ impl Image {
             .view_type(vk::ImageViewType::TYPE_2D)
             .format(format)
             .subresource_range(range(aspect));
+        // SAFETY: the image is bound to memory, and the view's format and aspect are the image's
+        // own.
         image.view = unsafe { device.create_image_view(&view, None) }.vk("vkCreateImageView")?;
         Ok(image)
     }
@@ -2274,6 +2363,8 @@ impl Image {
 
 impl Drop for Image {
     fn drop(&mut self) {
+        // SAFETY: the engine drops its images after waiting for the frames that use them; the view
+        // goes before its image, the image before its memory.
         unsafe {
             self.device.destroy_image_view(self.view, None);
             self.device.destroy_image(self.image, None);
@@ -2301,6 +2392,8 @@ pub fn pipeline_barrier(
     let dependency = vk::DependencyInfo::default()
         .image_memory_barriers(images)
         .memory_barriers(memory);
+    // SAFETY: every caller passes its slot's command buffer, recording outside any rendering, and
+    // barriers of its own images and buffers; `dependency` lives through the call.
     unsafe { device.cmd_pipeline_barrier2(cmd, &dependency) };
 }
 

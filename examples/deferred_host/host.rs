@@ -60,6 +60,9 @@ unsafe extern "system" fn on_message(
         .unwrap_or_default();
     let line = format!("[host {severity:?}] {text}");
     eprintln!("vulkan validation: {line}");
+    // SAFETY: `user` is the sink registered with this callback: a Box<Messages> freed only after
+    // the instance (and so every messenger) is destroyed, and the layer calls back only while they
+    // exist; only a shared reference is made, and the Mutex serializes writers.
     if let Some(sink) = unsafe { (user as *const Messages).as_ref() } {
         if let Ok(mut messages) = sink.lock() {
             messages.push(line);
@@ -87,6 +90,7 @@ fn messenger_info(sink: *mut Messages) -> vk::DebugUtilsMessengerCreateInfoEXT<'
 /// first, CPU devices last (the same preference as `Context::headless`, so that a test that
 /// compares the two renders on the same device).
 fn pick_device(instance: &ash::Instance) -> Result<(vk::PhysicalDevice, u32, String), String> {
+    // SAFETY: `instance` is live; enumerating its devices has no other precondition.
     let devices = unsafe { instance.enumerate_physical_devices() }
         .map_err(|e| format!("vkEnumeratePhysicalDevices: {e}"))?;
     let rank = |t: vk::PhysicalDeviceType| match t {
@@ -98,11 +102,13 @@ fn pick_device(instance: &ash::Instance) -> Result<(vk::PhysicalDevice, u32, Str
     };
     let mut best: Option<(u32, vk::PhysicalDevice, u32, String)> = None;
     for pd in devices {
+        // SAFETY: `pd` was enumerated from the live `instance`.
         let props = unsafe { instance.get_physical_device_properties(pd) };
         // SAFETY: `pd` was enumerated from `instance`.
         if unsafe { DeviceRequirements::for_device(instance, pd) }.is_err() {
             continue;
         }
+        // SAFETY: `pd` was enumerated from the live `instance`.
         let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
         let Some(family) = families.iter().position(|q| {
             q.queue_flags
@@ -139,8 +145,11 @@ impl Host {
         validation: bool,
         edit: impl FnOnce(&mut DeviceFeatures),
     ) -> Result<Host, String> {
+        // SAFETY: loading the Vulkan loader runs its initialization; `entry` is kept in Host, so
+        // the library stays loaded while the instance lives.
         let entry = unsafe { ash::Entry::load() }.map_err(|e| format!("Vulkan loader: {e}"))?;
         if validation {
+            // SAFETY: `entry` is a loaded entry, all that enumerating layers needs.
             let layers = unsafe { entry.enumerate_instance_layer_properties() }
                 .map_err(|e| format!("vkEnumerateInstanceLayerProperties: {e}"))?;
             if !layers
@@ -153,6 +162,9 @@ impl Host {
         let messages: Messages = Arc::new(Mutex::new(Vec::new()));
         let sink = Box::into_raw(Box::new(messages.clone()));
         // Until `Host` exists, each error path frees what was created so far.
+        // SAFETY: `sink` is the Box made just above, freed by this closure only on the error paths
+        // before Host owns it (each calls it once and returns), never after the instance that
+        // reports through it is destroyed.
         let free_sink = || drop(unsafe { Box::from_raw(sink) });
 
         let app = vk::ApplicationInfo::default()
@@ -173,6 +185,9 @@ impl Host {
                 .push_next(&mut features)
                 .push_next(&mut creation_messenger);
         }
+        // SAFETY: `info` and what it chains (application info, layer and extension names,
+        // validation features, the creation messenger pointing at the live sink) are locals alive
+        // for the call.
         let instance = match unsafe { entry.create_instance(&info, None) } {
             Ok(i) => i,
             Err(e) => {
@@ -180,6 +195,9 @@ impl Host {
                 return Err(format!("vkCreateInstance: {e}"));
             }
         };
+        // SAFETY: called only on error paths before Host exists: the instance has no device yet (or
+        // the device failed), the messenger (if any) goes before its instance, and the sink after
+        // the instance, once.
         let destroy_instance = |instance: &ash::Instance, messenger: Option<Messenger>| unsafe {
             if let Some(m) = messenger {
                 m.loader.destroy_debug_utils_messenger(m.handle, None);
@@ -189,6 +207,8 @@ impl Host {
         };
         let messenger = if validation {
             let loader = ash::ext::debug_utils::Instance::new(&entry, &instance);
+            // SAFETY: the instance has debug utils enabled (the validation branch), and the
+            // messenger's sink stays allocated until after the instance is destroyed.
             match unsafe { loader.create_debug_utils_messenger(&messenger_info(sink), None) } {
                 Ok(handle) => Some(Messenger { loader, handle }),
                 Err(e) => {
@@ -231,6 +251,9 @@ impl Host {
                 .queue_create_infos(&queues)
                 .enabled_extension_names(&extensions),
         );
+        // SAFETY: `physical` belongs to `instance` and has every feature the requirements chain
+        // (for_device checked it in pick_device); `device_info` and what it points at are locals
+        // alive for the call.
         let device = match unsafe { instance.create_device(physical, &device_info, None) } {
             Ok(d) => d,
             Err(e) => {
@@ -238,6 +261,7 @@ impl Host {
                 return Err(format!("vkCreateDevice: {e}"));
             }
         };
+        // SAFETY: the device was created just above with one queue of `queue_family`.
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
 
         let mut host = Host {
@@ -261,14 +285,20 @@ impl Host {
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: `queue_family` is the family the device was created with a queue of; the pool is
+        // destroyed in Drop.
         host.pool = unsafe { host.device.create_command_pool(&pool_info, None) }
             .map_err(|e| format!("vkCreateCommandPool: {e}"))?;
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(host.pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
+        // SAFETY: `host.pool` was just made on this device; one primary buffer, freed with the
+        // pool.
         host.cmd = unsafe { host.device.allocate_command_buffers(&alloc) }
             .map_err(|e| format!("vkAllocateCommandBuffers: {e}"))?[0];
+        // SAFETY: creating an unsignalled fence on the live device has no precondition; it is
+        // destroyed in Drop.
         host.fence = unsafe {
             host.device
                 .create_fence(&vk::FenceCreateInfo::default(), None)
@@ -289,6 +319,9 @@ impl Host {
     /// previous submission must have been waited for.
     pub fn record_and_submit(&self, f: impl FnOnce(vk::CommandBuffer)) -> Result<(), String> {
         let d = &self.device;
+        // SAFETY: the previous submission was waited for (this function's documented precondition,
+        // which every caller keeps), so `cmd` and the fence are in no pending work; the pool allows
+        // resetting one buffer (RESET_COMMAND_BUFFER).
         unsafe {
             d.reset_command_buffer(self.cmd, vk::CommandBufferResetFlags::empty())
                 .map_err(|e| format!("vkResetCommandBuffer: {e}"))?;
@@ -300,6 +333,8 @@ impl Host {
                 .map_err(|e| format!("vkBeginCommandBuffer: {e}"))?;
         }
         f(self.cmd);
+        // SAFETY: `cmd` is still recording (`f` received only its handle), the fence was reset
+        // above, and the queue is used by this thread only.
         unsafe {
             d.end_command_buffer(self.cmd)
                 .map_err(|e| format!("vkEndCommandBuffer: {e}"))?;
@@ -313,6 +348,7 @@ impl Host {
 
     /// Waits for the host's fence (the last submission).
     pub fn wait(&self) -> Result<(), String> {
+        // SAFETY: the fence is the host's own, live until Drop.
         unsafe { self.device.wait_for_fences(&[self.fence], true, u64::MAX) }
             .map_err(|e| format!("vkWaitForFences: {e}"))
     }
@@ -339,6 +375,10 @@ impl Host {
 
 impl Drop for Host {
     fn drop(&mut self) {
+        // SAFETY: every library object made on this device was dropped before the host
+        // (Context::from_raw's contract, which the tests keep), and waiting idle means nothing is
+        // pending; children go before the device, the messenger before its instance, and the sink
+        // after it, once.
         unsafe {
             let _ = self.device.device_wait_idle();
             // Null handles (a failed `new`) are ignored by the destroy calls.

@@ -88,17 +88,25 @@ impl Buffer {
             .size(size)
             .usage(usage.flags())
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        // SAFETY: `size` is at least 4 and the usage flags are those of a BufferUsage, which the
+        // device supports (bufferDeviceAddress is a required feature).
         let raw = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        // SAFETY: `raw` was just created on this device.
         let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
         let what = || format!("{name} ({size} bytes)");
         let allocation = match ctx.allocate(name, what, requirements, usage.location(), true) {
             Ok(a) => a,
             Err(e) => {
+                // SAFETY: the buffer was just created and nothing has bound or used it, so it is
+                // destroyed once, here.
                 unsafe { device.destroy_buffer(raw, None) };
                 return Err(e);
             }
         };
         let bound =
+            // SAFETY: the allocation was made for `raw`'s own memory requirements (size and
+            // alignment, linear), so it is bound at an offset the allocator aligned, within the
+            // memory block; it is bound once.
             unsafe { device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) };
         let buffer = Self {
             uid: NEXT_UID.fetch_add(1, Ordering::Relaxed),
@@ -213,6 +221,9 @@ impl Buffer {
     pub fn device_address(&self) -> u64 {
         if self.address_usage {
             let info = vk::BufferDeviceAddressInfo::default().buffer(self.raw);
+            // SAFETY: `address_usage` is set only for buffers created with SHADER_DEVICE_ADDRESS
+            // usage and bound to memory (new), and the bufferDeviceAddress feature is required of
+            // every context.
             unsafe { self.shared.device.get_buffer_device_address(&info) }
         } else {
             0
@@ -235,6 +246,10 @@ impl Buffer {
         let bytes: &[u8] = bytemuck::cast_slice(data);
         debug_assert!(bytes.len() % 4 == 0 && bytes.len() as u64 <= self.size);
         for (i, piece) in bytes.chunks(65536).enumerate() {
+            // SAFETY: the caller's contract: `cmd` is recording outside a render pass and the
+            // buffer has transfer-destination usage; each piece is at most 65,536 bytes at a
+            // 4-byte-aligned offset, within the buffer since `data` fits it (debug-asserted here,
+            // the caller's promise).
             unsafe { device.cmd_update_buffer(cmd, self.raw, i as u64 * 65536, piece) };
         }
     }

@@ -21,11 +21,16 @@ impl<'a> OneShot<'a> {
             .command_pool(*pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
+        // SAFETY: the pool is this device's, made for the context's queue family, and held locked
+        // (external synchronization of the pool) until this function returns.
         let cmd =
             unsafe { device.allocate_command_buffers(&info) }.vk("vkAllocateCommandBuffers")?[0];
+        // SAFETY: creating an unsignalled fence on the live device has no precondition.
         let fence = match unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) } {
             Ok(f) => f,
             Err(result) => {
+                // SAFETY: `cmd` came from `pool`, which is still locked, and was never recorded or
+                // submitted.
                 unsafe { device.free_command_buffers(*pool, &[cmd]) };
                 return Err(crate::Error::Vulkan {
                     call: "vkCreateFence",
@@ -44,6 +49,9 @@ impl<'a> OneShot<'a> {
         let _locked = self.ctx.one_shot_lock()?;
         let _under_way = UnderWay::begin(self.ctx);
         let device = self.ctx.device();
+        // SAFETY: the pool is locked for the whole run, and the previous run (if any) waited for
+        // its fence, so `cmd` and `fence` are not in use by the GPU; resetting is allowed since the
+        // pool was made with RESET_COMMAND_BUFFER.
         unsafe {
             device
                 .reset_command_buffer(self.cmd, vk::CommandBufferResetFlags::empty())
@@ -56,10 +64,15 @@ impl<'a> OneShot<'a> {
                 .vk("vkBeginCommandBuffer")?;
         }
         let recorded = record(self.cmd);
+        // SAFETY: `cmd` is in the recording state: begun above, and `record` receives only its
+        // handle (it records into it, it cannot end or free it through this API).
         unsafe { device.end_command_buffer(self.cmd) }.vk("vkEndCommandBuffer")?;
         recorded?;
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(self.cmd)];
         let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
+        // SAFETY: the queue is locked with the pool (no other OneShot submits to it; a host's own
+        // use is from_raw's contract), `cmd` was ended, and `fence` was reset above; the wait keeps
+        // every object the recording used alive until the GPU is done.
         unsafe {
             device
                 .queue_submit2(self.ctx.queue(), &submit, self.fence)
@@ -102,6 +115,8 @@ impl Drop for OneShot<'_> {
             return;
         };
         let device = self.ctx.device();
+        // SAFETY: the run (if any) waited for `fence`, so neither the fence nor `cmd` is in use;
+        // the pool is locked, and both are freed once, here.
         unsafe {
             device.destroy_fence(self.fence, None);
             device.free_command_buffers(*pool, &[self.cmd]);

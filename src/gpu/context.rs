@@ -138,6 +138,8 @@ struct Owned {
 // SAFETY: the creation sink is only touched by the layer's callback (behind its mutex) and
 // freed once, in Shared::drop.
 unsafe impl Send for Owned {}
+// SAFETY: shared references to Owned expose no method that touches the sink or the instance; only
+// Shared::drop (which has &mut) destroys them, so sharing it between threads races on nothing.
 unsafe impl Sync for Owned {}
 
 impl Drop for Shared {
@@ -151,6 +153,11 @@ impl Drop for Shared {
             ManuallyDrop::drop(&mut self.allocator);
         }
         if let Some(owned) = self.owned.take() {
+            // SAFETY: `owned` holds the instance and device this context created (never a host's:
+            // `owned` is None for from_raw). The allocator was dropped and retired objects
+            // destroyed just above, so nothing made on the device is left; the messenger goes
+            // before its instance, and the creation sink is freed after vkDestroyInstance, the last
+            // call that may report through it, exactly once since `owned` was taken.
             unsafe {
                 self.device.destroy_device(None);
                 drop(owned.messenger);
@@ -193,8 +200,12 @@ fn device_info(
         .push_next(&mut p11)
         .push_next(&mut driver)
         .push_next(&mut subgroup);
+    // SAFETY: `instance` is a live instance and `pd` one of its physical devices (both outlive the
+    // context: created here or the host's contract), and `p2`'s chain points at locals that outlive
+    // the call.
     unsafe { instance.get_physical_device_properties2(pd, &mut p2) };
     let props = p2.properties;
+    // SAFETY: `pd` is a physical device of the live `instance`.
     let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
     let name = props
         .device_name_as_c_str()
@@ -221,6 +232,7 @@ fn device_info(
         storage_image_write_without_format: enabled.storage_image_write_without_format(),
         host_query_reset: enabled.host_query_reset(),
         attachment_format_features: [vk::Format::D32_SFLOAT, vk::Format::R32_UINT].map(|f| {
+            // SAFETY: `pd` is a physical device of the live `instance`; any format may be queried.
             unsafe { instance.get_physical_device_format_properties(pd, f) }.optimal_tiling_features
         }),
     }
@@ -261,6 +273,8 @@ impl Context {
     /// Creates an instance and device of its own: a discrete GPU if one has every needed
     /// feature, else whatever does (lavapipe on a machine without a GPU).
     pub fn headless(options: &ContextOptions) -> Result<Self> {
+        // SAFETY: loading the Vulkan loader runs its initialization code; `entry` keeps the library
+        // loaded for as long as the instance lives (it is kept in Owned).
         let entry = unsafe { ash::Entry::load() }.map_err(|e| Error::Loader(e.to_string()))?;
         if options.validation && !debug::layer_available(&entry) {
             return Err(Error::ValidationLayerMissing);
@@ -284,6 +298,9 @@ impl Context {
                 .push_next(&mut validation_features)
                 .push_next(&mut creation_messenger);
         }
+        // SAFETY: `info` and everything it points at (application info, layer and extension names,
+        // the chained validation features and creation messenger) are locals alive for the call;
+        // the creation sink stays allocated until after vkDestroyInstance.
         let instance = unsafe { entry.create_instance(&info, None) };
         let instance = instance.inspect_err(|_| {
             // SAFETY: no instance, so no layer holds the creation sink any more.
@@ -302,6 +319,9 @@ impl Context {
             match Messenger::new(&entry, &instance, messages.clone()) {
                 Ok(m) => Some(m),
                 Err(e) => {
+                    // SAFETY: the messenger failed, so the instance just created has no child
+                    // object; it is destroyed once, and the creation sink freed after it (the layer
+                    // may report through it until then).
                     unsafe {
                         instance.destroy_instance(None);
                         drop(Box::from_raw(creation_sink));
@@ -318,6 +338,8 @@ impl Context {
             Ok(v) => v,
             Err(e) => {
                 drop(messenger);
+                // SAFETY: device creation failed, so the instance has no device; its messenger was
+                // dropped just above, then the instance goes, then the sink it reported through.
                 unsafe {
                     instance.destroy_instance(None);
                     drop(Box::from_raw(creation_sink));
@@ -336,6 +358,8 @@ impl Context {
         let allocator = match new_allocator(&owned.instance, chosen.physical, &device) {
             Ok(a) => a,
             Err(e) => {
+                // SAFETY: the device was just created and nothing has been made on it yet (the
+                // allocator failed); `owned` still destroys the instance after this returns.
                 unsafe { device.destroy_device(None) };
                 return Err(e);
             }
@@ -442,6 +466,9 @@ impl Context {
                 describe(&missing)
             )));
         }
+        // SAFETY: the caller's contract of from_raw (the handles are live and related, `enabled` is
+        // what was enabled), checked for the required features just above; `owned` is None, so the
+        // context never destroys the host's handles.
         unsafe {
             Self::assemble(
                 instance,
@@ -518,6 +545,8 @@ impl Context {
             let info = vk::CommandPoolCreateInfo::default()
                 .queue_family_index(self.queue_family)
                 .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+            // SAFETY: `self.queue_family` is the family the device was created with a queue of, and
+            // the pool is made once under the lock; it is destroyed in Context::drop.
             *pool = unsafe { self.shared.device.create_command_pool(&info, None) }
                 .vk("vkCreateCommandPool")?;
         }
@@ -650,6 +679,10 @@ impl Context {
 
 impl Drop for Context {
     fn drop(&mut self) {
+        // SAFETY: for a headless context, the device is ours and waiting idle first means no
+        // command buffer of the pool is pending; a host's device is not waited for, but the pool is
+        // used only by OneShot, which waits for its own submission before it returns, so no pending
+        // work uses it. `&mut self` means no OneShot holds the lock.
         unsafe {
             // A host's device is the host's to synchronize: never stall it from here.
             if self.shared.owned.is_some() {

@@ -19,6 +19,8 @@ pub(crate) struct Messenger {
 // SAFETY: the raw sink pointer is only dereferenced by the callback (which locks the mutex)
 // and freed in Drop after the messenger is destroyed.
 unsafe impl Send for Messenger {}
+// SAFETY: as Send: the sink pointer is read only by the callback, through a shared reference to a
+// Mutex, and freed once in Drop, which needs &mut; the loader and handle are plain data.
 unsafe impl Sync for Messenger {}
 
 unsafe extern "system" fn on_message(
@@ -36,6 +38,10 @@ unsafe extern "system" fn on_message(
     };
     let line = format!("[{severity:?}] {text}");
     eprintln!("vulkan validation: {line}");
+    // SAFETY: `user` is the pointer messenger_info registered: a Box<MessageSink> that stays
+    // allocated until the messenger (or, for the creation sink, the instance) is destroyed, and the
+    // layer calls back only while that object exists. Only a shared reference is made, and the
+    // Mutex serializes writers.
     if let Some(sink) = unsafe { (user as *const MessageSink).as_ref() } {
         if let Ok(mut messages) = sink.lock() {
             messages.push(line);
@@ -74,6 +80,9 @@ impl Messenger {
         let loader = ash::ext::debug_utils::Instance::new(entry, instance);
         let sink = Box::into_raw(Box::new(sink));
         let info = messenger_info(sink);
+        // SAFETY: `info` points at the sink, boxed just above and freed only in Drop or on the
+        // error arm below, so it outlives the messenger; `instance` is live and has debug utils
+        // enabled (the validation case only).
         match unsafe { loader.create_debug_utils_messenger(&info, None) }
             .vk("vkCreateDebugUtilsMessengerEXT")
         {
@@ -93,6 +102,8 @@ impl Messenger {
 
 impl Drop for Messenger {
     fn drop(&mut self) {
+        // SAFETY: the messenger was created by this loader and is destroyed once; the sink is freed
+        // after it, when no callback can reach it any more.
         unsafe {
             self.loader
                 .destroy_debug_utils_messenger(self.messenger, None);
@@ -102,6 +113,8 @@ impl Drop for Messenger {
 }
 
 pub(crate) fn layer_available(entry: &ash::Entry) -> bool {
+    // SAFETY: enumerating the instance layers has no precondition beyond a loaded entry, which
+    // `entry` is.
     unsafe { entry.enumerate_instance_layer_properties() }
         .unwrap_or_default()
         .iter()

@@ -13,6 +13,7 @@ pub(crate) struct Chosen {
 }
 
 fn graphics_compute_family(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<u32> {
+    // SAFETY: `pd` was enumerated from the live `instance`.
     let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
     families
         .iter()
@@ -35,6 +36,8 @@ fn preference(kind: vk::PhysicalDeviceType) -> u32 {
 
 /// Picks a discrete GPU if one is suitable, else integrated, virtual, then CPU (lavapipe).
 pub(crate) fn choose(instance: &ash::Instance) -> Result<Chosen> {
+    // SAFETY: `instance` is a live instance; enumerating its physical devices has no other
+    // precondition.
     let devices = unsafe { instance.enumerate_physical_devices() }.map_err(|result| {
         if result == vk::Result::ERROR_INITIALIZATION_FAILED {
             Error::NoDevice {
@@ -64,6 +67,7 @@ pub(crate) fn choose(instance: &ash::Instance) -> Result<Chosen> {
             }
             Err(e) => return Err(e),
         };
+        // SAFETY: `pd` was enumerated from the live `instance`.
         let props = unsafe { instance.get_physical_device_properties(pd) };
         let Some(queue_family) = graphics_compute_family(instance, pd) else {
             let name = props
@@ -104,6 +108,9 @@ pub(crate) fn create_device(
             .queue_create_infos(&queue_info)
             .enabled_extension_names(&extensions),
     );
+    // SAFETY: `chosen.physical` belongs to `instance` and has every feature `info` chains (choose()
+    // checked them); `info` and the queue priorities, extension names and feature structs it points
+    // at are locals alive for the call.
     let device =
         unsafe { instance.create_device(chosen.physical, &info, None) }.map_err(|result| {
             Error::Vulkan {
@@ -111,6 +118,8 @@ pub(crate) fn create_device(
                 result,
             }
         })?;
+    // SAFETY: the device was created just above with one queue of `chosen.queue_family` (index 0
+    // exists).
     let queue = unsafe { device.get_device_queue(chosen.queue_family, 0) };
     Ok((device, queue))
 }

@@ -59,6 +59,9 @@ impl Image {
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: the format, usage, size and layer count were checked against
+        // vkGetPhysicalDeviceImageFormatProperties above (image_supported); `info` is a local alive
+        // for the call.
         let raw = unsafe { device.create_image(&info, None) }.vk("vkCreateImage")?;
         let mut image = Self {
             shared: ctx.shared.clone(),
@@ -71,9 +74,14 @@ impl Image {
             height,
             layers,
         };
+        // SAFETY: `raw` was just created on this device.
         let requirements = unsafe { device.get_image_memory_requirements(raw) };
         let what = || format!("{name} ({width}x{height}x{layers} {format:?})");
         let allocation = ctx.allocate(name, what, requirements, MemoryLocation::GpuOnly, false)?;
+        // SAFETY: the allocation was made for `raw`'s requirements (GPU-only, optimal tiling:
+        // linear false, so the allocator keeps it off linear resources' granularity pages), and the
+        // image is bound once; if binding fails, `image` (holding the allocation) is dropped and
+        // frees both.
         let bound =
             unsafe { device.bind_image_memory(raw, allocation.memory(), allocation.offset()) };
         image.allocation = Some(allocation);
@@ -85,6 +93,9 @@ impl Image {
                 .format(format)
                 .subresource_range(image.layers_range(layer, 1));
             let view =
+                // SAFETY: the image is bound to memory (checked just above), of this format, and
+                // `layer` < the image's layer count, so the view's subresource range lies within
+                // it.
                 unsafe { device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
             image.layer_views.push(view);
         }
@@ -158,6 +169,9 @@ impl Image {
                 depth: 1,
             },
         }];
+        // SAFETY: the caller's contract: `cmd` is recording outside rendering, the image is in
+        // TRANSFER_SRC_OPTIMAL, and `buffer` has transfer-destination usage and room for `offset` +
+        // every layer's texels, which is exactly what the region copies.
         unsafe {
             device.cmd_copy_image_to_buffer(
                 cmd,

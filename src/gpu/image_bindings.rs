@@ -58,6 +58,8 @@ impl ImageBindingLayout {
             })
             .collect();
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        // SAFETY: `bindings` lists sampled or storage image types only (checked in new) and `info`
+        // borrows it for the call; the device is the context's, alive while `inner` holds it.
         let set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
             .vk("vkCreateDescriptorSetLayout")?;
         let sampler_info = vk::SamplerCreateInfo::default()
@@ -67,9 +69,13 @@ impl ImageBindingLayout {
             .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE);
+        // SAFETY: a sampler of fixed, always-supported state (nearest, clamp to edge, no
+        // anisotropy) on the live device.
         let sampler = match unsafe { device.create_sampler(&sampler_info, None) } {
             Ok(s) => s,
             Err(result) => {
+                // SAFETY: the sampler could not be made, so the set layout just created is used by
+                // nothing yet and is destroyed once.
                 unsafe { device.destroy_descriptor_set_layout(set_layout, None) };
                 return Err(Error::Vulkan {
                     call: "vkCreateSampler",
@@ -109,6 +115,8 @@ impl ImageBindingLayout {
             .max_sets(1)
             .pool_sizes(&sizes);
         let pool =
+            // SAFETY: the pool sizes count one descriptor per binding of this layout and the pool
+            // holds one set; `info` borrows them for the call.
             unsafe { device.create_descriptor_pool(&info, None) }.vk("vkCreateDescriptorPool")?;
         // Owns the pool from here on, so an error below frees it.
         let mut bindings = ImageBindings {
@@ -121,6 +129,8 @@ impl ImageBindingLayout {
             .descriptor_pool(pool)
             .set_layouts(&layouts);
         bindings.set =
+            // SAFETY: `pool` was just made for exactly one set of this layout (its sizes cover
+            // every binding), so the allocation cannot overflow it; the set is freed with the pool.
             unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
         Ok(bindings)
     }
@@ -174,6 +184,10 @@ impl ImageBindings {
                     .image_info(info)
             })
             .collect();
+        // SAFETY: the caller's contract: no pending or recording command buffer uses the set, and
+        // the views are live images with the usages their types need. One write per binding with
+        // the binding's own type (one image per binding was asserted), and `infos` outlives the
+        // call.
         unsafe { self.inner.device.update_descriptor_sets(&writes, &[]) };
     }
 

@@ -61,6 +61,9 @@ impl ShaderModule {
         let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv.bytes()))
             .map_err(|e| Error::InvalidArgument(format!("SPIR-V of {name}: {e}")))?;
         let info = vk::ShaderModuleCreateInfo::default().code(&words);
+        // SAFETY: `words` is the SPIR-V that `Spirv` vouches for (its unsafe constructor's
+        // contract, or the library's own build.rs output), read into aligned words; `info` borrows
+        // it for the call only.
         let raw =
             unsafe { ctx.device().create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
         Ok(Self {
@@ -76,6 +79,8 @@ impl ShaderModule {
 
 impl Drop for ShaderModule {
     fn drop(&mut self) {
+        // SAFETY: a shader module is needed only while pipelines are created from it, which borrow
+        // it for those calls; this module is of this device and destroyed once.
         unsafe { self.shared.device.destroy_shader_module(self.raw, None) };
     }
 }
@@ -178,6 +183,9 @@ fn layout_on(
     if push_bytes > 0 {
         info = info.push_constant_ranges(&ranges);
     }
+    // SAFETY: `push_bytes` was checked against the device's limit and a multiple of 4 above, the
+    // set layouts are live ImageBindingLayouts of this device borrowed for the call, and `info`
+    // points at locals that outlive it.
     unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")
 }
 
@@ -249,6 +257,9 @@ pub(crate) fn compute_of_module(
     let info = [vk::ComputePipelineCreateInfo::default()
         .stage(stage)
         .layout(layout)];
+    // SAFETY: `stage` names a module of this device (borrowed by the caller for the call) whose
+    // SPIR-V `Spirv` vouches for, `layout` was made on this device with the push range and sets the
+    // shader declares (Spirv's contract), and the specialization data lives through the call.
     let raw = unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &info, None) };
     match raw {
         Ok(p) => Ok(Pipeline {
@@ -258,6 +269,8 @@ pub(crate) fn compute_of_module(
             bind_point: vk::PipelineBindPoint::COMPUTE,
         }),
         Err((_, result)) => {
+            // SAFETY: pipeline creation failed, so no pipeline references `layout`, which was made
+            // for it alone.
             unsafe { device.destroy_pipeline_layout(layout, None) };
             Err(Error::Vulkan {
                 call: "vkCreateComputePipelines",
@@ -396,6 +409,9 @@ pub fn graphics_pipeline(
         .dynamic_state(&dynamic)
         .layout(layout)
         .push_next(&mut rendering)];
+    // SAFETY: every state struct `info` points at is a local alive for the call, the stages'
+    // modules are this device's and valid SPIR-V (Spirv), the attachment formats were checked
+    // renderable above, and `layout` is this device's.
     let raw = unsafe {
         ctx.device()
             .create_graphics_pipelines(vk::PipelineCache::null(), &info, None)
@@ -408,6 +424,8 @@ pub fn graphics_pipeline(
             bind_point: vk::PipelineBindPoint::GRAPHICS,
         }),
         Err((_, result)) => {
+            // SAFETY: pipeline creation failed, so no pipeline references `layout`, which was made
+            // for it alone.
             unsafe { ctx.device().destroy_pipeline_layout(layout, None) };
             Err(Error::Vulkan {
                 call: "vkCreateGraphicsPipelines",

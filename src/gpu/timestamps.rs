@@ -44,6 +44,8 @@ impl TimestampQueries {
             let info = vk::QueryPoolCreateInfo::default()
                 .query_type(vk::QueryType::TIMESTAMP)
                 .query_count(capacity);
+            // SAFETY: the device is live (the context holds it) and `info` asks for `capacity`
+            // timestamp queries, capacity > 0 on this branch.
             let pool =
                 unsafe { ctx.device().create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
             // SAFETY: a new pool, not in use; hostQueryReset is enabled.
@@ -123,6 +125,9 @@ impl TimestampQueries {
             return Ok(Vec::new());
         }
         let mut raw = vec![0u64; n];
+        // SAFETY: `self.pool` is this device's pool with `capacity >= n` queries, and `raw` holds n
+        // u64 for TYPE_64, so the driver writes within it. Queries 0..n were written by `mark`;
+        // WAIT on a query that was never submitted blocks, it does not read uninitialized memory.
         unsafe {
             self.shared.device.get_query_pool_results(
                 self.pool,

@@ -150,6 +150,9 @@ impl PrismPipelines {
             }
             let pipeline = pipeline_of(record);
             if bound != Some(pipeline.raw()) {
+                // SAFETY: `draw` runs only inside the dynamic rendering its callers (the collection
+                // and time-dependent passes' record functions) began on `cmd`, and this pipeline is
+                // one of this pass's, alive as long as `self`.
                 unsafe { pipeline.bind(device, cmd) };
                 bound = Some(pipeline.raw());
             }
@@ -214,7 +217,13 @@ fn draw_one(
         draw_index: index as u32,
         draw_count: draws.draw_count(),
     });
+    // SAFETY: the pipeline bound by the caller (`draw`, or the passes whose rendering calls
+    // draw_each) has MapDrawPush's size as its push range, as every prism and cap pipeline here is
+    // made with; the push is within that range.
     unsafe { pipeline.push(device, cmd, &constants) };
+    // SAFETY: inside the rendering the caller began, with `pipeline` bound and its constants
+    // pushed; the vertex shader reads only this draw's streams, which the draw list checked against
+    // the bytes their buffers hold (record_update).
     unsafe { device.cmd_draw(cmd, 3 * record.triangle_count, 1, 0, 0) };
 }
 
@@ -307,6 +316,8 @@ impl CollectionPass {
         let collects_ranges = map.collects_ranges(light, coverage);
         // Earlier frames may still read these lists.
         if self.outer_barriers {
+            // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue
+            // (this function's contract), so every stage named is supported.
             unsafe {
                 memory_barrier(
                     device,
@@ -327,6 +338,9 @@ impl CollectionPass {
             ranges_direct: collects_ranges as u32,
             ..Counters::default()
         };
+        // SAFETY: outside rendering (the contract). The fills and writes stay within the map's own
+        // buffers: WHOLE_SIZE fills, and the static names buffer holds its 16-byte header and one
+        // head per texel (heads_end) by construction; the counters get one Counters, their size.
         unsafe {
             device.cmd_fill_buffer(cmd, map.heads.raw(), 0, vk::WHOLE_SIZE, 0);
             map.record_clear_ranges(
@@ -354,6 +368,8 @@ impl CollectionPass {
                 device.cmd_fill_buffer(cmd, c.nearest.raw(), 0, vk::WHOLE_SIZE, u32::MAX);
             }
         }
+        // SAFETY: the same command buffer, outside rendering; stages its graphics and compute queue
+        // supports.
         unsafe {
             memory_barrier(
                 device,
@@ -364,6 +380,8 @@ impl CollectionPass {
                     .and(Access::COMPUTE_RW),
             )
         };
+        // SAFETY: outside any rendering (the contract), and the map's size is the extent every
+        // prism pipeline's viewport takes.
         unsafe { begin_attachmentless(device, cmd, map.width(), map.height()) };
         let conservative = light.lookup == Lookup::Exact;
         let constants = MapDrawPush {
@@ -382,6 +400,7 @@ impl CollectionPass {
             conservative,
             static_names,
         );
+        // SAFETY: rendering was begun just above and every draw recorded into it has been recorded.
         unsafe { device.cmd_end_rendering(cmd) };
         if redraw_layer {
             map.static_layer_drawn(source);
@@ -389,6 +408,8 @@ impl CollectionPass {
         if collects_ranges {
             // No generation pass pairs these ranges, and no coverage map drops any: what the
             // range count would be without one is the count itself.
+            // SAFETY: rendering has ended, outside any render pass again; fragment and transfer
+            // stages are supported on this queue.
             unsafe {
                 memory_barrier(
                     device,
@@ -405,6 +426,9 @@ impl CollectionPass {
                 size: 4,
             }];
             let counters = map.counters.raw();
+            // SAFETY: the source and destination are different 4-byte ranges of the counters buffer
+            // (range_count and ranges_without_coverage, both within Counters), made visible to
+            // transfer by the barrier above.
             unsafe { device.cmd_copy_buffer(cmd, counters, counters, &region) };
             if let Some(names) = map.static_names.as_ref().filter(|_| static_names) {
                 // The lists' count, kept with them across frames, for needs_more_room.
@@ -413,10 +437,14 @@ impl CollectionPass {
                     dst_offset: std::mem::offset_of!(Counters, static_names) as u64,
                     size: 4,
                 }];
+                // SAFETY: 4 bytes at offset 0 of the names buffer (its count) into the counters'
+                // static_names field, both within their buffers; the fragment writes to the names
+                // were made visible to transfer by the barrier above.
                 unsafe { device.cmd_copy_buffer(cmd, names.raw(), counters, &region) };
             }
         }
         if self.outer_barriers {
+            // SAFETY: outside rendering, on the graphics and compute queue of the contract.
             unsafe {
                 memory_barrier(
                     device,

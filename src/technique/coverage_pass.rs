@@ -83,6 +83,8 @@ impl CoveragePass {
         map: &TemporalShadowMap,
         coverage: &CoverageMap,
     ) {
+        // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue
+        // (CollectionPass::record's contract, which this one takes).
         unsafe {
             memory_barrier(
                 device,
@@ -91,12 +93,20 @@ impl CoveragePass {
                 Access::TRANSFER_WRITE,
             )
         };
+        // SAFETY: the two buffers are the coverage map's own and alive as long as `coverage`;
+        // WHOLE_SIZE fills stay within them, outside rendering, after the barrier above.
         unsafe {
             device.cmd_fill_buffer(cmd, coverage.coverage.raw(), 0, vk::WHOLE_SIZE, u32::MAX);
             device.cmd_fill_buffer(cmd, coverage.cover_depth.raw(), 0, vk::WHOLE_SIZE, 0);
         }
+        // SAFETY: outside rendering; fragment and transfer stages are on the contract's graphics
+        // queue.
         unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::FRAGMENT_RW) };
+        // SAFETY: outside rendering (the fill barrier is recorded), and the coverage map's size is
+        // the extent the caps pipeline's dynamic viewport takes.
         unsafe { begin_attachmentless(device, cmd, coverage.width(), coverage.height()) };
+        // SAFETY: rendering has just begun and the caps pipeline is this pass's, alive as long as
+        // `self`.
         unsafe { self.caps.bind(device, cmd) };
         for time in [0.0, 1.0] {
             let constants = MapDrawPush {
@@ -106,9 +116,12 @@ impl CoveragePass {
             };
             draw_each(device, cmd, &self.caps, draws, constants);
         }
+        // SAFETY: the rendering began above and every cap draw has been recorded into it.
         unsafe { device.cmd_end_rendering(cmd) };
         // The reset pass reads what the caps wrote, in other fragment invocations.
+        // SAFETY: rendering has ended; fragment stages are on this queue.
         unsafe { memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::FRAGMENT_RW) };
+        // SAFETY: outside rendering again; the same extent as before, the coverage map's.
         unsafe { begin_attachmentless(device, cmd, coverage.width(), coverage.height()) };
         let constants = MapDrawPush {
             map: map.header_address(),
@@ -125,7 +138,10 @@ impl CoveragePass {
             false,
             false,
         );
+        // SAFETY: the reset pass's rendering was begun just above and its draws are recorded.
         unsafe { device.cmd_end_rendering(cmd) };
+        // SAFETY: rendering has ended; fragment and compute stages are on the contract's graphics
+        // and compute queue.
         unsafe {
             memory_barrier(
                 device,

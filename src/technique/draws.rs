@@ -81,6 +81,9 @@ impl PositionStream {
         stride: u32,
     ) -> Result<Self> {
         let info = vk::BufferDeviceAddressInfo::default().buffer(buffer);
+        // SAFETY: the caller's contract: `buffer` is a live buffer of `device`, created with
+        // SHADER_DEVICE_ADDRESS usage and bound to device-address memory, which is all
+        // vkGetBufferDeviceAddress requires.
         let address = unsafe { device.get_buffer_device_address(&info) };
         if address == 0 || offset > buffer_size {
             return Err(Error::InvalidArgument(format!(
@@ -154,6 +157,8 @@ impl IndexStream {
         offset: u64,
     ) -> Result<Self> {
         let info = vk::BufferDeviceAddressInfo::default().buffer(buffer);
+        // SAFETY: the caller's contract, as in PositionStream::from_raw_buffer: a live buffer of
+        // `device` with device-address usage and memory.
         let address = unsafe { device.get_buffer_device_address(&info) };
         if address == 0 || offset > buffer_size {
             return Err(Error::InvalidArgument(format!(
@@ -405,9 +410,13 @@ impl DrawList {
             }
         }
         // Earlier passes of this or an earlier frame may still read the list.
+        // SAFETY: `cmd` is recording outside a render pass on a graphics and compute queue (the
+        // contract), which supports every shader stage and the transfer stage this barrier names.
         unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
         // SAFETY: the caller's contract; the buffer holds `capacity` records.
         unsafe { self.buffer.record_write(device, cmd, &records) };
+        // SAFETY: as the barrier before: the same command buffer, outside a render pass, stages its
+        // queue supports.
         unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ) };
         self.records = records;
         Ok(())

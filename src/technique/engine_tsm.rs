@@ -428,14 +428,21 @@ impl EngineTsmPass {
             depths: 0,
             ids: 0,
         };
+        // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue (this
+        // function's contract, CollectionPass::record's), so every shader stage and transfer are
+        // supported.
         unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
         // SAFETY: plain data of the header's size; outside a render pass (the contract).
         unsafe { map.header.record_write(device, cmd, &[header]) };
+        // SAFETY: the same command buffer, outside rendering; stages its queue supports.
         unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ) };
 
         // The static map, unless the one kept from an earlier frame still holds these draws.
         let source = StaticLayerSource::of(light, draws);
         if map.take_static_redraw(source, light.keep_static_layer) {
+            // SAFETY: the static map is this map's image (one layer), in no other hands (the
+            // contract); from UNDEFINED its old contents are discarded, which the cleared redraw
+            // below replaces.
             unsafe {
                 image_barrier(
                     device,
@@ -453,9 +460,14 @@ impl EngineTsmPass {
             let view = map.static_map.layer_view(0);
             // SAFETY: the caller's contract; the view is in the attachment layout.
             unsafe { begin_depth(device, cmd, view, map.width, map.height, true) };
+            // SAFETY: rendering into the static map began just above; the depth-only pipeline is
+            // this pass's, made for D32 depth with no colours, the static map's format.
             unsafe { self.depth_only.bind(device, cmd) };
             draw_where(device, cmd, &self.depth_only, draws, map, 0.0, true);
+            // SAFETY: the rendering began above and the static draws are recorded into it.
             unsafe { device.cmd_end_rendering(cmd) };
+            // SAFETY: rendering has ended; the same image and range, from the attachment layout it
+            // was drawn in to the layout the rest of the frame reads it in.
             unsafe {
                 image_barrier(
                     device,
@@ -510,6 +522,9 @@ impl EngineTsmPass {
             let batch = map.layers.min(maps - first);
             // The working layers: their reads by the previous dispatch (or frame) are done.
             if second_lookup {
+                // SAFETY: the working map is this map's image, all its `layers`; its previous
+                // readers (the last dispatch, or an earlier frame's) are named as the source, and
+                // UNDEFINED discards contents the second lookup redraws whole.
                 unsafe {
                     image_barrier(
                         device,
@@ -525,6 +540,9 @@ impl EngineTsmPass {
                     )
                 };
             } else {
+                // SAFETY: the working map's layers go to TRANSFER_DST_OPTIMAL for the static copy,
+                // after the previous dispatch's sampled reads; from UNDEFINED, since the copy
+                // overwrites every layer used.
                 unsafe {
                     image_barrier(
                         device,
@@ -541,6 +559,8 @@ impl EngineTsmPass {
                 };
                 // SAFETY: both images are the map's, in the layouts named.
                 unsafe { copy_static(device, cmd, map, batch) };
+                // SAFETY: the copy into the working layers is recorded; the same image and layers
+                // move from TRANSFER_DST_OPTIMAL to the attachment layout the moving draws load.
                 unsafe {
                     image_barrier(
                         device,
@@ -556,6 +576,8 @@ impl EngineTsmPass {
                     )
                 };
             }
+            // SAFETY: outside rendering (the barrier above ended any); the depth-only pipeline is
+            // this pass's, alive as long as `self`.
             unsafe { self.depth_only.bind(device, cmd) };
             for layer in 0..batch {
                 let t = ((first + layer) as f32 + 0.5) * inv_maps;
@@ -563,8 +585,11 @@ impl EngineTsmPass {
                 // SAFETY: the caller's contract; the layer is in the attachment layout.
                 unsafe { begin_depth(device, cmd, view, map.width, map.height, second_lookup) };
                 draw_where(device, cmd, &self.depth_only, draws, map, t, false);
+                // SAFETY: this layer's rendering began above and its moving draws are recorded.
                 unsafe { device.cmd_end_rendering(cmd) };
             }
+            // SAFETY: all the batch's renderings have ended; the working layers leave the
+            // attachment layout for the mask shader's sampled reads.
             unsafe {
                 image_barrier(
                     device,
@@ -578,6 +603,7 @@ impl EngineTsmPass {
             };
             if first > 0 {
                 // The previous batch's count, read and rewritten by this one.
+                // SAFETY: outside rendering; compute is on this queue.
                 unsafe { memory_barrier(device, cmd, COMPUTE_STORAGE_RW, COMPUTE_STORAGE_RW) };
             }
             let flags = normal_flags
@@ -597,6 +623,8 @@ impl EngineTsmPass {
                 batch,
                 reserved: [0; 3],
             };
+            // SAFETY: the mask pipeline is this pass's (its variant for this map's start), alive as
+            // long as `self`; a compute bind outside rendering.
             unsafe { mask.bind(device, cmd) };
             // SAFETY: the set was written above; its views are valid (the caller's contract).
             unsafe {
@@ -609,8 +637,11 @@ impl EngineTsmPass {
                     &[],
                 );
             }
+            // SAFETY: the mask pipeline's layout has TsmMaskPush's size as its push range.
             unsafe { mask.push(device, cmd, &constants) };
             let groups = (inputs.size.0.div_ceil(8), inputs.size.1.div_ceil(8));
+            // SAFETY: the mask pipeline and its set are bound with its constants; 8x8 groups cover
+            // the host's image, and the shader returns for invocations past its edges.
             unsafe { device.cmd_dispatch(cmd, groups.0, groups.1, 1) };
         }
         Ok(())
@@ -692,6 +723,10 @@ unsafe fn begin_depth(
         min_depth: 0.0,
         max_depth: 1.0,
     };
+    // SAFETY: `info` (and the attachment it points at) lives through the call; `cmd` is outside
+    // rendering (this function's contract) and `view` is a depth view in DEPTH_ATTACHMENT_OPTIMAL
+    // of `width` x `height` (the callers' barriers put it there), matching the render area,
+    // viewport and scissor set inside the rendering.
     unsafe {
         device.cmd_begin_rendering(cmd, &info);
         device.cmd_set_viewport(cmd, 0, &[viewport]);
@@ -729,6 +764,10 @@ unsafe fn copy_static(
             },
         })
         .collect();
+    // SAFETY: the caller's contract: outside rendering, the static map in TRANSFER_SRC_OPTIMAL and
+    // the working map in TRANSFER_DST_OPTIMAL; one region per layer below `layers`, which the
+    // caller keeps within the working map's layer count (a batch), each the whole map's size in
+    // both images.
     unsafe {
         device.cmd_copy_image(
             cmd,
@@ -768,7 +807,11 @@ fn draw_where(
             time: t,
             flags: 0,
         };
+        // SAFETY: draw_where runs inside rendering with `pipeline` bound (its callers in this
+        // file), whose layout has MapDrawPush's size as its push range.
         unsafe { pipeline.push(device, cmd, &constants) };
+        // SAFETY: inside that rendering with the pipeline bound and pushed; the vertex shader reads
+        // only this draw's streams, which the draw list checked.
         unsafe { device.cmd_draw(cmd, 3 * record.triangle_count, 1, 0, 0) };
     }
 }

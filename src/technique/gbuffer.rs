@@ -204,6 +204,9 @@ impl GBuffer {
             let range = image.layers_range(0, 1);
             let before = Access::COMPUTE_SAMPLED_READ;
             let transfer = (layout, vk::ImageLayout::TRANSFER_SRC_OPTIMAL);
+            // SAFETY: `cmd` is recording outside rendering (the contract) and the image is this
+            // G-buffer's, in its read layout since GBufferPass::record left it there; the barrier
+            // moves the whole layer to TRANSFER_SRC_OPTIMAL for the copy.
             unsafe {
                 image_barrier(
                     device,
@@ -219,6 +222,9 @@ impl GBuffer {
             // (READBACK_BYTES_PER_PIXEL) and is the G-buffer's own.
             unsafe { image.record_copy_to_buffer(device, cmd, self.readback.raw(), offset) };
             let back = (vk::ImageLayout::TRANSFER_SRC_OPTIMAL, layout);
+            // SAFETY: the same image and range as the barrier before the copy, now from
+            // TRANSFER_SRC_OPTIMAL back to the read layout GBufferPass::record leaves it in,
+            // after the copy's transfer reads.
             unsafe {
                 image_barrier(
                     device,
@@ -233,6 +239,8 @@ impl GBuffer {
             let four_bytes = std::ptr::eq(image, &self.depth) || std::ptr::eq(image, &self.ids);
             offset += pixels * if four_bytes { 4 } else { 16 };
         }
+        // SAFETY: `cmd` is recording outside rendering, on a queue with transfer; host reads are a
+        // valid destination once the submission's fence signals.
         unsafe {
             crate::gpu::memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ)
         };
@@ -342,6 +350,9 @@ impl GBufferPass {
             let (layout, access) = attachment(image);
             let range = image.layers_range(0, 1);
             let discard = (vk::ImageLayout::UNDEFINED, layout);
+            // SAFETY: `cmd` is recording outside rendering on a graphics queue (the contract); each
+            // image is the target's own and alive as long as `target`, and from UNDEFINED its
+            // contents are discarded, which record draws over whole.
             unsafe { image_barrier(device, cmd, image.raw(), range, discard, earlier, access) };
         }
         let [normal, albedo, motion] = target.colors.each_ref().map(|image| image.layer_view(0));
@@ -353,7 +364,10 @@ impl GBufferPass {
             (target.positions.layer_view(0), 0),
         ];
         let depth = Some((target.depth.layer_view(0), 1.0));
+        // SAFETY: the target's views are attachments of the pipeline's formats (GBufferPass::new
+        // made it with them) and of `target`'s size; `cmd` is outside rendering (the contract).
         unsafe { begin_rendering_colors(device, cmd, target.width, target.height, depth, &colors) };
+        // SAFETY: rendering has begun with the attachments this graphics pipeline was made for.
         unsafe { self.pipeline.bind(device, cmd) };
         for (index, record) in draws.records().iter().enumerate() {
             if record.triangle_count == 0 {
@@ -366,6 +380,8 @@ impl GBufferPass {
                 draw_index: index as u32,
                 time,
             };
+            // SAFETY: the pipeline bound above has this push-constant struct as its layout's range
+            // (GBufferPush, the size GBufferPass::new gave it).
             unsafe { self.pipeline.push(device, cmd, &constants) };
             // SAFETY: the caller's contract; rendering began above with the pipeline's
             // attachment formats.
@@ -378,6 +394,8 @@ impl GBufferPass {
             let range = image.layers_range(0, 1);
             let read = (layout, read_layout);
             let after = Access::COMPUTE_SAMPLED_READ;
+            // SAFETY: rendering has ended, so the attachments may change layout; the same images
+            // and ranges the pass began with.
             unsafe { image_barrier(device, cmd, image.raw(), range, read, access, after) };
         }
     }

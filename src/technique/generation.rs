@@ -119,6 +119,9 @@ impl GenerationPass {
         // Entry: earlier generations' reads of the long-pixel list, and (below) the
         // collection's writes; the host's when `outer_barriers` is off.
         if self.outer_barriers {
+            // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue
+            // (CollectionPass::record's contract, which this function takes), so compute, indirect
+            // and transfer stages are supported.
             unsafe {
                 memory_barrier(
                     device,
@@ -128,8 +131,12 @@ impl GenerationPass {
                 )
             };
         }
+        // SAFETY: one LongListHeader into the map's long-pixel buffer, which starts with it;
+        // outside rendering, and the buffer's earlier readers were waited for (above, or by the
+        // host's barrier when outer_barriers is off).
         unsafe { map.long_pixels.record_write(device, cmd, &[header]) };
         // The collection's tile list is the first tier's indirect dispatch.
+        // SAFETY: the same command buffer, outside rendering, on a queue with transfer and compute.
         unsafe {
             memory_barrier(
                 device,
@@ -145,9 +152,18 @@ impl GenerationPass {
         let constants = MapPush {
             map: map.header_address(),
         };
+        // SAFETY: this pass's pairing pipeline, alive as long as `self`; a compute bind outside
+        // rendering.
         unsafe { self.pipeline.bind(device, cmd) };
+        // SAFETY: MapPush is the push range every generation pipeline's layout was made with
+        // (MapPush::BYTES).
         unsafe { self.pipeline.push(device, cmd, &constants) };
+        // SAFETY: `map.tiles` is the map's buffer of indirect dispatch arguments (made with
+        // indirect usage), DISPATCH_PAIRING's command lies within it, and the collection's writes
+        // to it were made visible to indirect reads by the barrier above; the shader bounds every
+        // index it derives from the group id by the map's sizes.
         unsafe { device.cmd_dispatch_indirect(cmd, map.tiles.raw(), word_bytes(DISPATCH_PAIRING)) };
+        // SAFETY: outside rendering; compute and indirect stages are on this queue.
         unsafe {
             memory_barrier(
                 device,
@@ -156,8 +172,14 @@ impl GenerationPass {
                 Access::COMPUTE_RW.and(Access::INDIRECT_READ),
             )
         };
+        // SAFETY: the long-pixel pipeline of this pass, alive as long as `self`; a compute bind.
         unsafe { self.long_pipeline.bind(device, cmd) };
+        // SAFETY: the long-pixel pipeline's layout has MapPush's push range, like the pairing
+        // pipeline's.
         unsafe { self.long_pipeline.push(device, cmd, &constants) };
+        // SAFETY: the long-pixel buffer holds its header's group counts at GROUPS_OFFSET (written
+        // by the pairing, made visible to indirect reads just above) and was made with indirect
+        // usage.
         unsafe {
             device.cmd_dispatch_indirect(cmd, map.long_pixels.raw(), LongListHeader::GROUPS_OFFSET)
         };
@@ -182,6 +204,7 @@ impl GenerationPass {
             (sort, &map.tiles, word_bytes(DISPATCH_SORT)),
             (sort_long, &map.tiles, word_bytes(DISPATCH_SORT_LONG)),
         ] {
+            // SAFETY: outside rendering on the contract's compute queue.
             unsafe {
                 memory_barrier(
                     device,
@@ -190,11 +213,18 @@ impl GenerationPass {
                     Access::COMPUTE_RW.and(Access::INDIRECT_READ),
                 )
             };
+            // SAFETY: one of this pass's sort pipelines (or their specialized variants, owned by
+            // `self`), alive as long as `self`.
             unsafe { pipeline.bind(device, cmd) };
+            // SAFETY: every sort pipeline's layout has MapPush's push range.
             unsafe { pipeline.push(device, cmd, &constants) };
+            // SAFETY: `args` is the map's tiles buffer (indirect usage) holding this sort's
+            // dispatch command at `offset`, visible to indirect reads after the barrier above.
             unsafe { device.cmd_dispatch_indirect(cmd, args.raw(), offset) };
         }
         if self.outer_barriers {
+            // SAFETY: outside rendering; compute and every shader stage are on the graphics and
+            // compute queue.
             unsafe {
                 memory_barrier(
                     device,

@@ -57,9 +57,16 @@ impl ImagePass {
         constants: &T,
         size: (u32, u32),
     ) {
+        // SAFETY: this function's contract (`cmd` recording outside a render pass, `bindings` of
+        // this pass's layout with views live until `cmd` completes) is bind's.
         unsafe { self.bind(device, cmd, variant, bindings) };
         let pipeline = &self.pipelines[variant];
+        // SAFETY: the pipeline was just bound in `cmd`, and its layout's push range is the pass's
+        // `push_bytes`, the size of T for every caller (the pass's push-constant struct).
         unsafe { pipeline.push(device, cmd, constants) };
+        // SAFETY: a compute pipeline and its set are bound and its push constants set, outside a
+        // render pass (the contract); 8x8 groups cover `size`, and the shader returns for
+        // invocations past its edges.
         unsafe { device.cmd_dispatch(cmd, size.0.div_ceil(8), size.1.div_ceil(8), 1) };
     }
 
@@ -75,7 +82,11 @@ impl ImagePass {
         bindings: &ImageBindings,
     ) {
         let pipeline = &self.pipelines[variant];
+        // SAFETY: `cmd` is recording outside a render pass (the contract) and the pipeline is one
+        // of this pass's, alive as long as `self`.
         unsafe { pipeline.bind(device, cmd) };
+        // SAFETY: `bindings` was made from this pass's layout, which is set 0 of every variant's
+        // pipeline layout, and its views stay valid until `cmd` completes (the contract).
         unsafe {
             device.cmd_bind_descriptor_sets(
                 cmd,
@@ -106,7 +117,12 @@ impl ImagePass {
         (args, offset): (vk::Buffer, u64),
     ) {
         let pipeline = &self.pipelines[variant];
+        // SAFETY: bind recorded this variant earlier in `cmd` and nothing else was bound since (the
+        // contract), so the push goes to this pipeline's layout with its own push-constant size.
         unsafe { pipeline.push(device, cmd, constants) };
+        // SAFETY: `args` has indirect usage and holds a VkDispatchIndirectCommand at `offset`,
+        // visible to indirect reads, and outlives `cmd` (the contract); the pipeline and set are
+        // bound.
         unsafe { device.cmd_dispatch_indirect(cmd, args, offset) };
     }
 }

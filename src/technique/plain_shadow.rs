@@ -222,6 +222,8 @@ impl PlainShadowPass {
         map: &PlainShadowMap,
         times: &[f32],
     ) {
+        // SAFETY: this function's contract is both halves' (CollectionPass::record's, for `map`),
+        // and record_copy_out follows record_render in the same command buffer, as it requires.
         unsafe {
             self.record_render(device, cmd, draws, light, map, times);
             self.record_copy_out(device, cmd, map);
@@ -253,11 +255,20 @@ impl PlainShadowPass {
             depths: map.depths.device_address(),
             ids: map.ids.as_ref().map_or(0, |b| b.device_address()),
         };
+        // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue (the
+        // contract), so every shader stage and transfer are supported.
         unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
+        // SAFETY: one PlainMapHeader into the map's header buffer, made with that size and
+        // transfer-destination usage; outside rendering, after its earlier readers (the barrier
+        // above).
         unsafe { map.header.record_write(device, cmd, &[header]) };
+        // SAFETY: the same command buffer, outside rendering; stages its queue supports.
         unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ) };
         for image in map.attachments() {
             let (layout, access) = attachment_state(image);
+            // SAFETY: the image is the map's own, alive as long as `map`, and the range is its
+            // `map.layers` layers; from UNDEFINED its contents are discarded, which the render
+            // clears.
             unsafe {
                 image_barrier(
                     device,
@@ -276,6 +287,9 @@ impl PlainShadowPass {
         };
         for (layer, &t) in times.iter().enumerate().take(map.layers as usize) {
             let layer = layer as u32;
+            // SAFETY: outside rendering (the previous layer's rendering ended below), with the
+            // map's attachment views of this layer, whose formats are the ones this pipeline was
+            // made for (map.format picked it).
             unsafe {
                 begin_rendering(
                     device,
@@ -288,6 +302,8 @@ impl PlainShadowPass {
                         .map(|ids| (ids.layer_view(layer), NO_TRIANGLE)),
                 )
             };
+            // SAFETY: rendering has begun with this pipeline's attachment formats; the pipeline is
+            // this pass's, alive as long as `self`.
             unsafe { pipeline.bind(device, cmd) };
             let constants = MapDrawPush {
                 map: map.header_address(),
@@ -295,6 +311,7 @@ impl PlainShadowPass {
                 ..MapDrawPush::default()
             };
             draw_each(device, cmd, pipeline, draws, constants);
+            // SAFETY: this layer's rendering began above and its draws are recorded.
             unsafe { device.cmd_end_rendering(cmd) };
         }
     }
@@ -313,10 +330,14 @@ impl PlainShadowPass {
         cmd: vk::CommandBuffer,
         map: &PlainShadowMap,
     ) {
+        // SAFETY: `cmd` is recording outside rendering (the contract, record_render having ended
+        // its rendering), on a queue with every shader stage and transfer.
         unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
         let planes = [Some(&map.depths), map.ids.as_ref()];
         for (image, buffer) in map.attachments().zip(planes.into_iter().flatten()) {
             let (layout, access) = attachment_state(image);
+            // SAFETY: the map's own image and all its layers, in the attachment layout
+            // record_render left them in, moved to TRANSFER_SRC_OPTIMAL for the copy.
             unsafe {
                 image_barrier(
                     device,
@@ -328,8 +349,11 @@ impl PlainShadowPass {
                     Access::TRANSFER_READ,
                 )
             };
+            // SAFETY: the image is in TRANSFER_SRC_OPTIMAL (above), and the map's buffer for this
+            // plane holds width x height x layers texels of its format, copied from offset 0.
             unsafe { image.record_copy_to_buffer(device, cmd, buffer.raw(), 0) };
         }
+        // SAFETY: outside rendering; transfer and every shader stage are on this queue.
         unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ) };
     }
 }

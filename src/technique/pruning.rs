@@ -17,19 +17,19 @@ pub enum Pruning {
     StaticLayer,
     /// The static rule, and also, with either receiver test, a moving range that at every
     /// time of its interval nearer ranges of two other triangles (or the static layer's
-    /// triangle) cover. It drops far more on deep scenes (lavapipe: random-cubes' map 95 to
-    /// 56 MiB, 16 stacked plates 141 to 38 MiB), but its sweep makes the sort slower
-    /// (lavapipe: the default scene's generation pass 1.8x, the stacked plates' 6x; figures
-    /// in `docs/src/pruning.md`): a choice for memory, not for speed.
+    /// triangle) cover. It drops far more on deep scenes, but its sweep makes the sort
+    /// slower: a choice for memory, not for speed (the figures: `docs/src/pruning.md`,
+    /// "Measured").
     Cover,
     /// The static rule, and also the 2017 paper's coverage map made in one pass (its future
     /// work): where one moving triangle C covers the texel all frame, nearer than every other
-    /// range at every time (by the pruning margin), only C's range is kept. Lookups then answer as with the coverage map: a receiver on C is lit
-    /// (its own range skipped), any other is compared with C's depth at its time. That is
-    /// what the other rules answer too, except for a receiver on C tested behind C's own
-    /// depth (the acne the receiver-plane test and the normal offset hide; a moving receiver
-    /// on a turning C): there they may shadow it from a range behind C. One comparison pair
-    /// per range, in the sort: no pass of its own and no per-texel maps.
+    /// range at every time (by the pruning margin), only C's range is kept. Lookups then
+    /// answer as with the coverage map: a receiver on C is lit (its own range skipped), any
+    /// other is compared with C's depth at its time. That is what the other rules answer
+    /// too, except for a receiver on C tested behind C's own depth (the acne the
+    /// receiver-plane test and the normal offset hide; a moving receiver on a turning C):
+    /// there they may shadow it from a range behind C. One comparison pair per range, in the
+    /// sort: no pass of its own and no per-texel maps.
     Coverage,
 }
 

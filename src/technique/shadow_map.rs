@@ -481,6 +481,9 @@ impl TemporalShadowMap {
             },
         };
         if outer_barriers {
+            // SAFETY: `cmd` is recording outside a render pass on a graphics and compute queue (the
+            // collection pass's contract, which calls this), so the shader and transfer stages
+            // named are supported.
             unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
         }
         // SAFETY: plain data of the header's size; recording outside a render pass (the
@@ -770,12 +773,19 @@ impl TemporalShadowMap {
     /// Synchronization: waits for the compute stage's counter writes (the generation pass);
     /// leaves the copy visible to host reads once the submission's fence has signalled.
     pub unsafe fn record_counter_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        // SAFETY: `cmd` is of the map's device, recording outside any render pass (the contract);
+        // its queue runs the generation pass's compute work, so it supports the compute and
+        // transfer stages.
         unsafe { memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ) };
         let region = [vk::BufferCopy {
             src_offset: 0,
             dst_offset: 0,
             size: COUNTER_BYTES,
         }];
+        // SAFETY: both buffers are this map's, alive as long as `self` (dropping them retires them
+        // past pending frames), each COUNTER_BYTES long, and the counters were made visible to
+        // transfer reads just above; no other readback of this map runs at the same time (the
+        // contract).
         unsafe {
             device.cmd_copy_buffer(
                 cmd,
@@ -784,6 +794,8 @@ impl TemporalShadowMap {
                 &region,
             )
         };
+        // SAFETY: the same command buffer, outside a render pass; host reads are a valid
+        // destination once the fence signals.
         unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ) };
     }
 
@@ -867,6 +879,8 @@ pub(crate) fn download<T: bytemuck::Pod>(
     let staging = Buffer::new(ctx, "download", bytes, BufferUsage::Readback)?;
     let device = ctx.device();
     OneShot::new(ctx)?.run(|cmd| {
+        // SAFETY: `cmd` is the OneShot's own command buffer, recording, outside any render pass, on
+        // the context's graphics and compute queue.
         unsafe {
             memory_barrier(
                 device,
@@ -882,7 +896,13 @@ pub(crate) fn download<T: bytemuck::Pod>(
             dst_offset: 0,
             size: bytes,
         }];
+        // SAFETY: `bytes` is within both buffers: the staging buffer was made with exactly `bytes`,
+        // and every caller (all in this file) passes a count clamped to `buffer`'s capacity (per-
+        // texel buffers: width x height; the others: min(count, capacity)). Both are of `ctx`
+        // (checked above) and outlive the OneShot, which waits.
         unsafe { device.cmd_copy_buffer(cmd, buffer.raw(), staging.raw(), &region) };
+        // SAFETY: the same OneShot command buffer, outside a render pass; host reads are a valid
+        // destination once its fence signals.
         unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ) };
         Ok(())
     })?;

@@ -105,11 +105,18 @@ fn without_host_query_reset_timestamps_are_off_and_say_so() {
     let why = timestamps.unsupported_reason().expect("a reason");
     assert!(why.contains("hostQueryReset"), "{why}");
     host.record_and_wait(|cmd| {
+        // SAFETY: `cmd` is the host's command buffer of the context's device, recording
+        // (record_and_wait began it), and `timestamps` lives past the wait; unsupported here, mark
+        // records nothing.
         unsafe { timestamps.mark(cmd, "start") };
+        // SAFETY: as the mark before: the same recording command buffer, `timestamps` outliving its
+        // execution.
         unsafe { timestamps.mark(cmd, "end") };
     })
     .expect("submission");
     assert_eq!(timestamps.spans_ms().expect("spans"), Vec::new());
+    // SAFETY: record_and_wait waited for the host's fence, so no command buffer with these marks is
+    // pending.
     unsafe { timestamps.clear() };
     drop((timestamps, ctx));
     // The validation layer would report vkResetQueryPool on a device without hostQueryReset.
@@ -128,7 +135,12 @@ fn with_host_query_reset_timestamps_time() {
     let mut timestamps = TimestampQueries::new(&ctx, 4).expect("timestamps");
     assert_eq!(timestamps.unsupported_reason(), None);
     host.record_and_wait(|cmd| {
+        // SAFETY: `cmd` is the host's command buffer of the context's device, recording, on its
+        // graphics and compute queue (timestamps valid), and `timestamps` lives past
+        // record_and_wait's wait.
         unsafe { timestamps.mark(cmd, "start") };
+        // SAFETY: as the mark before: the same recording command buffer, `timestamps` outliving its
+        // execution.
         unsafe { timestamps.mark(cmd, "end") };
     })
     .expect("submission");

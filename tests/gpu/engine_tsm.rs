@@ -193,6 +193,11 @@ impl<'c> Rig<'c> {
         let one_shot = OneShot::new(self.ctx)?;
         let output = self.output.raw();
         let range = self.output.layers_range(0, 1);
+        // SAFETY: `cmd` is the OneShot's command buffer of this context, recording outside
+        // rendering on its graphics and compute queue: each draw list's update precedes the pass
+        // that reads it, the output image is moved to GENERAL before the pass writes it and to
+        // TRANSFER_SRC_OPTIMAL before its copy, and every object used outlives the run, which
+        // waits.
         one_shot.run(|cmd| unsafe {
             if frame.draw_gbuffer {
                 self.receivers.record_update(device, cmd, frame.receivers)?;

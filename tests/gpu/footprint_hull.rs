@@ -148,9 +148,18 @@ fn the_footprint_holds_every_corner_when_turn_tests_are_fused() {
     OneShot::new(&ctx)
         .expect("one shot")
         .run(|cmd| {
+            // SAFETY: `cmd` is the OneShot's command buffer, recording outside rendering; the probe
+            // pipeline is a compute pipeline of this context, alive through the run.
             unsafe { pipeline.bind(device, cmd) };
+            // SAFETY: the probe's layout was made with Push's size as its push range
+            // (compute_pipeline above).
             unsafe { pipeline.push(device, cmd, &push) };
+            // SAFETY: the pipeline is bound and pushed; the shader returns for invocations at or
+            // past `count` (SETS) and writes 32 floats per set, the results' size, so the probe's
+            // writes stay within the result buffer, which lives until the OneShot has waited.
             unsafe { device.cmd_dispatch(cmd, SETS.div_ceil(64) as u32, 1, 1) };
+            // SAFETY: outside rendering, on the context's compute queue; host reads are a valid
+            // destination once the OneShot's fence signals.
             unsafe { memory_barrier(device, cmd, Access::COMPUTE_RW, Access::HOST_READ) };
             Ok(())
         })

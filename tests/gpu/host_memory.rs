@@ -148,12 +148,14 @@ fn a_map_replaced_while_its_frame_is_in_flight_waits_for_the_frame() {
     assert_eq!(during.len(), before.len() + map.allocations().len());
 
     host.wait().expect("fence");
-    // SAFETY: frame 1's fence has signalled.
     assert_eq!(
+        // SAFETY: frame 1's fence has signalled (host.wait above), so frame 0, recorded
+        // before it on the same queue, has completed too.
         unsafe { ctx.collect(0) },
         0,
         "frame 1 is not collected with frame 0"
     );
+    // SAFETY: frame 1's fence has signalled (host.wait above).
     assert_eq!(unsafe { ctx.collect(1) }, retired);
     assert_eq!(ctx.retired_objects(), 0);
     let after = allocations(&allocator);

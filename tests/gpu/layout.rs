@@ -326,9 +326,16 @@ fn shared_structs_match_glsl() {
     OneShot::new(&ctx)
         .unwrap()
         .run(|cmd| {
+            // SAFETY: `cmd` is the OneShot's command buffer, recording outside rendering; the probe
+            // pipeline is a compute pipeline of this context, alive through the run.
             unsafe { pipeline.bind(device, cmd) };
+            // SAFETY: the probe's layout has MapPush's size as its push range (made with
+            // MapPush::BYTES above).
             unsafe { pipeline.push(device, cmd, &push) };
+            // SAFETY: the pipeline is bound and pushed; the probe reads the table of buffer
+            // addresses, every buffer alive until the OneShot has waited.
             unsafe { device.cmd_dispatch(cmd, 1, 1, 1) };
+            // SAFETY: outside rendering, on the context's compute queue.
             unsafe { memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ) };
             Ok(())
         })
@@ -506,7 +513,13 @@ fn shared_structs_match_glsl() {
                     dst_offset: 0,
                     size: bytes as u64,
                 }];
+                // SAFETY: `staging` was made with exactly `bytes` and every caller passes at most
+                // the size `b` was made with (dump 4096, nodes 32, ranges and counters 48); both
+                // live until the OneShot has waited, and the probe's writes were made visible to
+                // transfer reads by the barrier after its dispatch.
                 unsafe { device.cmd_copy_buffer(cmd, b.raw(), staging.raw(), &region) };
+                // SAFETY: outside rendering; host reads are a valid destination once the OneShot's
+                // fence signals.
                 unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ) };
                 Ok(())
             })
@@ -529,9 +542,13 @@ fn shared_structs_match_glsl() {
     fn cast<T: Copy + Default>(bytes: &[u8], index: usize) -> T {
         let size = std::mem::size_of::<T>();
         let mut value = T::default();
+        // SAFETY: the source is exactly `size` bytes (the slice is bounds-checked), the
+        // destination a local T of that size, so they do not overlap; T is one of the
+        // library's plain GPU records (Node, Range, Counters: u32 and f32 fields, no padding),
+        // for which any bytes are a valid value.
         unsafe {
             std::ptr::copy_nonoverlapping(
-                bytes[index * size..].as_ptr(),
+                bytes[index * size..(index + 1) * size].as_ptr(),
                 &mut value as *mut T as *mut u8,
                 size,
             )

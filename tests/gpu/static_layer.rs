@@ -77,6 +77,9 @@ fn a_recorded_pass_that_is_not_submitted_needs_nothing_undone() {
     let mut draws = DrawList::new(&ctx, 1).expect("draw list");
     OneShot::new(&ctx)
         .expect("command buffer")
+        // SAFETY: `cmd` is the OneShot's command buffer of this context, recording outside
+        // rendering on its graphics and compute queue; no command buffer reads the new draw list
+        // yet.
         .run(|cmd| unsafe { draws.record_update(ctx.device(), cmd, &[draw]) })
         .expect("draw list upload");
     let mut light = LightView::spot(
@@ -147,6 +150,9 @@ fn the_exact_static_names_are_cleared_before_a_redraw() {
     let mut draws = DrawList::new(&ctx, 1).expect("draw list");
     OneShot::new(&ctx)
         .expect("command buffer")
+        // SAFETY: `cmd` is the OneShot's command buffer of this context, recording outside
+        // rendering on its graphics and compute queue; no command buffer reads the new draw list
+        // yet.
         .run(|cmd| unsafe { draws.record_update(ctx.device(), cmd, &[draw]) })
         .expect("draw list upload");
     let spot_at = |x: f32| {

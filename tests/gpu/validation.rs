@@ -9,6 +9,10 @@ use ash::vk;
 fn validation_layer_reports_a_deliberate_misuse() {
     let ctx = context();
     let device = ctx.device();
+    // SAFETY: the pool is made for the context's own queue family, the command buffer is only
+    // recorded (never submitted), and both are destroyed before the context; the one invalid
+    // barrier is what the test wants the validation layer to report, and a driver never acts on an
+    // unsubmitted command buffer.
     unsafe {
         let pool = device
             .create_command_pool(

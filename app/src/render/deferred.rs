@@ -200,9 +200,9 @@ impl Renderer<'_> {
                 view_proj,
                 eye: camera.position,
             };
+            let pass = &this.deferred_passes_made().gbuffer;
             // SAFETY: a OneShot command buffer of this context, recording, outside
             // rendering; the draw list was uploaded in an earlier submission.
-            let pass = &this.deferred_passes_made().gbuffer;
             unsafe {
                 pass.record(
                     this.ctx.device(),
@@ -409,6 +409,9 @@ impl Renderer<'_> {
             let device = this.ctx.device();
             let FrameInputs { draws, light } = frame;
             mask.record_to_storage(device, cmd);
+            // SAFETY: `cmd` is the OneShot's command buffer of this context, recording, on its
+            // graphics and compute queue (timestamps are marked only where supported), and `ts` is
+            // kept by the renderer past the OneShot's wait.
             unsafe { ts.mark(cmd, "setup") };
             // SAFETY: a OneShot command buffer of this context, recording, outside
             // rendering; the map fits (built above); the G-buffer was drawn in an earlier
@@ -475,6 +478,8 @@ impl Renderer<'_> {
             self.run_timed(&mut spans, |this, cmd, ts| {
                 let device = this.ctx.device();
                 mask.record_to_storage(device, cmd);
+                // SAFETY: as above: the OneShot's recording command buffer; `ts` outlives its
+                // execution, which run_timed waits for.
                 unsafe { ts.mark(cmd, "setup") };
                 let tsm = &this.deferred_passes_made().tsm;
                 // SAFETY: a OneShot command buffer of this context, recording, outside
@@ -493,6 +498,8 @@ impl Renderer<'_> {
                         maps,
                     )?
                 };
+                // SAFETY: after the mask pass in the same OneShot command buffer; `ts` outlives it
+                // (run_timed waits).
                 unsafe { ts.mark(cmd, "tsm maps + mask") };
                 mask.record_readback(device, cmd);
                 // SAFETY: the same command buffer; the mask pass read the G-buffer before.
@@ -546,6 +553,9 @@ impl MaskTarget {
 
     /// Moves the image to GENERAL for the mask's storage writes (contents discarded).
     fn record_to_storage(&self, device: &motion_shadows::ash::Device, cmd: vk::CommandBuffer) {
+        // SAFETY: only called inside a OneShot's recording command buffer, outside rendering; the
+        // image is this mask's, its earlier transfer reads (the last readback) are the source
+        // scope, and UNDEFINED discards contents the mask pass overwrites whole.
         unsafe {
             image_barrier(
                 device,
@@ -566,6 +576,9 @@ impl MaskTarget {
             vk::ImageLayout::GENERAL,
             vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
         );
+        // SAFETY: only called after the mask pass in the same OneShot command buffer, outside
+        // rendering; the mask image is in GENERAL (record_to_storage put it there) and moves to
+        // TRANSFER_SRC_OPTIMAL for the copy.
         unsafe {
             image_barrier(
                 device,
@@ -582,6 +595,8 @@ impl MaskTarget {
             self.image
                 .record_copy_to_buffer(device, cmd, self.readback.raw(), 0)
         };
+        // SAFETY: the same command buffer, outside rendering; host reads are a valid destination
+        // once the OneShot's fence signals, which run waits for.
         unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ) };
     }
 

@@ -336,6 +336,8 @@ impl Renderer<'_> {
                     }
                     this.generation.record(device, cmd, &map);
                 }
+                // SAFETY: the OneShot's recording command buffer after the frame's passes; `ts`
+                // outlives its execution (run_timed waits for the OneShot).
                 unsafe { ts.mark(cmd, "generation") };
                 // SAFETY: the same command buffer, after the frame's passes.
                 unsafe { map.record_counter_readback(device, cmd) };
@@ -411,9 +413,12 @@ impl Renderer<'_> {
                 this.plain
                     .record_render(device, cmd, inputs.draws, inputs.light, &maps, times)
             };
+            // SAFETY: the OneShot's recording command buffer after the maps' rendering; `ts`
+            // outlives its execution (run_timed waits).
             unsafe { ts.mark(cmd, label) };
             // SAFETY: the same command buffer, after the maps' rendering.
             unsafe { this.plain.record_copy_out(device, cmd, &maps) };
+            // SAFETY: the same command buffer after the copy; `ts` outlives its execution.
             unsafe { ts.mark(cmd, MAP_COPY_PASS) };
             Ok(())
         })?;
@@ -469,6 +474,8 @@ impl Renderer<'_> {
                         )?;
                     }
                 }
+                // SAFETY: the OneShot's recording command buffer after the reference slices; `ts`
+                // outlives its execution.
                 unsafe { ts.mark(cmd, "reference slices") };
                 Ok(())
             })?;

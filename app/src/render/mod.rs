@@ -384,9 +384,13 @@ impl<'a> Renderer<'a> {
             Some(ts) => ts,
             None => TimestampQueries::new(self.ctx, 16)?,
         };
+        // SAFETY: `ts` is the renderer's own pool, and its last use was in an earlier OneShot,
+        // which waited for its fence before returning: no command buffer with its marks is pending.
         unsafe { ts.clear() };
         let one_shot = OneShot::new(self.ctx)?;
         one_shot.run(|cmd| {
+            // SAFETY: `cmd` is the OneShot's command buffer of this context, recording, and `ts`
+            // lives until after `run` has waited for it.
             unsafe { ts.mark(cmd, "start") };
             record(self, cmd, &mut ts)
         })?;

@@ -185,6 +185,8 @@ fn host_device_and_command_buffer_render_the_same_image_as_the_renderer() {
     drop(ctx);
 
     // The library destroyed none of the host's objects: the device and queue still work.
+    // SAFETY: the library's context is gone and waited for nothing of the host's; the host's device
+    // is live, and the fence, made and destroyed here, is never submitted.
     unsafe {
         let fence = host
             .device

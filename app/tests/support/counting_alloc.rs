@@ -12,6 +12,9 @@ static LIVE: AtomicUsize = AtomicUsize::new(0);
 static PEAK: AtomicUsize = AtomicUsize::new(0);
 const CAP: usize = 3 << 30;
 
+// SAFETY: alloc returns the system allocator's block for `layout` unchanged (or null past the cap,
+// which GlobalAlloc allows), and dealloc hands back only blocks it returned, with their layout; the
+// counters are atomics, so no state is shared unsafely.
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         let live = LIVE.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();

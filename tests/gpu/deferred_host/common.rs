@@ -229,6 +229,8 @@ pub fn run_probe(
         offset: 0,
         size: std::mem::size_of::<ProbePush>() as u32,
     }];
+    // SAFETY: `push` is a local alive for the call and the host's device is live; one compute push
+    // range, within any device's 128-byte minimum.
     let layout = unsafe {
         device.create_pipeline_layout(
             &vk::PipelineLayoutCreateInfo::default().push_constant_ranges(&push),
@@ -249,6 +251,11 @@ pub fn run_probe(
         count: invocations as u32,
         reserved: 0,
     };
+    // SAFETY: `cmd` is the host's command buffer, recording (record_and_wait began it) outside
+    // rendering on its graphics and compute queue; `pipeline` uses `layout`, whose push range is
+    // ProbePush's size, and `bytes` views exactly that local struct; the shader returns past
+    // `count` invocations and writes results_per_query floats per query, the results' size, and
+    // every buffer outlives the wait.
     host.record_and_wait(|cmd| unsafe {
         device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
         let bytes = std::slice::from_raw_parts(
@@ -266,6 +273,8 @@ pub fn run_probe(
     })
     .expect("probe submission");
     let out = results.read::<f32>(result_count).expect("results");
+    // SAFETY: record_and_wait waited for the host's fence, so the probe's pipeline and layout are
+    // in no pending work; each is destroyed once.
     unsafe {
         device.destroy_pipeline(pipeline, None);
         device.destroy_pipeline_layout(layout, None);

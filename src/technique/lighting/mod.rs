@@ -16,192 +16,17 @@ use super::shadow_map::TemporalShadowMap;
 use super::view::{LightingView, Lookup, ShadowEstimator, ShadowFilter};
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Buffer, BufferUsage, ComputeVariants, Context, Pipeline, TimestampQueries,
-    attachmentless_pipeline, begin_attachmentless, memory_barrier,
+    Access, ComputeVariants, Context, Pipeline, TimestampQueries, attachmentless_pipeline,
+    begin_attachmentless, memory_barrier,
 };
 use ash::vk;
 use std::sync::Arc;
 
+mod target;
+pub use target::LightingTarget;
+
 // The most samples one geometry pass handles (bounded further by the device's buffer limit).
 pub use super::gpu_constants::MAX_SAMPLES_PER_CHUNK;
-
-/// The visibility buffer's size above which a frame's samples are split into more chunks
-/// (16 samples of 1024x768 take 96 MiB; at 4096x4096 one chunk holds 2 samples).
-const VISIBILITY_BUDGET_BYTES: u64 = 256 << 20;
-
-/// Where the lighting pass renders: the per-sample visibility buffer of one chunk and the
-/// accumulated linear radiance (RGBA32F per pixel; alpha: the share of samples that see a
-/// moving triangle). One per frame in flight.
-pub struct LightingTarget {
-    width: u32,
-    height: u32,
-    spp: u32,
-    samples_per_chunk: u32,
-    /// The header (`CameraParams`): camera, sampling and this target's buffer addresses.
-    pub(crate) header: Buffer,
-    /// Per pixel and sample of a chunk: the nearest hit (depth bits << 32 | triangle id).
-    pub(crate) visibility: Buffer,
-    /// Per pixel: accumulated radiance (rgb) and moving share (a).
-    pub(crate) radiance: Buffer,
-    /// u32: triangles the lighting pass dropped for an invalid index.
-    pub(crate) counters: Buffer,
-    readback: Buffer,
-    counters_readback: Buffer,
-}
-
-impl LightingTarget {
-    /// A target for `spp` samples per pixel, handling up to `max_samples_per_chunk` (at most
-    /// [`MAX_SAMPLES_PER_CHUNK`], and what the device's buffer limit allows) per geometry pass.
-    pub fn new(
-        ctx: &Context,
-        width: u32,
-        height: u32,
-        spp: u32,
-        max_samples_per_chunk: u32,
-    ) -> Result<Self> {
-        if width == 0 || height == 0 {
-            return Err(Error::InvalidArgument(format!(
-                "image size {width}x{height}"
-            )));
-        }
-        let pixels = width as u64 * height as u64;
-        let limit = ctx.max_addressed_buffer_bytes();
-        // Each buffer is checked with its own figures, so the error names what does not fit.
-        for (what, element_bytes) in [
-            ("the radiance buffer (RGBA32F per pixel)", 16),
-            ("the visibility buffer (one 8-byte sample per pixel)", 8),
-        ] {
-            if pixels * element_bytes > limit {
-                return Err(Error::DeviceLimit {
-                    what,
-                    count: pixels,
-                    element_bytes,
-                    needed_bytes: pixels * element_bytes,
-                    limit_bytes: limit,
-                });
-            }
-        }
-        // Samples per chunk: as many as fit the budget (large images take several chunks
-        // rather than one huge visibility buffer), at least one.
-        let budget = limit.min(VISIBILITY_BUDGET_BYTES).max(pixels * 8);
-        let fit = (budget / (pixels * 8)).min(MAX_SAMPLES_PER_CHUNK as u64) as u32;
-        let samples_per_chunk = spp.min(max_samples_per_chunk).clamp(1, fit);
-        Ok(Self {
-            width,
-            height,
-            spp,
-            samples_per_chunk,
-            header: Buffer::new(
-                ctx,
-                "lighting target header",
-                std::mem::size_of::<CameraParams>() as u64,
-                BufferUsage::Storage,
-            )?,
-            counters: Buffer::new(ctx, "lighting counters", 8, BufferUsage::Storage)?,
-            counters_readback: Buffer::new(
-                ctx,
-                "lighting counters readback",
-                8,
-                BufferUsage::Readback,
-            )?,
-            visibility: Buffer::new(
-                ctx,
-                "visibility",
-                pixels * 8 * samples_per_chunk as u64,
-                BufferUsage::Storage,
-            )?,
-            radiance: Buffer::new(ctx, "radiance", pixels * 16, BufferUsage::Storage)?,
-            readback: Buffer::new(ctx, "radiance readback", pixels * 16, BufferUsage::Readback)?,
-        })
-    }
-
-    /// Samples per pixel the target was made for (every one shares the pixel's average).
-    pub fn spp(&self) -> u32 {
-        self.spp
-    }
-
-    /// Samples per pixel one geometry pass handles.
-    pub fn samples_per_chunk(&self) -> u32 {
-        self.samples_per_chunk
-    }
-
-    /// Pixels across.
-    pub fn width(&self) -> u32 {
-        self.width
-    }
-
-    /// Pixels down.
-    pub fn height(&self) -> u32 {
-        self.height
-    }
-
-    /// Records the copy that [`Self::read_rgb`] and [`Self::read_moving_coverage`] read after the submission completes.
-    ///
-    /// # Safety
-    /// `cmd` was allocated from the target's device, is recording, outside any render pass,
-    /// after the lighting pass of the frame.
-    ///
-    /// Synchronization: waits for the compute stage's radiance writes; leaves the copies
-    /// visible to host reads once the submission's fence has signalled.
-    pub unsafe fn record_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
-        unsafe { memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ) };
-        let region = [vk::BufferCopy {
-            src_offset: 0,
-            dst_offset: 0,
-            size: self.radiance.size(),
-        }];
-        let counter = [vk::BufferCopy {
-            src_offset: 0,
-            dst_offset: 0,
-            size: 8,
-        }];
-        unsafe {
-            device.cmd_copy_buffer(cmd, self.radiance.raw(), self.readback.raw(), &region);
-            device.cmd_copy_buffer(
-                cmd,
-                self.counters.raw(),
-                self.counters_readback.raw(),
-                &counter,
-            );
-        }
-        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ) };
-    }
-
-    /// Triangles the frame's lighting pass dropped because an index pointed past their draw's
-    /// vertex count (read after the submission of [`Self::record_readback`] completed).
-    pub fn read_invalid_triangles(&self) -> Result<u32> {
-        Ok(self.counters_readback.read::<u32>(2)?[0])
-    }
-
-    /// Pixels whose shadow lookups ran so many loop iterations that a device with a loop
-    /// limit ([`crate::gpu::DeviceInfo::shader_loop_limit`]) may have cut them short (read
-    /// like [`Self::read_invalid_triangles`]). Always 0 on devices without such a limit. When
-    /// it is not 0, render again with fewer samples per chunk (each invocation then shades
-    /// fewer samples); at one sample per chunk it means the map's lists are too long there
-    /// for this device.
-    pub fn read_over_budget_pixels(&self) -> Result<u32> {
-        Ok(self.counters_readback.read::<u32>(2)?[1])
-    }
-
-    /// Linear radiance, 3 floats per pixel, top row first.
-    pub fn read_rgb(&self) -> Result<Vec<f32>> {
-        let rgba = self
-            .readback
-            .read::<f32>((self.width * self.height * 4) as usize)?;
-        Ok(rgba
-            .chunks_exact(4)
-            .flat_map(|p| [p[0], p[1], p[2]])
-            .collect())
-    }
-
-    /// Per pixel, the share of its samples that see a moving triangle.
-    pub fn read_moving_coverage(&self) -> Result<Vec<f32>> {
-        let rgba = self
-            .readback
-            .read::<f32>((self.width * self.height * 4) as usize)?;
-        Ok(rgba.chunks_exact(4).map(|p| p[3]).collect())
-    }
-}
 
 /// What the lighting pass tests shadows against.
 #[derive(Clone, Copy)]
@@ -400,6 +225,7 @@ impl LightingPass {
         if target.spp % full != 0 {
             self.shading(shadow, view, target.spp % full)?;
         }
+        // SAFETY: this function's contract is record_clear's (it says "As Self::record").
         unsafe { self.record_clear(device, cmd, view, target) };
         let mut first = 0;
         while first < target.spp {
@@ -409,6 +235,8 @@ impl LightingPass {
                 count,
                 fixed_time: None,
             };
+            // SAFETY: record_clear of this frame was recorded just above, as record_samples
+            // requires, and the rest of its contract is this function's.
             unsafe {
                 self.record_samples(
                     device,
@@ -444,6 +272,8 @@ impl LightingPass {
             counters: target.counters.device_address(),
             ..CameraParams::new(view, (target.width, target.height), target.spp)
         };
+        // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue
+        // (CollectionPass::record's contract, taken by record), so every stage named is supported.
         unsafe {
             memory_barrier(
                 device,
@@ -455,11 +285,15 @@ impl LightingPass {
                 Access::TRANSFER_WRITE,
             )
         };
+        // SAFETY: the header gets one CameraParams (its size) and the fills cover the target's own
+        // radiance and counter buffers (WHOLE_SIZE), outside rendering, after their earlier readers
+        // (the barrier above); no other command buffer uses the target meanwhile (the contract).
         unsafe {
             target.header.record_write(device, cmd, &[header]);
             device.cmd_fill_buffer(cmd, target.radiance.raw(), 0, vk::WHOLE_SIZE, 0);
             device.cmd_fill_buffer(cmd, target.counters.raw(), 0, vk::WHOLE_SIZE, 0);
         }
+        // SAFETY: the same command buffer, outside rendering; stages its queue supports.
         unsafe {
             memory_barrier(
                 device,
@@ -513,10 +347,15 @@ impl LightingPass {
             flags: fixed_time,
         };
         // The previous chunk's resolve read the visibility buffer.
+        // SAFETY: outside any render pass (the contract), on a queue with compute and transfer.
         unsafe { memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_WRITE) };
+        // SAFETY: a WHOLE_SIZE fill of the target's own visibility buffer, outside rendering, after
+        // the previous chunk's resolve (the barrier above).
         unsafe {
             device.cmd_fill_buffer(cmd, target.visibility.raw(), 0, vk::WHOLE_SIZE, u32::MAX)
         };
+        // SAFETY: outside rendering; transfer, fragment and compute are on the contract's graphics
+        // and compute queue.
         unsafe {
             memory_barrier(
                 device,
@@ -525,7 +364,10 @@ impl LightingPass {
                 Access::FRAGMENT_RW.and(Access::COMPUTE_RW),
             )
         };
+        // SAFETY: outside rendering, and the target's size is the extent the raster pipeline's
+        // dynamic viewport takes.
         unsafe { begin_attachmentless(device, cmd, target.width, target.height) };
+        // SAFETY: rendering has begun; the raster pipeline is this pass's, alive as long as `self`.
         unsafe { self.raster.bind(device, cmd) };
         let raster = RasterPush {
             pass: LightingRasterPush {
@@ -546,12 +388,19 @@ impl LightingPass {
         };
         // The camera stays pushed while each draw pushes its LightingRasterPush over the first
         // bytes.
+        // SAFETY: the raster pipeline's layout was made with RasterPush's size (its push range),
+        // and it is bound just above.
         unsafe { self.raster.push(device, cmd, &raster) };
         draw_each(device, cmd, &self.raster, draws, raster.pass);
+        // SAFETY: the rendering began above and every draw is recorded into it.
         unsafe { device.cmd_end_rendering(cmd) };
         if let Some(ts) = timestamps.as_deref_mut() {
+            // SAFETY: outside rendering, on the context's device; `mark` records nothing where
+            // timestamps are unsupported, and a dropped TimestampQueries retires its pool until the
+            // frames that may use it complete, so the pool outlives `cmd`.
             unsafe { ts.mark(cmd, "lighting raster") };
         }
+        // SAFETY: outside rendering; fragment, geometry and compute stages are on this queue.
         unsafe {
             memory_barrier(
                 device,
@@ -560,12 +409,21 @@ impl LightingPass {
                 Access::COMPUTE_RW,
             )
         };
+        // SAFETY: the resolve pipeline was made (or fetched) by `shading` for this frame and is
+        // owned by `self`, alive as long as it; a compute bind outside rendering.
         unsafe { resolve.bind(device, cmd) };
+        // SAFETY: the resolve pipeline's push range is the size of `shade`, the struct every
+        // shading variant was made with.
         unsafe { resolve.push(device, cmd, &shade) };
+        // SAFETY: the resolve pipeline is bound with its constants; 8x8 groups cover the target,
+        // and the shader returns for invocations past its edges.
         unsafe { device.cmd_dispatch(cmd, target.width.div_ceil(8), target.height.div_ceil(8), 1) };
         if let Some(ts) = timestamps {
+            // SAFETY: as the mark above: outside rendering, the pool retired rather than destroyed
+            // while frames may use it.
             unsafe { ts.mark(cmd, "lighting shade") };
         }
+        // SAFETY: outside rendering; compute and transfer stages are on this queue.
         unsafe {
             memory_barrier(
                 device,
