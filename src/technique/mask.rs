@@ -12,6 +12,7 @@ use super::mask_queue::{DEFAULT_MASK_FOLLOW_UP_ROUNDS, MaskQueue};
 use super::push_constants::{MaskPush, PushBlock};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
+use super::view::Lookup;
 use crate::error::{Error, Result};
 use crate::gpu::{
     Access, Buffer, BufferUsage, Context, Image, ImageBindings, image_barrier, memory_barrier,
@@ -296,6 +297,36 @@ pub(super) fn mask_position_flag(inputs: &MaskInputs) -> u32 {
     }
 }
 
+/// Why a dispatch of `inputs`, against a map whose last collection was for `lookup` with the
+/// light's receiver-plane test on or off (`receiver_plane`), needs the host's triangle-id
+/// image; `None` where it does not.
+/// Measured against the ray tracer on a tumbling box (docs/src/deferred-frame.md#triangle-ids):
+/// on a depth-line map a receiver's own triangle, one depth line per texel, cuts through a
+/// turning surface's path and through the plane the plane test puts it on, and no normal
+/// offset clears it; the exact lookup's shadow ray starts past its surface (its epsilon), so
+/// there the ids only spare a test.
+fn ids_required_by(
+    inputs: &MaskInputs,
+    lookup: Lookup,
+    receiver_plane: bool,
+) -> Option<&'static str> {
+    if lookup == Lookup::Exact {
+        None
+    } else if inputs.motion.is_some() {
+        Some(
+            "with moving receivers (MaskInputs::motion) on a depth-line map: without it a \
+             turning surface's own triangle shadows it",
+        )
+    } else if receiver_plane {
+        Some(
+            "with the receiver-plane test (LightView::receiver_plane) on a depth-line map: \
+             without it a receiver's own triangle shadows it",
+        )
+    } else {
+        None
+    }
+}
+
 /// Where the follow-up rounds' pipelines start among the pass's variants.
 const FOLLOW_UP_VARIANTS: usize = 4;
 
@@ -447,7 +478,15 @@ impl VisibilityMaskPass {
         bindings: &mut MaskBindings,
         inputs: &MaskInputs,
         map: &TemporalShadowMap,
-    ) {
+    ) -> Result<()> {
+        if inputs.ids.is_none() {
+            let built = (map.recorded_lookup(), map.recorded_receiver_plane());
+            if let Some(why) = ids_required_by(inputs, built.0, built.1) {
+                return Err(Error::InvalidArgument(format!(
+                    "the visibility mask needs the host's triangle-id image (MaskInputs::ids, a TriangleIdImage) {why}"
+                )));
+            }
+        }
         let depth = (inputs.depth, inputs.depth_layout);
         // Without a normal or motion image the depth view stands in (never read: the flag
         // and the variant say so).
@@ -562,6 +601,7 @@ impl VisibilityMaskPass {
             }
             memory_barrier(device, cmd, Access::COMPUTE_RW, Access::HOST_READ);
         }
+        Ok(())
     }
 }
 
@@ -630,6 +670,50 @@ mod tests {
                 ..base
             }
         );
+    }
+}
+
+#[cfg(test)]
+mod ids_tests {
+    use super::*;
+    use ash::vk::Handle;
+
+    /// The triangle-id image is required exactly where a receiver's own triangle would
+    /// otherwise shadow it (measured against the ray tracer, docs/src/deferred-frame.md#triangle-ids):
+    /// on a depth-line map with moving receivers, with the plane test for still pixels, or
+    /// with the light's receiver-plane test; never on an exact map or for still receivers
+    /// offset along their normal.
+    #[test]
+    fn ids_are_required_for_moving_receivers_and_the_plane_tests_on_depth_lines() {
+        let view = vk::ImageView::from_raw;
+        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        let still = MaskInputs::new(view(1), read, view(2), (8, 8), Mat4::IDENTITY);
+        let motion = MotionImage {
+            view: view(3),
+            layout: read,
+        };
+        let moving = still.with_motion(motion, 1.0);
+        let plane_where_still = moving.with_plane_test_where_still();
+        let (depth, exact) = (Lookup::DepthLine, Lookup::Exact);
+        for (inputs, lookup, receiver_plane, required) in [
+            (still, depth, false, false),
+            (still, depth, true, true),
+            (moving, depth, false, true),
+            (moving, depth, true, true),
+            (plane_where_still, depth, false, true),
+            (still, exact, false, false),
+            (moving, exact, false, false),
+            (plane_where_still, exact, true, false),
+        ] {
+            let why = ids_required_by(&inputs, lookup, receiver_plane);
+            assert_eq!(
+                why.is_some(),
+                required,
+                "moving {}, plane where still {}, {lookup:?}, receiver plane {receiver_plane}: {why:?}",
+                inputs.motion.is_some(),
+                inputs.plane_test_where_still
+            );
+        }
     }
 }
 

@@ -55,6 +55,8 @@ pub struct TemporalShadowMap {
     range_capacity: u32,
     range_storage: RangeStorage,
     pruning: Pruning,
+    /// Which of the buffers only some paths use the map holds ([`Self::prepare_for`]).
+    buffers: PathBuffers,
     /// The header (`MsShadowMap`): light and buffer addresses, written by the collection pass.
     pub(crate) header: Buffer,
     /// Per pixel: index + 1 of the newest node, 0 for none.
@@ -97,6 +99,9 @@ pub struct TemporalShadowMap {
     pub(crate) static_names: Option<Buffer>,
     /// Whether the last recorded collection built the map for [`Lookup::Exact`].
     built_for_exact: AtomicBool,
+    /// Whether the last recorded collection's light tests receivers at their plane's depth
+    /// ([`LightView::receiver_plane`]).
+    built_receiver_plane: AtomicBool,
 }
 
 /// What the static layer holds for keeping: nothing is kept on the strength of a recording
@@ -136,6 +141,81 @@ impl StaticLayerSource {
     }
 }
 
+/// The buffers of a map that only some paths use, by whether the map holds them at their full
+/// size (one element otherwise, so that every address in the header stays valid):
+/// docs/src/integration.md#bytes-per-map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct PathBuffers {
+    /// The fragments at the node capacity (16 bytes each): paths that store them (the
+    /// static layer off, the papers' prisms, a coverage map).
+    nodes: bool,
+    /// The sorting's input lists at the range capacity (24 bytes a range): sorted ranges.
+    sorted_lists: bool,
+    /// One long-list index per texel (4 bytes): paths whose generation pass pairs
+    /// fragments or sorts ranges.
+    long_lists: bool,
+    /// The depth-line static layer (8 bytes per texel).
+    static_layer: bool,
+}
+
+impl PathBuffers {
+    fn of(
+        collects_ranges: bool,
+        depth_lines: bool,
+        static_layer: bool,
+        storage: RangeStorage,
+    ) -> Self {
+        let sorted_lists = storage == RangeStorage::Sorted && collects_ranges && depth_lines;
+        Self {
+            nodes: !collects_ranges,
+            sorted_lists,
+            long_lists: !collects_ranges || sorted_lists,
+            static_layer: static_layer && depth_lines,
+        }
+    }
+
+    /// What a frame lit by `light` (with or without a coverage map) uses.
+    fn of_light(light: &LightView, coverage: bool, storage: RangeStorage) -> Self {
+        Self::of(
+            light.collects_ranges(coverage),
+            light.lookup == Lookup::DepthLine,
+            light.uses_static_layer(coverage),
+            storage,
+        )
+    }
+
+    /// What the default light uses (the exact construction, the static layer, depth lines,
+    /// no coverage map): the ranges collected directly, so no node buffer.
+    fn default_path(storage: RangeStorage) -> Self {
+        Self::of(true, true, true, storage)
+    }
+
+    /// The first buffer `needed` has that these lack.
+    fn missing_from(self, needed: Self) -> Option<&'static str> {
+        [
+            (needed.nodes && !self.nodes, "fragment (node) buffer"),
+            (
+                needed.sorted_lists && !self.sorted_lists,
+                "sorted ranges' lists",
+            ),
+            (needed.long_lists && !self.long_lists, "long-list pixels"),
+            (needed.static_layer && !self.static_layer, "static layer"),
+        ]
+        .into_iter()
+        .find_map(|(missing, name)| missing.then_some(name))
+    }
+
+    /// Both sets.
+    fn union(self, other: Self) -> Self {
+        Self {
+            nodes: self.nodes || other.nodes,
+            sorted_lists: self.sorted_lists || other.sorted_lists,
+            long_lists: self.long_lists || other.long_lists,
+            static_layer: self.static_layer || other.static_layer,
+        }
+    }
+}
+
 use super::gpu_constants::{
     DISPATCH_PAIRING, DISPATCH_SORT, DISPATCH_SORT_LONG, DISPATCH_WORDS, TILE_TEXELS,
 };
@@ -169,6 +249,12 @@ impl TemporalShadowMap {
     /// ([`Self::grow_to_fit`], [`Self::reserve`]) and use the next frame (or record the frame
     /// again, as the standalone renderer does). Start near the counts a typical frame needs
     /// to avoid that frame.
+    ///
+    /// The map holds the buffers of the default light's path (the exact construction, the
+    /// static layer, depth lines, no coverage map), which stores no fragment: its node
+    /// buffer is made, at `node_capacity`, by [`Self::prepare_for`] (or [`Self::reserve_for`])
+    /// for a light whose frames store fragments; the collection refuses such a frame before.
+    /// Bytes per map and path: docs/src/integration.md#bytes-per-map.
     pub fn new(
         ctx: &Context,
         width: u32,
@@ -195,6 +281,66 @@ impl TemporalShadowMap {
         range_capacity: u32,
         range_storage: RangeStorage,
     ) -> Result<Self> {
+        Self::build(
+            ctx,
+            (width, height),
+            node_capacity,
+            range_capacity,
+            range_storage,
+            PathBuffers::default_path(range_storage),
+        )
+    }
+
+    /// Makes the map hold exactly the buffers a frame lit by `light` (with or without a
+    /// coverage map) uses, at the map's capacities: the node buffer where such a frame stores
+    /// fragments, the sorting's lists where it sorts its ranges, the long-list pixels where
+    /// its generation pass pairs or sorts, the static layer where it keeps static draws there
+    /// for depth lines (docs/src/integration.md#bytes-per-map). Nothing happens where the map
+    /// holds them already; otherwise, like [`Self::reserve`], it makes new buffers and retires
+    /// the old ones (what the static layer held is forgotten). A map whose frames use several
+    /// lights' paths wants one per path, or the default path's buffers and this call for
+    /// each other light before its frames (the collection refuses a frame that needs a buffer
+    /// the map lacks).
+    pub fn prepare_for(
+        &mut self,
+        ctx: &Context,
+        light: &LightView,
+        coverage: Option<&CoverageMap>,
+    ) -> Result<()> {
+        let needed = PathBuffers::of_light(light, coverage.is_some(), self.range_storage);
+        if needed != self.buffers {
+            self.rebuild(ctx, self.node_capacity, self.range_capacity, needed)?;
+        }
+        Ok(())
+    }
+
+    /// An error naming what to call when a frame lit by `light` (with or without a coverage
+    /// map) needs a buffer the map does not hold.
+    pub(crate) fn check_prepared_for(
+        &self,
+        light: &LightView,
+        coverage: Option<&CoverageMap>,
+    ) -> Result<()> {
+        let needed = PathBuffers::of_light(light, coverage.is_some(), self.range_storage);
+        match self.buffers.missing_from(needed) {
+            None => Ok(()),
+            Some(missing) => Err(Error::InvalidArgument(format!(
+                "the shadow map holds no {missing}, which a frame lit by this light uses (its \
+                 static layer, construction, lookup or coverage map differ from the default \
+                 light's): call TemporalShadowMap::prepare_for (or reserve_for) with this light \
+                 before recording the frame"
+            ))),
+        }
+    }
+
+    fn build(
+        ctx: &Context,
+        (width, height): (u32, u32),
+        node_capacity: u32,
+        range_capacity: u32,
+        range_storage: RangeStorage,
+        buffers: PathBuffers,
+    ) -> Result<Self> {
         if width == 0 || height == 0 {
             return Err(Error::InvalidArgument(format!(
                 "shadow map size {width}x{height}"
@@ -203,21 +349,33 @@ impl TemporalShadowMap {
         let pixels = width as u64 * height as u64;
         let addressed = ctx.max_addressed_buffer_bytes();
         let head_bytes = checked_bytes("the shadow map's list heads", pixels, 4, addressed)?;
-        let node_bytes = checked_bytes(
-            "the fragment (node) buffer",
-            node_capacity.max(1) as u64,
-            16,
-            addressed,
-        )?;
+        // One node, range, index or key where the path leaves a buffer unused.
+        let node_bytes = if buffers.nodes {
+            checked_bytes(
+                "the fragment (node) buffer",
+                node_capacity.max(1) as u64,
+                16,
+                addressed,
+            )?
+        } else {
+            16
+        };
         let range_bytes = checked_bytes(
             "the range buffer",
             range_capacity.max(1) as u64,
             24,
             addressed,
         )?;
-        let list_bytes = match range_storage {
-            RangeStorage::Sorted => range_bytes,
-            RangeStorage::Lists => 24,
+        let list_bytes = if buffers.sorted_lists {
+            range_bytes
+        } else {
+            24
+        };
+        let long_bytes = 16 + if buffers.long_lists { head_bytes } else { 0 };
+        let static_bytes = if buffers.static_layer {
+            2 * head_bytes
+        } else {
+            8
         };
         Ok(Self {
             width,
@@ -226,6 +384,7 @@ impl TemporalShadowMap {
             range_capacity: range_capacity.max(1),
             range_storage,
             pruning: Pruning::default(),
+            buffers,
             header: Buffer::new(
                 ctx,
                 "shadow map header",
@@ -238,13 +397,8 @@ impl TemporalShadowMap {
             range_heads: Buffer::new(ctx, "range heads", head_bytes, BufferUsage::Storage)?,
             ranges: Buffer::new(ctx, "ranges", range_bytes, BufferUsage::Storage)?,
             range_lists: Buffer::new(ctx, "range lists", list_bytes, BufferUsage::Storage)?,
-            long_pixels: Buffer::new(
-                ctx,
-                "long-list pixels",
-                16 + head_bytes,
-                BufferUsage::Storage,
-            )?,
-            static_nearest: Buffer::new(ctx, "static layer", 2 * head_bytes, BufferUsage::Storage)?,
+            long_pixels: Buffer::new(ctx, "long-list pixels", long_bytes, BufferUsage::Storage)?,
+            static_nearest: Buffer::new(ctx, "static layer", static_bytes, BufferUsage::Storage)?,
             tiles: Buffer::new(
                 ctx,
                 "generation dispatches",
@@ -262,6 +416,7 @@ impl TemporalShadowMap {
             triangle_records: None,
             static_names: None,
             built_for_exact: AtomicBool::new(false),
+            built_receiver_plane: AtomicBool::new(false),
         })
     }
 
@@ -354,6 +509,12 @@ impl TemporalShadowMap {
         }
     }
 
+    /// Whether the last recorded collection's light tested receivers at their plane's depth
+    /// ([`LightView::receiver_plane`]; false before any).
+    pub(crate) fn recorded_receiver_plane(&self) -> bool {
+        self.built_receiver_plane.load(Ordering::Relaxed)
+    }
+
     /// Triangle ids the map's triangle records have room for (0 without records).
     pub fn triangle_record_capacity(&self) -> u64 {
         self.triangle_records.as_ref().map_or(0, |b| {
@@ -369,7 +530,8 @@ impl TemporalShadowMap {
     pub fn height(&self) -> u32 {
         self.height
     }
-    /// Fragments the map has room for.
+    /// Fragments the map has room for on a path that stores them (its node buffer is made at
+    /// this size only for such a path, [`Self::prepare_for`]).
     pub fn node_capacity(&self) -> u32 {
         self.node_capacity
     }
@@ -446,6 +608,8 @@ impl TemporalShadowMap {
         let sorted = self.sorts_ranges(light, coverage);
         self.built_for_exact
             .store(light.lookup == Lookup::Exact, Ordering::Relaxed);
+        self.built_receiver_plane
+            .store(light.receiver_plane, Ordering::Relaxed);
         let header = ShadowMapHeader {
             light: light.gpu(),
             size: UVec4::new(self.width, self.height, sorted as u32 * MS_SORTED_RANGES, 0),
@@ -660,26 +824,33 @@ impl TemporalShadowMap {
         let nodes = nodes.max(self.node_capacity);
         let ranges = ranges.max(self.range_capacity);
         if (nodes, ranges) != (self.node_capacity, self.range_capacity) {
-            self.rebuild(ctx, nodes, ranges)?;
+            self.rebuild(ctx, nodes, ranges, self.buffers)?;
         }
         Ok(())
     }
 
-    /// New lists for `nodes` and `ranges` (the old buffers retired), keeping the exact
-    /// lookup's triangle records and static name lists; what the static layer holds is
-    /// forgotten (the next collection redraws it).
-    fn rebuild(&mut self, ctx: &Context, nodes: u32, ranges: u32) -> Result<()> {
-        let records = self.triangle_records.take();
-        let names = self.static_names.take();
-        *self = Self::with_storage(
+    /// New lists for `nodes` and `ranges` with `buffers` (the old buffers retired), keeping
+    /// the exact lookup's triangle records and static name lists; what the static layer
+    /// holds is forgotten (the next collection redraws it). On error the map is unchanged.
+    fn rebuild(
+        &mut self,
+        ctx: &Context,
+        nodes: u32,
+        ranges: u32,
+        buffers: PathBuffers,
+    ) -> Result<()> {
+        let fresh = Self::build(
             ctx,
-            self.width,
-            self.height,
+            (self.width, self.height),
             nodes,
             ranges,
             self.range_storage,
+            buffers,
         )?
         .with_pruning(self.pruning);
+        let records = self.triangle_records.take();
+        let names = self.static_names.take();
+        *self = fresh;
         self.triangle_records = records;
         self.static_names = names;
         Ok(())
@@ -692,7 +863,8 @@ impl TemporalShadowMap {
     /// ([`RangeCeiling::new`]), which are not bounded (grow
     /// after a frame that overflowed instead). Static draws are left out where the frame
     /// keeps them in the static layer. Like [`Self::reserve`], it only grows, and retires the
-    /// old buffers. Errors if the bound is more than a map counts (u32) or the device holds.
+    /// old buffers; it also makes the buffers `light`'s path uses that the map lacks (as
+    /// [`Self::prepare_for`], keeping the others). Errors if the bound is more than a map counts (u32) or the device holds.
     pub fn reserve_for(
         &mut self,
         ctx: &Context,
@@ -700,6 +872,11 @@ impl TemporalShadowMap {
         coverage: Option<&CoverageMap>,
         draws: &[HostDraw],
     ) -> Result<Option<u64>> {
+        let needed = PathBuffers::of_light(light, coverage.is_some(), self.range_storage);
+        if self.buffers.missing_from(needed).is_some() {
+            let buffers = self.buffers.union(needed);
+            self.rebuild(ctx, self.node_capacity, self.range_capacity, buffers)?;
+        }
         let Some(ceiling) = RangeCeiling::new(light, self.width, self.height) else {
             return Ok(None);
         };
@@ -753,7 +930,7 @@ impl TemporalShadowMap {
             0
         };
         let ranges = counts.range_count.max(self.range_capacity).max(estimate);
-        self.rebuild(ctx, nodes, ranges)?;
+        self.rebuild(ctx, nodes, ranges, self.buffers)?;
         if counts.static_names > self.static_name_capacity() {
             self.reserve_static_names(ctx, counts.static_names)?;
         }
@@ -795,6 +972,10 @@ impl TemporalShadowMap {
 
     /// Copies the static layer back to the host (see [`ShadowMapContents::static_layer`]).
     pub fn download_static_layer(&self, ctx: &Context) -> Result<Vec<u64>> {
+        if !self.buffers.static_layer {
+            // No layer on this map's path: every texel holds none.
+            return Ok(vec![u64::MAX; (self.width * self.height) as usize]);
+        }
         download(
             ctx,
             &self.static_nearest,
@@ -809,7 +990,7 @@ impl TemporalShadowMap {
         // Where the collection stored the ranges itself, there are no lists (the heads held
         // the texels' run counts).
         let lists = counts.ranges_direct == 0;
-        let nodes = if lists {
+        let nodes = if lists && self.buffers.nodes {
             counts.node_count.min(self.node_capacity) as usize
         } else {
             0
