@@ -118,8 +118,9 @@ pub struct PositionImage {
 }
 
 /// The host's triangle-id image: which triangle each pixel shows, so that a receiver's own
-/// triangle never shadows it (what the receiver-plane test, `LightView::receiver_plane`,
-/// relies on; without ids, use the normal offset instead).
+/// triangle never shadows it. Required on a depth-line map with moving receivers and with
+/// the receiver-plane test (`LightView::receiver_plane`, `plane_test_where_still`):
+/// [`VisibilityMaskPass::record`] refuses those dispatches without it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TriangleIdImage {
     /// A view of a sampled R32_UINT image, the size of the depth image: the triangle's
@@ -189,6 +190,8 @@ pub struct MaskInputs {
     /// frame at shutter close: 1. Read only with `motion`.
     pub time: f32,
     /// The host's triangle-id image, or `None`: no receiver is known to lie on a triangle.
+    /// Required on a depth-line map with `motion` or the receiver-plane test (see
+    /// [`VisibilityMaskPass::record`]).
     pub ids: Option<TriangleIdImage>,
     /// The host's world-position image, or `None`: positions rebuilt from the depth.
     pub positions: Option<PositionImage>,
@@ -448,6 +451,15 @@ impl VisibilityMaskPass {
     }
 
     /// Records the mask of `map` (after its generation pass) for the host's images.
+    ///
+    /// Errors, recording nothing, without `inputs.ids` where a receiver's own triangle would
+    /// shadow it: on a map whose last collection was for depth lines
+    /// ([`super::Lookup::DepthLine`]) with `inputs.motion` (moving receivers, and so
+    /// `plane_test_where_still`) or with the light's receiver-plane test
+    /// (`LightView::receiver_plane`). Measured on a tumbling box against the ray tracer
+    /// (docs/src/deferred-frame.md#triangle-ids): there no normal offset clears a turning
+    /// face of its own triangle's depth lines. Still receivers with the normal offset, and
+    /// maps built for [`super::Lookup::Exact`], need no ids.
     ///
     /// # Safety
     /// - `cmd` was allocated from the device the pass was made on, is recording, outside any
