@@ -86,8 +86,8 @@ fn deferred_mask(
 use motion_shadows::technique::{MaskInputs, MotionImage, TriangleIdImage};
 const SHADER_READ_ONLY_OPTIMAL: vk::ImageLayout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
 // Depth and output views, size, the camera; background depth 1 by default. Your triangle-id
-// image is required with moving receivers and the plane test (refused without: a turning
-// surface would shadow itself).
+// image is required with moving receivers (refused without: a turning surface would shadow
+// itself).
 let inputs = MaskInputs::new(depth, depth_layout, mask_view, size, inv_view_proj)
     .with_normals(normals) // or none: rebuilt from the depth; either facing
     .with_motion(MotionImage { view: motion_view, layout: SHADER_READ_ONLY_OPTIMAL }, 1.0)

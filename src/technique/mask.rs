@@ -118,9 +118,10 @@ pub struct PositionImage {
 }
 
 /// The host's triangle-id image: which triangle each pixel shows, so that a receiver's own
-/// triangle never shadows it. Required on a depth-line map with moving receivers and with
-/// the receiver-plane test (`LightView::receiver_plane`, `plane_test_where_still`):
-/// [`VisibilityMaskPass::record`] refuses those dispatches without it.
+/// triangle never shadows it. Required on a depth-line map with moving receivers
+/// ([`MaskInputs::motion`]): [`VisibilityMaskPass::record`] refuses those dispatches without
+/// it; recommended everywhere (the plane test, `LightView::receiver_plane`, was written to
+/// rely on it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TriangleIdImage {
     /// A view of a sampled R32_UINT image, the size of the depth image: the triangle's
@@ -190,8 +191,7 @@ pub struct MaskInputs {
     /// frame at shutter close: 1. Read only with `motion`.
     pub time: f32,
     /// The host's triangle-id image, or `None`: no receiver is known to lie on a triangle.
-    /// Required on a depth-line map with `motion` or the receiver-plane test (see
-    /// [`VisibilityMaskPass::record`]).
+    /// Required on a depth-line map with `motion` (see [`VisibilityMaskPass::record`]).
     pub ids: Option<TriangleIdImage>,
     /// The host's world-position image, or `None`: positions rebuilt from the depth.
     pub positions: Option<PositionImage>,
@@ -300,34 +300,18 @@ pub(super) fn mask_position_flag(inputs: &MaskInputs) -> u32 {
     }
 }
 
-/// Why a dispatch of `inputs`, against a map whose last collection was for `lookup` with the
-/// light's receiver-plane test on or off (`receiver_plane`), needs the host's triangle-id
-/// image; `None` where it does not.
-/// Measured against the ray tracer on a tumbling box (docs/src/deferred-frame.md#triangle-ids):
-/// on a depth-line map a receiver's own triangle, one depth line per texel, cuts through a
-/// turning surface's path and through the plane the plane test puts it on, and no normal
-/// offset clears it; the exact lookup's shadow ray starts past its surface (its epsilon), so
-/// there the ids only spare a test.
-fn ids_required_by(
-    inputs: &MaskInputs,
-    lookup: Lookup,
-    receiver_plane: bool,
-) -> Option<&'static str> {
-    if lookup == Lookup::Exact {
-        None
-    } else if inputs.motion.is_some() {
-        Some(
-            "with moving receivers (MaskInputs::motion) on a depth-line map: without it a \
-             turning surface's own triangle shadows it",
-        )
-    } else if receiver_plane {
-        Some(
-            "with the receiver-plane test (LightView::receiver_plane) on a depth-line map: \
-             without it a receiver's own triangle shadows it",
-        )
-    } else {
-        None
-    }
+/// Why a dispatch of `inputs`, against a map whose last collection was for `lookup`, needs
+/// the host's triangle-id image; `None` where it does not. Measured against the ray tracer
+/// on a tumbling box (docs/src/deferred-frame.md#triangle-ids): on a depth-line map a moving
+/// receiver's own triangle, one depth line per texel, cuts through a turning surface's path,
+/// and no normal offset clears it; still receivers on still surfaces came out the same with
+/// and without ids (plane test or offset), and the exact lookup's shadow ray starts past its
+/// surface (its epsilon), so there the ids only spare a test.
+fn ids_required_by(inputs: &MaskInputs, lookup: Lookup) -> Option<&'static str> {
+    (lookup == Lookup::DepthLine && inputs.motion.is_some()).then_some(
+        "with moving receivers (MaskInputs::motion) on a depth-line map: without it a turning \
+         surface's own triangle shadows it",
+    )
 }
 
 /// Where the follow-up rounds' pipelines start among the pass's variants.
@@ -455,11 +439,10 @@ impl VisibilityMaskPass {
     /// Errors, recording nothing, without `inputs.ids` where a receiver's own triangle would
     /// shadow it: on a map whose last collection was for depth lines
     /// ([`super::Lookup::DepthLine`]) with `inputs.motion` (moving receivers, and so
-    /// `plane_test_where_still`) or with the light's receiver-plane test
-    /// (`LightView::receiver_plane`). Measured on a tumbling box against the ray tracer
+    /// `plane_test_where_still`). Measured on a tumbling box against the ray tracer
     /// (docs/src/deferred-frame.md#triangle-ids): there no normal offset clears a turning
-    /// face of its own triangle's depth lines. Still receivers with the normal offset, and
-    /// maps built for [`super::Lookup::Exact`], need no ids.
+    /// face of its own triangle's depth lines. Still receivers (plane test or offset) and
+    /// maps built for [`super::Lookup::Exact`] came out the same without ids.
     ///
     /// # Safety
     /// - `cmd` was allocated from the device the pass was made on, is recording, outside any
@@ -492,8 +475,7 @@ impl VisibilityMaskPass {
         map: &TemporalShadowMap,
     ) -> Result<()> {
         if inputs.ids.is_none() {
-            let built = (map.recorded_lookup(), map.recorded_receiver_plane());
-            if let Some(why) = ids_required_by(inputs, built.0, built.1) {
+            if let Some(why) = ids_required_by(inputs, map.recorded_lookup()) {
                 return Err(Error::InvalidArgument(format!(
                     "the visibility mask needs the host's triangle-id image (MaskInputs::ids, a TriangleIdImage) {why}"
                 )));
@@ -692,11 +674,10 @@ mod ids_tests {
 
     /// The triangle-id image is required exactly where a receiver's own triangle would
     /// otherwise shadow it (measured against the ray tracer, docs/src/deferred-frame.md#triangle-ids):
-    /// on a depth-line map with moving receivers, with the plane test for still pixels, or
-    /// with the light's receiver-plane test; never on an exact map or for still receivers
-    /// offset along their normal.
+    /// on a depth-line map with moving receivers (the plane test for still pixels among
+    /// them too); never on an exact map or for still receivers.
     #[test]
-    fn ids_are_required_for_moving_receivers_and_the_plane_tests_on_depth_lines() {
+    fn ids_are_required_for_moving_receivers_on_depth_lines_only() {
         let view = vk::ImageView::from_raw;
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         let still = MaskInputs::new(view(1), read, view(2), (8, 8), Mat4::IDENTITY);
@@ -707,21 +688,19 @@ mod ids_tests {
         let moving = still.with_motion(motion, 1.0);
         let plane_where_still = moving.with_plane_test_where_still();
         let (depth, exact) = (Lookup::DepthLine, Lookup::Exact);
-        for (inputs, lookup, receiver_plane, required) in [
-            (still, depth, false, false),
-            (still, depth, true, true),
-            (moving, depth, false, true),
-            (moving, depth, true, true),
-            (plane_where_still, depth, false, true),
-            (still, exact, false, false),
-            (moving, exact, false, false),
-            (plane_where_still, exact, true, false),
+        for (inputs, lookup, required) in [
+            (still, depth, false),
+            (moving, depth, true),
+            (plane_where_still, depth, true),
+            (still, exact, false),
+            (moving, exact, false),
+            (plane_where_still, exact, false),
         ] {
-            let why = ids_required_by(&inputs, lookup, receiver_plane);
+            let why = ids_required_by(&inputs, lookup);
             assert_eq!(
                 why.is_some(),
                 required,
-                "moving {}, plane where still {}, {lookup:?}, receiver plane {receiver_plane}: {why:?}",
+                "moving {}, plane where still {}, {lookup:?}: {why:?}",
                 inputs.motion.is_some(),
                 inputs.plane_test_where_still
             );

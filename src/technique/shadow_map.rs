@@ -99,9 +99,6 @@ pub struct TemporalShadowMap {
     pub(crate) static_names: Option<Buffer>,
     /// Whether the last recorded collection built the map for [`Lookup::Exact`].
     built_for_exact: AtomicBool,
-    /// Whether the last recorded collection's light tests receivers at their plane's depth
-    /// ([`LightView::receiver_plane`]).
-    built_receiver_plane: AtomicBool,
 }
 
 /// What the static layer holds for keeping: nothing is kept on the strength of a recording
@@ -416,7 +413,6 @@ impl TemporalShadowMap {
             triangle_records: None,
             static_names: None,
             built_for_exact: AtomicBool::new(false),
-            built_receiver_plane: AtomicBool::new(false),
         })
     }
 
@@ -507,12 +503,6 @@ impl TemporalShadowMap {
         } else {
             Lookup::DepthLine
         }
-    }
-
-    /// Whether the last recorded collection's light tested receivers at their plane's depth
-    /// ([`LightView::receiver_plane`]; false before any).
-    pub(crate) fn recorded_receiver_plane(&self) -> bool {
-        self.built_receiver_plane.load(Ordering::Relaxed)
     }
 
     /// Triangle ids the map's triangle records have room for (0 without records).
@@ -608,8 +598,6 @@ impl TemporalShadowMap {
         let sorted = self.sorts_ranges(light, coverage);
         self.built_for_exact
             .store(light.lookup == Lookup::Exact, Ordering::Relaxed);
-        self.built_receiver_plane
-            .store(light.receiver_plane, Ordering::Relaxed);
         let header = ShadowMapHeader {
             light: light.gpu(),
             size: UVec4::new(self.width, self.height, sorted as u32 * MS_SORTED_RANGES, 0),
