@@ -17,10 +17,7 @@ fn buffers_beyond_the_device_limit_are_refused_with_figures() {
         static_layer: false,
         ..LightView::spot(Vec3::Y, Vec3::NEG_Y, 30.0, 1.0, 0.1, 10.0, (64, 64))
     };
-    let err = map
-        .prepare_for(&ctx, &light, None)
-        .err()
-        .expect("must fail");
+    let err = map.prepare_for(&ctx, &light, None).expect_err("must fail");
     match &err {
         Error::DeviceLimit {
             count,
