@@ -8,11 +8,11 @@
 //! descriptor set: one [`MaskBindings`] per use in flight (per frame in flight and light).
 
 use super::image_pass::ImagePass;
+use super::mask_ids::ids_required_by;
 use super::mask_queue::{DEFAULT_MASK_FOLLOW_UP_ROUNDS, MaskQueue};
 use super::push_constants::{MaskPush, PushBlock};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
-use super::view::Lookup;
 use crate::error::{Error, Result};
 use crate::gpu::{
     Access, Buffer, BufferUsage, Context, Image, ImageBindings, image_barrier, memory_barrier,
@@ -298,20 +298,6 @@ pub(super) fn mask_position_flag(inputs: &MaskInputs) -> u32 {
     } else {
         0
     }
-}
-
-/// Why a dispatch of `inputs`, against a map whose last collection was for `lookup`, needs
-/// the host's triangle-id image; `None` where it does not. Measured against the ray tracer
-/// on a tumbling box (docs/src/deferred-frame.md#triangle-ids): on a depth-line map a moving
-/// receiver's own triangle, one depth line per texel, cuts through a turning surface's path,
-/// and no normal offset clears it; still receivers on still surfaces came out the same with
-/// and without ids (plane test or offset), and the exact lookup's shadow ray starts past its
-/// surface (its epsilon), so there the ids only spare a test.
-fn ids_required_by(inputs: &MaskInputs, lookup: Lookup) -> Option<&'static str> {
-    (lookup == Lookup::DepthLine && inputs.motion.is_some()).then_some(
-        "with moving receivers (MaskInputs::motion) on a depth-line map: without it a turning \
-         surface's own triangle shadows it",
-    )
 }
 
 /// Where the follow-up rounds' pipelines start among the pass's variants.
@@ -664,47 +650,6 @@ mod tests {
                 ..base
             }
         );
-    }
-}
-
-#[cfg(test)]
-mod ids_tests {
-    use super::*;
-    use ash::vk::Handle;
-
-    /// The triangle-id image is required exactly where a receiver's own triangle would
-    /// otherwise shadow it (measured against the ray tracer, docs/src/deferred-frame.md#triangle-ids):
-    /// on a depth-line map with moving receivers (the plane test for still pixels among
-    /// them too); never on an exact map or for still receivers.
-    #[test]
-    fn ids_are_required_for_moving_receivers_on_depth_lines_only() {
-        let view = vk::ImageView::from_raw;
-        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-        let still = MaskInputs::new(view(1), read, view(2), (8, 8), Mat4::IDENTITY);
-        let motion = MotionImage {
-            view: view(3),
-            layout: read,
-        };
-        let moving = still.with_motion(motion, 1.0);
-        let plane_where_still = moving.with_plane_test_where_still();
-        let (depth, exact) = (Lookup::DepthLine, Lookup::Exact);
-        for (inputs, lookup, required) in [
-            (still, depth, false),
-            (moving, depth, true),
-            (plane_where_still, depth, true),
-            (still, exact, false),
-            (moving, exact, false),
-            (plane_where_still, exact, false),
-        ] {
-            let why = ids_required_by(&inputs, lookup);
-            assert_eq!(
-                why.is_some(),
-                required,
-                "moving {}, plane where still {}, {lookup:?}: {why:?}",
-                inputs.motion.is_some(),
-                inputs.plane_test_where_still
-            );
-        }
     }
 }
 
