@@ -173,8 +173,9 @@ fn tumbling_box() -> World {
 /// Asserted against the exact truth over the pixels the light reaches: RMSE under 0.03,
 /// under 2% of them more than 0.25 off, and under 1% of the pixels the truth has fully lit
 /// darkened below 0.99 (a turning face's own triangle darkening it). Measured 2026-12-07 on
-/// lavapipe: see the printed figures and docs/src/deferred-frame.md (without the ids, the
-/// engine before: the box's turning faces shadow themselves).
+/// lavapipe: RMSE 0.0200, 17 pixels (0.11%) far off, 13 of 14,416 fully lit pixels darkened;
+/// the engine before, without the ids: RMSE 0.0220 and 286 darkened, the box's turning faces
+/// shadowing themselves (docs/src/deferred-frame.md#triangle-ids).
 #[test]
 fn host_masks_of_a_tumbling_box_match_the_exact_truth() {
     let host = new_host();
