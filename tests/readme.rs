@@ -88,17 +88,21 @@ fn deferred_mask(
     device: ash::Device, cmd: vk::CommandBuffer, mask: &VisibilityMaskPass,
     mut mask_bindings: MaskBindings, map: TemporalShadowMap, depth: vk::ImageView,
     depth_layout: vk::ImageLayout, mask_view: vk::ImageView, size: (u32, u32),
-    inv_view_proj: Mat4, normals: NormalImage, motion_view: vk::ImageView,
-) {
-use motion_shadows::technique::{MaskInputs, MotionImage};
+    inv_view_proj: Mat4, normals: NormalImage, motion_view: vk::ImageView, id_view: vk::ImageView,
+) -> AnyResult {
+use motion_shadows::technique::{MaskInputs, MotionImage, TriangleIdImage};
 const SHADER_READ_ONLY_OPTIMAL: vk::ImageLayout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-// Depth and output views, size, the camera; background depth 1, no motion, no ids by default.
+// Depth and output views, size, the camera; background depth 1 by default. Your triangle-id
+// image is required with moving receivers (refused without: a turning surface would shadow
+// itself).
 let inputs = MaskInputs::new(depth, depth_layout, mask_view, size, inv_view_proj)
     .with_normals(normals) // or none: rebuilt from the depth; either facing
-    .with_motion(MotionImage { view: motion_view, layout: SHADER_READ_ONLY_OPTIMAL }, 1.0);
-// .with_ids(..) your triangle-id image; .with_background_depth(0.0) for reversed Z
+    .with_motion(MotionImage { view: motion_view, layout: SHADER_READ_ONLY_OPTIMAL }, 1.0)
+    .with_ids(TriangleIdImage { view: id_view, layout: SHADER_READ_ONLY_OPTIMAL });
+// .with_background_depth(0.0) for reversed Z
 // .with_positions(..) your world positions: receivers exact at grazing light
-unsafe { mask.record(&device, cmd, &mut mask_bindings, &inputs, &map) };
+unsafe { mask.record(&device, cmd, &mut mask_bindings, &inputs, &map) }?;
+Ok(())
 }
 
 /// The README's ```rust blocks.

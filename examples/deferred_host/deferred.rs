@@ -10,11 +10,13 @@
 //!   DrawList::record_update          the engine's draws: its own buffers, read in place
 //!   per light: CollectionPass        prism fragments of every moving triangle, from the light
 //!              GenerationPass        fragments -> depth-time ranges (the temporal shadow map)
-//!   G-buffer (the engine's own)      depth, world normal, albedo at shutter time t = 1, and
+//!   G-buffer (the engine's own)      depth, world normal, albedo at shutter time t = 1,
 //!                                    world motion over the shutter (this frame's position
 //!                                    minus last frame's, as engines keep for motion vectors)
-//!   per light: VisibilityMaskPass    G-buffer depth + normals + motion -> lit fraction of the
-//!                                    shutter, each receiver followed along its path
+//!                                    and each pixel's triangle id
+//!   per light: VisibilityMaskPass    G-buffer depth + normals + motion + ids -> lit fraction
+//!                                    of the shutter, each receiver followed along its path
+//!                                    (the ids keep its own triangle from shadowing it)
 //!   shading (the engine's own)       radiance = albedo / pi * sum(E cos falloff mask) + ambient
 //! ```
 //!
@@ -35,7 +37,7 @@ use motion_shadows::gpu::Context;
 use motion_shadows::technique::{
     CollectionPass, Counters, Draw, DrawList, GLSL_INCLUDE, GenerationPass, IndexStream, Indices,
     LightKind, LightView, MaskBindings, MaskInputs, MotionImage, NormalEncoding, NormalImage,
-    PositionStream, TemporalShadowMap, VisibilityMaskPass,
+    PositionStream, TemporalShadowMap, TriangleIdImage, VisibilityMaskPass,
 };
 use motion_shadows_shaderc_link as _;
 
@@ -479,6 +481,8 @@ const NORMAL_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 const ALBEDO_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 /// World-space motion over the shutter: half floats, as an engine stores motion vectors.
 const MOTION_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+/// Each pixel's triangle: the global id the shadow pass's draws give it (`u32::MAX`: none).
+const ID_FORMAT: vk::Format = vk::Format::R32_UINT;
 const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 const RADIANCE_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
@@ -535,6 +539,9 @@ struct Slot {
     albedo: Image,
     /// Per pixel: the surface point's world displacement from frame f - 1 to frame f.
     motion: Image,
+    /// Per pixel: the global id of the triangle it shows (the mask's own-triangle skip,
+    /// which moving receivers need).
+    ids: Image,
     /// One per light.
     masks: Vec<Image>,
     radiance: Image,
@@ -746,6 +753,13 @@ impl<'h> Engine<'h> {
                 motion: Image::new(
                     host,
                     MOTION_FORMAT,
+                    size,
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT | sampled,
+                    color,
+                )?,
+                ids: Image::new(
+                    host,
+                    ID_FORMAT,
                     size,
                     vk::ImageUsageFlags::COLOR_ATTACHMENT | sampled,
                     color,
@@ -1254,6 +1268,7 @@ impl Recorder<'_> {
                 s.normals.barrier(discard, color_attachment),
                 s.albedo.barrier(discard, color_attachment),
                 s.motion.barrier(discard, color_attachment),
+                s.ids.barrier(discard, color_attachment),
             ],
             &[],
         );
@@ -1281,6 +1296,7 @@ impl Recorder<'_> {
             s.normals.barrier(color_attachment, shader_read),
             s.albedo.barrier(color_attachment, shader_read),
             s.motion.barrier(color_attachment, shader_read),
+            s.ids.barrier(color_attachment, shader_read),
             s.radiance.barrier(discard, storage_write),
         ];
         barriers.extend(s.masks.iter().map(|m| m.barrier(discard, storage_write)));
@@ -1306,7 +1322,12 @@ impl Recorder<'_> {
                     layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
                 }),
                 time: 1.0,
-                ids: None,
+                // Required with moving receivers: a turning face's own triangle would
+                // otherwise shadow it (the mask refuses to run without).
+                ids: Some(TriangleIdImage {
+                    view: s.ids.view,
+                    layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                }),
                 positions: None,
                 plane_test_where_still: false,
             };
@@ -1315,7 +1336,7 @@ impl Recorder<'_> {
             // views have the usages and layouts stated above, and the barrier before made the
             // G-buffer visible to compute reads and ordered the masks' earlier reads before
             // these writes; the map's collection and generation were recorded above.
-            unsafe { self.passes.mask.record(device, cmd, bindings, &inputs, map) };
+            unsafe { self.passes.mask.record(device, cmd, bindings, &inputs, map) }?;
         }
 
         // 4. The engine's shading: masks written by the mask pass become sampled reads.
@@ -1422,7 +1443,7 @@ impl Recorder<'_> {
         Ok(())
     }
 
-    /// The G-buffer pass: dynamic rendering into depth, normals, albedo and motion; every mesh drawn
+    /// The G-buffer pass: dynamic rendering into depth, normals, albedo, motion and ids; every mesh drawn
     /// with its own vertex and index buffers at t = 1.
     fn record_gbuffer(&self, world: &World, s: &Slot, f: f64) -> Result<()> {
         let device = self.device;
@@ -1450,6 +1471,16 @@ impl Recorder<'_> {
                 .load_op(vk::AttachmentLoadOp::CLEAR)
                 .store_op(vk::AttachmentStoreOp::STORE)
                 .clear_value(clear([0.0; 4])),
+            vk::RenderingAttachmentInfo::default()
+                .image_view(s.ids.view)
+                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(vk::ClearValue {
+                    color: vk::ClearColorValue {
+                        uint32: [u32::MAX; 4],
+                    },
+                }),
         ];
         let depth = vk::RenderingAttachmentInfo::default()
             .image_view(s.depth.view)
@@ -1531,6 +1562,8 @@ impl Recorder<'_> {
                 model: rows(model),
                 previous_model: rows(previous_model),
                 albedo: mesh.albedo.extend(1.0),
+                first_id: m.first_triangle_id,
+                pad: [0; 3],
             };
             // SAFETY: the buffers and offsets are the engine's (made by the upload, the stride its
             // vertex layout), the index buffer holds this mesh's indices at its offset, and the
@@ -1600,13 +1633,17 @@ struct LightConstants {
     emission: Vec4,
 }
 
-/// The G-buffer pass's push constants (`Draw` in gbuffer.vert): 112 bytes.
+/// The G-buffer pass's push constants (`Draw` in gbuffer.vert): 128 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 struct DrawConstants {
     model: [Vec4; 3],
     previous_model: [Vec4; 3],
     albedo: Vec4,
+    /// The mesh's first global triangle id (its `Draw`'s): plus the primitive's index, the
+    /// id the G-buffer stores.
+    first_id: u32,
+    pad: [u32; 3],
 }
 
 /// The shading pass's push constants (`Push` in shade.comp): 24 bytes.
@@ -2068,7 +2105,7 @@ fn gbuffer_pipeline(device: &ash::Device, layout: vk::PipelineLayout) -> Result<
         .depth_write_enable(true)
         .depth_compare_op(vk::CompareOp::LESS);
     let blend = [vk::PipelineColorBlendAttachmentState::default()
-        .color_write_mask(vk::ColorComponentFlags::RGBA); 3];
+        .color_write_mask(vk::ColorComponentFlags::RGBA); 4];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend);
     let dynamic = [
         vk::DynamicState::VIEWPORT,
@@ -2076,7 +2113,7 @@ fn gbuffer_pipeline(device: &ash::Device, layout: vk::PipelineLayout) -> Result<
         vk::DynamicState::VERTEX_INPUT_BINDING_STRIDE,
     ];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic);
-    let formats = [NORMAL_FORMAT, ALBEDO_FORMAT, MOTION_FORMAT];
+    let formats = [NORMAL_FORMAT, ALBEDO_FORMAT, MOTION_FORMAT, ID_FORMAT];
     let mut rendering = vk::PipelineRenderingCreateInfo::default()
         .color_attachment_formats(&formats)
         .depth_attachment_format(DEPTH_FORMAT);

@@ -1,5 +1,6 @@
 //! A deferred engine with motion-blurred shadows: the engine brings its own Vulkan device,
-//! geometry, G-buffer (with world-space motion: this frame's position minus last frame's),
+//! geometry, G-buffer (with world-space motion: this frame's position minus last frame's, and
+//! each pixel's triangle id, which the mask needs for moving receivers),
 //! frame loop (two frames in flight) and shading, and motion-shadows adds a temporal shadow
 //! map per light and a visibility mask per light that follows each receiver along its motion
 //! over the shutter. The engine is `deferred.rs` beside this

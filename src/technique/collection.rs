@@ -256,8 +256,9 @@ impl CollectionPass {
     /// had room (see [`TemporalShadowMap::needs_more_room`]). With `coverage`, also fills its
     /// nearest map (the 2017 extension's first pass; [`super::CoveragePass`] follows).
     ///
-    /// Errors (nothing recorded) when the coverage map's size differs from the map's or the
-    /// draws' ids reach [`MAX_COVERAGE_TRIANGLES`] with a coverage map.
+    /// Errors (nothing recorded) when the coverage map's size differs from the map's, the
+    /// draws' ids reach [`MAX_COVERAGE_TRIANGLES`] with a coverage map, or the map lacks a
+    /// buffer this light's path uses ([`TemporalShadowMap::prepare_for`]).
     ///
     /// # Safety
     /// - `cmd` was allocated from `device` (the device the pass and the map were made on),
@@ -302,6 +303,7 @@ impl CollectionPass {
                 )));
             }
         }
+        map.check_prepared_for(light, coverage)?;
         if light.lookup == Lookup::Exact {
             check_exact_lookup(draws, light, map, coverage)?;
         }

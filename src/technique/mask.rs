@@ -8,6 +8,7 @@
 //! descriptor set: one [`MaskBindings`] per use in flight (per frame in flight and light).
 
 use super::image_pass::ImagePass;
+use super::mask_ids::ids_required_by;
 use super::mask_queue::{DEFAULT_MASK_FOLLOW_UP_ROUNDS, MaskQueue};
 use super::push_constants::{MaskPush, PushBlock};
 use super::shaders;
@@ -117,8 +118,10 @@ pub struct PositionImage {
 }
 
 /// The host's triangle-id image: which triangle each pixel shows, so that a receiver's own
-/// triangle never shadows it (what the receiver-plane test, `LightView::receiver_plane`,
-/// relies on; without ids, use the normal offset instead).
+/// triangle never shadows it. Required on a depth-line map with moving receivers
+/// ([`MaskInputs::motion`]): [`VisibilityMaskPass::record`] refuses those dispatches without
+/// it; recommended everywhere (the plane test, `LightView::receiver_plane`, was written to
+/// rely on it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TriangleIdImage {
     /// A view of a sampled R32_UINT image, the size of the depth image: the triangle's
@@ -188,6 +191,7 @@ pub struct MaskInputs {
     /// frame at shutter close: 1. Read only with `motion`.
     pub time: f32,
     /// The host's triangle-id image, or `None`: no receiver is known to lie on a triangle.
+    /// Required on a depth-line map with `motion` (see [`VisibilityMaskPass::record`]).
     pub ids: Option<TriangleIdImage>,
     /// The host's world-position image, or `None`: positions rebuilt from the depth.
     pub positions: Option<PositionImage>,
@@ -438,6 +442,14 @@ impl VisibilityMaskPass {
 
     /// Records the mask of `map` (after its generation pass) for the host's images.
     ///
+    /// Errors, recording nothing, without `inputs.ids` where a receiver's own triangle would
+    /// shadow it: on a map whose last collection was for depth lines
+    /// ([`super::Lookup::DepthLine`]) with `inputs.motion` (moving receivers, and so
+    /// `plane_test_where_still`). Measured on a tumbling box against the ray tracer
+    /// (docs/src/deferred-frame.md#triangle-ids): there no normal offset clears a turning
+    /// face of its own triangle's depth lines. Still receivers (plane test or offset) and
+    /// maps built for [`super::Lookup::Exact`] came out the same without ids.
+    ///
     /// # Safety
     /// - `cmd` was allocated from the device the pass was made on, is recording, outside any
     ///   render pass or dynamic rendering, on a queue with compute.
@@ -467,7 +479,14 @@ impl VisibilityMaskPass {
         bindings: &mut MaskBindings,
         inputs: &MaskInputs,
         map: &TemporalShadowMap,
-    ) {
+    ) -> Result<()> {
+        if inputs.ids.is_none() {
+            if let Some(why) = ids_required_by(inputs, map.recorded_lookup()) {
+                return Err(Error::InvalidArgument(format!(
+                    "the visibility mask needs the host's triangle-id image (MaskInputs::ids, a TriangleIdImage) {why}"
+                )));
+            }
+        }
         let depth = (inputs.depth, inputs.depth_layout);
         // Without a normal or motion image the depth view stands in (never read: the flag
         // and the variant say so).
@@ -582,6 +601,7 @@ impl VisibilityMaskPass {
             }
             memory_barrier(device, cmd, Access::COMPUTE_RW, Access::HOST_READ);
         }
+        Ok(())
     }
 }
 

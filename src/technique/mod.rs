@@ -41,7 +41,9 @@ mod image_pass;
 #[cfg(feature = "research")]
 mod lighting;
 mod mask;
+mod mask_ids;
 mod mask_queue;
+mod path_buffers;
 #[cfg(feature = "research")]
 mod plain_shadow;
 mod pruning;

@@ -9,6 +9,7 @@ use super::draws::DrawList;
 use super::gpu_types::{
     Counters, DRAW_STATIC, DrawRecord, MAX_LIST_NODES, Node, Range, ShadowMapHeader, TriangleRecord,
 };
+use super::path_buffers::PathBuffers;
 use super::pruning::Pruning;
 use super::range_ceiling::{HostDraw, RangeCeiling};
 use super::view::{LightView, Lookup};
@@ -55,6 +56,8 @@ pub struct TemporalShadowMap {
     range_capacity: u32,
     range_storage: RangeStorage,
     pruning: Pruning,
+    /// Which of the buffers only some paths use the map holds ([`Self::prepare_for`]).
+    buffers: PathBuffers,
     /// The header (`MsShadowMap`): light and buffer addresses, written by the collection pass.
     pub(crate) header: Buffer,
     /// Per pixel: index + 1 of the newest node, 0 for none.
@@ -169,6 +172,12 @@ impl TemporalShadowMap {
     /// ([`Self::grow_to_fit`], [`Self::reserve`]) and use the next frame (or record the frame
     /// again, as the standalone renderer does). Start near the counts a typical frame needs
     /// to avoid that frame.
+    ///
+    /// The map holds the buffers of the default light's path (the exact construction, the
+    /// static layer, depth lines, no coverage map), which stores no fragment: its node
+    /// buffer is made, at `node_capacity`, by [`Self::prepare_for`] (or [`Self::reserve_for`])
+    /// for a light whose frames store fragments; the collection refuses such a frame before.
+    /// Bytes per map and path: docs/src/integration.md#bytes-per-map.
     pub fn new(
         ctx: &Context,
         width: u32,
@@ -195,6 +204,66 @@ impl TemporalShadowMap {
         range_capacity: u32,
         range_storage: RangeStorage,
     ) -> Result<Self> {
+        Self::build(
+            ctx,
+            (width, height),
+            node_capacity,
+            range_capacity,
+            range_storage,
+            PathBuffers::default_path(range_storage),
+        )
+    }
+
+    /// Makes the map hold exactly the buffers a frame lit by `light` (with or without a
+    /// coverage map) uses, at the map's capacities: the node buffer where such a frame stores
+    /// fragments, the sorting's lists where it sorts its ranges, the long-list pixels where
+    /// its generation pass pairs or sorts, the static layer where it keeps static draws there
+    /// for depth lines (docs/src/integration.md#bytes-per-map). Nothing happens where the map
+    /// holds them already; otherwise, like [`Self::reserve`], it makes new buffers and retires
+    /// the old ones (what the static layer held is forgotten). A map whose frames use several
+    /// lights' paths wants one per path, or the default path's buffers and this call for
+    /// each other light before its frames (the collection refuses a frame that needs a buffer
+    /// the map lacks).
+    pub fn prepare_for(
+        &mut self,
+        ctx: &Context,
+        light: &LightView,
+        coverage: Option<&CoverageMap>,
+    ) -> Result<()> {
+        let needed = PathBuffers::of_light(light, coverage.is_some(), self.range_storage);
+        if needed != self.buffers {
+            self.rebuild(ctx, self.node_capacity, self.range_capacity, needed)?;
+        }
+        Ok(())
+    }
+
+    /// An error naming what to call when a frame lit by `light` (with or without a coverage
+    /// map) needs a buffer the map does not hold.
+    pub(crate) fn check_prepared_for(
+        &self,
+        light: &LightView,
+        coverage: Option<&CoverageMap>,
+    ) -> Result<()> {
+        let needed = PathBuffers::of_light(light, coverage.is_some(), self.range_storage);
+        match self.buffers.missing_from(needed) {
+            None => Ok(()),
+            Some(missing) => Err(Error::InvalidArgument(format!(
+                "the shadow map holds no {missing}, which a frame lit by this light uses (its \
+                 static layer, construction, lookup or coverage map differ from the default \
+                 light's): call TemporalShadowMap::prepare_for (or reserve_for) with this light \
+                 before recording the frame"
+            ))),
+        }
+    }
+
+    fn build(
+        ctx: &Context,
+        (width, height): (u32, u32),
+        node_capacity: u32,
+        range_capacity: u32,
+        range_storage: RangeStorage,
+        buffers: PathBuffers,
+    ) -> Result<Self> {
         if width == 0 || height == 0 {
             return Err(Error::InvalidArgument(format!(
                 "shadow map size {width}x{height}"
@@ -203,21 +272,33 @@ impl TemporalShadowMap {
         let pixels = width as u64 * height as u64;
         let addressed = ctx.max_addressed_buffer_bytes();
         let head_bytes = checked_bytes("the shadow map's list heads", pixels, 4, addressed)?;
-        let node_bytes = checked_bytes(
-            "the fragment (node) buffer",
-            node_capacity.max(1) as u64,
-            16,
-            addressed,
-        )?;
+        // One node, range, index or key where the path leaves a buffer unused.
+        let node_bytes = if buffers.nodes {
+            checked_bytes(
+                "the fragment (node) buffer",
+                node_capacity.max(1) as u64,
+                16,
+                addressed,
+            )?
+        } else {
+            16
+        };
         let range_bytes = checked_bytes(
             "the range buffer",
             range_capacity.max(1) as u64,
             24,
             addressed,
         )?;
-        let list_bytes = match range_storage {
-            RangeStorage::Sorted => range_bytes,
-            RangeStorage::Lists => 24,
+        let list_bytes = if buffers.sorted_lists {
+            range_bytes
+        } else {
+            24
+        };
+        let long_bytes = 16 + if buffers.long_lists { head_bytes } else { 0 };
+        let static_bytes = if buffers.static_layer {
+            2 * head_bytes
+        } else {
+            8
         };
         Ok(Self {
             width,
@@ -226,6 +307,7 @@ impl TemporalShadowMap {
             range_capacity: range_capacity.max(1),
             range_storage,
             pruning: Pruning::default(),
+            buffers,
             header: Buffer::new(
                 ctx,
                 "shadow map header",
@@ -238,13 +320,8 @@ impl TemporalShadowMap {
             range_heads: Buffer::new(ctx, "range heads", head_bytes, BufferUsage::Storage)?,
             ranges: Buffer::new(ctx, "ranges", range_bytes, BufferUsage::Storage)?,
             range_lists: Buffer::new(ctx, "range lists", list_bytes, BufferUsage::Storage)?,
-            long_pixels: Buffer::new(
-                ctx,
-                "long-list pixels",
-                16 + head_bytes,
-                BufferUsage::Storage,
-            )?,
-            static_nearest: Buffer::new(ctx, "static layer", 2 * head_bytes, BufferUsage::Storage)?,
+            long_pixels: Buffer::new(ctx, "long-list pixels", long_bytes, BufferUsage::Storage)?,
+            static_nearest: Buffer::new(ctx, "static layer", static_bytes, BufferUsage::Storage)?,
             tiles: Buffer::new(
                 ctx,
                 "generation dispatches",
@@ -369,7 +446,8 @@ impl TemporalShadowMap {
     pub fn height(&self) -> u32 {
         self.height
     }
-    /// Fragments the map has room for.
+    /// Fragments the map has room for on a path that stores them (its node buffer is made at
+    /// this size only for such a path, [`Self::prepare_for`]).
     pub fn node_capacity(&self) -> u32 {
         self.node_capacity
     }
@@ -663,26 +741,33 @@ impl TemporalShadowMap {
         let nodes = nodes.max(self.node_capacity);
         let ranges = ranges.max(self.range_capacity);
         if (nodes, ranges) != (self.node_capacity, self.range_capacity) {
-            self.rebuild(ctx, nodes, ranges)?;
+            self.rebuild(ctx, nodes, ranges, self.buffers)?;
         }
         Ok(())
     }
 
-    /// New lists for `nodes` and `ranges` (the old buffers retired), keeping the exact
-    /// lookup's triangle records and static name lists; what the static layer holds is
-    /// forgotten (the next collection redraws it).
-    fn rebuild(&mut self, ctx: &Context, nodes: u32, ranges: u32) -> Result<()> {
-        let records = self.triangle_records.take();
-        let names = self.static_names.take();
-        *self = Self::with_storage(
+    /// New lists for `nodes` and `ranges` with `buffers` (the old buffers retired), keeping
+    /// the exact lookup's triangle records and static name lists; what the static layer
+    /// holds is forgotten (the next collection redraws it). On error the map is unchanged.
+    fn rebuild(
+        &mut self,
+        ctx: &Context,
+        nodes: u32,
+        ranges: u32,
+        buffers: PathBuffers,
+    ) -> Result<()> {
+        let fresh = Self::build(
             ctx,
-            self.width,
-            self.height,
+            (self.width, self.height),
             nodes,
             ranges,
             self.range_storage,
+            buffers,
         )?
         .with_pruning(self.pruning);
+        let records = self.triangle_records.take();
+        let names = self.static_names.take();
+        *self = fresh;
         self.triangle_records = records;
         self.static_names = names;
         Ok(())
@@ -695,7 +780,8 @@ impl TemporalShadowMap {
     /// ([`RangeCeiling::new`]), which are not bounded (grow
     /// after a frame that overflowed instead). Static draws are left out where the frame
     /// keeps them in the static layer. Like [`Self::reserve`], it only grows, and retires the
-    /// old buffers. Errors if the bound is more than a map counts (u32) or the device holds.
+    /// old buffers; it also makes the buffers `light`'s path uses that the map lacks (as
+    /// [`Self::prepare_for`], keeping the others). Errors if the bound is more than a map counts (u32) or the device holds.
     pub fn reserve_for(
         &mut self,
         ctx: &Context,
@@ -703,6 +789,11 @@ impl TemporalShadowMap {
         coverage: Option<&CoverageMap>,
         draws: &[HostDraw],
     ) -> Result<Option<u64>> {
+        let needed = PathBuffers::of_light(light, coverage.is_some(), self.range_storage);
+        if self.buffers.missing_from(needed).is_some() {
+            let buffers = self.buffers.union(needed);
+            self.rebuild(ctx, self.node_capacity, self.range_capacity, buffers)?;
+        }
         let Some(ceiling) = RangeCeiling::new(light, self.width, self.height) else {
             return Ok(None);
         };
@@ -756,7 +847,7 @@ impl TemporalShadowMap {
             0
         };
         let ranges = counts.range_count.max(self.range_capacity).max(estimate);
-        self.rebuild(ctx, nodes, ranges)?;
+        self.rebuild(ctx, nodes, ranges, self.buffers)?;
         if counts.static_names > self.static_name_capacity() {
             self.reserve_static_names(ctx, counts.static_names)?;
         }
@@ -807,6 +898,10 @@ impl TemporalShadowMap {
 
     /// Copies the static layer back to the host (see [`ShadowMapContents::static_layer`]).
     pub fn download_static_layer(&self, ctx: &Context) -> Result<Vec<u64>> {
+        if !self.buffers.static_layer {
+            // No layer on this map's path: every texel holds none.
+            return Ok(vec![u64::MAX; (self.width * self.height) as usize]);
+        }
         download(
             ctx,
             &self.static_nearest,
@@ -821,7 +916,7 @@ impl TemporalShadowMap {
         // Where the collection stored the ranges itself, there are no lists (the heads held
         // the texels' run counts).
         let lists = counts.ranges_direct == 0;
-        let nodes = if lists {
+        let nodes = if lists && self.buffers.nodes {
             counts.node_count.min(self.node_capacity) as usize
         } else {
             0

@@ -297,7 +297,9 @@ fn the_hosts_allocator_counts_the_librarys_allocations() {
         .iter()
         .find(|(n, _)| n == "nodes")
         .expect("the fragment buffer");
-    assert!(nodes.1 >= 5000 * 16, "{nodes:?}");
+    // The default path stores no fragment: one node, not the 5000 asked for
+    // (docs/src/integration.md#bytes-per-map).
+    assert!(nodes.1 < 5000 * 16, "{nodes:?}");
     let heads = reported
         .iter()
         .find(|(n, _)| n == "node heads")

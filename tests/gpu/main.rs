@@ -18,6 +18,8 @@ mod footprint_hull;
 mod footprint_hull_ties;
 mod host_memory;
 mod layout;
+mod map_bytes;
+mod mask_ids;
 mod minimal_host;
 mod pass_accesses;
 mod prism;

@@ -75,7 +75,9 @@ fn run(ctx: &Context, host: bool, skip: bool, light: &LightView) -> Counters {
         collection = collection.with_host_barriers();
         generation = generation.with_host_barriers();
     }
-    let map = TemporalShadowMap::new(ctx, SIZE, SIZE, 1 << 14, 1 << 14).expect("map");
+    let mut map = TemporalShadowMap::new(ctx, SIZE, SIZE, 1 << 14, 1 << 14).expect("map");
+    map.prepare_for(ctx, light, None)
+        .expect("the light's buffers");
     let device = ctx.device();
     OneShot::new(ctx)
         .expect("command buffer")

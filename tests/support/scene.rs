@@ -212,6 +212,8 @@ pub fn temporal_map_built(
     )
     .expect("temporal shadow map")
     .with_pruning(pruning);
+    map.prepare_for(ctx, light, None)
+        .expect("the light's buffers");
     if light.lookup == motion_shadows::technique::Lookup::Exact {
         map.reserve_triangle_records(ctx, u64::from(first_id))
             .expect("triangle records");

@@ -423,7 +423,7 @@ impl Renderer<'_> {
                 this.generation.record(device, cmd, map);
                 ts.mark(cmd, "generation");
                 let mask_pass = &this.deferred_passes_made().mask;
-                mask_pass.record(device, cmd, &mut bindings, inputs, map);
+                mask_pass.record(device, cmd, &mut bindings, inputs, map)?;
                 ts.mark(cmd, "mask");
                 map.record_counter_readback(device, cmd);
             }

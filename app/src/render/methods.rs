@@ -287,6 +287,8 @@ impl Renderer<'_> {
         } else {
             None
         };
+        // Only the buffers this frame's path uses (its node buffer where it stores fragments).
+        map.prepare_for(self.ctx, inputs.light, coverage.as_deref())?;
         let mut attempts = 0;
         loop {
             attempts += 1;

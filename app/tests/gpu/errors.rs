@@ -2,17 +2,22 @@
 
 use crate::support::gpu::{assert_no_validation_messages, context};
 use motion_shadows::Error;
-use motion_shadows::technique::TemporalShadowMap;
+use motion_shadows::glam::Vec3;
+use motion_shadows::technique::{LightView, TemporalShadowMap};
 use motion_shadows_app::Error as AppError;
 use motion_shadows_app::render::{RenderSettings, Renderer};
 use motion_shadows_app::scene::{BuiltinOptions, builtin};
 
+/// (The node buffer is made for a path that stores fragments, here the static layer off.)
 #[test]
 fn buffers_beyond_the_device_limit_are_refused_with_figures() {
     let ctx = context();
-    let err = TemporalShadowMap::new(&ctx, 64, 64, u32::MAX - 1, 16)
-        .err()
-        .expect("must fail");
+    let mut map = TemporalShadowMap::new(&ctx, 64, 64, u32::MAX - 1, 16).expect("map");
+    let light = LightView {
+        static_layer: false,
+        ..LightView::spot(Vec3::Y, Vec3::NEG_Y, 30.0, 1.0, 0.1, 10.0, (64, 64))
+    };
+    let err = map.prepare_for(&ctx, &light, None).expect_err("must fail");
     match &err {
         Error::DeviceLimit {
             count,

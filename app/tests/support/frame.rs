@@ -37,6 +37,7 @@ pub fn render_draws(
     let mut list = DrawList::new(ctx, draws.len() as u32)?;
     let pixels = shadow_size.0 * shadow_size.1;
     let mut map = TemporalShadowMap::new(ctx, shadow_size.0, shadow_size.1, pixels, pixels)?;
+    map.prepare_for(ctx, light, None)?;
     if light.lookup == motion_shadows::technique::Lookup::Exact {
         let ids = draws
             .iter()

@@ -16,6 +16,7 @@ layout(push_constant) uniform Draw {
     vec4 model[3];
     vec4 previous_model[3];
     vec4 albedo;
+    uint first_id;  // the mesh's first global triangle id (its shadow draw's)
 } draw;
 
 layout(location = 0) out vec3 out_world;
