@@ -824,8 +824,7 @@ const uint MS_WALK_START = 0u;      // in: from the path's start
 const uint MS_WALK_RESUME = 1u;     // in: from t, texel and sum
 const uint MS_WALK_DONE = 2u;       // out: sum is the lit fraction
 const uint MS_WALK_STOPPED = 3u;    // out: stopped before `texel` at time t: resume from there
-const uint MS_WALK_PAST = 4u;       // out: texel number `walked` ran past the budget: the loops
-                                    // of this invocation may have been cut, nothing is sure
+const uint MS_WALK_PAST = 4u;       // out: past the budget at texel `walked`: nothing is sure
 const uint MS_WALK_NO_LIMIT = 0xffffffffu;
 
 struct MsWalk {
@@ -833,11 +832,9 @@ struct MsWalk {
     float t;
     ivec2 texel;
     float sum;      // so far: the lit time (depth lines), the shadowed time (exact)
-    uint limit;     // texels this invocation may walk (MS_WALK_NO_LIMIT: any number)
-    uint walked;    // texels this invocation has walked
-    // The exact walk (exact_lookup.glsl) only, which may stop within a texel's list too:
-    // where in `texel`'s list it goes on (0: from the list's start).
-    uint cursor;
+    uint limit;     // texels (exact: loop iterations) it may walk (MS_WALK_NO_LIMIT: any)
+    uint walked;    // texels this invocation has walked (exact: its loop iterations)
+    uint cursor;    // exact walks: where in `texel`'s list it goes on (0: the list's start)
 };
 
 MsWalk ms_walk_start() {

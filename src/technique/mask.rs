@@ -20,6 +20,11 @@ use crate::gpu::{
 use ash::vk;
 use glam::Mat4;
 
+/// Whether the device has the subgroup vote the mask's shader needs.
+mod subgroup;
+/// The walks' loop budget and follow-up rounds on a loop-limited device.
+mod walks;
+
 /// What one mask dispatch binds and reports: the descriptor set of the host's depth, normal
 /// and output views, the overflow queues of walks that did not finish in one invocation, and
 /// the count of pixels whose lookups may have been cut short. One per dispatch that may be
@@ -316,26 +321,13 @@ pub struct VisibilityMaskPass {
     follow_up_rounds: u32,
 }
 
-/// The mask's shader votes across its subgroup (`subgroupAny`: whether the loop limiter cut a
-/// lane's walk): a device without the vote operations in compute shaders is refused by name.
-fn check_subgroup_vote(has_vote: bool) -> Result<()> {
-    if has_vote {
-        return Ok(());
-    }
-    Err(Error::MissingFeatures(
-        "the visibility-mask pass needs the subgroup vote operations in compute shaders \
-         (VkPhysicalDeviceSubgroupProperties: VK_SUBGROUP_FEATURE_VOTE_BIT for the compute stage)"
-            .into(),
-    ))
-}
-
 impl VisibilityMaskPass {
     /// Creates the pass. Errors when the device lacks the subgroup vote operations in compute
     /// shaders, or does not have `shaderStorageImageWriteWithout
     /// Format` enabled (a headless context enables it where supported; a host says so in
     /// `Context::from_raw`), which lets one pipeline write any of the output formats.
     pub fn new(ctx: &Context) -> Result<Self> {
-        check_subgroup_vote(ctx.info().subgroup_vote_in_compute)?;
+        subgroup::check_subgroup_vote(ctx.info().subgroup_vote_in_compute)?;
         let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
         let pass = ImagePass::new(
             ctx,
@@ -369,45 +361,6 @@ impl VisibilityMaskPass {
             loop_budget: ctx.info().shader_loop_budget(),
             follow_up_rounds: DEFAULT_MASK_FOLLOW_UP_ROUNDS,
         })
-    }
-
-    /// With `rounds` follow-up dispatches (default [`DEFAULT_MASK_FOLLOW_UP_ROUNDS`]) for the
-    /// moving receivers' walks that a device with a loop limit stopped: each goes on with a
-    /// fresh budget. Set it before making bindings (they hold a header per round). Read only
-    /// on such a device (lavapipe).
-    pub fn with_follow_up_rounds(self, rounds: u32) -> Self {
-        Self {
-            follow_up_rounds: rounds,
-            ..self
-        }
-    }
-
-    /// With walks that stop after about `budget` loop iterations per invocation (per lane,
-    /// as [`crate::gpu::DeviceInfo::shader_loop_budget`] counts them) instead of the device's
-    /// budget, and go on in the follow-up rounds: never more than the device's (a larger
-    /// `budget` is the device's); on a device without a loop limit, the walks then stop and
-    /// go on as they would on one. For tests of the follow-up rounds with small scenes; 0
-    /// restores the device's budget.
-    pub fn with_loop_budget(self, ctx: &Context, budget: u32) -> Self {
-        let device = ctx.info().shader_loop_budget();
-        let loop_budget = match (device, budget) {
-            (_, 0) => device,
-            (0, budget) => budget,
-            (device, budget) => budget.min(device),
-        };
-        Self {
-            loop_budget,
-            ..self
-        }
-    }
-
-    /// Follow-up rounds recorded on a device with a loop limit (0 elsewhere).
-    fn rounds(&self) -> u32 {
-        if self.loop_budget > 0 {
-            self.follow_up_rounds
-        } else {
-            0
-        }
     }
 
     /// The bindings for one dispatch in flight, of a mask of up to `size` pixels. On a device
@@ -669,22 +622,6 @@ mod tests {
                 plane_test_where_still: true,
                 ..base
             }
-        );
-    }
-}
-
-#[cfg(test)]
-mod subgroup_tests {
-    use super::check_subgroup_vote;
-
-    /// Without the vote operations the pass is refused, naming what is missing.
-    #[test]
-    fn a_device_without_subgroup_vote_is_refused_by_name() {
-        assert!(check_subgroup_vote(true).is_ok());
-        let refused = check_subgroup_vote(false).expect_err("no vote, no mask");
-        assert!(
-            refused.to_string().contains("VK_SUBGROUP_FEATURE_VOTE_BIT"),
-            "{refused}"
         );
     }
 }

@@ -295,7 +295,7 @@ impl Renderer<'_> {
     }
 
     /// The deferred frame's passes, made on first use (most renders never need them).
-    fn deferred_passes(&mut self) -> Result<&DeferredPasses> {
+    pub(super) fn deferred_passes(&mut self) -> Result<&DeferredPasses> {
         if self.deferred.is_none() {
             self.deferred = Some(DeferredPasses {
                 gbuffer: GBufferPass::new(self.ctx)?,
@@ -304,36 +304,6 @@ impl Renderer<'_> {
             });
         }
         Ok(self.deferred_passes_made())
-    }
-
-    /// The deferred mask's follow-up rounds on a device with a loop limit (lavapipe): how many
-    /// times a moving receiver's walk that stopped goes on with a fresh budget (default
-    /// [`motion_shadows::technique::DEFAULT_MASK_FOLLOW_UP_ROUNDS`]). Fewer rounds refuse
-    /// frames with long paths sooner (tests use it to reach that error with small scenes).
-    pub fn set_mask_follow_up_rounds(&mut self, rounds: u32) -> Result<()> {
-        self.deferred_passes()?;
-        if let Some(passes) = self.deferred.take() {
-            self.deferred = Some(DeferredPasses {
-                mask: passes.mask.with_follow_up_rounds(rounds),
-                ..passes
-            });
-        }
-        Ok(())
-    }
-
-    /// The deferred mask's loop budget per invocation (0: the device's; see
-    /// [`motion_shadows::technique::VisibilityMaskPass::with_loop_budget`]): a small one makes
-    /// small scenes' walks stop and go on over the follow-up rounds, as long ones do on
-    /// lavapipe (tests use it).
-    pub fn set_mask_loop_budget(&mut self, budget: u32) -> Result<()> {
-        self.deferred_passes()?;
-        if let Some(passes) = self.deferred.take() {
-            self.deferred = Some(DeferredPasses {
-                mask: passes.mask.with_loop_budget(self.ctx, budget),
-                ..passes
-            });
-        }
-        Ok(())
     }
 
     fn deferred_passes_made(&self) -> &DeferredPasses {
@@ -518,9 +488,9 @@ impl Renderer<'_> {
 
 /// The passes only deferred frames use.
 pub(super) struct DeferredPasses {
-    gbuffer: GBufferPass,
-    mask: VisibilityMaskPass,
-    tsm: EngineTsmPass,
+    pub(super) gbuffer: GBufferPass,
+    pub(super) mask: VisibilityMaskPass,
+    pub(super) tsm: EngineTsmPass,
 }
 
 /// TSM maps drawn per batch (the working map's layers: 16 MiB each at 2048x2048).

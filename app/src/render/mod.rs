@@ -9,6 +9,7 @@
 pub mod deferred;
 mod empty_map;
 mod frame;
+mod mask_walks;
 mod methods;
 pub mod range_bound;
 pub mod range_ceiling;
