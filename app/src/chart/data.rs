@@ -30,7 +30,8 @@ pub struct LineChart {
 }
 
 impl LineChart {
-    /// Whether [`super::render`] can place the point: both coordinates finite, and > 0 on a log axis.
+    /// Whether [`super::render`] can place the point: both coordinates finite, and > 0 on a log
+    /// axis.
     pub(super) fn drawable(&self, &(x, y): &(f64, f64)) -> bool {
         x.is_finite() && y.is_finite() && (!self.log_x || x > 0.0) && (!self.log_y || y > 0.0)
     }

@@ -34,9 +34,9 @@ pub struct EngineTsmMap {
     pub(super) working_array: vk::ImageView,
     /// [`PlainMapHeader`]: the light (read by `shadow_depth.vert` and the mask shader).
     pub(super) header: Buffer,
-    /// What the static map holds for keeping ([`crate::technique::LightView::keep_static_layer`]): `.0` drawn
-    /// by a pass the host said it submitted, `.1` by the last recorded pass that drew it,
-    /// until then ([`Self::static_map_submitted`]).
+    /// What the static map holds for keeping ([`crate::technique::LightView::keep_static_layer`]):
+    /// `.0` drawn by a pass the host said it submitted, `.1` by the last recorded pass that drew
+    /// it, until then ([`Self::static_map_submitted`]).
     static_source: Mutex<(Option<StaticLayerSource>, Option<StaticLayerSource>)>,
     /// Times [`super::EngineTsmPass::record`] has drawn the static map.
     static_builds: AtomicU32,
@@ -151,7 +151,8 @@ impl EngineTsmMap {
     }
 
     /// How many times [`super::EngineTsmPass::record`] has drawn the static map (with
-    /// [`crate::technique::LightView::keep_static_layer`], once per change of light or static draws).
+    /// [`crate::technique::LightView::keep_static_layer`], once per change of light or static
+    /// draws).
     pub fn static_map_builds(&self) -> u32 {
         self.static_builds.load(Ordering::Relaxed)
     }
@@ -162,11 +163,11 @@ impl EngineTsmMap {
         *self.static_source.lock().unwrap_or_else(|e| e.into_inner()) = (None, None);
     }
 
-    /// Tells the map that the command buffer with its last recorded [`super::EngineTsmPass::record`]
-    /// was submitted: a static map that pass drew may then be kept by later records (with
-    /// [`crate::technique::LightView::keep_static_layer`]). As `TemporalShadowMap::static_layer_submitted`: a
-    /// recorded pass that is not submitted needs nothing undone; without the call the static
-    /// map is redrawn by every record.
+    /// Tells the map that the command buffer with its last recorded
+    /// [`super::EngineTsmPass::record`] was submitted: a static map that pass drew may then be kept
+    /// by later records (with [`crate::technique::LightView::keep_static_layer`]). As
+    /// `TemporalShadowMap::static_layer_submitted`: a recorded pass that is not submitted needs
+    /// nothing undone; without the call the static map is redrawn by every record.
     pub fn static_map_submitted(&self) {
         let mut state = self.static_source.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(recorded) = state.1.take() {
