@@ -28,8 +28,10 @@
 //!
 //! The map's images are [`EngineTsmMap`] (`map.rs`); the pipelines and the recording are
 //! [`EngineTsmPass`] (`pass.rs`), whose record runs the steps of `steps.rs` on the commands of
-//! `commands.rs`; the refusals are in `checks.rs`.
+//! `commands.rs` with an [`EngineTsmBindings`] (`bindings.rs`); the refusals are in
+//! `checks.rs`.
 
+mod bindings;
 mod checks;
 mod commands;
 mod map;
@@ -38,8 +40,9 @@ mod steps;
 
 use ash::vk;
 
+pub use bindings::EngineTsmBindings;
 pub use map::EngineTsmMap;
-pub use pass::{EngineTsmBindings, EngineTsmPass};
+pub use pass::EngineTsmPass;
 
 /// The most maps one [`EngineTsmPass::record`] draws (the papers compare up to 64; 1,024
 /// leaves room for a reference, and keeps the count of lit maps exact in the R32 image).

@@ -2,6 +2,7 @@
 //! of one record in flight, and the record itself, a sequence of the steps in `steps.rs`.
 
 use super::MAP_FORMAT;
+use super::bindings::EngineTsmBindings;
 use super::checks::{check_map_format, check_record};
 use super::map::EngineTsmMap;
 use super::steps::{
@@ -10,7 +11,7 @@ use super::steps::{
 };
 use crate::error::Result;
 use crate::gpu::{
-    Attachments, Context, ImageBindingLayout, ImageBindings, Pipeline, graphics_pipeline,
+    Attachments, Context, ImageBindingLayout, Pipeline, graphics_pipeline,
     specialized_compute_pipeline,
 };
 use crate::technique::draws::DrawList;
@@ -20,13 +21,6 @@ use crate::technique::shaders;
 use crate::technique::shadow_map::StaticLayerSource;
 use crate::technique::view::LightView;
 use ash::vk;
-
-/// What one record binds: the descriptor set of the host's images and the two maps. One per
-/// record that may be pending at the same time (per frame in flight and light), used once
-/// per command buffer. Made by [`EngineTsmPass::bindings`].
-pub struct EngineTsmBindings {
-    pub(super) images: ImageBindings,
-}
 
 /// Records time-dependent shadow maps and their mask. Immutable after creation: one serves
 /// every frame in flight and every light.

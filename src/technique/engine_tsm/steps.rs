@@ -8,9 +8,9 @@
 //! buffer uses the map (unless submitted earlier to the same queue).
 
 use super::TsmStart;
+use super::bindings::EngineTsmBindings;
 use super::commands::{begin_depth, copy_static, draw_where};
 use super::map::{EngineTsmMap, static_resting_layout};
-use super::pass::EngineTsmBindings;
 use crate::gpu::{Access, Pipeline, image_barrier, memory_barrier};
 use crate::technique::draws::DrawList;
 use crate::technique::gpu_types::{DepthFormat, PlainMapHeader};
