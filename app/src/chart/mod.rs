@@ -2,18 +2,29 @@
 //! table writer and a line chart rendered to an 8-bit RGB picture with the comparison
 //! module's bitmap font, so that publishing results needs no plotting tool or extra crate.
 
+mod axis;
 mod csv;
+mod data;
+mod grid;
+mod layout;
+mod legend;
 mod line;
+mod palette;
+mod pixels;
+mod png;
+mod series;
+mod ticks;
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 pub use self::csv::{Table, fmt_num};
-pub use self::line::{
-    LineChart, MAX_SIDE, MIN_HEIGHT, MIN_WIDTH, PALETTE, Series, format_tick, log_ticks,
-    nice_ticks, render,
-};
+pub use self::data::{LineChart, Series};
+pub use self::line::{MAX_SIDE, MIN_HEIGHT, MIN_WIDTH, render};
+pub use self::palette::PALETTE;
+pub use self::png::write_chart;
+pub use self::ticks::{format_tick, log_ticks, nice_ticks};
 
-use crate::output::{OutputError, write_rgb8_png};
+use crate::output::OutputError;
 
 /// Why a table or chart could not be built or written.
 #[derive(Debug, thiserror::Error)]
@@ -36,58 +47,4 @@ pub enum ChartError {
     NoSeries,
     #[error(transparent)]
     Output(#[from] OutputError),
-}
-
-/// Renders `chart` (see [`render`]) and writes it as a PNG at `path`.
-pub fn write_chart(
-    path: impl AsRef<Path>,
-    chart: &LineChart,
-    width: u32,
-    height: u32,
-) -> Result<(), ChartError> {
-    let image = render(chart, width, height)?;
-    write_rgb8_png(path.as_ref(), image.width, image.height, &image.data)?;
-    Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn write_chart_writes_decodable_png() {
-        let path = std::env::temp_dir().join(format!(
-            "motion-shadows-chart-{}-write.png",
-            std::process::id()
-        ));
-        let chart = LineChart {
-            title: "t".into(),
-            series: vec![Series::new("a", vec![(1.0, 2.0), (2.0, 3.0)])],
-            ..LineChart::default()
-        };
-        write_chart(&path, &chart, 320, 200).unwrap();
-        let decoded = image::open(&path).unwrap().to_rgb8();
-        std::fs::remove_file(&path).unwrap();
-        assert_eq!(decoded.dimensions(), (320, 200));
-    }
-
-    #[test]
-    fn write_chart_reports_bad_path_and_size() {
-        let path = std::env::temp_dir()
-            .join("motion-shadows-chart-no-such-dir")
-            .join("x.png");
-        let chart = LineChart {
-            series: vec![Series::new("a", vec![(1.0, 2.0)])],
-            ..LineChart::default()
-        };
-        let err = write_chart(&path, &chart, 320, 200).unwrap_err();
-        assert!(err.to_string().contains(&*path.to_string_lossy()), "{err}");
-        assert!(matches!(
-            write_chart(&path, &chart, 10, 10),
-            Err(ChartError::Size {
-                width: 10,
-                height: 10
-            })
-        ));
-    }
 }
