@@ -84,9 +84,10 @@ fn inside(q: DVec2, c: [DVec2; 3]) -> bool {
     s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0)
 }
 
-/// Texels in which the model sees `tri` cover a sample point at a sample time.
-fn covered_texels(light: &LightView, tri: &MovingTriangle) -> Vec<(u32, u32)> {
-    let mut hit = vec![false; (SIZE.0 * SIZE.1) as usize];
+/// Texels in which the model sees `tri` cover a sample point at a sample time, with the
+/// first and last such time.
+fn covered_texels(light: &LightView, tri: &MovingTriangle) -> Vec<((u32, u32), (f64, f64))> {
+    let mut hit: Vec<Option<(f64, f64)>> = vec![None; (SIZE.0 * SIZE.1) as usize];
     for k in 0..TIMES {
         let t = f64::from(k) / f64::from(TIMES - 1);
         let c = tri.at(t).map(|p| map_point(light, p));
@@ -104,20 +105,27 @@ fn covered_texels(light: &LightView, tri: &MovingTriangle) -> Vec<(u32, u32)> {
             for i in x0..=x1 as u32 {
                 let q = DVec2::new((f64::from(i) + 0.5) * step, (f64::from(j) + 0.5) * step);
                 if inside(q, c) {
-                    hit[((j / POINTS) * SIZE.0 + i / POINTS) as usize] = true;
+                    let times = &mut hit[((j / POINTS) * SIZE.0 + i / POINTS) as usize];
+                    *times =
+                        Some(times.map_or((t, t), |(first, last)| (first.min(t), last.max(t))));
                 }
             }
         }
     }
     (0..SIZE.1)
         .flat_map(|y| (0..SIZE.0).map(move |x| (x, y)))
-        .filter(|&(x, y)| hit[(y * SIZE.0 + x) as usize])
+        .filter_map(|(x, y)| hit[(y * SIZE.0 + x) as usize].map(|times| ((x, y), times)))
         .collect()
 }
 
+/// How far a range's times may fall short of the model's covering times: f32 rounding of the
+/// collection's roots (the model's times are exact samples).
+const TIME_SLACK: f64 = 1e-5;
+
 /// Every (texel, triangle) pair the model covers is in the map's lists: a moving triangle's
-/// in the texel's ranges, a still one's (ids from `first_still`) in its static name list,
-/// and neither in the other; returns how many pairs were checked and how many the lists
+/// in the texel's ranges, over times that hold every time the model saw it cover the texel,
+/// a still one's (ids from `first_still`) in its static name list, and neither in the other;
+/// returns how many pairs were checked and how many the lists
 /// hold in all (the collection's overhead).
 fn check(
     map: &ShadowMapContents,
@@ -128,9 +136,20 @@ fn check(
     let mut checked = 0;
     for (id, tri) in scene_triangles(s).iter().enumerate() {
         let id = id as u32;
-        for (x, y) in covered_texels(light, tri) {
+        for ((x, y), (first, last)) in covered_texels(light, tri) {
             checked += 1;
-            let in_ranges = map.ranges_at(x, y).iter().any(|r| r.id == id);
+            let range = map.ranges_at(x, y).into_iter().find(|r| r.id == id);
+            let in_ranges = range.is_some();
+            if let (Some(r), true) = (range, id < first_still) {
+                assert!(
+                    f64::from(r.t_s) <= first + TIME_SLACK && f64::from(r.t_e) >= last - TIME_SLACK,
+                    "{}: triangle {id} covers texel ({x}, {y}) from t = {first} to {last}, its \
+                     range spans {} to {}",
+                    s.name,
+                    r.t_s,
+                    r.t_e
+                );
+            }
             let in_static = map.static_names_at(x, y).contains(&id);
             let (found, list) = if id >= first_still {
                 (in_static && !in_ranges, "static name list")
