@@ -1,0 +1,147 @@
+//! `motion-shadows view`: the deferred frame in a window; scripted with `--frames`, it
+//! prints a summary (frame rate, per-pass GPU ms, allocations after the first frame) and
+//! writes the last presented frame with `--screenshot`.
+
+use super::args::ViewArgs;
+use super::shared::builtin_options;
+use crate::output::write_rgb8_png;
+use crate::render::RenderSettings;
+use crate::render::deferred::{DeferredSettings, deferred_light, still_pixels_plane};
+use crate::scene::{builtin, load_scene_file};
+use crate::view::frame_loop::{FRAMES_IN_FLIGHT, FrameSettings};
+use crate::view::{ViewOptions, ViewReport};
+use anyhow::Context as _;
+
+pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
+    let settings = RenderSettings {
+        width: args.width,
+        height: args.height,
+        shadow_size: args.shadow_size,
+        ..RenderSettings::default()
+    };
+    settings.validate()?;
+    if let Some((w, h)) = args.resize {
+        RenderSettings {
+            width: w,
+            height: h,
+            ..settings.clone()
+        }
+        .validate()
+        .context("--resize")?;
+    }
+    let deferred = DeferredSettings {
+        camera_time: args.camera_time,
+        moving_receivers: !args.static_receivers,
+        ..DeferredSettings::default()
+    };
+    deferred.validate().context("--camera-time")?;
+    crate::scene::memory::set_renderer(false);
+    let scene = match &args.scene_file {
+        Some(path) => load_scene_file(path)?,
+        None => builtin(&args.scene, &builtin_options(&args.random))?,
+    };
+    let light = deferred_light(&scene, &settings, &deferred);
+    let frame = FrameSettings {
+        camera_time: deferred.camera_time,
+        moving_receivers: deferred.moving_receivers,
+        plane_test_where_still: still_pixels_plane(&settings, &deferred),
+        exposure: args.exposure,
+        shadow_size: settings.shadow_size(),
+    };
+    let name = scene.name.clone();
+    let report = crate::view::run(ViewOptions {
+        scene,
+        settings,
+        light,
+        frame,
+        frames: args.frames,
+        screenshot: args.screenshot.clone(),
+        resize: args.resize,
+        validation: std::env::var("MOTION_SHADOWS_VALIDATION").is_ok_and(|v| v == "1"),
+    })?;
+    anyhow::ensure!(
+        report.validation_messages.is_empty(),
+        "the Vulkan validation layer reported {} message(s):\n{}",
+        report.validation_messages.len(),
+        report.validation_messages.join("\n")
+    );
+    let mut files = Vec::new();
+    if let Some(path) = &args.screenshot {
+        let shot = report
+            .screenshot
+            .as_ref()
+            .context("no frame was presented: no screenshot to write")?;
+        write_rgb8_png(path, shot.size.0, shot.size.1, &shot.rgb)?;
+        files.push(path.display().to_string());
+    }
+    print_summary(args, &name, &report, &files)
+}
+
+fn print_summary(
+    args: &ViewArgs,
+    scene: &str,
+    report: &ViewReport,
+    files: &[String],
+) -> anyhow::Result<()> {
+    let timed = report.stats.timed_frames.max(1) as f64;
+    let passes: Vec<(String, f64)> = report
+        .stats
+        .pass_ms
+        .iter()
+        .filter(|(p, _)| p != "start")
+        .map(|(p, ms)| (p.clone(), ms / timed))
+        .collect();
+    let allocations = report.allocations;
+    if args.json {
+        let value = serde_json::json!({
+            "scene": scene,
+            "device": report.device,
+            "frames": report.frames,
+            "frames_in_flight": FRAMES_IN_FLIGHT,
+            "width": report.size.0,
+            "height": report.size.1,
+            "seconds_after_first_frame": report.seconds_after_first,
+            "fps": report.fps(),
+            "gpu_ms_per_frame": passes
+                .iter()
+                .map(|(p, ms)| serde_json::json!({"pass": p, "gpu_ms": ms}))
+                .collect::<Vec<_>>(),
+            "map_bytes": report.stats.map_bytes,
+            "incomplete_frames": report.stats.incomplete_frames,
+            "swapchains_made": report.stats.swapchains_made,
+            "allocations": {
+                "setup": allocations.setup,
+                "after_first_frame": allocations.after_first_frame,
+                "events": allocations.events,
+            },
+            "files": files,
+        });
+        println!("{}", serde_json::to_string(&value)?);
+        return Ok(());
+    }
+    println!(
+        "view of {scene} on {}: {} frames at {}x{}, {FRAMES_IN_FLIGHT} in flight, {:.2} fps \
+         after the first",
+        report.device,
+        report.frames,
+        report.size.0,
+        report.size.1,
+        report.fps()
+    );
+    for (pass, ms) in &passes {
+        println!("  {pass:<12} {ms:>9.2} ms");
+    }
+    println!(
+        "  maps {:.1} MiB; allocations: {} at setup, {} after the first frame, {} on events \
+         (resize, screenshot); swapchains made {}",
+        report.stats.map_bytes as f64 / (1 << 20) as f64,
+        allocations.setup,
+        allocations.after_first_frame,
+        allocations.events,
+        report.stats.swapchains_made
+    );
+    for f in files {
+        println!("  wrote {f}");
+    }
+    Ok(())
+}
