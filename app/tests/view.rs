@@ -1,0 +1,153 @@
+//! `motion-shadows view` in a real window: a virtual X server (Xvfb, started here; the test
+//! fails without it, or without a Vulkan device that presents to it), a scripted run of a few
+//! frames with a resize in the middle, the validation layer and synchronization validation
+//! on. The presented frame, read back from the swapchain image, must be the offline
+//! renderer's deferred frame of the same camera and time (`render --frame deferred`), and
+//! the frames after the first must allocate nothing.
+
+use std::io::{BufRead, BufReader};
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+
+/// A virtual X server on a free display, ended when dropped.
+struct Xvfb {
+    child: Child,
+    display: String,
+}
+
+impl Xvfb {
+    fn start() -> Self {
+        // -displayfd: the server picks a free display and writes its number to stdout once
+        // it accepts connections.
+        let mut child = Command::new("Xvfb")
+            .args(["-displayfd", "1", "-screen", "0", "640x480x24", "-nolisten", "tcp"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("Xvfb must be installed (scripts/setup.sh installs xvfb)");
+        let stdout = child.stdout.take().expect("Xvfb's stdout");
+        let mut line = String::new();
+        BufReader::new(stdout)
+            .read_line(&mut line)
+            .expect("Xvfb's display number");
+        let number: u32 = line
+            .trim()
+            .parse()
+            .unwrap_or_else(|_| panic!("Xvfb did not start: printed {line:?}"));
+        Self {
+            child,
+            display: format!(":{number}"),
+        }
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn rgb(path: &Path) -> image::RgbImage {
+    image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb8()
+}
+
+#[test]
+fn view_presents_the_offline_deferred_frame_and_allocates_nothing_after_the_first() {
+    let dir = std::env::temp_dir().join(format!("motion-shadows-view-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let shot = dir.join("shot.png");
+    let xvfb = Xvfb::start();
+    let output = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args([
+            "view",
+            "--frames",
+            "3",
+            "--width",
+            "160",
+            "--height",
+            "90",
+            "--shadow-size",
+            "160x90",
+            "--resize",
+            "192x108",
+            "--json",
+            "--screenshot",
+        ])
+        .arg(&shot)
+        .env("DISPLAY", &xvfb.display)
+        .env("MOTION_SHADOWS_VALIDATION", "1")
+        .output()
+        .expect("run the binary");
+    drop(xvfb);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "view failed: {stderr}");
+    // The run fails on any validation message; none may even be printed.
+    assert!(!stderr.contains("vulkan validation"), "{stderr}");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&output.stdout).expect("view --json prints one JSON object");
+    assert_eq!(summary["width"], 192, "{summary}");
+    assert_eq!(summary["height"], 108, "{summary}");
+    assert!(summary["frames"].as_u64() >= Some(3), "{summary}");
+    assert!(summary["swapchains_made"].as_u64() >= Some(2), "{summary}");
+    assert_eq!(summary["incomplete_frames"], 0, "{summary}");
+    let allocations = &summary["allocations"];
+    assert_eq!(allocations["after_first_frame"], 0, "{summary}");
+    // The counter sees the resize's new images and the screenshot's buffer.
+    assert!(allocations["events"].as_u64() > Some(1), "{summary}");
+
+    let offline = dir.join("offline");
+    let render = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args([
+            "render",
+            "--frame",
+            "deferred",
+            "--width",
+            "192",
+            "--height",
+            "108",
+            "--shadow-size",
+            "160x90",
+            "--exposure",
+            "0",
+            "--out",
+        ])
+        .arg(&offline)
+        .env("MOTION_SHADOWS_VALIDATION", "1")
+        .output()
+        .expect("run the binary");
+    assert!(
+        render.status.success(),
+        "render failed: {}",
+        String::from_utf8_lossy(&render.stderr)
+    );
+    let presented = rgb(&shot);
+    let expected = rgb(&offline.join("cubes-toward-light-deferred-temporal.png"));
+    assert_eq!(presented.dimensions(), expected.dimensions());
+    // Tolerance: the same G-buffer and mask, shaded in f32 on the device instead of f64 on
+    // the host: one 8-bit level at a rounding boundary, nothing more.
+    let differences: Vec<i32> = presented
+        .as_raw()
+        .iter()
+        .zip(expected.as_raw())
+        .map(|(&a, &b)| (i32::from(a) - i32::from(b)).abs())
+        .collect();
+    let worst = differences.iter().copied().max().unwrap_or(0);
+    let off = differences.iter().filter(|&&d| d > 0).count();
+    eprintln!(
+        "presented vs offline: largest difference {worst} levels, {off} of {} channels differ",
+        differences.len()
+    );
+    assert!(
+        worst <= 1 && off * 100 <= differences.len(),
+        "presented vs offline deferred frame: largest difference {worst} levels, {off} of {} \
+         channels differ",
+        differences.len()
+    );
+    // Not a blank frame: lit and shadowed surfaces both.
+    let lit = expected.pixels().filter(|p| p[0] > 100).count();
+    assert!(lit > 100, "the frame shows lit surfaces ({lit} pixels)");
+    std::fs::remove_dir_all(&dir).ok();
+}
