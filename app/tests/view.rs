@@ -73,6 +73,9 @@ fn view_presents_the_offline_deferred_frame_and_allocates_nothing_after_the_firs
             "160x90",
             "--resize",
             "192x108",
+            // The overlay's text is not in the offline frame.
+            "--overlay",
+            "off",
             "--json",
             "--screenshot",
         ])

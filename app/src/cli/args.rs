@@ -89,6 +89,21 @@ pub enum Command {
     View(ViewArgs),
 }
 
+/// `view --method`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ViewMethodArg {
+    Temporal,
+    TemporalExact,
+    Tsm,
+    Plain,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum OnOff {
+    On,
+    Off,
+}
+
 /// Most frames a scripted `view` run presents.
 pub const MAX_VIEW_FRAMES: u32 = 100_000;
 
@@ -116,6 +131,17 @@ pub struct ViewArgs {
     /// G-buffer's motion says).
     #[arg(long)]
     pub static_receivers: bool,
+    /// The method shown first (M cycles: temporal, temporal-exact, tsm, plain): the
+    /// temporal map with the papers' depth lines or with the exact lookup, TSM-N
+    /// (`--tsm-maps`), or one plain map at mid-shutter.
+    #[arg(long, value_enum, default_value_t = ViewMethodArg::Temporal)]
+    pub method: ViewMethodArg,
+    /// N of TSM-N (1 to 1024).
+    #[arg(long, default_value_t = 8)]
+    pub tsm_maps: u32,
+    /// The overlay (method, time, frame rate, per-pass GPU ms, map memory); O toggles it.
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub overlay: OnOff,
     /// Exposure in stops: radiance times 2^EXPOSURE before the sRGB curve (as `render
     /// --exposure`).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_exposure)]

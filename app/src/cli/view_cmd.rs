@@ -2,13 +2,14 @@
 //! prints a summary (frame rate, per-pass GPU ms, allocations after the first frame) and
 //! writes the last presented frame with `--screenshot`.
 
-use super::args::ViewArgs;
+use super::args::{OnOff, ViewArgs, ViewMethodArg};
 use super::shared::builtin_options;
 use crate::output::write_rgb8_png;
 use crate::render::RenderSettings;
-use crate::render::deferred::{DeferredSettings, deferred_light, still_pixels_plane};
-use crate::scene::{builtin, load_scene_file};
+use crate::render::deferred::{DeferredSettings, MAX_DEFERRED_TSM_MAPS};
+use crate::scene::{AnimatedScene, builtin, load_scene_file};
 use crate::view::frame_loop::{FRAMES_IN_FLIGHT, FrameSettings};
+use crate::view::method::ViewMethod;
 use crate::view::{ViewOptions, ViewReport};
 use anyhow::Context as _;
 
@@ -35,16 +36,33 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         ..DeferredSettings::default()
     };
     deferred.validate().context("--camera-time")?;
+    anyhow::ensure!(
+        (1..=MAX_DEFERRED_TSM_MAPS).contains(&args.tsm_maps),
+        "--tsm-maps {}: must be 1..={MAX_DEFERRED_TSM_MAPS}",
+        args.tsm_maps
+    );
+    let method = match args.method {
+        ViewMethodArg::Temporal => ViewMethod::Temporal,
+        ViewMethodArg::TemporalExact => ViewMethod::TemporalExact,
+        ViewMethodArg::Tsm => ViewMethod::Tsm {
+            maps: args.tsm_maps,
+        },
+        ViewMethodArg::Plain => ViewMethod::Tsm { maps: 1 },
+    };
     crate::scene::memory::set_renderer(false);
     let scene = match &args.scene_file {
         Some(path) => load_scene_file(path)?,
         None => builtin(&args.scene, &builtin_options(&args.random))?,
     };
-    let light = deferred_light(&scene, &settings, &deferred);
+    // Only scenes with an animation can play (the others are refused by AnimatedScene with
+    // the reason, which the overlay shows as "still scene").
+    let animation = match &args.scene_file {
+        Some(path) => AnimatedScene::file(path).ok(),
+        None => AnimatedScene::builtin(&args.scene, &builtin_options(&args.random)).ok(),
+    };
     let frame = FrameSettings {
         camera_time: deferred.camera_time,
         moving_receivers: deferred.moving_receivers,
-        plane_test_where_still: still_pixels_plane(&settings, &deferred),
         exposure: args.exposure,
         shadow_size: settings.shadow_size(),
     };
@@ -52,8 +70,12 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     let report = crate::view::run(ViewOptions {
         scene,
         settings,
-        light,
+        deferred,
         frame,
+        method,
+        tsm_maps: args.tsm_maps,
+        overlay: args.overlay == OnOff::On,
+        animation,
         frames: args.frames,
         screenshot: args.screenshot.clone(),
         resize: args.resize,
@@ -95,6 +117,7 @@ fn print_summary(
     if args.json {
         let value = serde_json::json!({
             "scene": scene,
+            "method": method_name(args),
             "device": report.device,
             "frames": report.frames,
             "frames_in_flight": FRAMES_IN_FLIGHT,
@@ -120,8 +143,9 @@ fn print_summary(
         return Ok(());
     }
     println!(
-        "view of {scene} on {}: {} frames at {}x{}, {FRAMES_IN_FLIGHT} in flight, {:.2} fps \
-         after the first",
+        "view of {scene} ({}) on {}: {} frames at {}x{}, {FRAMES_IN_FLIGHT} in flight, {:.2} \
+         fps after the first",
+        method_name(args),
         report.device,
         report.frames,
         report.size.0,
@@ -144,4 +168,13 @@ fn print_summary(
         println!("  wrote {f}");
     }
     Ok(())
+}
+
+fn method_name(args: &ViewArgs) -> String {
+    match args.method {
+        ViewMethodArg::Temporal => "temporal".to_owned(),
+        ViewMethodArg::TemporalExact => "temporal-exact".to_owned(),
+        ViewMethodArg::Tsm => format!("tsm-{}", args.tsm_maps),
+        ViewMethodArg::Plain => "plain".to_owned(),
+    }
 }

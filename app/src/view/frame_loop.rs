@@ -4,32 +4,47 @@
 //! A resize or an out-of-date surface makes the swapchain and the size's images again.
 
 use super::allocations::AllocationCounter;
-use super::device::ViewDevice;
+use super::device::{Messages, ViewDevice};
 use super::frame_slot::{FrameSlot, SizedTargets, screenshot_buffer};
+use super::method::ViewMethod;
+use super::overlay::{OVERLAY_HEIGHT, OVERLAY_WIDTH, Overlay};
 use super::record::{FrameView, Passes, Present, record_frame};
 use super::shade::ShadePass;
 use super::swapchain::{Acquired, Swapchain};
-use crate::render::upload::{SceneGeometry, camera_view};
 use crate::scene::Scene;
 use anyhow::Context as _;
 use ash::vk;
 use motion_shadows::gpu::Context;
 use motion_shadows::technique::{
-    CollectionPass, GBufferPass, GenerationPass, HostDraw, LightView, TemporalShadowMap,
-    VisibilityMaskPass,
+    CameraView, CollectionPass, EngineTsmPass, GBufferPass, GenerationPass, HostDraw, LightView,
+    TemporalShadowMap, VisibilityMaskPass,
 };
 
 /// Frames recorded while earlier ones still run.
 pub const FRAMES_IN_FLIGHT: usize = 2;
 
-/// The viewer's fixed frame settings.
+/// The viewer's settings that no key changes.
 #[derive(Debug, Clone, Copy)]
 pub struct FrameSettings {
     pub camera_time: f32,
     pub moving_receivers: bool,
-    pub plane_test_where_still: bool,
     pub exposure: f32,
     pub shadow_size: (u32, u32),
+}
+
+/// What one frame shows.
+pub struct FrameRequest<'a> {
+    /// The window's size (not zero).
+    pub window: (u32, u32),
+    pub camera: &'a dyn Fn((u32, u32)) -> CameraView,
+    pub method: ViewMethod,
+    /// The method's light ([`ViewMethod::light`]) and the still pixels' plane test.
+    pub light: LightView,
+    pub plane_test_where_still: bool,
+    pub overlay: Option<&'a [String]>,
+    /// Keep a copy of exactly what is presented ([`FrameLoop::take_screenshot`] once the
+    /// frame completed).
+    pub screenshot: bool,
 }
 
 /// A presented frame read back: RGB, 3 bytes a pixel, rows from the top.
@@ -46,9 +61,13 @@ pub struct FrameStats {
     /// GPU milliseconds per pass, summed over the completed frames after the first.
     pub pass_ms: Vec<(String, f64)>,
     pub timed_frames: u64,
+    /// The last completed frame's GPU milliseconds per pass.
+    pub last_pass_ms: Vec<(String, f64)>,
+    /// The last temporal frame's stored ranges.
+    pub last_ranges: u32,
     /// Frames whose map ran out of room (grown after): their shadows missed casters.
     pub incomplete_frames: u64,
-    /// Bytes of the maps (all slots).
+    /// Bytes of the shadow maps (all slots: the temporal maps, TSM's once made).
     pub map_bytes: u64,
     pub swapchains_made: u64,
 }
@@ -62,10 +81,13 @@ pub enum Drawn {
 pub struct FrameLoop {
     slots: Vec<FrameSlot>,
     passes: Passes,
-    geometry: SceneGeometry,
-    light: LightView,
+    /// Made on the first frame of a TSM method.
+    tsm_pass: Option<EngineTsmPass>,
     scene: Scene,
+    /// Incremented by each [`Self::set_scene`]: slots rewrite their geometry when behind.
+    scene_version: u64,
     settings: FrameSettings,
+    overlay: Overlay,
     /// The number the next frame gets.
     frame: u64,
     stale_swapchain: bool,
@@ -79,10 +101,12 @@ pub struct FrameLoop {
 }
 
 impl FrameLoop {
+    /// The loop's objects, the swapchain for `window`, and each slot's map reserved for
+    /// `light` (the first method's) before the first frame.
     pub fn new(
         gpu: ViewDevice,
         scene: Scene,
-        light: LightView,
+        light: &LightView,
         settings: FrameSettings,
         window: (u32, u32),
         counter: &mut AllocationCounter,
@@ -103,20 +127,19 @@ impl FrameLoop {
                 mask: counter.counted(VisibilityMaskPass::new(&ctx)?),
                 shade: counter.counted(ShadePass::new(&ctx, &scene)?),
             };
-            let geometry = counter.counted(SceneGeometry::upload(&ctx, &scene)?);
             let mut slots = Vec::new();
             for _ in 0..FRAMES_IN_FLIGHT {
                 slots.push(FrameSlot::new(
                     &ctx,
                     pool,
-                    geometry.draws.len() as u32,
+                    &scene,
                     settings.shadow_size,
                     counter,
                 )?);
             }
-            Ok((passes, geometry, slots))
+            Ok((passes, slots))
         })();
-        let (passes, geometry, slots) = match parts {
+        let (passes, slots) = match parts {
             Ok(parts) => parts,
             Err(e) => {
                 unsafe { gpu.device.destroy_command_pool(pool, None) };
@@ -126,10 +149,11 @@ impl FrameLoop {
         let mut this = Self {
             slots,
             passes,
-            geometry,
-            light,
+            tsm_pass: None,
             scene,
+            scene_version: 0,
             settings,
+            overlay: Overlay::default(),
             frame: 0,
             stale_swapchain: false,
             screenshot: None,
@@ -143,7 +167,7 @@ impl FrameLoop {
         // Each slot's map is reserved before its first frame, so that the frames after the
         // first allocate nothing.
         for slot in &mut this.slots {
-            reserve_map(&this.ctx, &mut slot.map, &this.light, &this.scene, counter)?;
+            reserve_map(&this.ctx, &mut slot.map, light, &this.scene, counter)?;
         }
         Ok(this)
     }
@@ -153,12 +177,16 @@ impl FrameLoop {
     }
 
     /// The validation layer's messages, also those still to come at the teardown.
-    pub fn messages(&self) -> super::device::Messages {
+    pub fn messages(&self) -> Messages {
         self.gpu.base.messages.clone()
     }
 
     pub fn stats(&self) -> &FrameStats {
         &self.stats
+    }
+
+    pub fn scene(&self) -> &Scene {
+        &self.scene
     }
 
     /// The size of the images presented now.
@@ -171,6 +199,13 @@ impl FrameLoop {
         self.stale_swapchain = true;
     }
 
+    /// The scene posed anew (the animation's time, the shutter): each slot rewrites its
+    /// vertices before its next frame.
+    pub fn set_scene(&mut self, scene: Scene) {
+        self.scene = scene;
+        self.scene_version += 1;
+    }
+
     pub fn take_screenshot(&mut self) -> Option<Screenshot> {
         self.screenshot.take()
     }
@@ -181,8 +216,8 @@ impl FrameLoop {
         counter: &mut AllocationCounter,
     ) -> anyhow::Result<()> {
         // Nothing may use the old swapchain's images or semaphores any more.
-        unsafe { self.gpu.device.device_wait_idle() }.context("vkDeviceWaitIdle")?;
-        self.finish_all()?;
+        unsafe { self.gpu.device.device_wait_idle() }.map_err(device_error)?;
+        self.finish_all(counter)?;
         let old = self.swapchain.take();
         let made = Swapchain::new(
             &self.gpu,
@@ -212,24 +247,20 @@ impl FrameLoop {
         Ok(())
     }
 
-    /// Draws and presents one frame at the window's size `window` (not zero: a minimized
-    /// window draws nothing); with `screenshot`, keeps a copy of exactly what is presented
-    /// ([`Self::take_screenshot`] once the frame completed: [`Self::finish_all`]).
+    /// Draws and presents one frame.
     pub fn draw(
         &mut self,
-        window: (u32, u32),
-        screenshot: bool,
+        request: &FrameRequest<'_>,
         counter: &mut AllocationCounter,
     ) -> anyhow::Result<Drawn> {
         if self.stale_swapchain {
-            counter.during_event(|c| self.make_swapchain(window, c))?;
+            counter.during_event(|c| self.make_swapchain(request.window, c))?;
         }
         let index = self.frame as usize % FRAMES_IN_FLIGHT;
         let device = self.gpu.device.clone();
         let fence = self.slots[index].fence;
-        unsafe { device.wait_for_fences(&[fence], true, u64::MAX) }
-            .context("waiting for a frame in flight")?;
-        self.finish(index)?;
+        unsafe { device.wait_for_fences(&[fence], true, u64::MAX) }.map_err(device_error)?;
+        self.finish(index, counter)?;
         let acquired = self
             .swapchain
             .as_ref()
@@ -238,7 +269,7 @@ impl FrameLoop {
         let image = match acquired {
             Acquired::Image(image) => image,
             Acquired::OutOfDate => {
-                counter.during_event(|c| self.make_swapchain(window, c))?;
+                counter.during_event(|c| self.make_swapchain(request.window, c))?;
                 return Ok(Drawn::Skipped);
             }
         };
@@ -248,29 +279,67 @@ impl FrameLoop {
         let size = swapchain.size();
         let swap_image = swapchain.images[image as usize];
         let rendered = swapchain.rendered[image as usize];
+        let ctx = &self.ctx;
         let slot = &mut self.slots[index];
         if slot.targets.as_ref().map(|t| t.size) != Some(size) {
             anyhow::bail!("the frame slot's images are not of the swapchain's size");
         }
-        if screenshot {
-            let buffer = counter.during_event(|c| {
-                screenshot_buffer(&self.ctx, size).map(|b| c.counted(b))
-            })?;
+        if request.screenshot {
+            let buffer =
+                counter.during_event(|c| screenshot_buffer(ctx, size).map(|b| c.counted(b)))?;
             slot.screenshot = Some((buffer, size));
         }
-        // Reserved before every frame: what it can store may change (an animation).
-        reserve_map(&self.ctx, &mut slot.map, &self.light, &self.scene, counter)?;
+        slot.update_geometry(ctx, &self.scene, self.scene_version, counter)?;
+        let tsm_maps = match request.method {
+            ViewMethod::Tsm { maps } => {
+                if self.tsm_pass.is_none() {
+                    self.tsm_pass =
+                        Some(counter.during_event(|c| EngineTsmPass::new(ctx).map(|p| c.counted(p)))?);
+                }
+                let Some(pass) = self.tsm_pass.as_ref() else {
+                    anyhow::bail!("TSM's pass was not made");
+                };
+                let shadow = self.settings.shadow_size;
+                counter.during_event(|c| slot.tsm_targets(ctx, pass, shadow, maps, c))?;
+                Some(maps)
+            }
+            ViewMethod::TemporalExact => {
+                // The exact lookup reads the triangles' corners: room for their records
+                // (made once; not bounded from the positions, so the map grows after a frame
+                // that overflowed).
+                let before = slot.map.allocated_bytes();
+                slot.map
+                    .reserve_triangle_records(ctx, u64::from(slot.geometry.triangle_count))?;
+                if slot.map.allocated_bytes() != before {
+                    counter.during_event(|c| c.note(1));
+                }
+                None
+            }
+            ViewMethod::Temporal => {
+                // Reserved before every frame: what it can store changes with the animation.
+                reserve_map(ctx, &mut slot.map, &request.light, &self.scene, counter)?;
+                None
+            }
+        };
+        let overlay = match request.overlay {
+            Some(lines) => {
+                slot.overlay.write(self.overlay.compose(lines))?;
+                Some((slot.overlay.device_address(), (OVERLAY_WIDTH, OVERLAY_HEIGHT)))
+            }
+            None => None,
+        };
         self.ctx.begin_frame(self.frame);
-        let camera = camera_view(&self.scene, size);
+        let camera = (request.camera)(size);
         let view = FrameView {
-            draws: &self.geometry.draws,
-            light: &self.light,
+            light: &request.light,
             view_proj: camera.proj * camera.view,
             eye: camera.position,
             camera_time: self.settings.camera_time,
             moving_receivers: self.settings.moving_receivers,
-            plane_test_where_still: self.settings.plane_test_where_still,
+            plane_test_where_still: request.plane_test_where_still,
             exposure: self.settings.exposure,
+            overlay,
+            tsm: tsm_maps.and_then(|maps| self.tsm_pass.as_ref().map(|pass| (pass, maps))),
         };
         let present = Present {
             image: swap_image,
@@ -280,16 +349,16 @@ impl FrameLoop {
             slot.timestamps.clear();
             device
                 .reset_command_buffer(slot.cmd, vk::CommandBufferResetFlags::empty())
-                .context("vkResetCommandBuffer")?;
+                .map_err(device_error)?;
             let begin = vk::CommandBufferBeginInfo::default()
                 .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
             device
                 .begin_command_buffer(slot.cmd, &begin)
-                .context("vkBeginCommandBuffer")?;
+                .map_err(device_error)?;
             record_frame(&device, &self.passes, slot, &view, &present)?;
             device
                 .end_command_buffer(slot.cmd)
-                .context("vkEndCommandBuffer")?;
+                .map_err(device_error)?;
             let waits = [vk::SemaphoreSubmitInfo::default()
                 .semaphore(slot.acquired)
                 .stage_mask(vk::PipelineStageFlags2::TRANSFER)];
@@ -301,14 +370,16 @@ impl FrameLoop {
                 .wait_semaphore_infos(&waits)
                 .command_buffer_infos(&cmds)
                 .signal_semaphore_infos(&signals)];
-            device
-                .reset_fences(&[slot.fence])
-                .context("vkResetFences")?;
+            device.reset_fences(&[slot.fence]).map_err(device_error)?;
             device
                 .queue_submit2(self.gpu.queue, &submit, slot.fence)
-                .context("vkQueueSubmit2")?;
+                .map_err(device_error)?;
         }
-        slot.pending = Some(self.frame);
+        if let Some(tsm) = &slot.tsm {
+            // The static map it may have drawn is now kept for the slot's next TSM frame.
+            tsm.map.static_map_submitted();
+        }
+        slot.pending = Some((self.frame, request.method));
         self.frame += 1;
         if !swapchain.present(self.gpu.queue, image)? {
             self.stale_swapchain = true;
@@ -317,63 +388,73 @@ impl FrameLoop {
     }
 
     /// Waits for every frame in flight and reads its results.
-    pub fn finish_all(&mut self) -> anyhow::Result<()> {
+    pub fn finish_all(&mut self, counter: &mut AllocationCounter) -> anyhow::Result<()> {
         for index in 0..self.slots.len() {
             let fence = self.slots[index].fence;
             unsafe { self.gpu.device.wait_for_fences(&[fence], true, u64::MAX) }
-                .context("waiting for a frame in flight")?;
-            self.finish(index)?;
+                .map_err(device_error)?;
+            self.finish(index, counter)?;
         }
         Ok(())
     }
 
     /// Reads the results of slot `index`'s completed frame, if not read yet.
-    fn finish(&mut self, index: usize) -> anyhow::Result<()> {
+    fn finish(&mut self, index: usize, counter: &mut AllocationCounter) -> anyhow::Result<()> {
         let slot = &mut self.slots[index];
-        let Some(frame) = slot.pending.take() else {
+        let Some((frame, method)) = slot.pending.take() else {
             return Ok(());
         };
         // SAFETY: the slot's fence signalled; on one queue every earlier frame completed.
         unsafe { self.ctx.collect(frame) };
-        let counts = slot.map.read_counters()?;
-        if slot.map.needs_more_room(&counts) {
-            // Only where the room could not be reserved (reserve_for has no bound).
-            self.stats.incomplete_frames += 1;
-            slot.map.grow_to_fit(&self.ctx, &counts)?;
-        } else {
-            slot.map.check_complete(&counts)?;
-        }
-        if let Some(targets) = &slot.targets {
-            let over = targets.mask_bindings.read_over_budget_pixels()?;
-            if over > 0 {
-                let limit = self.ctx.info().shader_loop_limit.unwrap_or(0);
-                return Err(crate::render::deferred::loop_limit_error(
-                    over,
-                    limit,
-                    slot.map.recorded_lookup(),
-                )
-                .into());
+        if !matches!(method, ViewMethod::Tsm { .. }) {
+            let counts = slot.map.read_counters()?;
+            if slot.map.needs_more_room(&counts) {
+                // Only where the room could not be reserved (the exact lookup has no bound).
+                self.stats.incomplete_frames += 1;
+                slot.map.grow_to_fit(&self.ctx, &counts)?;
+                counter.note(1);
+            } else {
+                slot.map.check_complete(&counts)?;
             }
-        }
-        if frame > 0 {
-            self.stats.timed_frames += 1;
-            for (pass, ms) in slot.timestamps.spans_ms()? {
-                match self.stats.pass_ms.iter_mut().find(|(p, _)| *p == pass) {
-                    Some((_, sum)) => *sum += ms,
-                    None => self.stats.pass_ms.push((pass, ms)),
+            self.stats.last_ranges = counts.range_count;
+            if let Some(targets) = &slot.targets {
+                let over = targets.mask_bindings.read_over_budget_pixels()?;
+                if over > 0 {
+                    let limit = self.ctx.info().shader_loop_limit.unwrap_or(0);
+                    return Err(crate::render::deferred::loop_limit_error(
+                        over,
+                        limit,
+                        slot.map.recorded_lookup(),
+                    )
+                    .into());
                 }
             }
         }
+        let spans = slot.timestamps.spans_ms()?;
+        if frame > 0 {
+            self.stats.timed_frames += 1;
+            for (pass, ms) in &spans {
+                match self.stats.pass_ms.iter_mut().find(|(p, _)| p == pass) {
+                    Some((_, sum)) => *sum += ms,
+                    None => self.stats.pass_ms.push((pass.clone(), *ms)),
+                }
+            }
+        }
+        self.stats.last_pass_ms = spans;
         self.stats.completed += 1;
-        self.stats.map_bytes = self.slots.iter().map(|s| s.map.allocated_bytes()).sum();
+        self.stats.map_bytes = self
+            .slots
+            .iter()
+            .map(|s| s.map.allocated_bytes() + s.tsm.as_ref().map_or(0, |t| t.map.bytes()))
+            .sum();
         let slot = &mut self.slots[index];
         if let Some((buffer, size)) = slot.screenshot.take() {
             let format = self
                 .swapchain
                 .as_ref()
                 .map_or(vk::Format::UNDEFINED, |s| s.format);
-            let bgra: Vec<u8> = buffer.read(4 * size.0 as usize * size.1 as usize)?;
-            let rgb = bgra
+            let pixels: Vec<u8> = buffer.read(4 * size.0 as usize * size.1 as usize)?;
+            let rgb = pixels
                 .chunks_exact(4)
                 .flat_map(|p| match format {
                     vk::Format::B8G8R8A8_UNORM => [p[2], p[1], p[0]],
@@ -383,6 +464,16 @@ impl FrameLoop {
             self.screenshot = Some(Screenshot { size, rgb });
         }
         Ok(())
+    }
+}
+
+/// A Vulkan error of a submission or wait, with a clear word for a lost device.
+fn device_error(result: vk::Result) -> anyhow::Error {
+    match result {
+        vk::Result::ERROR_DEVICE_LOST => anyhow::anyhow!(
+            "the Vulkan device was lost (the driver reset it or it hung): the viewer cannot go on"
+        ),
+        other => anyhow::anyhow!("Vulkan: {other}"),
     }
 }
 
@@ -420,6 +511,7 @@ impl Drop for FrameLoop {
         // The library's objects go before the context, the swapchain and the pool before the
         // device (fields drop in order after this).
         self.slots.clear();
+        self.tsm_pass = None;
         unsafe { self.gpu.device.destroy_command_pool(self.pool, None) };
     }
 }

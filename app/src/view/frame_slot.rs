@@ -1,15 +1,22 @@
 //! One frame in flight's own objects: its command buffer, fence and acquire semaphore, its
-//! draw list and temporal shadow map (each map keeps its own static layer), its timestamps,
-//! and the images of the window's size (G-buffer, lit shares, shaded image) with their
-//! descriptor sets. Nothing here is made per frame: the size's objects only on a resize.
+//! scene geometry (rewritten in place when the animation moves), draw list and temporal
+//! shadow map (each map keeps its own static layer), TSM's maps once that method is shown,
+//! its timestamps and overlay, and the images of the window's size (G-buffer, lit shares,
+//! shaded image) with their descriptor sets. Nothing here is made per frame: the size's
+//! objects only on a resize, TSM's on the first switch to it.
 
 use super::allocations::AllocationCounter;
+use super::method::ViewMethod;
+use super::overlay::{OVERLAY_HEIGHT, OVERLAY_WIDTH};
 use super::shade::{OUTPUT_FORMAT, ShadePass};
+use crate::render::upload::{SceneGeometry, flatten, scene_draws};
+use crate::scene::Scene;
 use anyhow::Context as _;
 use ash::vk;
 use motion_shadows::gpu::{Buffer, BufferUsage, Context, Image, ImageBindings, TimestampQueries};
 use motion_shadows::technique::{
-    DrawList, GBuffer, MaskBindings, RangeStorage, TemporalShadowMap, VisibilityMaskPass,
+    DrawList, EngineTsmBindings, EngineTsmMap, GBuffer, MaskBindings, RangeStorage,
+    TemporalShadowMap, VisibilityMaskPass,
 };
 
 /// Timestamps a frame records (one per pass boundary).
@@ -64,18 +71,37 @@ impl SizedTargets {
     }
 }
 
+/// TSM's maps of one slot, drawn `layers` at a time.
+pub struct TsmTargets {
+    pub map: EngineTsmMap,
+    pub bindings: EngineTsmBindings,
+}
+
+/// TSM maps drawn per batch (as the offline deferred frame draws them).
+pub const TSM_LAYERS_PER_BATCH: u32 = 8;
+
 pub struct FrameSlot {
     pub cmd: vk::CommandBuffer,
     /// Signalled when the slot's last frame completed (made signalled).
     pub fence: vk::Fence,
     /// Signalled when the acquired swapchain image may be written.
     pub acquired: vk::Semaphore,
+    /// The scene's vertices as this slot last wrote them, and its draws reading them.
+    pub geometry: SceneGeometry,
+    /// The scene version `geometry` holds.
+    pub scene_version: u64,
     pub draws: DrawList,
+    draw_capacity: u32,
     pub map: TemporalShadowMap,
+    /// Made on the first frame of a TSM method.
+    pub tsm: Option<TsmTargets>,
     pub timestamps: TimestampQueries,
+    /// The overlay's codes (`overlay.rs`), written each frame it is shown.
+    pub overlay: Buffer,
     pub targets: Option<SizedTargets>,
-    /// The frame number last submitted from this slot, until its results were read.
-    pub pending: Option<u64>,
+    /// The frame number last submitted from this slot and its method, until its results
+    /// were read.
+    pub pending: Option<(u64, ViewMethod)>,
     /// A screenshot's readback buffer, when this slot's pending frame copies one.
     pub screenshot: Option<(Buffer, (u32, u32))>,
     device: ash::Device,
@@ -85,7 +111,7 @@ impl FrameSlot {
     pub fn new(
         ctx: &Context,
         pool: vk::CommandPool,
-        draw_count: u32,
+        scene: &Scene,
         shadow_size: (u32, u32),
         counter: &mut AllocationCounter,
     ) -> anyhow::Result<Self> {
@@ -120,13 +146,21 @@ impl FrameSlot {
                 1,
                 RangeStorage::Sorted,
             )?;
+            let geometry = SceneGeometry::upload(ctx, scene)?;
             Ok((
-                DrawList::new(ctx, draw_count)?,
+                DrawList::new(ctx, geometry.draws.len() as u32)?,
                 map,
                 TimestampQueries::new(ctx, TIMESTAMPS)?,
+                Buffer::new(
+                    ctx,
+                    "viewer overlay",
+                    4 * u64::from(OVERLAY_WIDTH * OVERLAY_HEIGHT),
+                    BufferUsage::HostToDevice,
+                )?,
+                geometry,
             ))
         };
-        let (draws, map, timestamps) = match make() {
+        let (draws, map, timestamps, overlay, geometry) = match make() {
             Ok(v) => v,
             Err(e) => {
                 unsafe {
@@ -136,19 +170,80 @@ impl FrameSlot {
                 return Err(e);
             }
         };
-        counter.note(3);
+        counter.note(5);
         Ok(Self {
+            draw_capacity: (geometry.draws.len() as u32).max(1),
             cmd,
             fence,
             acquired,
+            geometry,
+            scene_version: 0,
             draws,
             map,
+            tsm: None,
             timestamps,
+            overlay,
             targets: None,
             pending: None,
             screenshot: None,
             device,
         })
+    }
+
+    /// Writes `scene`'s vertices (version `version`) into the slot's buffer, in place when
+    /// their count is unchanged (else a new buffer, counted), and its draws.
+    pub fn update_geometry(
+        &mut self,
+        ctx: &Context,
+        scene: &Scene,
+        version: u64,
+        counter: &mut AllocationCounter,
+    ) -> anyhow::Result<()> {
+        if self.scene_version == version {
+            return Ok(());
+        }
+        let vertices = flatten(scene);
+        let bytes = std::mem::size_of_val(vertices.as_slice()) as u64;
+        if bytes == 0 || bytes > self.geometry.vertices.size() {
+            self.geometry = counter.counted(SceneGeometry::upload(ctx, scene)?);
+        } else {
+            self.geometry.vertices.write(&vertices)?;
+            self.geometry.draws = scene_draws(scene, &self.geometry.vertices)?;
+        }
+        let needed = self.geometry.draws.len() as u32;
+        if needed > self.draw_capacity {
+            self.draws = counter.counted(DrawList::new(ctx, needed)?);
+            self.draw_capacity = needed;
+        }
+        self.scene_version = version;
+        Ok(())
+    }
+
+    /// TSM's maps for `maps` maps of `shadow_size`, made (counted) on first use or when the
+    /// batch size changes.
+    pub fn tsm_targets(
+        &mut self,
+        ctx: &Context,
+        pass: &motion_shadows::technique::EngineTsmPass,
+        shadow_size: (u32, u32),
+        maps: u32,
+        counter: &mut AllocationCounter,
+    ) -> anyhow::Result<()> {
+        let layers = TSM_LAYERS_PER_BATCH.min(maps);
+        if self.tsm.as_ref().is_some_and(|t| t.map.layers() == layers) {
+            return Ok(());
+        }
+        self.tsm = None;
+        let map = counter.counted(EngineTsmMap::new(
+            ctx,
+            shadow_size.0,
+            shadow_size.1,
+            layers,
+            motion_shadows::technique::TsmStart::Copy,
+        )?);
+        let bindings = counter.counted(pass.bindings()?);
+        self.tsm = Some(TsmTargets { map, bindings });
+        Ok(())
     }
 }
 

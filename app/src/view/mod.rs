@@ -7,19 +7,24 @@
 //! frame after the first.
 
 pub mod allocations;
+pub mod camera;
+pub mod controls;
 pub mod device;
 pub mod frame_loop;
 pub mod frame_slot;
+pub mod method;
+pub mod overlay;
 pub mod record;
 pub mod shade;
 pub mod swapchain;
 pub mod window;
 
 use crate::render::RenderSettings;
-use crate::scene::Scene;
+use crate::render::deferred::DeferredSettings;
+use crate::scene::{AnimatedScene, Scene};
 use allocations::AllocationCounts;
 use frame_loop::{FrameSettings, FrameStats, Screenshot};
-use motion_shadows::technique::LightView;
+use method::ViewMethod;
 
 pub use window::run;
 
@@ -28,9 +33,16 @@ pub struct ViewOptions {
     pub scene: Scene,
     /// The window's first size (`width`, `height`) and the frame's settings.
     pub settings: RenderSettings,
-    /// The deferred frame's light ([`crate::render::deferred::deferred_light`]).
-    pub light: LightView,
+    /// The deferred frame's shutter time and receivers (its method is `method`'s).
+    pub deferred: DeferredSettings,
     pub frame: FrameSettings,
+    /// The method shown first (the method key cycles through the others).
+    pub method: ViewMethod,
+    /// N of TSM-N when the method key reaches TSM.
+    pub tsm_maps: u32,
+    pub overlay: bool,
+    /// The scene's animation, where it has one (play and scrub keys).
+    pub animation: Option<AnimatedScene>,
     /// A scripted run: this many frames presented, then the viewer closes.
     pub frames: Option<u32>,
     /// With `frames`: keep the last presented frame ([`ViewReport::screenshot`]).

@@ -1,7 +1,8 @@
 //! One frame's commands, recorded into the slot's command buffer the way a deferred engine
 //! records its frame: the draw list's update, the G-buffer, the library's shadow pass
-//! (collection and generation) and visibility mask (receivers moving), the viewer's shading,
-//! and the blit into the acquired swapchain image (with a copy back for a screenshot).
+//! (collection and generation) and visibility mask (receivers moving), or TSM's maps and
+//! lookups, the viewer's shading (with the overlay), and the blit into the acquired
+//! swapchain image (with a copy back for a screenshot).
 
 use super::frame_slot::FrameSlot;
 use super::shade::{ShadeFrame, ShadePass};
@@ -9,7 +10,7 @@ use ash::vk;
 use glam::Mat4;
 use motion_shadows::gpu::{Access, image_barrier, memory_barrier};
 use motion_shadows::technique::{
-    CollectionPass, Draw, GBufferCamera, GBufferPass, GenerationPass, LightView,
+    CollectionPass, EngineTsmPass, GBufferCamera, GBufferPass, GenerationPass, LightView,
     VisibilityMaskPass,
 };
 
@@ -22,9 +23,8 @@ pub struct Passes {
     pub shade: ShadePass,
 }
 
-/// What the frame shows: the same for every frame of a fixed camera and time.
+/// What the frame shows.
 pub struct FrameView<'a> {
-    pub draws: &'a [Draw],
     pub light: &'a LightView,
     pub view_proj: Mat4,
     pub eye: glam::Vec3,
@@ -34,6 +34,10 @@ pub struct FrameView<'a> {
     /// Still pixels take the plane test (as the offline deferred frame decides).
     pub plane_test_where_still: bool,
     pub exposure: f32,
+    /// The overlay's codes and grid size, if shown.
+    pub overlay: Option<(u64, (u32, u32))>,
+    /// TSM's pass and its number of maps, for TSM methods (else the temporal map's passes).
+    pub tsm: Option<(&'a EngineTsmPass, u32)>,
 }
 
 /// The swapchain image the frame ends in.
@@ -71,7 +75,7 @@ const ACQUIRED: Access = Access {
 /// `slot.cmd` is recording; the slot's previous frame completed (its fence waited for); the
 /// slot's sized targets exist at the swapchain image's size; `present.image` was acquired
 /// with the semaphore the submission waits for at the transfer stage; the map's room was
-/// reserved for `view.draws`.
+/// reserved for the slot's draws (temporal methods).
 pub unsafe fn record_frame(
     device: &ash::Device,
     passes: &Passes,
@@ -86,7 +90,8 @@ pub unsafe fn record_frame(
     let ts = &mut slot.timestamps;
     unsafe {
         ts.mark(cmd, "start");
-        slot.draws.record_update(device, cmd, view.draws)?;
+        slot.draws
+            .record_update(device, cmd, &slot.geometry.draws)?;
         ts.mark(cmd, "draw list");
         let camera = GBufferCamera {
             view_proj: view.view_proj,
@@ -121,17 +126,35 @@ pub unsafe fn record_frame(
             Access::COMPUTE_RW,
             Access::COMPUTE_RW,
         );
-        passes
-            .collection
-            .record(device, cmd, &slot.draws, view.light, &slot.map, None)?;
-        ts.mark(cmd, "collection");
-        passes.generation.record(device, cmd, &slot.map);
-        ts.mark(cmd, "generation");
-        passes
-            .mask
-            .record(device, cmd, &mut targets.mask_bindings, &inputs, &slot.map);
-        ts.mark(cmd, "mask");
-        slot.map.record_counter_readback(device, cmd);
+        match (view.tsm, slot.tsm.as_mut()) {
+            (Some((pass, maps)), Some(tsm)) => {
+                pass.record(
+                    device,
+                    cmd,
+                    &mut tsm.bindings,
+                    &inputs,
+                    &slot.draws,
+                    view.light,
+                    &tsm.map,
+                    maps,
+                )?;
+                ts.mark(cmd, "tsm + mask");
+            }
+            (Some(_), None) => anyhow::bail!("TSM's maps were not made for this slot"),
+            (None, _) => {
+                passes
+                    .collection
+                    .record(device, cmd, &slot.draws, view.light, &slot.map, None)?;
+                ts.mark(cmd, "collection");
+                passes.generation.record(device, cmd, &slot.map);
+                ts.mark(cmd, "generation");
+                passes
+                    .mask
+                    .record(device, cmd, &mut targets.mask_bindings, &inputs, &slot.map);
+                ts.mark(cmd, "mask");
+                slot.map.record_counter_readback(device, cmd);
+            }
+        }
         memory_barrier(device, cmd, Access::COMPUTE_RW, Access::COMPUTE_RW);
         // The shaded image: the last frame's blit read it (contents discarded).
         image_barrier(
@@ -153,6 +176,7 @@ pub unsafe fn record_frame(
                 light: view.light,
                 inv_view_proj: view.view_proj.inverse(),
                 exposure: view.exposure,
+                overlay: view.overlay,
             },
         )?;
         ts.mark(cmd, "shade");

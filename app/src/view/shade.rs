@@ -29,10 +29,13 @@ struct ShadePush {
     inv_view_proj: Mat4,
     light_position: Vec4,
     light_direction: Vec4,
-    emission: Vec4,
     albedos: u64,
+    overlay: u64,
+    emission: f32,
     ambient: f32,
     exposure_scale: f32,
+    /// Width | height << 16 of the overlay's grid; 0 without one.
+    overlay_size: u32,
 }
 
 /// What one frame's shading reads besides its images.
@@ -41,6 +44,8 @@ pub struct ShadeFrame<'a> {
     pub light: &'a LightView,
     pub inv_view_proj: Mat4,
     pub exposure: f32,
+    /// The overlay's codes (device address) and grid size (`overlay.rs`), if shown.
+    pub overlay: Option<(u64, (u32, u32))>,
 }
 
 pub struct ShadePass {
@@ -157,10 +162,12 @@ impl ShadePass {
             inv_view_proj: frame.inv_view_proj,
             light_position: gpu.position,
             light_direction: gpu.direction,
-            emission: gpu.emission,
             albedos: self.albedos.device_address(),
+            overlay: frame.overlay.map_or(0, |(address, _)| address),
+            emission: gpu.emission.x,
             ambient: self.ambient,
             exposure_scale: frame.exposure.exp2(),
+            overlay_size: frame.overlay.map_or(0, |(_, (w, h))| w | (h << 16)),
         };
         let (width, height) = inputs.size;
         unsafe {

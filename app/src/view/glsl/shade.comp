@@ -18,17 +18,25 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Al
     vec4 albedo[];
 };
 
+// The overlay's codes, OVERLAY_WIDTH a row: 0 leaves the pixel, 1 darkens it, 2 is text.
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Overlay {
+    uint code[];
+};
+
 layout(push_constant) uniform Push {
     mat4 inv_view_proj;
     // xyz, w > 0.5 for a spot light.
     vec4 light_position;
     // xyz the light's direction, w the cosine of a spot's half cone.
     vec4 light_direction;
-    // x: intensity (spot) or irradiance (directional).
-    vec4 emission;
     Albedos albedos;
+    Overlay overlay;
+    // Intensity (spot) or irradiance (directional).
+    float emission;
     float ambient;
     float exposure_scale;
+    // Width | height << 16; 0: no overlay.
+    uint overlay_size;
 } pc;
 
 const float PI = 3.14159265358979;
@@ -62,7 +70,7 @@ void main() {
         bool in_cone = !spot || dot(-l, pc.light_direction.xyz) >= pc.light_direction.w;
         float direct = 0.0;
         if (cos_theta > 0.0 && in_cone) {
-            direct = pc.emission.x * cos_theta / (PI * dist2);
+            direct = pc.emission * cos_theta / (PI * dist2);
         }
         float lit = imageLoad(lit_image, p).r;
         radiance = albedo * (pc.ambient + direct * lit);
@@ -70,5 +78,14 @@ void main() {
     // Rounded here to one of 256 levels: the store's own float-to-unorm rounding is not
     // pinned down by Vulkan.
     vec3 encoded = round(srgb(radiance * pc.exposure_scale) * 255.0) / 255.0;
+    uvec2 overlay = uvec2(pc.overlay_size & 0xffffu, pc.overlay_size >> 16);
+    if (all(lessThan(uvec2(p), overlay))) {
+        uint code = pc.overlay.code[uint(p.y) * overlay.x + uint(p.x)];
+        if (code == 1u) {
+            encoded = round(encoded * 0.35 * 255.0) / 255.0;
+        } else if (code == 2u) {
+            encoded = vec3(1.0);
+        }
+    }
     imageStore(output_image, p, vec4(encoded, 1.0));
 }
