@@ -1,12 +1,12 @@
 //! `motion-shadows view` in a real window: a virtual X server (Xvfb, started here; the test
-//! fails without it, or without a Vulkan device that presents to it), a scripted run of a few
-//! frames with a resize in the middle, the validation layer and synchronization validation
-//! on. The presented frame, read back from the swapchain image, must be the offline
-//! renderer's deferred frame of the same camera and time (`render --frame deferred`), and
-//! the frames after the first must allocate nothing.
+//! fails without it, or without a Vulkan device that presents to it), scripted runs of a few
+//! frames, the validation layer and synchronization validation on. The presented frame, read
+//! back from the swapchain image, must be the offline renderer's deferred frame of the same
+//! camera, time and method (`render --frame deferred`), also after a resize, and the frames
+//! after the first must allocate nothing.
 
 use std::io::{BufRead, BufReader};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 
 /// A virtual X server on a free display, ended when dropped.
@@ -54,31 +54,22 @@ fn rgb(path: &Path) -> image::RgbImage {
         .to_rgb8()
 }
 
-#[test]
-fn view_presents_the_offline_deferred_frame_and_allocates_nothing_after_the_first() {
-    let dir = std::env::temp_dir().join(format!("motion-shadows-view-{}", std::process::id()));
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("motion-shadows-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs `view` scripted with `args` (and the screenshot, the JSON summary, no overlay) on
+/// its own Xvfb; returns the summary and the screenshot.
+fn view(args: &[&str], dir: &Path) -> (serde_json::Value, image::RgbImage) {
     let shot = dir.join("shot.png");
     let xvfb = Xvfb::start();
     let output = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
-        .args([
-            "view",
-            "--frames",
-            "3",
-            "--width",
-            "160",
-            "--height",
-            "90",
-            "--shadow-size",
-            "160x90",
-            "--resize",
-            "192x108",
-            // The overlay's text is not in the offline frame.
-            "--overlay",
-            "off",
-            "--json",
-            "--screenshot",
-        ])
+        .arg("view")
+        .args(args)
+        // The overlay's text is not in the offline frame.
+        .args(["--overlay", "off", "--json", "--screenshot"])
         .arg(&shot)
         .env("DISPLAY", &xvfb.display)
         .env("MOTION_SHADOWS_VALIDATION", "1")
@@ -86,38 +77,22 @@ fn view_presents_the_offline_deferred_frame_and_allocates_nothing_after_the_firs
         .expect("run the binary");
     drop(xvfb);
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "view failed: {stderr}");
+    assert!(output.status.success(), "view {args:?} failed: {stderr}");
     // The run fails on any validation message; none may even be printed.
     assert!(!stderr.contains("vulkan validation"), "{stderr}");
     let summary: serde_json::Value =
         serde_json::from_slice(&output.stdout).expect("view --json prints one JSON object");
-    assert_eq!(summary["width"], 192, "{summary}");
-    assert_eq!(summary["height"], 108, "{summary}");
-    assert!(summary["frames"].as_u64() >= Some(3), "{summary}");
-    assert!(summary["swapchains_made"].as_u64() >= Some(2), "{summary}");
-    assert_eq!(summary["incomplete_frames"], 0, "{summary}");
-    let allocations = &summary["allocations"];
-    assert_eq!(allocations["after_first_frame"], 0, "{summary}");
-    // The counter sees the resize's new images and the screenshot's buffer.
-    assert!(allocations["events"].as_u64() > Some(1), "{summary}");
+    (summary, rgb(&shot))
+}
 
-    let offline = dir.join("offline");
+/// The offline deferred frame of `args` (`render --frame deferred ... --exposure 0`).
+fn offline(args: &[&str], dir: &Path, file: &str) -> image::RgbImage {
+    let out = dir.join("offline");
     let render = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
-        .args([
-            "render",
-            "--frame",
-            "deferred",
-            "--width",
-            "192",
-            "--height",
-            "108",
-            "--shadow-size",
-            "160x90",
-            "--exposure",
-            "0",
-            "--out",
-        ])
-        .arg(&offline)
+        .args(["render", "--frame", "deferred", "--exposure", "0"])
+        .args(args)
+        .arg("--out")
+        .arg(&out)
         .env("MOTION_SHADOWS_VALIDATION", "1")
         .output()
         .expect("run the binary");
@@ -126,11 +101,13 @@ fn view_presents_the_offline_deferred_frame_and_allocates_nothing_after_the_firs
         "render failed: {}",
         String::from_utf8_lossy(&render.stderr)
     );
-    let presented = rgb(&shot);
-    let expected = rgb(&offline.join("cubes-toward-light-deferred-temporal.png"));
+    rgb(&out.join(file))
+}
+
+/// Tolerance: the same G-buffer and lit shares, shaded in f32 on the device instead of f64
+/// on the host: one 8-bit level at a rounding boundary on at most 1% of the channels.
+fn assert_same_frame(presented: &image::RgbImage, expected: &image::RgbImage) {
     assert_eq!(presented.dimensions(), expected.dimensions());
-    // Tolerance: the same G-buffer and mask, shaded in f32 on the device instead of f64 on
-    // the host: one 8-bit level at a rounding boundary, nothing more.
     let differences: Vec<i32> = presented
         .as_raw()
         .iter()
@@ -149,8 +126,58 @@ fn view_presents_the_offline_deferred_frame_and_allocates_nothing_after_the_firs
          channels differ",
         differences.len()
     );
-    // Not a blank frame: lit and shadowed surfaces both.
+    // Not a blank frame: lit surfaces.
     let lit = expected.pixels().filter(|p| p[0] > 100).count();
     assert!(lit > 100, "the frame shows lit surfaces ({lit} pixels)");
+}
+
+#[test]
+fn view_presents_the_offline_deferred_frame_and_allocates_nothing_after_the_first() {
+    let dir = temp_dir("view");
+    let (summary, presented) = view(
+        &[
+            "--frames",
+            "3",
+            "--width",
+            "160",
+            "--height",
+            "90",
+            "--shadow-size",
+            "160x90",
+            "--resize",
+            "192x108",
+        ],
+        &dir,
+    );
+    assert_eq!(summary["width"], 192, "{summary}");
+    assert_eq!(summary["height"], 108, "{summary}");
+    assert!(summary["frames"].as_u64() >= Some(3), "{summary}");
+    assert!(summary["swapchains_made"].as_u64() >= Some(2), "{summary}");
+    assert_eq!(summary["incomplete_frames"], 0, "{summary}");
+    let allocations = &summary["allocations"];
+    assert_eq!(allocations["after_first_frame"], 0, "{summary}");
+    // The counter sees the resize's new images and the screenshot's buffer.
+    assert!(allocations["events"].as_u64() > Some(1), "{summary}");
+    let expected = offline(
+        &["--width", "192", "--height", "108", "--shadow-size", "160x90"],
+        &dir,
+        "cubes-toward-light-deferred-temporal.png",
+    );
+    assert_same_frame(&presented, &expected);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn view_presents_the_offline_tsm_frame() {
+    let dir = temp_dir("view-tsm");
+    let size = ["--width", "160", "--height", "90"];
+    let method = ["--method", "tsm", "--tsm-maps", "4"];
+    let args: Vec<&str> = ["--frames", "3"].iter().chain(&size).chain(&method).copied().collect();
+    let (summary, presented) = view(&args, &dir);
+    assert_eq!(summary["method"], "tsm-4", "{summary}");
+    assert_eq!(summary["allocations"]["after_first_frame"], 0, "{summary}");
+    let args: Vec<&str> = size.iter().chain(&method).copied().collect();
+    let expected = offline(&args, &dir, "cubes-toward-light-deferred-tsm-4.png");
+    assert_same_frame(&presented, &expected);
     std::fs::remove_dir_all(&dir).ok();
 }
