@@ -20,7 +20,15 @@ impl Xvfb {
         // -displayfd: the server picks a free display and writes its number to stdout once
         // it accepts connections.
         let mut child = Command::new("Xvfb")
-            .args(["-displayfd", "1", "-screen", "0", "640x480x24", "-nolisten", "tcp"])
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "640x480x24",
+                "-nolisten",
+                "tcp",
+            ])
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
@@ -87,9 +95,19 @@ fn view(args: &[&str], dir: &Path) -> (serde_json::Value, image::RgbImage) {
 
 /// The offline deferred frame of `args` (`render --frame deferred ... --exposure 0`).
 fn offline(args: &[&str], dir: &Path, file: &str) -> image::RgbImage {
+    let deferred: Vec<&str> = ["--frame", "deferred"]
+        .iter()
+        .chain(args)
+        .copied()
+        .collect();
+    offline_frame(&deferred, dir, file)
+}
+
+/// The offline frame of `args` (`render ... --exposure 0`).
+fn offline_frame(args: &[&str], dir: &Path, file: &str) -> image::RgbImage {
     let out = dir.join("offline");
     let render = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
-        .args(["render", "--frame", "deferred", "--exposure", "0"])
+        .args(["render", "--exposure", "0"])
         .args(args)
         .arg("--out")
         .arg(&out)
@@ -159,7 +177,14 @@ fn view_presents_the_offline_deferred_frame_and_allocates_nothing_after_the_firs
     // The counter sees the resize's new images and the screenshot's buffer.
     assert!(allocations["events"].as_u64() > Some(1), "{summary}");
     let expected = offline(
-        &["--width", "192", "--height", "108", "--shadow-size", "160x90"],
+        &[
+            "--width",
+            "192",
+            "--height",
+            "108",
+            "--shadow-size",
+            "160x90",
+        ],
         &dir,
         "cubes-toward-light-deferred-temporal.png",
     );
@@ -172,7 +197,12 @@ fn view_presents_the_offline_tsm_frame() {
     let dir = temp_dir("view-tsm");
     let size = ["--width", "160", "--height", "90"];
     let method = ["--method", "tsm", "--tsm-maps", "4"];
-    let args: Vec<&str> = ["--frames", "3"].iter().chain(&size).chain(&method).copied().collect();
+    let args: Vec<&str> = ["--frames", "3"]
+        .iter()
+        .chain(&size)
+        .chain(&method)
+        .copied()
+        .collect();
     let (summary, presented) = view(&args, &dir);
     assert_eq!(summary["method"], "tsm-4", "{summary}");
     assert_eq!(summary["allocations"]["after_first_frame"], 0, "{summary}");
@@ -180,4 +210,70 @@ fn view_presents_the_offline_tsm_frame() {
     let expected = offline(&args, &dir, "cubes-toward-light-deferred-tsm-4.png");
     assert_same_frame(&presented, &expected);
     std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn view_presents_the_offline_stochastic_frame() {
+    let dir = temp_dir("view-forward");
+    let size = ["--width", "160", "--height", "90", "--spp", "2"];
+    let args: Vec<&str> = ["--frames", "3", "--frame", "forward"]
+        .iter()
+        .chain(&size)
+        .copied()
+        .collect();
+    let (summary, presented) = view(&args, &dir);
+    assert_eq!(summary["frame"], "forward", "{summary}");
+    assert_eq!(summary["allocations"]["after_first_frame"], 0, "{summary}");
+    // `render`'s forward frame: the same samples (seed 1), the temporal map.
+    let expected = offline_frame(&size, &dir, "cubes-toward-light-temporal.png");
+    assert_same_frame(&presented, &expected);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `view` with `args` (without an X display when `display` is None): it must fail with a
+/// message naming `expected`.
+fn refused(args: &[&str], display: Option<&str>, expected: &str) {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_motion-shadows"));
+    command.arg("view").args(args);
+    match display {
+        Some(d) => command.env("DISPLAY", d),
+        None => command.env_remove("DISPLAY"),
+    };
+    let output = command.output().expect("run the binary");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "view {args:?} was accepted");
+    assert!(
+        stderr.contains(expected),
+        "view {args:?}: the error does not name {expected:?}: {stderr}"
+    );
+}
+
+#[test]
+fn view_refuses_what_it_cannot_do_by_name() {
+    // Without a display: it says so before opening anything.
+    refused(&["--frames", "1"], None, "DISPLAY");
+    // Scripted-only options without --frames.
+    refused(&["--screenshot", "x.png"], Some(":0"), "--frames");
+    refused(&["--resize", "64x64"], Some(":0"), "--frames");
+    refused(
+        &["--tsm-maps", "0", "--frames", "1"],
+        Some(":0"),
+        "--tsm-maps",
+    );
+    refused(
+        &["--camera-time", "2", "--frames", "1"],
+        Some(":0"),
+        "--camera-time",
+    );
+    refused(
+        &["--resize", "0x64", "--frames", "1"],
+        Some(":0"),
+        "--resize",
+    );
+    refused(&["--spp", "0", "--frames", "1"], Some(":0"), "--spp");
+    refused(
+        &["--frame", "forward", "--method", "tsm", "--frames", "1"],
+        Some(":0"),
+        "--frame forward",
+    );
 }

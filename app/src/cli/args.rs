@@ -110,7 +110,11 @@ pub const MAX_VIEW_FRAMES: u32 = 100_000;
 #[derive(Debug, Args, Clone)]
 pub struct ViewArgs {
     /// Built-in scene (`motion-shadows scene list`).
-    #[arg(long, default_value = "cubes-toward-light", conflicts_with = "scene_file")]
+    #[arg(
+        long,
+        default_value = "cubes-toward-light",
+        conflicts_with = "scene_file"
+    )]
     pub scene: String,
     /// A scene file (JSON, see the scene format) instead of a built-in scene.
     #[arg(long)]
@@ -139,6 +143,13 @@ pub struct ViewArgs {
     /// N of TSM-N (1 to 1024).
     #[arg(long, default_value_t = 8)]
     pub tsm_maps: u32,
+    /// The frame shown first (F switches): `deferred` (the engine's frame) or `forward` (the
+    /// papers' stochastic frame, as `render` draws it; the temporal methods only).
+    #[arg(long, value_enum, default_value_t = FrameArg::Deferred)]
+    pub frame: FrameArg,
+    /// Samples per pixel of the stochastic frame (1 to 64).
+    #[arg(long, default_value_t = 4)]
+    pub spp: u32,
     /// The overlay (method, time, frame rate, per-pass GPU ms, map memory); O toggles it.
     #[arg(long, value_enum, default_value_t = OnOff::On)]
     pub overlay: OnOff,

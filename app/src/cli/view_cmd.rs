@@ -2,11 +2,11 @@
 //! prints a summary (frame rate, per-pass GPU ms, allocations after the first frame) and
 //! writes the last presented frame with `--screenshot`.
 
-use super::args::{OnOff, ViewArgs, ViewMethodArg};
+use super::args::{FrameArg, OnOff, ViewArgs, ViewMethodArg};
 use super::shared::builtin_options;
 use crate::output::write_rgb8_png;
-use crate::render::RenderSettings;
 use crate::render::deferred::{DeferredSettings, MAX_DEFERRED_TSM_MAPS};
+use crate::render::{MAX_SPP, RenderSettings};
 use crate::scene::{AnimatedScene, builtin, load_scene_file};
 use crate::view::frame_loop::{FRAMES_IN_FLIGHT, FrameSettings};
 use crate::view::method::ViewMethod;
@@ -18,6 +18,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         width: args.width,
         height: args.height,
         shadow_size: args.shadow_size,
+        spp: args.spp.clamp(1, MAX_SPP),
         ..RenderSettings::default()
     };
     settings.validate()?;
@@ -40,6 +41,21 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         (1..=MAX_DEFERRED_TSM_MAPS).contains(&args.tsm_maps),
         "--tsm-maps {}: must be 1..={MAX_DEFERRED_TSM_MAPS}",
         args.tsm_maps
+    );
+    anyhow::ensure!(
+        (1..=MAX_SPP).contains(&args.spp),
+        "--spp {}: must be 1..={MAX_SPP}",
+        args.spp
+    );
+    anyhow::ensure!(
+        args.frame == FrameArg::Deferred
+            || matches!(
+                args.method,
+                ViewMethodArg::Temporal | ViewMethodArg::TemporalExact
+            ),
+        "--frame forward: the viewer's stochastic frame is the temporal map's (--method \
+         temporal or temporal-exact), not {}",
+        method_name(args)
     );
     let method = match args.method {
         ViewMethodArg::Temporal => ViewMethod::Temporal,
@@ -75,6 +91,8 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         method,
         tsm_maps: args.tsm_maps,
         overlay: args.overlay == OnOff::On,
+        stochastic: args.frame == FrameArg::Forward,
+        spp: args.spp,
         animation,
         frames: args.frames,
         screenshot: args.screenshot.clone(),
@@ -117,7 +135,15 @@ fn print_summary(
     if args.json {
         let value = serde_json::json!({
             "scene": scene,
-            "method": method_name(args),
+            "method": method_name(&ViewArgs {
+                frame: FrameArg::Deferred,
+                ..args.clone()
+            }),
+            "frame": match args.frame {
+                FrameArg::Deferred => "deferred",
+                FrameArg::Forward => "forward",
+            },
+            "spp": args.spp,
             "device": report.device,
             "frames": report.frames,
             "frames_in_flight": FRAMES_IN_FLIGHT,
@@ -171,10 +197,14 @@ fn print_summary(
 }
 
 fn method_name(args: &ViewArgs) -> String {
-    match args.method {
+    let method = match args.method {
         ViewMethodArg::Temporal => "temporal".to_owned(),
         ViewMethodArg::TemporalExact => "temporal-exact".to_owned(),
         ViewMethodArg::Tsm => format!("tsm-{}", args.tsm_maps),
         ViewMethodArg::Plain => "plain".to_owned(),
+    };
+    match args.frame {
+        FrameArg::Deferred => method,
+        FrameArg::Forward => format!("{method}, forward frame at {} spp", args.spp),
     }
 }

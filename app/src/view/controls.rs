@@ -25,6 +25,8 @@ pub enum Action {
     /// Changes the shutter angle by this many steps.
     Shutter(f32),
     NextMethod,
+    /// The stochastic frame instead of the deferred one, or back.
+    ToggleFrame,
     ToggleOverlay,
     Screenshot,
     ResetCamera,
@@ -37,7 +39,8 @@ pub enum Action {
 pub const KEYS: &[&str] = &[
     "mouse drag: orbit   wheel: dolly   W/S A/D Q/E: fly   R: reset camera",
     "space: play/pause   left/right: scrub time   [ ]: shutter angle",
-    "M: method (temporal, temporal-exact, TSM-N, plain)   O: overlay",
+    "M: method (temporal, temporal-exact, TSM-N, plain)   F: stochastic/deferred frame",
+    "O: overlay",
     "P: screenshot (PNG of what is shown)   H: keys   Esc: quit",
 ];
 
@@ -51,6 +54,7 @@ pub fn action_for_key(key: &Key) -> Option<Action> {
             "[" => Action::Shutter(-1.0),
             "]" => Action::Shutter(1.0),
             "m" => Action::NextMethod,
+            "f" => Action::ToggleFrame,
             "o" => Action::ToggleOverlay,
             "p" => Action::Screenshot,
             "r" => Action::ResetCamera,
@@ -78,6 +82,8 @@ pub struct ViewState {
     pub time: f64,
     pub shutter_deg: f32,
     pub overlay: bool,
+    /// The stochastic frame (the papers' lighting pass) instead of the deferred one.
+    pub stochastic: bool,
     /// The scene must be posed again (time or shutter changed).
     pub scene_changed: bool,
     /// A screenshot was asked for and not taken yet.
@@ -92,6 +98,7 @@ impl ViewState {
             camera,
             method,
             tsm_maps,
+            stochastic: false,
             playing: false,
             time: 0.0,
             shutter_deg: MAX_SHUTTER_DEG,
@@ -119,6 +126,7 @@ impl ViewState {
                 self.shutter_deg = angle;
             }
             Action::NextMethod => self.method = self.method.next(self.tsm_maps),
+            Action::ToggleFrame => self.stochastic = !self.stochastic,
             Action::ToggleOverlay => self.overlay = !self.overlay,
             Action::Screenshot => self.screenshot = true,
             Action::ResetCamera => self.camera.reset(),

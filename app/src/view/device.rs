@@ -237,8 +237,8 @@ impl Drop for ViewDevice {
 
 fn pick_device(base: &ViewInstance) -> anyhow::Result<(vk::PhysicalDevice, u32, String)> {
     let instance = &base.instance;
-    let devices = unsafe { instance.enumerate_physical_devices() }
-        .context("vkEnumeratePhysicalDevices")?;
+    let devices =
+        unsafe { instance.enumerate_physical_devices() }.context("vkEnumeratePhysicalDevices")?;
     let rank = |t: vk::PhysicalDeviceType| match t {
         vk::PhysicalDeviceType::DISCRETE_GPU => 0,
         vk::PhysicalDeviceType::INTEGRATED_GPU => 1,

@@ -17,7 +17,7 @@ use ash::vk;
 use motion_shadows::gpu::Context;
 use motion_shadows::technique::{
     CameraView, CollectionPass, EngineTsmPass, GBufferPass, GenerationPass, HostDraw, LightView,
-    TemporalShadowMap, VisibilityMaskPass,
+    LightingImageOutput, LightingPass, LightingView, TemporalShadowMap, VisibilityMaskPass,
 };
 
 /// Frames recorded while earlier ones still run.
@@ -45,6 +45,9 @@ pub struct FrameRequest<'a> {
     /// Keep a copy of exactly what is presented ([`FrameLoop::take_screenshot`] once the
     /// frame completed).
     pub screenshot: bool,
+    /// The stochastic frame (the temporal map's, `light` its forward light) with these
+    /// samples per pixel, instead of the deferred frame.
+    pub stochastic: Option<(LightingView, u32)>,
 }
 
 /// A presented frame read back: RGB, 3 bytes a pixel, rows from the top.
@@ -83,6 +86,8 @@ pub struct FrameLoop {
     passes: Passes,
     /// Made on the first frame of a TSM method.
     tsm_pass: Option<EngineTsmPass>,
+    /// Made on the first stochastic frame.
+    lighting: Option<(LightingPass, LightingImageOutput)>,
     scene: Scene,
     /// Incremented by each [`Self::set_scene`]: slots rewrite their geometry when behind.
     scene_version: u64,
@@ -150,6 +155,7 @@ impl FrameLoop {
             slots,
             passes,
             tsm_pass: None,
+            lighting: None,
             scene,
             scene_version: 0,
             settings,
@@ -290,11 +296,27 @@ impl FrameLoop {
             slot.screenshot = Some((buffer, size));
         }
         slot.update_geometry(ctx, &self.scene, self.scene_version, counter)?;
+        if let Some((_, spp)) = request.stochastic {
+            if matches!(request.method, ViewMethod::Tsm { .. }) {
+                anyhow::bail!("the viewer's stochastic frame is the temporal map's, not TSM's");
+            }
+            if self.lighting.is_none() {
+                self.lighting = Some(counter.during_event(|c| -> anyhow::Result<_> {
+                    c.note(2);
+                    Ok((LightingPass::new(ctx)?, LightingImageOutput::new(ctx)?))
+                })?);
+            }
+            let Some((_, output)) = self.lighting.as_ref() else {
+                anyhow::bail!("the lighting pass was not made");
+            };
+            counter.during_event(|c| slot.lighting_targets(ctx, output, size, spp, c))?;
+        }
         let tsm_maps = match request.method {
             ViewMethod::Tsm { maps } => {
                 if self.tsm_pass.is_none() {
-                    self.tsm_pass =
-                        Some(counter.during_event(|c| EngineTsmPass::new(ctx).map(|p| c.counted(p)))?);
+                    self.tsm_pass = Some(
+                        counter.during_event(|c| EngineTsmPass::new(ctx).map(|p| c.counted(p)))?,
+                    );
                 }
                 let Some(pass) = self.tsm_pass.as_ref() else {
                     anyhow::bail!("TSM's pass was not made");
@@ -324,7 +346,10 @@ impl FrameLoop {
         let overlay = match request.overlay {
             Some(lines) => {
                 slot.overlay.write(self.overlay.compose(lines))?;
-                Some((slot.overlay.device_address(), (OVERLAY_WIDTH, OVERLAY_HEIGHT)))
+                Some((
+                    slot.overlay.device_address(),
+                    (OVERLAY_WIDTH, OVERLAY_HEIGHT),
+                ))
             }
             None => None,
         };
@@ -340,6 +365,18 @@ impl FrameLoop {
             exposure: self.settings.exposure,
             overlay,
             tsm: tsm_maps.and_then(|maps| self.tsm_pass.as_ref().map(|pass| (pass, maps))),
+            stochastic: match (&request.stochastic, &self.lighting) {
+                (Some((lighting_view, _)), Some((pass, output))) => Some((
+                    pass,
+                    output,
+                    // The camera of the presented size (the request's may predate a resize).
+                    LightingView {
+                        camera,
+                        ..*lighting_view
+                    },
+                )),
+                _ => None,
+            },
         };
         let present = Present {
             image: swap_image,
@@ -356,9 +393,7 @@ impl FrameLoop {
                 .begin_command_buffer(slot.cmd, &begin)
                 .map_err(device_error)?;
             record_frame(&device, &self.passes, slot, &view, &present)?;
-            device
-                .end_command_buffer(slot.cmd)
-                .map_err(device_error)?;
+            device.end_command_buffer(slot.cmd).map_err(device_error)?;
             let waits = [vk::SemaphoreSubmitInfo::default()
                 .semaphore(slot.acquired)
                 .stage_mask(vk::PipelineStageFlags2::TRANSFER)];
@@ -379,7 +414,7 @@ impl FrameLoop {
             // The static map it may have drawn is now kept for the slot's next TSM frame.
             tsm.map.static_map_submitted();
         }
-        slot.pending = Some((self.frame, request.method));
+        slot.pending = Some((self.frame, request.method, request.stochastic.is_some()));
         self.frame += 1;
         if !swapchain.present(self.gpu.queue, image)? {
             self.stale_swapchain = true;
@@ -401,7 +436,7 @@ impl FrameLoop {
     /// Reads the results of slot `index`'s completed frame, if not read yet.
     fn finish(&mut self, index: usize, counter: &mut AllocationCounter) -> anyhow::Result<()> {
         let slot = &mut self.slots[index];
-        let Some((frame, method)) = slot.pending.take() else {
+        let Some((frame, method, stochastic)) = slot.pending.take() else {
             return Ok(());
         };
         // SAFETY: the slot's fence signalled; on one queue every earlier frame completed.
@@ -417,7 +452,7 @@ impl FrameLoop {
                 slot.map.check_complete(&counts)?;
             }
             self.stats.last_ranges = counts.range_count;
-            if let Some(targets) = &slot.targets {
+            if let Some(targets) = slot.targets.as_ref().filter(|_| !stochastic) {
                 let over = targets.mask_bindings.read_over_budget_pixels()?;
                 if over > 0 {
                     let limit = self.ctx.info().shader_loop_limit.unwrap_or(0);

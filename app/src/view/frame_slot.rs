@@ -15,8 +15,8 @@ use anyhow::Context as _;
 use ash::vk;
 use motion_shadows::gpu::{Buffer, BufferUsage, Context, Image, ImageBindings, TimestampQueries};
 use motion_shadows::technique::{
-    DrawList, EngineTsmBindings, EngineTsmMap, GBuffer, MaskBindings, RangeStorage,
-    TemporalShadowMap, VisibilityMaskPass,
+    DrawList, EngineTsmBindings, EngineTsmMap, GBuffer, LightingImageOutput, LightingTarget,
+    MaskBindings, RangeStorage, TemporalShadowMap, VisibilityMaskPass,
 };
 
 /// Timestamps a frame records (one per pass boundary).
@@ -32,6 +32,8 @@ pub struct SizedTargets {
     pub shade_bindings: ImageBindings,
     /// The shaded 8-bit sRGB image, blitted into the swapchain's.
     pub output: Image,
+    /// The stochastic frame's radiance (RGBA32F), which the shading reads in that frame.
+    pub radiance: Image,
 }
 
 impl SizedTargets {
@@ -60,6 +62,13 @@ impl SizedTargets {
             OUTPUT_FORMAT,
             vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,
         )?);
+        let radiance = counter.counted(Image::new(
+            ctx,
+            "viewer stochastic radiance",
+            (width, height, 1),
+            vk::Format::R32G32B32A32_SFLOAT,
+            vk::ImageUsageFlags::STORAGE,
+        )?);
         Ok(Self {
             size,
             gbuffer,
@@ -67,8 +76,18 @@ impl SizedTargets {
             mask_bindings,
             shade_bindings,
             output,
+            radiance,
         })
     }
+}
+
+/// The stochastic frame's lighting target of one slot (its size and samples) and the
+/// descriptor set that writes it into the radiance image.
+pub struct LightingTargets {
+    pub target: LightingTarget,
+    pub bindings: ImageBindings,
+    pub size: (u32, u32),
+    pub spp: u32,
 }
 
 /// TSM's maps of one slot, drawn `layers` at a time.
@@ -95,13 +114,15 @@ pub struct FrameSlot {
     pub map: TemporalShadowMap,
     /// Made on the first frame of a TSM method.
     pub tsm: Option<TsmTargets>,
+    /// Made on the first stochastic frame (again after a resize).
+    pub lighting: Option<LightingTargets>,
     pub timestamps: TimestampQueries,
     /// The overlay's codes (`overlay.rs`), written each frame it is shown.
     pub overlay: Buffer,
     pub targets: Option<SizedTargets>,
-    /// The frame number last submitted from this slot and its method, until its results
-    /// were read.
-    pub pending: Option<(u64, ViewMethod)>,
+    /// The frame number last submitted from this slot, its method and whether it was the
+    /// stochastic frame, until its results were read.
+    pub pending: Option<(u64, ViewMethod, bool)>,
     /// A screenshot's readback buffer, when this slot's pending frame copies one.
     pub screenshot: Option<(Buffer, (u32, u32))>,
     device: ash::Device,
@@ -120,10 +141,12 @@ impl FrameSlot {
             .command_pool(pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
-        let cmd = counter.counted(unsafe { device.allocate_command_buffers(&alloc) })
+        let cmd = counter
+            .counted(unsafe { device.allocate_command_buffers(&alloc) })
             .context("vkAllocateCommandBuffers")?[0];
         let signalled = vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED);
-        let fence = counter.counted(unsafe { device.create_fence(&signalled, None) })
+        let fence = counter
+            .counted(unsafe { device.create_fence(&signalled, None) })
             .context("vkCreateFence")?;
         let acquired = match counter
             .counted(unsafe { device.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) })
@@ -181,6 +204,7 @@ impl FrameSlot {
             draws,
             map,
             tsm: None,
+            lighting: None,
             timestamps,
             overlay,
             targets: None,
@@ -216,6 +240,41 @@ impl FrameSlot {
             self.draw_capacity = needed;
         }
         self.scene_version = version;
+        Ok(())
+    }
+
+    /// The stochastic frame's target for `size` and `spp`, made (counted) on first use and
+    /// when either changed.
+    pub fn lighting_targets(
+        &mut self,
+        ctx: &Context,
+        output: &LightingImageOutput,
+        size: (u32, u32),
+        spp: u32,
+        counter: &mut AllocationCounter,
+    ) -> anyhow::Result<()> {
+        if self
+            .lighting
+            .as_ref()
+            .is_some_and(|l| l.size == size && l.spp == spp)
+        {
+            return Ok(());
+        }
+        self.lighting = None;
+        let target = counter.counted(LightingTarget::new(
+            ctx,
+            size.0,
+            size.1,
+            spp,
+            motion_shadows::technique::MAX_SAMPLES_PER_CHUNK,
+        )?);
+        let bindings = counter.counted(output.bindings()?);
+        self.lighting = Some(LightingTargets {
+            target,
+            bindings,
+            size,
+            spp,
+        });
         Ok(())
     }
 

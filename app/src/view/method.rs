@@ -2,10 +2,10 @@
 //! (`render --frame deferred --method ...`): the temporal map read with the papers' depth
 //! lines or with the exact lookup, TSM-N, and plain (one map at mid-shutter, TSM-1).
 
-use crate::render::RenderSettings;
 use crate::render::deferred::{
     DeferredMethod, DeferredSettings, deferred_light, still_pixels_plane,
 };
+use crate::render::{Method, RenderSettings, forward_light};
 use crate::scene::Scene;
 use motion_shadows::technique::{LightView, Lookup};
 
@@ -15,7 +15,9 @@ pub enum ViewMethod {
     /// The temporal map read with the exact lookup.
     TemporalExact,
     /// `maps` depth maps at the strata's centres; 1 is the plain shadow map.
-    Tsm { maps: u32 },
+    Tsm {
+        maps: u32,
+    },
 }
 
 impl ViewMethod {
@@ -63,6 +65,26 @@ impl ViewMethod {
             deferred_light(scene, settings, &deferred),
             still_pixels_plane(settings, &deferred),
         )
+    }
+}
+
+impl ViewMethod {
+    /// The stochastic frame's light (`render`'s forward frame of the temporal map, read with
+    /// this method's lookup), its static layer kept from frame to frame; None for the TSM
+    /// methods (the viewer's stochastic frame is the temporal map's).
+    pub fn forward_light(&self, scene: &Scene, settings: &RenderSettings) -> Option<LightView> {
+        let lookup = match self {
+            Self::Temporal => Lookup::DepthLine,
+            Self::TemporalExact => Lookup::Exact,
+            Self::Tsm { .. } => return None,
+        };
+        let settings = RenderSettings {
+            method: Method::Temporal,
+            lookup,
+            keep_static_layer: settings.static_layer,
+            ..settings.clone()
+        };
+        Some(forward_light(scene, &settings))
     }
 }
 

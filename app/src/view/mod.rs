@@ -41,6 +41,10 @@ pub struct ViewOptions {
     /// N of TSM-N when the method key reaches TSM.
     pub tsm_maps: u32,
     pub overlay: bool,
+    /// Start with the stochastic frame (the temporal map's lighting pass).
+    pub stochastic: bool,
+    /// Its samples per pixel.
+    pub spp: u32,
     /// The scene's animation, where it has one (play and scrub keys).
     pub animation: Option<AnimatedScene>,
     /// A scripted run: this many frames presented, then the viewer closes.

@@ -11,7 +11,7 @@ use glam::Mat4;
 use motion_shadows::gpu::{Access, image_barrier, memory_barrier};
 use motion_shadows::technique::{
     CollectionPass, EngineTsmPass, GBufferCamera, GBufferPass, GenerationPass, LightView,
-    VisibilityMaskPass,
+    LightingImageOutput, LightingPass, LightingView, ShadowSource, VisibilityMaskPass,
 };
 
 /// The library's passes and the viewer's shading, made once.
@@ -38,6 +38,9 @@ pub struct FrameView<'a> {
     pub overlay: Option<(u64, (u32, u32))>,
     /// TSM's pass and its number of maps, for TSM methods (else the temporal map's passes).
     pub tsm: Option<(&'a EngineTsmPass, u32)>,
+    /// The stochastic frame instead of the deferred one: the lighting pass, its output into
+    /// the radiance image, and the camera's samples.
+    pub stochastic: Option<(&'a LightingPass, &'a LightingImageOutput, LightingView)>,
 }
 
 /// The swapchain image the frame ends in.
@@ -126,34 +129,90 @@ pub unsafe fn record_frame(
             Access::COMPUTE_RW,
             Access::COMPUTE_RW,
         );
-        match (view.tsm, slot.tsm.as_mut()) {
-            (Some((pass, maps)), Some(tsm)) => {
-                pass.record(
-                    device,
-                    cmd,
-                    &mut tsm.bindings,
-                    &inputs,
-                    &slot.draws,
-                    view.light,
-                    &tsm.map,
-                    maps,
-                )?;
-                ts.mark(cmd, "tsm + mask");
+        if let Some((lighting, output, lighting_view)) = &view.stochastic {
+            let Some(targets_of_lighting) = slot.lighting.as_mut() else {
+                anyhow::bail!("the stochastic frame's target was not made for this slot");
+            };
+            passes
+                .collection
+                .record(device, cmd, &slot.draws, view.light, &slot.map, None)?;
+            ts.mark(cmd, "collection");
+            passes.generation.record(device, cmd, &slot.map);
+            ts.mark(cmd, "generation");
+            lighting.record(
+                device,
+                cmd,
+                &slot.draws,
+                lighting_view,
+                ShadowSource::Temporal(&slot.map),
+                &targets_of_lighting.target,
+                Some(&mut *ts),
+            )?;
+            slot.map.record_counter_readback(device, cmd);
+            image_barrier(
+                device,
+                cmd,
+                targets.radiance.raw(),
+                COLOR,
+                (vk::ImageLayout::UNDEFINED, vk::ImageLayout::GENERAL),
+                Access::COMPUTE_RW,
+                Access::COMPUTE_RW,
+            );
+            output.record(
+                device,
+                cmd,
+                &mut targets_of_lighting.bindings,
+                &targets_of_lighting.target,
+                targets.radiance.layer_view(0),
+            );
+            ts.mark(cmd, "to image");
+        } else {
+            match (view.tsm, slot.tsm.as_mut()) {
+                (Some((pass, maps)), Some(tsm)) => {
+                    pass.record(
+                        device,
+                        cmd,
+                        &mut tsm.bindings,
+                        &inputs,
+                        &slot.draws,
+                        view.light,
+                        &tsm.map,
+                        maps,
+                    )?;
+                    ts.mark(cmd, "tsm + mask");
+                }
+                (Some(_), None) => anyhow::bail!("TSM's maps were not made for this slot"),
+                (None, _) => {
+                    passes.collection.record(
+                        device,
+                        cmd,
+                        &slot.draws,
+                        view.light,
+                        &slot.map,
+                        None,
+                    )?;
+                    ts.mark(cmd, "collection");
+                    passes.generation.record(device, cmd, &slot.map);
+                    ts.mark(cmd, "generation");
+                    passes
+                        .mask
+                        .record(device, cmd, &mut targets.mask_bindings, &inputs, &slot.map);
+                    ts.mark(cmd, "mask");
+                    slot.map.record_counter_readback(device, cmd);
+                }
             }
-            (Some(_), None) => anyhow::bail!("TSM's maps were not made for this slot"),
-            (None, _) => {
-                passes
-                    .collection
-                    .record(device, cmd, &slot.draws, view.light, &slot.map, None)?;
-                ts.mark(cmd, "collection");
-                passes.generation.record(device, cmd, &slot.map);
-                ts.mark(cmd, "generation");
-                passes
-                    .mask
-                    .record(device, cmd, &mut targets.mask_bindings, &inputs, &slot.map);
-                ts.mark(cmd, "mask");
-                slot.map.record_counter_readback(device, cmd);
-            }
+        }
+        if view.stochastic.is_none() {
+            // Its shading binds the radiance image too (not read): in GENERAL.
+            image_barrier(
+                device,
+                cmd,
+                targets.radiance.raw(),
+                COLOR,
+                (vk::ImageLayout::UNDEFINED, vk::ImageLayout::GENERAL),
+                Access::COMPUTE_RW,
+                Access::COMPUTE_RW,
+            );
         }
         memory_barrier(device, cmd, Access::COMPUTE_RW, Access::COMPUTE_RW);
         // The shaded image: the last frame's blit read it (contents discarded).
@@ -172,11 +231,13 @@ pub unsafe fn record_frame(
             &mut targets.shade_bindings,
             &inputs,
             targets.output.layer_view(0),
+            targets.radiance.layer_view(0),
             ShadeFrame {
                 light: view.light,
                 inv_view_proj: view.view_proj.inverse(),
                 exposure: view.exposure,
                 overlay: view.overlay,
+                stochastic: view.stochastic.is_some(),
             },
         )?;
         ts.mark(cmd, "shade");

@@ -34,9 +34,12 @@ struct ShadePush {
     emission: f32,
     ambient: f32,
     exposure_scale: f32,
-    /// Width | height << 16 of the overlay's grid; 0 without one.
+    /// Width | height << 15 of the overlay's grid (0 without one) | [`STOCHASTIC`].
     overlay_size: u32,
 }
+
+/// The push constants' flag: show the stochastic frame's radiance image.
+const STOCHASTIC: u32 = 1 << 31;
 
 /// What one frame's shading reads besides its images.
 #[derive(Clone, Copy)]
@@ -46,6 +49,8 @@ pub struct ShadeFrame<'a> {
     pub exposure: f32,
     /// The overlay's codes (device address) and grid size (`overlay.rs`), if shown.
     pub overlay: Option<(u64, (u32, u32))>,
+    /// Show the radiance image (the stochastic frame) instead of shading the G-buffer.
+    pub stochastic: bool,
 }
 
 pub struct ShadePass {
@@ -57,10 +62,9 @@ pub struct ShadePass {
 
 /// Compiles `glsl/shade.comp` to SPIR-V.
 fn compile() -> anyhow::Result<Vec<u8>> {
-    let compiler = shaderc::Compiler::new()
-        .context("the shaderc compiler could not be created")?;
-    let mut options = shaderc::CompileOptions::new()
-        .context("the shaderc options could not be created")?;
+    let compiler = shaderc::Compiler::new().context("the shaderc compiler could not be created")?;
+    let mut options =
+        shaderc::CompileOptions::new().context("the shaderc options could not be created")?;
     options.set_target_env(
         shaderc::TargetEnv::Vulkan,
         // 1.3 would emit LocalSizeId, which needs maintenance4 (not a library requirement).
@@ -87,6 +91,7 @@ impl ShadePass {
             vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            vk::DescriptorType::STORAGE_IMAGE,
             vk::DescriptorType::STORAGE_IMAGE,
             vk::DescriptorType::STORAGE_IMAGE,
         ];
@@ -125,8 +130,8 @@ impl ShadePass {
     }
 
     /// Records the shading of `inputs` (the mask pass's inputs: depth, normals, ids; its
-    /// output the lit shares, in GENERAL) into `output` (`OUTPUT_FORMAT`, storage, in
-    /// GENERAL).
+    /// output the lit shares, in GENERAL), or of `radiance` (RGBA32F, storage, in GENERAL:
+    /// the stochastic frame) into `output` (`OUTPUT_FORMAT`, storage, in GENERAL).
     ///
     /// # Safety
     /// `cmd` is recording, outside rendering; `bindings` is not used by a pending command
@@ -139,6 +144,7 @@ impl ShadePass {
         bindings: &mut ImageBindings,
         inputs: &MaskInputs,
         output: vk::ImageView,
+        radiance: vk::ImageView,
         frame: ShadeFrame<'_>,
     ) -> anyhow::Result<()> {
         let normals = inputs
@@ -155,6 +161,7 @@ impl ShadePass {
                 (ids.view, ids.layout),
                 (inputs.output, general),
                 (output, general),
+                (radiance, general),
             ])
         };
         let gpu = frame.light.gpu();
@@ -167,7 +174,8 @@ impl ShadePass {
             emission: gpu.emission.x,
             ambient: self.ambient,
             exposure_scale: frame.exposure.exp2(),
-            overlay_size: frame.overlay.map_or(0, |(_, (w, h))| w | (h << 16)),
+            overlay_size: frame.overlay.map_or(0, |(_, (w, h))| w | (h << 15))
+                | if frame.stochastic { STOCHASTIC } else { 0 },
         };
         let (width, height) = inputs.size;
         unsafe {

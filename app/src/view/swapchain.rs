@@ -53,9 +53,7 @@ impl Swapchain {
         let Some(format) = FORMATS.iter().find_map(|&f| {
             formats
                 .iter()
-                .find(|s| {
-                    s.format == f && s.color_space == vk::ColorSpaceKHR::SRGB_NONLINEAR
-                })
+                .find(|s| s.format == f && s.color_space == vk::ColorSpaceKHR::SRGB_NONLINEAR)
                 .copied()
         }) else {
             bail!("the surface offers none of {FORMATS:?} (sRGB non-linear): cannot present");
@@ -72,7 +70,9 @@ impl Swapchain {
             caps.current_extent
         } else {
             vk::Extent2D {
-                width: wanted.0.clamp(caps.min_image_extent.width, caps.max_image_extent.width),
+                width: wanted
+                    .0
+                    .clamp(caps.min_image_extent.width, caps.max_image_extent.width),
                 height: wanted
                     .1
                     .clamp(caps.min_image_extent.height, caps.max_image_extent.height),

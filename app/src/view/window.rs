@@ -9,9 +9,11 @@ use super::camera::CameraControl;
 use super::controls::{KEYS, ViewState, action_for_key, with_shutter};
 use super::device::{ViewDevice, ViewInstance};
 use super::frame_loop::{Drawn, FrameLoop, FrameRequest};
+use super::method::ViewMethod;
 use super::{ViewOptions, ViewReport};
 use crate::output::write_rgb8_png;
 use anyhow::{Context as _, anyhow, bail};
+use motion_shadows::technique::LightingView;
 use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -106,14 +108,23 @@ impl Viewer {
             format!(
                 "t {:+.3} s {}",
                 self.state.time,
-                if self.state.playing { "playing" } else { "paused" }
+                if self.state.playing {
+                    "playing"
+                } else {
+                    "paused"
+                }
             )
         } else {
             "still scene".to_owned()
         };
+        let frame = match (self.state.stochastic, self.state.method) {
+            (false, _) => "deferred".to_owned(),
+            (true, ViewMethod::Tsm { .. }) => "deferred (stochastic: temporal only)".to_owned(),
+            (true, _) => format!("stochastic {} spp", self.options.spp),
+        };
         vec![
             format!(
-                "{}  {}  {}x{}  {time}  shutter {:.0} deg",
+                "{}  {} {frame}  {}x{}  {time}  shutter {:.0} deg",
                 frames.scene().name,
                 self.state.method.name(),
                 size.width,
@@ -169,20 +180,42 @@ impl Viewer {
         self.update_scene()?;
         let script = self.options.frames;
         let wanted = self.options.resize;
-        let scripted_shot =
-            self.options.screenshot.is_some() && script.is_some_and(|n| self.presented + 1 >= u64::from(n));
+        let scripted_shot = self.options.screenshot.is_some()
+            && script.is_some_and(|n| self.presented + 1 >= u64::from(n));
         let Some(frames) = self.frames.as_ref() else {
             return Ok(false);
         };
-        let lines = self
-            .state
-            .overlay
-            .then(|| self.overlay_lines(frames, size));
-        let (light, plane_test_where_still) = self.state.method.light(
+        let lines = self.state.overlay.then(|| self.overlay_lines(frames, size));
+        let (deferred_light, plane_test_where_still) = self.state.method.light(
             frames.scene(),
             &self.options.settings,
             &self.options.deferred,
         );
+        // The stochastic frame is the temporal map's: with a TSM method the deferred one is
+        // shown (the overlay says so).
+        let forward = self
+            .state
+            .stochastic
+            .then(|| {
+                self.state
+                    .method
+                    .forward_light(frames.scene(), &self.options.settings)
+            })
+            .flatten();
+        let settings = &self.options.settings;
+        let stochastic = forward.map(|_| {
+            (
+                LightingView {
+                    camera: self.state.camera.view((size.width, size.height)),
+                    seed: settings.seed,
+                    ambient: frames.scene().ambient,
+                    estimator: settings.shadow_estimator,
+                    filter: settings.shadow_filter,
+                },
+                self.options.spp,
+            )
+        });
+        let light = forward.unwrap_or(deferred_light);
         let camera = self.state.camera.clone();
         let view = move |size| camera.view(size);
         let request = FrameRequest {
@@ -193,6 +226,7 @@ impl Viewer {
             plane_test_where_still,
             overlay: lines.as_deref(),
             screenshot: scripted_shot || self.state.screenshot,
+            stochastic,
         };
         let Some(frames) = self.frames.as_mut() else {
             return Ok(false);
@@ -216,7 +250,12 @@ impl Viewer {
         {
             self.shots += 1;
             let path = format!("motion-shadows-view-{:03}.png", self.shots);
-            write_rgb8_png(std::path::Path::new(&path), shot.size.0, shot.size.1, &shot.rgb)?;
+            write_rgb8_png(
+                std::path::Path::new(&path),
+                shot.size.0,
+                shot.size.1,
+                &shot.rgb,
+            )?;
             println!("wrote {path}");
         }
         let Some(n) = script else {
@@ -341,12 +380,13 @@ pub fn run(options: ViewOptions) -> anyhow::Result<ViewReport> {
             println!("{line}");
         }
     }
-    let state = ViewState::new(
+    let mut state = ViewState::new(
         CameraControl::new(&options.scene.camera),
         options.method,
         options.tsm_maps,
         options.overlay,
     );
+    state.stochastic = options.stochastic;
     let mut viewer = Viewer {
         options,
         state,

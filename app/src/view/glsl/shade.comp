@@ -2,7 +2,8 @@
 // The viewer's deferred shading: Lambert with the library's lit share of the shutter, the
 // same terms as the offline deferred frame's host-side shading (render/deferred.rs: shade,
 // direct_factor), then 2^exposure, clamp and the sRGB curve (output/png.rs), so that the
-// window shows what `render --frame deferred` writes.
+// window shows what `render --frame deferred` writes. The stochastic frame's radiance
+// (the lighting pass's) takes only the exposure and the curve.
 #extension GL_EXT_buffer_reference : require
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -12,6 +13,8 @@ layout(set = 0, binding = 1) uniform sampler2D normal_image;
 layout(set = 0, binding = 2) uniform usampler2D id_image;
 layout(set = 0, binding = 3, r32f) uniform readonly image2D lit_image;
 layout(set = 0, binding = 4, rgba8) uniform writeonly image2D output_image;
+// The stochastic frame's radiance (the lighting pass's, written into this image).
+layout(set = 0, binding = 5, rgba32f) uniform readonly image2D radiance_image;
 
 // Per triangle (its global id): the albedo of its mesh.
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Albedos {
@@ -35,7 +38,7 @@ layout(push_constant) uniform Push {
     float emission;
     float ambient;
     float exposure_scale;
-    // Width | height << 16; 0: no overlay.
+    // Width | height << 15 (0: no overlay); bit 31: show the stochastic frame's radiance.
     uint overlay_size;
 } pc;
 
@@ -55,7 +58,10 @@ void main() {
     }
     float depth = texelFetch(depth_image, p, 0).r;
     vec3 radiance = vec3(0.0);
-    if (depth < 1.0) {
+    bool stochastic = (pc.overlay_size >> 31) != 0u;
+    if (stochastic) {
+        radiance = imageLoad(radiance_image, p).rgb;
+    } else if (depth < 1.0) {
         vec2 ndc = (vec2(p) + 0.5) / vec2(size) * 2.0 - 1.0;
         vec4 h = pc.inv_view_proj * vec4(ndc, depth, 1.0);
         vec3 position = h.xyz / h.w;
@@ -78,7 +84,7 @@ void main() {
     // Rounded here to one of 256 levels: the store's own float-to-unorm rounding is not
     // pinned down by Vulkan.
     vec3 encoded = round(srgb(radiance * pc.exposure_scale) * 255.0) / 255.0;
-    uvec2 overlay = uvec2(pc.overlay_size & 0xffffu, pc.overlay_size >> 16);
+    uvec2 overlay = uvec2(pc.overlay_size & 0x7fffu, (pc.overlay_size >> 15) & 0x7fffu);
     if (all(lessThan(uvec2(p), overlay))) {
         uint code = pc.overlay.code[uint(p.y) * overlay.x + uint(p.x)];
         if (code == 1u) {
