@@ -230,14 +230,14 @@ pub unsafe fn record_frame(
             cmd,
             &mut targets.shade_bindings,
             &inputs,
-            targets.output.layer_view(0),
-            targets.radiance.layer_view(0),
             ShadeFrame {
                 light: view.light,
                 inv_view_proj: view.view_proj.inverse(),
                 exposure: view.exposure,
                 overlay: view.overlay,
                 stochastic: view.stochastic.is_some(),
+                output: targets.output.layer_view(0),
+                radiance: targets.radiance.layer_view(0),
             },
         )?;
         ts.mark(cmd, "shade");

@@ -51,6 +51,10 @@ pub struct ShadeFrame<'a> {
     pub overlay: Option<(u64, (u32, u32))>,
     /// Show the radiance image (the stochastic frame) instead of shading the G-buffer.
     pub stochastic: bool,
+    /// The shaded image written (`OUTPUT_FORMAT`, storage, in GENERAL).
+    pub output: vk::ImageView,
+    /// The stochastic frame's radiance (RGBA32F, storage, in GENERAL; bound in every frame).
+    pub radiance: vk::ImageView,
 }
 
 pub struct ShadePass {
@@ -130,8 +134,8 @@ impl ShadePass {
     }
 
     /// Records the shading of `inputs` (the mask pass's inputs: depth, normals, ids; its
-    /// output the lit shares, in GENERAL), or of `radiance` (RGBA32F, storage, in GENERAL:
-    /// the stochastic frame) into `output` (`OUTPUT_FORMAT`, storage, in GENERAL).
+    /// output the lit shares, in GENERAL), or of `frame.radiance` (the stochastic frame),
+    /// into `frame.output`.
     ///
     /// # Safety
     /// `cmd` is recording, outside rendering; `bindings` is not used by a pending command
@@ -143,8 +147,6 @@ impl ShadePass {
         cmd: vk::CommandBuffer,
         bindings: &mut ImageBindings,
         inputs: &MaskInputs,
-        output: vk::ImageView,
-        radiance: vk::ImageView,
         frame: ShadeFrame<'_>,
     ) -> anyhow::Result<()> {
         let normals = inputs
@@ -160,8 +162,8 @@ impl ShadePass {
                 (normals.view, normals.layout),
                 (ids.view, ids.layout),
                 (inputs.output, general),
-                (output, general),
-                (radiance, general),
+                (frame.output, general),
+                (frame.radiance, general),
             ])
         };
         let gpu = frame.light.gpu();
