@@ -68,6 +68,8 @@ motion_shadows_setup() (
         libxrandr2
         libxi6
         libxkbcommon-x11-0
+        # The viewer's key test types into its window (XTEST).
+        xdotool
     )
 
     local missing=()

@@ -132,10 +132,14 @@ impl Viewer {
                 self.state.shutter_deg
             ),
             format!(
-                "{:.1} fps  gpu {gpu_total:.1} ms  maps {:.1} MiB  ranges {}",
+                "{:.1} fps  gpu {gpu_total:.1} ms  maps {:.1} MiB  {}",
                 self.smoothed_fps,
                 stats.map_bytes as f64 / f64::from(1 << 20),
-                stats.last_ranges
+                match self.state.method {
+                    // TSM stores depths, no ranges.
+                    ViewMethod::Tsm { .. } => String::new(),
+                    _ => format!("ranges {}", stats.last_ranges),
+                }
             ),
             format!("ms: {}", passes.join("  ")),
             "H: keys on the terminal".to_owned(),
@@ -309,7 +313,13 @@ impl ApplicationHandler for Viewer {
                     frames.mark_resized();
                 }
             }
-            WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
+            WindowEvent::KeyboardInput {
+                event,
+                is_synthetic,
+                ..
+                // Synthetic presses stand for keys already down when the window gained
+                // focus: not a press of the user's here (each key acted twice under Xvfb).
+            } if event.state == ElementState::Pressed && !is_synthetic => {
                 if let Some(action) = action_for_key(&event.logical_key) {
                     self.state.apply(action);
                 }
