@@ -465,6 +465,16 @@ impl FrameLoop {
                 }
             }
         }
+        if let Some(lighting) = slot.lighting.as_ref().filter(|_| stochastic) {
+            let over = lighting.target.read_over_budget_pixels()?;
+            if over > 0 {
+                anyhow::bail!(
+                    "the stochastic frame's shadow lookups ran past the device's loop limit \
+                     at {over} pixels (lavapipe): its shadows may be wrong there; use the \
+                     deferred frame (F) or the depth lookup"
+                );
+            }
+        }
         let spans = slot.timestamps.spans_ms()?;
         if frame > 0 {
             self.stats.timed_frames += 1;

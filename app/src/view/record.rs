@@ -149,6 +149,9 @@ pub unsafe fn record_frame(
                 Some(&mut *ts),
             )?;
             slot.map.record_counter_readback(device, cmd);
+            // Its counters (the pixels past a loop limit) for the host; the radiance copy
+            // comes with them.
+            targets_of_lighting.target.record_readback(device, cmd);
             image_barrier(
                 device,
                 cmd,
