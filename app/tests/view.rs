@@ -231,9 +231,11 @@ fn view_presents_the_offline_stochastic_frame() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// Runs `xdotool` with `args` on `display`; its stdout.
+/// Runs `xdotool` with `args` on `display` (ended after 60 s, so that a window system that
+/// never answers fails the test instead of hanging it); its stdout.
 fn xdotool(display: &str, args: &[&str]) -> String {
-    let output = Command::new("xdotool")
+    let output = Command::new("timeout")
+        .args(["60", "xdotool"])
         .args(args)
         .env("DISPLAY", display)
         .output()
