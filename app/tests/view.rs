@@ -216,7 +216,20 @@ fn view_presents_the_offline_tsm_frame() {
 #[test]
 fn view_presents_the_offline_stochastic_frame() {
     let dir = temp_dir("view-forward");
-    let size = ["--width", "160", "--height", "90", "--spp", "2"];
+    // The analytic estimator with the bilinear filter: the view's own options reach the
+    // lighting pass as `render`'s do.
+    let size = [
+        "--width",
+        "160",
+        "--height",
+        "90",
+        "--spp",
+        "2",
+        "--shadow-estimator",
+        "analytic",
+        "--shadow-filter",
+        "bilinear",
+    ];
     let args: Vec<&str> = ["--frames", "3", "--frame", "forward"]
         .iter()
         .chain(&size)
@@ -348,6 +361,18 @@ fn view_refuses_what_it_cannot_do_by_name() {
         "--resize",
     );
     refused(&["--spp", "0", "--frames", "1"], Some(":0"), "--spp");
+    refused(
+        &[
+            "--method",
+            "temporal-exact",
+            "--shadow-filter",
+            "bilinear",
+            "--frames",
+            "1",
+        ],
+        Some(":0"),
+        "--shadow-filter bilinear",
+    );
     refused(
         &["--frame", "forward", "--method", "tsm", "--frames", "1"],
         Some(":0"),

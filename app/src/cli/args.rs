@@ -150,6 +150,13 @@ pub struct ViewArgs {
     /// Samples per pixel of the stochastic frame (1 to 64).
     #[arg(long, default_value_t = 4)]
     pub spp: u32,
+    /// The stochastic frame's shadow term (G switches): sampled (the papers') or analytic.
+    #[arg(long, value_enum, default_value_t = EstimatorArg::Sampled)]
+    pub shadow_estimator: EstimatorArg,
+    /// The stochastic frame's shadow-map lookups (B cycles): none, bilinear or footprint
+    /// (not with the exact lookup, which the viewer then reads unfiltered).
+    #[arg(long, value_enum, default_value_t = FilterArg::None)]
+    pub shadow_filter: FilterArg,
     /// The overlay (method, time, frame rate, per-pass GPU ms, map memory); O toggles it.
     #[arg(long, value_enum, default_value_t = OnOff::On)]
     pub overlay: OnOff,

@@ -19,9 +19,19 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         height: args.height,
         shadow_size: args.shadow_size,
         spp: args.spp.clamp(1, MAX_SPP),
+        shadow_estimator: args.shadow_estimator.estimator(),
+        shadow_filter: args.shadow_filter.filter(),
         ..RenderSettings::default()
     };
     settings.validate()?;
+    if args.method == ViewMethodArg::TemporalExact {
+        // The exact lookup has no texels to filter: refused by name, as `render` does.
+        RenderSettings {
+            lookup: motion_shadows::technique::Lookup::Exact,
+            ..settings.clone()
+        }
+        .validate()?;
+    }
     if let Some((w, h)) = args.resize {
         RenderSettings {
             width: w,

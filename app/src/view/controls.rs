@@ -5,6 +5,7 @@
 use super::camera::CameraControl;
 use super::method::ViewMethod;
 use crate::scene::Scene;
+use motion_shadows::technique::{ShadowEstimator, ShadowFilter};
 use winit::keyboard::{Key, NamedKey};
 
 /// Seconds one arrow key press moves the animation.
@@ -27,6 +28,10 @@ pub enum Action {
     NextMethod,
     /// The stochastic frame instead of the deferred one, or back.
     ToggleFrame,
+    /// The stochastic frame's shadow estimator: sampled or analytic.
+    NextEstimator,
+    /// The stochastic frame's shadow filter: none, bilinear, footprint.
+    NextFilter,
     ToggleOverlay,
     Screenshot,
     ResetCamera,
@@ -40,6 +45,7 @@ pub const KEYS: &[&str] = &[
     "mouse drag: orbit   wheel: dolly   W/S A/D Q/E: fly   R: reset camera",
     "space: play/pause   left/right: scrub time   [ ]: shutter angle",
     "M: method (temporal, temporal-exact, TSM-N, plain)   F: stochastic/deferred frame",
+    "G: estimator (sampled/analytic)   B: filter (none/bilinear/footprint), stochastic frame",
     "O: overlay",
     "P: screenshot (PNG of what is shown)   H: keys   Esc: quit",
 ];
@@ -55,6 +61,8 @@ pub fn action_for_key(key: &Key) -> Option<Action> {
             "]" => Action::Shutter(1.0),
             "m" => Action::NextMethod,
             "f" => Action::ToggleFrame,
+            "g" => Action::NextEstimator,
+            "b" => Action::NextFilter,
             "o" => Action::ToggleOverlay,
             "p" => Action::Screenshot,
             "r" => Action::ResetCamera,
@@ -84,6 +92,9 @@ pub struct ViewState {
     pub overlay: bool,
     /// The stochastic frame (the papers' lighting pass) instead of the deferred one.
     pub stochastic: bool,
+    /// Its shadow estimator and filter.
+    pub estimator: ShadowEstimator,
+    pub filter: ShadowFilter,
     /// The scene must be posed again (time or shutter changed).
     pub scene_changed: bool,
     /// A screenshot was asked for and not taken yet.
@@ -99,6 +110,8 @@ impl ViewState {
             method,
             tsm_maps,
             stochastic: false,
+            estimator: ShadowEstimator::Sampled,
+            filter: ShadowFilter::None,
             playing: false,
             time: 0.0,
             shutter_deg: MAX_SHUTTER_DEG,
@@ -127,6 +140,19 @@ impl ViewState {
             }
             Action::NextMethod => self.method = self.method.next(self.tsm_maps),
             Action::ToggleFrame => self.stochastic = !self.stochastic,
+            Action::NextEstimator => {
+                self.estimator = match self.estimator {
+                    ShadowEstimator::Sampled => ShadowEstimator::Analytic,
+                    ShadowEstimator::Analytic => ShadowEstimator::Sampled,
+                }
+            }
+            Action::NextFilter => {
+                self.filter = match self.filter {
+                    ShadowFilter::None => ShadowFilter::Bilinear,
+                    ShadowFilter::Bilinear => ShadowFilter::Footprint,
+                    ShadowFilter::Footprint => ShadowFilter::None,
+                }
+            }
             Action::ToggleOverlay => self.overlay = !self.overlay,
             Action::Screenshot => self.screenshot = true,
             Action::ResetCamera => self.camera.reset(),
@@ -140,6 +166,15 @@ impl ViewState {
         if self.playing {
             self.time += seconds;
             self.scene_changed = true;
+        }
+    }
+
+    /// The filter the stochastic frame reads its map with: none with the exact lookup,
+    /// which has no texels to filter (the overlay says so).
+    pub fn effective_filter(&self) -> ShadowFilter {
+        match self.method {
+            ViewMethod::TemporalExact => ShadowFilter::None,
+            _ => self.filter,
         }
     }
 
@@ -204,6 +239,27 @@ mod tests {
         assert!((state.time - 2.0 * SCRUB_STEP_S).abs() < 1e-12);
         state.advance(1.0);
         assert!((state.time - 2.0 * SCRUB_STEP_S).abs() < 1e-12, "paused");
+    }
+
+    #[test]
+    fn estimator_and_filter_keys_cycle_and_the_exact_lookup_reads_unfiltered() {
+        let scene = builtin("cubes-toward-light", &BuiltinOptions::default()).unwrap();
+        let mut state = ViewState::new(
+            CameraControl::new(&scene.camera),
+            ViewMethod::Temporal,
+            8,
+            true,
+        );
+        state.apply(Action::NextEstimator);
+        assert_eq!(state.estimator, ShadowEstimator::Analytic);
+        state.apply(Action::NextFilter);
+        state.apply(Action::NextFilter);
+        assert_eq!(state.effective_filter(), ShadowFilter::Footprint);
+        state.apply(Action::NextMethod);
+        assert_eq!(state.method, ViewMethod::TemporalExact);
+        assert_eq!(state.effective_filter(), ShadowFilter::None);
+        state.apply(Action::NextFilter);
+        assert_eq!(state.filter, ShadowFilter::None);
     }
 
     #[test]

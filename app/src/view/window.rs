@@ -13,7 +13,7 @@ use super::method::ViewMethod;
 use super::{ViewOptions, ViewReport};
 use crate::output::write_rgb8_png;
 use anyhow::{Context as _, anyhow, bail};
-use motion_shadows::technique::LightingView;
+use motion_shadows::technique::{LightingView, ShadowEstimator};
 use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -120,7 +120,20 @@ impl Viewer {
         let frame = match (self.state.stochastic, self.state.method) {
             (false, _) => "deferred".to_owned(),
             (true, ViewMethod::Tsm { .. }) => "deferred (stochastic: temporal only)".to_owned(),
-            (true, _) => format!("stochastic {} spp", self.options.spp),
+            (true, method) => format!(
+                "stochastic {} spp {} {}{}",
+                self.options.spp,
+                match self.state.estimator {
+                    ShadowEstimator::Sampled => "sampled",
+                    ShadowEstimator::Analytic => "analytic",
+                },
+                crate::render::stats::filter_name(self.state.effective_filter()),
+                if method == ViewMethod::TemporalExact {
+                    " (exact: unfiltered)"
+                } else {
+                    ""
+                }
+            ),
         };
         vec![
             format!(
@@ -213,8 +226,8 @@ impl Viewer {
                     camera: self.state.camera.view((size.width, size.height)),
                     seed: settings.seed,
                     ambient: frames.scene().ambient,
-                    estimator: settings.shadow_estimator,
-                    filter: settings.shadow_filter,
+                    estimator: self.state.estimator,
+                    filter: self.state.effective_filter(),
                 },
                 self.options.spp,
             )
@@ -397,6 +410,8 @@ pub fn run(options: ViewOptions) -> anyhow::Result<ViewReport> {
         options.overlay,
     );
     state.stochastic = options.stochastic;
+    state.estimator = options.settings.shadow_estimator;
+    state.filter = options.settings.shadow_filter;
     let mut viewer = Viewer {
         options,
         state,
