@@ -59,6 +59,17 @@ motion_shadows_setup() (
         spirv-tools
         pkg-config
         g++
+        # `view` and its test: a window under a virtual X server, and the X libraries winit
+        # loads at run time (it dlopens them: nothing at build time names them).
+        xvfb
+        libx11-6
+        libx11-xcb1
+        libxcursor1
+        libxrandr2
+        libxi6
+        libxkbcommon-x11-0
+        # The viewer's key test types into its window (XTEST).
+        xdotool
     )
 
     local missing=()

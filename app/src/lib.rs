@@ -16,5 +16,6 @@ pub mod output;
 pub mod raytrace;
 pub mod render;
 pub mod scene;
+pub mod view;
 
 pub use error::{Error, Result};

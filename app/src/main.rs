@@ -10,6 +10,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Animate(args)) => motion_shadows_app::cli::animate_cmd::run(&args),
         Some(Command::Compare(args)) => motion_shadows_app::cli::compare_cmd::run(&args),
         Some(Command::Bench(args)) => motion_shadows_app::cli::bench_cmd::run(&args),
+        Some(Command::View(args)) => motion_shadows_app::cli::view_cmd::run(&args),
         Some(Command::Scene(SceneCommand::List)) => {
             for name in BUILTIN_NAMES {
                 println!("{name}");

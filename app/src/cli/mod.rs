@@ -12,6 +12,7 @@ pub mod render_cmd;
 pub mod shared;
 pub mod summary;
 pub mod unread_options;
+pub mod view_cmd;
 
 /// With `MOTION_SHADOWS_VALIDATION=1`, a run the validation layer complained about fails.
 pub fn validation_clean(ctx: &motion_shadows::gpu::Context) -> anyhow::Result<()> {

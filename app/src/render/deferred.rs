@@ -186,7 +186,7 @@ impl Renderer<'_> {
             // SAFETY: a OneShot command buffer of this context, recording, outside rendering.
             unsafe { draws.record_update(this.ctx.device(), cmd, &geometry.draws) }
         })?;
-        let light = self.deferred_light(scene, settings, deferred);
+        let light = deferred_light(scene, settings, deferred);
         let camera = upload::camera_view(scene, size);
         let view_proj = camera.proj * camera.view;
         let gbuffer = GBuffer::new(ctx, settings.width, settings.height)?;
@@ -223,7 +223,7 @@ impl Renderer<'_> {
             deferred.camera_time,
             deferred.moving_receivers,
         );
-        inputs.plane_test_where_still = self.still_pixels_plane(settings, deferred);
+        inputs.plane_test_where_still = still_pixels_plane(settings, deferred);
         let frame = FrameInputs {
             draws: &draws,
             light: &light,
@@ -310,58 +310,6 @@ impl Renderer<'_> {
         self.deferred
             .as_ref()
             .expect("deferred_passes() made them before this submission")
-    }
-
-    /// Whether receivers are tested at their plane's depth. `Auto`: only where they stand
-    /// still and the map holds triangle ids (temporal). A moving receiver's G-buffer normal is
-    /// its normal at the camera time: where its surface turns during the shutter, that plane
-    /// is off the surface at the other times by up to a texel's distance times the change of
-    /// slope, and its own surface's neighbouring triangles shadow it in speckles (measured on
-    /// cubes-toward-light's turning cubes); the normal offset keeps clear of them.
-    fn deferred_receiver_plane(
-        &self,
-        settings: &RenderSettings,
-        deferred: &DeferredSettings,
-    ) -> bool {
-        match settings.receiver {
-            ReceiverTest::Auto => {
-                deferred.method == DeferredMethod::Temporal && !deferred.moving_receivers
-            }
-            other => other.uses_plane(&settings.method),
-        }
-    }
-
-    /// Whether, in a mask of moving receivers, the pixels that do not move take the
-    /// standing receivers' plane test (`Auto`, temporal: the G-buffer holds ids), while the
-    /// moving ones keep the light's normal offset. Why per pixel: with the offset on every
-    /// pixel as soon as anything moves, still ground lost its contact shadows (against an
-    /// independent path tracer, 1.5-2.5x the error of `--static-receivers` on still
-    /// receivers).
-    fn still_pixels_plane(&self, settings: &RenderSettings, deferred: &DeferredSettings) -> bool {
-        settings.receiver == ReceiverTest::Auto
-            && deferred.method == DeferredMethod::Temporal
-            && deferred.moving_receivers
-    }
-
-    /// The light as the frame's settings set it up (receiver test, static layer kept).
-    fn deferred_light(
-        &self,
-        scene: &Scene,
-        settings: &RenderSettings,
-        deferred: &DeferredSettings,
-    ) -> LightView {
-        let mut light = LightView {
-            prisms: settings.prisms,
-            static_layer: settings.static_layer,
-            keep_static_layer: settings.static_layer,
-            lookup: deferred.lookup,
-            ..upload::light_view(scene, settings.shadow_size())
-        };
-        if self.deferred_receiver_plane(settings, deferred) {
-            light.receiver_plane = true;
-            light.normal_offset_texels = 0.0;
-        }
-        light
     }
 
     fn deferred_temporal_frame(
@@ -484,6 +432,54 @@ impl Renderer<'_> {
         }
         Ok(tsm_map.bytes())
     }
+}
+
+/// Whether receivers are tested at their plane's depth. `Auto`: only where they stand
+/// still and the map holds triangle ids (temporal). A moving receiver's G-buffer normal is
+/// its normal at the camera time: where its surface turns during the shutter, that plane
+/// is off the surface at the other times by up to a texel's distance times the change of
+/// slope, and its own surface's neighbouring triangles shadow it in speckles (measured on
+/// cubes-toward-light's turning cubes); the normal offset keeps clear of them.
+fn deferred_receiver_plane(settings: &RenderSettings, deferred: &DeferredSettings) -> bool {
+    match settings.receiver {
+        ReceiverTest::Auto => {
+            deferred.method == DeferredMethod::Temporal && !deferred.moving_receivers
+        }
+        other => other.uses_plane(&settings.method),
+    }
+}
+
+/// Whether, in a mask of moving receivers, the pixels that do not move take the
+/// standing receivers' plane test (`Auto`, temporal: the G-buffer holds ids), while the
+/// moving ones keep the light's normal offset. Why per pixel: with the offset on every
+/// pixel as soon as anything moves, still ground lost its contact shadows (against an
+/// independent path tracer, 1.5-2.5x the error of `--static-receivers` on still
+/// receivers). Public for hosts of the same frame (the viewer).
+pub fn still_pixels_plane(settings: &RenderSettings, deferred: &DeferredSettings) -> bool {
+    settings.receiver == ReceiverTest::Auto
+        && deferred.method == DeferredMethod::Temporal
+        && deferred.moving_receivers
+}
+
+/// The deferred frame's light as the settings set it up (receiver test, static layer
+/// kept). Public for hosts of the same frame (the viewer).
+pub fn deferred_light(
+    scene: &Scene,
+    settings: &RenderSettings,
+    deferred: &DeferredSettings,
+) -> LightView {
+    let mut light = LightView {
+        prisms: settings.prisms,
+        static_layer: settings.static_layer,
+        keep_static_layer: settings.static_layer,
+        lookup: deferred.lookup,
+        ..upload::light_view(scene, settings.shadow_size())
+    };
+    if deferred_receiver_plane(settings, deferred) {
+        light.receiver_plane = true;
+        light.normal_offset_texels = 0.0;
+    }
+    light
 }
 
 /// The passes only deferred frames use.

@@ -52,6 +52,23 @@ impl PreparedFrame {
     }
 }
 
+/// The stochastic (forward) frame's light as `settings` set it up (receiver test, static
+/// layer, lookup). Public for hosts of the same frame (the viewer).
+pub fn forward_light(scene: &Scene, settings: &RenderSettings) -> LightView {
+    let mut light = LightView {
+        prisms: settings.prisms,
+        static_layer: settings.static_layer,
+        keep_static_layer: settings.static_layer && settings.keep_static_layer,
+        lookup: settings.lookup,
+        ..upload::light_view(scene, settings.shadow_size())
+    };
+    if settings.receiver_plane() {
+        light.receiver_plane = true;
+        light.normal_offset_texels = 0.0;
+    }
+    light
+}
+
 /// What the statistics take from the frame's run.
 pub(super) struct Timing {
     pub(super) passes: Vec<PassTime>,
@@ -81,17 +98,7 @@ impl Renderer<'_> {
             // SAFETY: a OneShot command buffer of this context, recording, outside rendering.
             unsafe { draws.record_update(this.ctx.device(), cmd, &geometry.draws) }
         })?;
-        let mut light = LightView {
-            prisms: settings.prisms,
-            static_layer: settings.static_layer,
-            keep_static_layer: settings.static_layer && settings.keep_static_layer,
-            lookup: settings.lookup,
-            ..upload::light_view(scene, settings.shadow_size())
-        };
-        if settings.receiver_plane() {
-            light.receiver_plane = true;
-            light.normal_offset_texels = 0.0;
-        }
+        let light = forward_light(scene, settings);
         let view = LightingView {
             camera: upload::camera_view(scene, (settings.width, settings.height)),
             seed: settings.seed,

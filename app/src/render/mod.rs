@@ -21,6 +21,7 @@ pub mod upload;
 use crate::error::{Error, Result};
 use crate::output::RadianceImage;
 use crate::scene::Scene;
+pub use frame::forward_light;
 use motion_shadows::gpu::{Context, OneShot, TimestampQueries};
 use motion_shadows::technique::{
     CollectionPass, CoveragePass, DrawList, GenerationPass, LightView, LightingPass,

@@ -65,44 +65,51 @@ impl SceneGeometry {
         let vertices = flatten(scene);
         let buffer =
             Buffer::with_data(ctx, "scene vertices", BufferUsage::HostToDevice, &vertices)?;
-        let stride = std::mem::size_of::<SceneVertex>() as u32;
-        let (mut first_vertex, mut first_id) = (0u64, 0u32);
-        let mut draws = Vec::new();
-        // Back-face culling only where it is exact: not for a closed mesh that holds the
-        // light or the camera during the shutter.
-        let closed = crate::scene::effective_closed(scene);
-        for (mesh, &closed) in scene.meshes.iter().zip(&closed) {
-            let count = mesh.t0.len() as u32;
-            let offset = first_vertex * stride as u64;
-            if count >= 3 {
-                // A mesh that does not move names its t0 positions twice: the library then
-                // knows it is static (and rasterizes it directly).
-                let t1_offset = if mesh.t0 == mesh.t1 {
-                    offset
-                } else {
-                    offset + 16
-                };
-                let mut draw = Draw::new(
-                    PositionStream::from_buffer(&buffer, offset, stride)?,
-                    PositionStream::from_buffer(&buffer, t1_offset, stride)?,
-                    count,
-                    Indices::None,
-                    count / 3,
-                    first_id,
-                );
-                draw.closed = closed;
-                draw.albedo = mesh.albedo;
-                draws.push(draw);
-            }
-            first_vertex += count as u64;
-            first_id += count / 3;
-        }
+        let draws = scene_draws(scene, &buffer)?;
         Ok(Self {
             vertices: buffer,
             draws,
-            triangle_count: first_id,
+            triangle_count: scene.meshes.iter().map(|m| m.t0.len() as u32 / 3).sum(),
         })
     }
+}
+
+/// One draw per mesh of `scene` reading `buffer`, which holds [`flatten`]`(scene)`. Triangle
+/// ids follow scene order (mesh by mesh).
+pub fn scene_draws(scene: &Scene, buffer: &Buffer) -> Result<Vec<Draw>> {
+    let stride = std::mem::size_of::<SceneVertex>() as u32;
+    let (mut first_vertex, mut first_id) = (0u64, 0u32);
+    let mut draws = Vec::new();
+    // Back-face culling only where it is exact: not for a closed mesh that holds the
+    // light or the camera during the shutter.
+    let closed = crate::scene::effective_closed(scene);
+    for (mesh, &closed) in scene.meshes.iter().zip(&closed) {
+        let count = mesh.t0.len() as u32;
+        let offset = first_vertex * stride as u64;
+        if count >= 3 {
+            // A mesh that does not move names its t0 positions twice: the library then
+            // knows it is static (and rasterizes it directly).
+            let t1_offset = if mesh.t0 == mesh.t1 {
+                offset
+            } else {
+                offset + 16
+            };
+            let mut draw = Draw::new(
+                PositionStream::from_buffer(buffer, offset, stride)?,
+                PositionStream::from_buffer(buffer, t1_offset, stride)?,
+                count,
+                Indices::None,
+                count / 3,
+                first_id,
+            );
+            draw.closed = closed;
+            draw.albedo = mesh.albedo;
+            draws.push(draw);
+        }
+        first_vertex += count as u64;
+        first_id += count / 3;
+    }
+    Ok(draws)
 }
 
 pub fn camera_view(scene: &Scene, image_size: (u32, u32)) -> CameraView {

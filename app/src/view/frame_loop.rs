@@ -1,0 +1,562 @@
+//! The frame loop: frames in flight (each slot waits only for its own last frame), the
+//! map's room reserved before each frame, acquire, record, submit, present, and the results
+//! of a completed frame read back (counters, over-budget pixels, GPU times, a screenshot).
+//! A resize or an out-of-date surface makes the swapchain and the size's images again.
+
+use super::allocations::AllocationCounter;
+use super::device::{Messages, ViewDevice};
+use super::frame_slot::{FrameSlot, SizedTargets, screenshot_buffer};
+use super::method::ViewMethod;
+use super::overlay::{OVERLAY_HEIGHT, OVERLAY_WIDTH, Overlay};
+use super::record::{FrameView, Passes, Present, record_frame};
+use super::shade::ShadePass;
+use super::swapchain::{Acquired, Swapchain};
+use crate::scene::Scene;
+use anyhow::Context as _;
+use ash::vk;
+use motion_shadows::gpu::Context;
+use motion_shadows::technique::{
+    CameraView, CollectionPass, EngineTsmPass, GBufferPass, GenerationPass, HostDraw, LightView,
+    LightingImageOutput, LightingPass, LightingView, TemporalShadowMap, VisibilityMaskPass,
+};
+
+/// Frames recorded while earlier ones still run.
+pub const FRAMES_IN_FLIGHT: usize = 2;
+
+/// The viewer's settings that no key changes.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameSettings {
+    pub camera_time: f32,
+    pub moving_receivers: bool,
+    pub exposure: f32,
+    pub shadow_size: (u32, u32),
+}
+
+/// What one frame shows.
+pub struct FrameRequest<'a> {
+    /// The window's size (not zero).
+    pub window: (u32, u32),
+    pub camera: &'a dyn Fn((u32, u32)) -> CameraView,
+    pub method: ViewMethod,
+    /// The method's light ([`ViewMethod::light`]) and the still pixels' plane test.
+    pub light: LightView,
+    pub plane_test_where_still: bool,
+    pub overlay: Option<&'a [String]>,
+    /// Keep a copy of exactly what is presented ([`FrameLoop::take_screenshot`] once the
+    /// frame completed).
+    pub screenshot: bool,
+    /// The stochastic frame (the temporal map's, `light` its forward light) with these
+    /// samples per pixel, instead of the deferred frame.
+    pub stochastic: Option<(LightingView, u32)>,
+}
+
+/// A presented frame read back: RGB, 3 bytes a pixel, rows from the top.
+pub struct Screenshot {
+    pub size: (u32, u32),
+    pub rgb: Vec<u8>,
+}
+
+/// What the completed frames measured.
+#[derive(Debug, Default, Clone)]
+pub struct FrameStats {
+    /// Frames whose results were read back.
+    pub completed: u64,
+    /// GPU milliseconds per pass, summed over the completed frames after the first.
+    pub pass_ms: Vec<(String, f64)>,
+    pub timed_frames: u64,
+    /// The last completed frame's GPU milliseconds per pass.
+    pub last_pass_ms: Vec<(String, f64)>,
+    /// The last temporal frame's stored ranges.
+    pub last_ranges: u32,
+    /// Frames whose map ran out of room (grown after): their shadows missed casters.
+    pub incomplete_frames: u64,
+    /// Bytes of the shadow maps (all slots: the temporal maps, TSM's once made).
+    pub map_bytes: u64,
+    pub swapchains_made: u64,
+}
+
+pub enum Drawn {
+    Presented,
+    /// Nothing drawn: the surface was out of date (the swapchain was made again).
+    Skipped,
+}
+
+pub struct FrameLoop {
+    slots: Vec<FrameSlot>,
+    passes: Passes,
+    /// Made on the first frame of a TSM method.
+    tsm_pass: Option<EngineTsmPass>,
+    /// Made on the first stochastic frame.
+    lighting: Option<(LightingPass, LightingImageOutput)>,
+    scene: Scene,
+    /// Incremented by each [`Self::set_scene`]: slots rewrite their geometry when behind.
+    scene_version: u64,
+    settings: FrameSettings,
+    overlay: Overlay,
+    /// The number the next frame gets.
+    frame: u64,
+    stale_swapchain: bool,
+    screenshot: Option<Screenshot>,
+    stats: FrameStats,
+    ctx: Context,
+    swapchain: Option<Swapchain>,
+    pool: vk::CommandPool,
+    /// Declared last: destroyed after everything made on it.
+    gpu: ViewDevice,
+}
+
+impl FrameLoop {
+    /// The loop's objects, the swapchain for `window`, and each slot's map reserved for
+    /// `light` (the first method's) before the first frame.
+    pub fn new(
+        gpu: ViewDevice,
+        scene: Scene,
+        light: &LightView,
+        settings: FrameSettings,
+        window: (u32, u32),
+        counter: &mut AllocationCounter,
+    ) -> anyhow::Result<Self> {
+        let ctx = gpu.context()?;
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(gpu.queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        let pool = counter
+            .counted(unsafe { gpu.device.create_command_pool(&pool_info, None) })
+            .context("vkCreateCommandPool")?;
+        // Until the loop exists, an error must free the pool itself.
+        let parts = (|| -> anyhow::Result<_> {
+            let passes = Passes {
+                gbuffer: counter.counted(GBufferPass::new(&ctx)?),
+                collection: counter.counted(CollectionPass::new(&ctx)?),
+                generation: counter.counted(GenerationPass::new(&ctx)?),
+                mask: counter.counted(VisibilityMaskPass::new(&ctx)?),
+                shade: counter.counted(ShadePass::new(&ctx, &scene)?),
+            };
+            let mut slots = Vec::new();
+            for _ in 0..FRAMES_IN_FLIGHT {
+                slots.push(FrameSlot::new(
+                    &ctx,
+                    pool,
+                    &scene,
+                    settings.shadow_size,
+                    counter,
+                )?);
+            }
+            Ok((passes, slots))
+        })();
+        let (passes, slots) = match parts {
+            Ok(parts) => parts,
+            Err(e) => {
+                unsafe { gpu.device.destroy_command_pool(pool, None) };
+                return Err(e);
+            }
+        };
+        let mut this = Self {
+            slots,
+            passes,
+            tsm_pass: None,
+            lighting: None,
+            scene,
+            scene_version: 0,
+            settings,
+            overlay: Overlay::default(),
+            frame: 0,
+            stale_swapchain: false,
+            screenshot: None,
+            stats: FrameStats::default(),
+            ctx,
+            swapchain: None,
+            pool,
+            gpu,
+        };
+        this.make_swapchain(window, counter)?;
+        // Each slot's map is reserved before its first frame, so that the frames after the
+        // first allocate nothing.
+        for slot in &mut this.slots {
+            reserve_map(&this.ctx, &mut slot.map, light, &this.scene, counter)?;
+        }
+        Ok(this)
+    }
+
+    pub fn device_name(&self) -> &str {
+        &self.gpu.device_name
+    }
+
+    /// The validation layer's messages, also those still to come at the teardown.
+    pub fn messages(&self) -> Messages {
+        self.gpu.base.messages.clone()
+    }
+
+    pub fn stats(&self) -> &FrameStats {
+        &self.stats
+    }
+
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The size of the images presented now.
+    pub fn size(&self) -> Option<(u32, u32)> {
+        self.swapchain.as_ref().map(Swapchain::size)
+    }
+
+    /// The window changed size: the next frame makes the swapchain again first.
+    pub fn mark_resized(&mut self) {
+        self.stale_swapchain = true;
+    }
+
+    /// The scene posed anew (the animation's time, the shutter): each slot rewrites its
+    /// vertices before its next frame.
+    pub fn set_scene(&mut self, scene: Scene) {
+        self.scene = scene;
+        self.scene_version += 1;
+    }
+
+    pub fn take_screenshot(&mut self) -> Option<Screenshot> {
+        self.screenshot.take()
+    }
+
+    fn make_swapchain(
+        &mut self,
+        window: (u32, u32),
+        counter: &mut AllocationCounter,
+    ) -> anyhow::Result<()> {
+        // Nothing may use the old swapchain's images or semaphores any more.
+        unsafe { self.gpu.device.device_wait_idle() }.map_err(device_error)?;
+        self.finish_all(counter)?;
+        let old = self.swapchain.take();
+        let made = Swapchain::new(
+            &self.gpu,
+            window,
+            old.as_ref().map_or(vk::SwapchainKHR::null(), |s| s.handle),
+        );
+        drop(old);
+        let swapchain = counter.counted(made?);
+        let size = swapchain.size();
+        self.swapchain = Some(swapchain);
+        self.stats.swapchains_made += 1;
+        self.stale_swapchain = false;
+        // Every slot's images of the new size now (the device is idle), not at each slot's
+        // first frame after it.
+        for slot in &mut self.slots {
+            if slot.targets.as_ref().map(|t| t.size) != Some(size) {
+                slot.targets = None;
+                slot.targets = Some(SizedTargets::new(
+                    &self.ctx,
+                    size,
+                    &self.passes.mask,
+                    &self.passes.shade,
+                    counter,
+                )?);
+            }
+        }
+        Ok(())
+    }
+
+    /// Draws and presents one frame.
+    pub fn draw(
+        &mut self,
+        request: &FrameRequest<'_>,
+        counter: &mut AllocationCounter,
+    ) -> anyhow::Result<Drawn> {
+        if self.stale_swapchain {
+            counter.during_event(|c| self.make_swapchain(request.window, c))?;
+        }
+        let index = self.frame as usize % FRAMES_IN_FLIGHT;
+        let device = self.gpu.device.clone();
+        let fence = self.slots[index].fence;
+        unsafe { device.wait_for_fences(&[fence], true, u64::MAX) }.map_err(device_error)?;
+        self.finish(index, counter)?;
+        let acquired = self
+            .swapchain
+            .as_ref()
+            .context("the viewer has no swapchain")?
+            .acquire(self.slots[index].acquired)?;
+        let image = match acquired {
+            Acquired::Image(image) => image,
+            Acquired::OutOfDate => {
+                counter.during_event(|c| self.make_swapchain(request.window, c))?;
+                return Ok(Drawn::Skipped);
+            }
+        };
+        let Some(swapchain) = self.swapchain.as_ref() else {
+            anyhow::bail!("the viewer has no swapchain");
+        };
+        let size = swapchain.size();
+        let swap_image = swapchain.images[image as usize];
+        let rendered = swapchain.rendered[image as usize];
+        let ctx = &self.ctx;
+        let slot = &mut self.slots[index];
+        if slot.targets.as_ref().map(|t| t.size) != Some(size) {
+            anyhow::bail!("the frame slot's images are not of the swapchain's size");
+        }
+        if request.screenshot {
+            let buffer =
+                counter.during_event(|c| screenshot_buffer(ctx, size).map(|b| c.counted(b)))?;
+            slot.screenshot = Some((buffer, size));
+        }
+        slot.update_geometry(ctx, &self.scene, self.scene_version, counter)?;
+        if let Some((_, spp)) = request.stochastic {
+            if matches!(request.method, ViewMethod::Tsm { .. }) {
+                anyhow::bail!("the viewer's stochastic frame is the temporal map's, not TSM's");
+            }
+            if self.lighting.is_none() {
+                self.lighting = Some(counter.during_event(|c| -> anyhow::Result<_> {
+                    c.note(2);
+                    Ok((LightingPass::new(ctx)?, LightingImageOutput::new(ctx)?))
+                })?);
+            }
+            let Some((_, output)) = self.lighting.as_ref() else {
+                anyhow::bail!("the lighting pass was not made");
+            };
+            counter.during_event(|c| slot.lighting_targets(ctx, output, size, spp, c))?;
+        }
+        let tsm_maps = match request.method {
+            ViewMethod::Tsm { maps } => {
+                if self.tsm_pass.is_none() {
+                    self.tsm_pass = Some(
+                        counter.during_event(|c| EngineTsmPass::new(ctx).map(|p| c.counted(p)))?,
+                    );
+                }
+                let Some(pass) = self.tsm_pass.as_ref() else {
+                    anyhow::bail!("TSM's pass was not made");
+                };
+                let shadow = self.settings.shadow_size;
+                counter.during_event(|c| slot.tsm_targets(ctx, pass, shadow, maps, c))?;
+                Some(maps)
+            }
+            ViewMethod::TemporalExact => {
+                // The exact lookup reads the triangles' corners: room for their records
+                // (made once; not bounded from the positions, so the map grows after a frame
+                // that overflowed).
+                let before = slot.map.allocated_bytes();
+                slot.map
+                    .reserve_triangle_records(ctx, u64::from(slot.geometry.triangle_count))?;
+                if slot.map.allocated_bytes() != before {
+                    counter.during_event(|c| c.note(1));
+                }
+                None
+            }
+            ViewMethod::Temporal => {
+                // Reserved before every frame: what it can store changes with the animation.
+                reserve_map(ctx, &mut slot.map, &request.light, &self.scene, counter)?;
+                None
+            }
+        };
+        let overlay = match request.overlay {
+            Some(lines) => {
+                slot.overlay.write(self.overlay.compose(lines))?;
+                Some((
+                    slot.overlay.device_address(),
+                    (OVERLAY_WIDTH, OVERLAY_HEIGHT),
+                ))
+            }
+            None => None,
+        };
+        self.ctx.begin_frame(self.frame);
+        let camera = (request.camera)(size);
+        let view = FrameView {
+            light: &request.light,
+            view_proj: camera.proj * camera.view,
+            eye: camera.position,
+            camera_time: self.settings.camera_time,
+            moving_receivers: self.settings.moving_receivers,
+            plane_test_where_still: request.plane_test_where_still,
+            exposure: self.settings.exposure,
+            overlay,
+            tsm: tsm_maps.and_then(|maps| self.tsm_pass.as_ref().map(|pass| (pass, maps))),
+            stochastic: match (&request.stochastic, &self.lighting) {
+                (Some((lighting_view, _)), Some((pass, output))) => Some((
+                    pass,
+                    output,
+                    // The camera of the presented size (the request's may predate a resize).
+                    LightingView {
+                        camera,
+                        ..*lighting_view
+                    },
+                )),
+                _ => None,
+            },
+        };
+        let present = Present {
+            image: swap_image,
+            screenshot: slot.screenshot.as_ref().map(|(b, _)| b.raw()),
+        };
+        unsafe {
+            slot.timestamps.clear();
+            device
+                .reset_command_buffer(slot.cmd, vk::CommandBufferResetFlags::empty())
+                .map_err(device_error)?;
+            let begin = vk::CommandBufferBeginInfo::default()
+                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            device
+                .begin_command_buffer(slot.cmd, &begin)
+                .map_err(device_error)?;
+            record_frame(&device, &self.passes, slot, &view, &present)?;
+            device.end_command_buffer(slot.cmd).map_err(device_error)?;
+            let waits = [vk::SemaphoreSubmitInfo::default()
+                .semaphore(slot.acquired)
+                .stage_mask(vk::PipelineStageFlags2::TRANSFER)];
+            let signals = [vk::SemaphoreSubmitInfo::default()
+                .semaphore(rendered)
+                .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];
+            let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(slot.cmd)];
+            let submit = [vk::SubmitInfo2::default()
+                .wait_semaphore_infos(&waits)
+                .command_buffer_infos(&cmds)
+                .signal_semaphore_infos(&signals)];
+            device.reset_fences(&[slot.fence]).map_err(device_error)?;
+            device
+                .queue_submit2(self.gpu.queue, &submit, slot.fence)
+                .map_err(device_error)?;
+        }
+        if let Some(tsm) = &slot.tsm {
+            // The static map it may have drawn is now kept for the slot's next TSM frame.
+            tsm.map.static_map_submitted();
+        }
+        slot.pending = Some((self.frame, request.method, request.stochastic.is_some()));
+        self.frame += 1;
+        if !swapchain.present(self.gpu.queue, image)? {
+            self.stale_swapchain = true;
+        }
+        Ok(Drawn::Presented)
+    }
+
+    /// Waits for every frame in flight and reads its results.
+    pub fn finish_all(&mut self, counter: &mut AllocationCounter) -> anyhow::Result<()> {
+        for index in 0..self.slots.len() {
+            let fence = self.slots[index].fence;
+            unsafe { self.gpu.device.wait_for_fences(&[fence], true, u64::MAX) }
+                .map_err(device_error)?;
+            self.finish(index, counter)?;
+        }
+        Ok(())
+    }
+
+    /// Reads the results of slot `index`'s completed frame, if not read yet.
+    fn finish(&mut self, index: usize, counter: &mut AllocationCounter) -> anyhow::Result<()> {
+        let slot = &mut self.slots[index];
+        let Some((frame, method, stochastic)) = slot.pending.take() else {
+            return Ok(());
+        };
+        // SAFETY: the slot's fence signalled; on one queue every earlier frame completed.
+        unsafe { self.ctx.collect(frame) };
+        if !matches!(method, ViewMethod::Tsm { .. }) {
+            let counts = slot.map.read_counters()?;
+            if slot.map.needs_more_room(&counts) {
+                // Only where the room could not be reserved (the exact lookup has no bound).
+                self.stats.incomplete_frames += 1;
+                slot.map.grow_to_fit(&self.ctx, &counts)?;
+                counter.note(1);
+            } else {
+                slot.map.check_complete(&counts)?;
+            }
+            self.stats.last_ranges = counts.range_count;
+            if let Some(targets) = slot.targets.as_ref().filter(|_| !stochastic) {
+                let over = targets.mask_bindings.read_over_budget_pixels()?;
+                if over > 0 {
+                    let limit = self.ctx.info().shader_loop_limit.unwrap_or(0);
+                    return Err(crate::render::deferred::loop_limit_error(
+                        over,
+                        limit,
+                        slot.map.recorded_lookup(),
+                    )
+                    .into());
+                }
+            }
+        }
+        if let Some(lighting) = slot.lighting.as_ref().filter(|_| stochastic) {
+            let over = lighting.target.read_over_budget_pixels()?;
+            if over > 0 {
+                anyhow::bail!(
+                    "the stochastic frame's shadow lookups ran past the device's loop limit \
+                     at {over} pixels (lavapipe): its shadows may be wrong there; use the \
+                     deferred frame (F) or the depth lookup"
+                );
+            }
+        }
+        let spans = slot.timestamps.spans_ms()?;
+        if frame > 0 {
+            self.stats.timed_frames += 1;
+            for (pass, ms) in &spans {
+                match self.stats.pass_ms.iter_mut().find(|(p, _)| p == pass) {
+                    Some((_, sum)) => *sum += ms,
+                    None => self.stats.pass_ms.push((pass.clone(), *ms)),
+                }
+            }
+        }
+        self.stats.last_pass_ms = spans;
+        self.stats.completed += 1;
+        self.stats.map_bytes = self
+            .slots
+            .iter()
+            .map(|s| s.map.allocated_bytes() + s.tsm.as_ref().map_or(0, |t| t.map.bytes()))
+            .sum();
+        let slot = &mut self.slots[index];
+        if let Some((buffer, size)) = slot.screenshot.take() {
+            let format = self
+                .swapchain
+                .as_ref()
+                .map_or(vk::Format::UNDEFINED, |s| s.format);
+            let pixels: Vec<u8> = buffer.read(4 * size.0 as usize * size.1 as usize)?;
+            let rgb = pixels
+                .chunks_exact(4)
+                .flat_map(|p| match format {
+                    vk::Format::B8G8R8A8_UNORM => [p[2], p[1], p[0]],
+                    _ => [p[0], p[1], p[2]],
+                })
+                .collect();
+            self.screenshot = Some(Screenshot { size, rgb });
+        }
+        Ok(())
+    }
+}
+
+/// A Vulkan error of a submission or wait, with a clear word for a lost device.
+fn device_error(result: vk::Result) -> anyhow::Error {
+    match result {
+        vk::Result::ERROR_DEVICE_LOST => anyhow::anyhow!(
+            "the Vulkan device was lost (the driver reset it or it hung): the viewer cannot go on"
+        ),
+        other => anyhow::anyhow!("Vulkan: {other}"),
+    }
+}
+
+/// Reserves room in `map` for all that a frame of `scene` lit by `light` can store, from the
+/// host's positions ([`TemporalShadowMap::reserve_for`]): such a frame never overflows and
+/// is never grown and drawn again. Counts the map's growth as an allocation.
+fn reserve_map(
+    ctx: &Context,
+    map: &mut TemporalShadowMap,
+    light: &LightView,
+    scene: &Scene,
+    counter: &mut AllocationCounter,
+) -> anyhow::Result<()> {
+    let host_draws: Vec<HostDraw> = scene
+        .meshes
+        .iter()
+        .filter(|m| m.t0.len() >= 3)
+        .map(|m| HostDraw::new(&m.t0, &m.t1, None))
+        .collect();
+    let before = map.allocated_bytes();
+    map.reserve_for(ctx, light, None, &host_draws)?;
+    if map.allocated_bytes() != before {
+        counter.note(1);
+    }
+    Ok(())
+}
+
+impl Drop for FrameLoop {
+    fn drop(&mut self) {
+        unsafe {
+            let _ = self.gpu.device.device_wait_idle();
+            // SAFETY: the device is idle.
+            self.ctx.collect(u64::MAX);
+        }
+        // The library's objects go before the context, the swapchain and the pool before the
+        // device (fields drop in order after this).
+        self.slots.clear();
+        self.tsm_pass = None;
+        unsafe { self.gpu.device.destroy_command_pool(self.pool, None) };
+    }
+}

@@ -1,0 +1,198 @@
+//! The viewer's shading pass: the G-buffer and the library's mask to the 8-bit sRGB image the
+//! window shows (`glsl/shade.comp`, compiled when the viewer starts, as an engine compiles
+//! its own shaders). Per-triangle albedos are read by address from a buffer made once.
+
+use crate::scene::Scene;
+use anyhow::{Context as _, anyhow};
+use ash::vk;
+use glam::{Mat4, Vec4};
+use motion_shadows::gpu::{
+    Buffer, BufferUsage, Context, ImageBindingLayout, ImageBindings, Pipeline, Spirv,
+    compute_pipeline_with_sets,
+};
+use motion_shadows::technique::{LightView, MaskInputs};
+// Named so that rustc loads it and links its native arguments: Debian 12's libshaderc.so
+// links only with them (build-support/shaderc-link).
+use motion_shadows_shaderc_link as _;
+
+const SHADE_GLSL: &str = include_str!("glsl/shade.comp");
+/// The shader's workgroup side (`local_size_x`, `local_size_y`).
+const GROUP: u32 = 8;
+/// The output image's format (`rgba8` in the shader).
+pub const OUTPUT_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+
+/// The shader's push constants (`Push` in shade.comp): 128 bytes, the least any device
+/// offers.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ShadePush {
+    inv_view_proj: Mat4,
+    light_position: Vec4,
+    light_direction: Vec4,
+    albedos: u64,
+    overlay: u64,
+    emission: f32,
+    ambient: f32,
+    exposure_scale: f32,
+    /// Width | height << 15 of the overlay's grid (0 without one) | [`STOCHASTIC`].
+    overlay_size: u32,
+}
+
+/// The push constants' flag: show the stochastic frame's radiance image.
+const STOCHASTIC: u32 = 1 << 31;
+
+/// What one frame's shading reads besides its images.
+#[derive(Clone, Copy)]
+pub struct ShadeFrame<'a> {
+    pub light: &'a LightView,
+    pub inv_view_proj: Mat4,
+    pub exposure: f32,
+    /// The overlay's codes (device address) and grid size (`overlay.rs`), if shown.
+    pub overlay: Option<(u64, (u32, u32))>,
+    /// Show the radiance image (the stochastic frame) instead of shading the G-buffer.
+    pub stochastic: bool,
+    /// The shaded image written (`OUTPUT_FORMAT`, storage, in GENERAL).
+    pub output: vk::ImageView,
+    /// The stochastic frame's radiance (RGBA32F, storage, in GENERAL; bound in every frame).
+    pub radiance: vk::ImageView,
+}
+
+pub struct ShadePass {
+    layout: ImageBindingLayout,
+    pipeline: Pipeline,
+    albedos: Buffer,
+    ambient: f32,
+}
+
+/// Compiles `glsl/shade.comp` to SPIR-V.
+fn compile() -> anyhow::Result<Vec<u8>> {
+    let compiler = shaderc::Compiler::new().context("the shaderc compiler could not be created")?;
+    let mut options =
+        shaderc::CompileOptions::new().context("the shaderc options could not be created")?;
+    options.set_target_env(
+        shaderc::TargetEnv::Vulkan,
+        // 1.3 would emit LocalSizeId, which needs maintenance4 (not a library requirement).
+        shaderc::EnvVersion::Vulkan1_2 as u32,
+    );
+    options.set_optimization_level(shaderc::OptimizationLevel::Performance);
+    let spirv = compiler
+        .compile_into_spirv(
+            SHADE_GLSL,
+            shaderc::ShaderKind::Compute,
+            "shade.comp",
+            "main",
+            Some(&options),
+        )
+        .context("compiling the viewer's shade.comp")?;
+    Ok(spirv.as_binary_u8().to_vec())
+}
+
+impl ShadePass {
+    /// The pipeline, and the albedo of every triangle of `scene` (by global id, mesh by mesh
+    /// as the upload numbers them).
+    pub fn new(ctx: &Context, scene: &Scene) -> anyhow::Result<Self> {
+        let types = [
+            vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            vk::DescriptorType::STORAGE_IMAGE,
+            vk::DescriptorType::STORAGE_IMAGE,
+            vk::DescriptorType::STORAGE_IMAGE,
+        ];
+        let layout = ImageBindingLayout::new(ctx, &types)?;
+        let spirv = compile()?;
+        let pipeline = compute_pipeline_with_sets(
+            ctx,
+            &[&layout],
+            std::mem::size_of::<ShadePush>() as u32,
+            "shade.comp",
+            // SAFETY: shaderc's module for Vulkan 1.2, entry point `main`; it uses buffer
+            // device addresses (a feature the library requires) and storage images of
+            // declared formats; its push block is `ShadePush`, its bindings `types`.
+            unsafe { Spirv::new(&spirv) },
+        )?;
+        let mut albedo: Vec<Vec4> = scene
+            .meshes
+            .iter()
+            .flat_map(|mesh| std::iter::repeat_n(mesh.albedo.extend(1.0), mesh.t0.len() / 3))
+            .collect();
+        if albedo.is_empty() {
+            albedo.push(Vec4::ZERO);
+        }
+        let albedos = Buffer::with_data(ctx, "viewer albedos", BufferUsage::HostToDevice, &albedo)?;
+        Ok(Self {
+            layout,
+            pipeline,
+            albedos,
+            ambient: scene.ambient,
+        })
+    }
+
+    /// A descriptor set for one frame slot.
+    pub fn bindings(&self) -> anyhow::Result<ImageBindings> {
+        Ok(self.layout.allocate()?)
+    }
+
+    /// Records the shading of `inputs` (the mask pass's inputs: depth, normals, ids; its
+    /// output the lit shares, in GENERAL), or of `frame.radiance` (the stochastic frame),
+    /// into `frame.output`.
+    ///
+    /// # Safety
+    /// `cmd` is recording, outside rendering; `bindings` is not used by a pending command
+    /// buffer; the mask pass was recorded before in `cmd` and its output made visible to
+    /// compute reads; the images stay alive until `cmd` completes.
+    pub unsafe fn record(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        bindings: &mut ImageBindings,
+        inputs: &MaskInputs,
+        frame: ShadeFrame<'_>,
+    ) -> anyhow::Result<()> {
+        let normals = inputs
+            .normals
+            .ok_or_else(|| anyhow!("the viewer's G-buffer has normals"))?;
+        let ids = inputs
+            .ids
+            .ok_or_else(|| anyhow!("the viewer's G-buffer has triangle ids"))?;
+        let general = vk::ImageLayout::GENERAL;
+        unsafe {
+            bindings.write(&[
+                (inputs.depth, inputs.depth_layout),
+                (normals.view, normals.layout),
+                (ids.view, ids.layout),
+                (inputs.output, general),
+                (frame.output, general),
+                (frame.radiance, general),
+            ])
+        };
+        let gpu = frame.light.gpu();
+        let push = ShadePush {
+            inv_view_proj: frame.inv_view_proj,
+            light_position: gpu.position,
+            light_direction: gpu.direction,
+            albedos: self.albedos.device_address(),
+            overlay: frame.overlay.map_or(0, |(address, _)| address),
+            emission: gpu.emission.x,
+            ambient: self.ambient,
+            exposure_scale: frame.exposure.exp2(),
+            overlay_size: frame.overlay.map_or(0, |(_, (w, h))| w | (h << 15))
+                | if frame.stochastic { STOCHASTIC } else { 0 },
+        };
+        let (width, height) = inputs.size;
+        unsafe {
+            self.pipeline.bind(device, cmd);
+            device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.pipeline.layout(),
+                0,
+                &[bindings.raw()],
+                &[],
+            );
+            self.pipeline.push(device, cmd, &push);
+            device.cmd_dispatch(cmd, width.div_ceil(GROUP), height.div_ceil(GROUP), 1);
+        }
+        Ok(())
+    }
+}

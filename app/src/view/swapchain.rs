@@ -1,0 +1,176 @@
+//! The window's swapchain: made for the surface's current size, made again after a resize or
+//! when the surface says it is out of date. Its images are copy destinations (the frame is
+//! blitted in) and copy sources (a screenshot reads back exactly what is presented).
+
+use super::device::ViewDevice;
+use anyhow::{Context as _, bail};
+use ash::vk;
+
+/// 8-bit formats the shading writes sRGB-encoded bytes for: presented as they are, so that a
+/// screenshot's bytes are the bytes shown.
+const FORMATS: [vk::Format; 2] = [vk::Format::B8G8R8A8_UNORM, vk::Format::R8G8B8A8_UNORM];
+
+pub struct Swapchain {
+    loader: ash::khr::swapchain::Device,
+    pub handle: vk::SwapchainKHR,
+    pub images: Vec<vk::Image>,
+    pub format: vk::Format,
+    pub extent: vk::Extent2D,
+    /// One per image: signalled by the frame that drew into it, waited for by its present
+    /// (per image, not per frame slot: a present may still wait on it when the slot comes
+    /// round again).
+    pub rendered: Vec<vk::Semaphore>,
+    device: ash::Device,
+}
+
+/// What acquiring an image found.
+pub enum Acquired {
+    Image(u32),
+    /// The surface changed (resized, lost): make the swapchain again.
+    OutOfDate,
+}
+
+impl Swapchain {
+    /// A swapchain of `wanted` pixels (the window's size; the surface's own extent where it
+    /// has one), replacing `old` (which the caller destroys after).
+    pub fn new(
+        gpu: &ViewDevice,
+        wanted: (u32, u32),
+        old: vk::SwapchainKHR,
+    ) -> anyhow::Result<Self> {
+        let base = &gpu.base;
+        let (physical, surface) = (gpu.physical, base.surface);
+        let caps = unsafe {
+            base.surface_loader
+                .get_physical_device_surface_capabilities(physical, surface)
+        }
+        .context("the surface's capabilities (was the window closed?)")?;
+        let formats = unsafe {
+            base.surface_loader
+                .get_physical_device_surface_formats(physical, surface)
+        }
+        .context("the surface's formats")?;
+        let Some(format) = FORMATS.iter().find_map(|&f| {
+            formats
+                .iter()
+                .find(|s| s.format == f && s.color_space == vk::ColorSpaceKHR::SRGB_NONLINEAR)
+                .copied()
+        }) else {
+            bail!("the surface offers none of {FORMATS:?} (sRGB non-linear): cannot present");
+        };
+        let usage = vk::ImageUsageFlags::TRANSFER_DST | vk::ImageUsageFlags::TRANSFER_SRC;
+        if !caps.supported_usage_flags.contains(usage) {
+            bail!(
+                "the surface's images cannot be copy destinations and sources ({:?})",
+                caps.supported_usage_flags
+            );
+        }
+        // u32::MAX: the surface takes the swapchain's size.
+        let extent = if caps.current_extent.width != u32::MAX {
+            caps.current_extent
+        } else {
+            vk::Extent2D {
+                width: wanted
+                    .0
+                    .clamp(caps.min_image_extent.width, caps.max_image_extent.width),
+                height: wanted
+                    .1
+                    .clamp(caps.min_image_extent.height, caps.max_image_extent.height),
+            }
+        };
+        let mut count = caps.min_image_count + 1;
+        if caps.max_image_count > 0 {
+            count = count.min(caps.max_image_count);
+        }
+        let info = vk::SwapchainCreateInfoKHR::default()
+            .surface(surface)
+            .min_image_count(count)
+            .image_format(format.format)
+            .image_color_space(format.color_space)
+            .image_extent(extent)
+            .image_array_layers(1)
+            .image_usage(usage)
+            .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
+            .pre_transform(caps.current_transform)
+            .composite_alpha(vk::CompositeAlphaFlagsKHR::OPAQUE)
+            // Always there; the frame rate is the renderer's, far below a display's on a CPU.
+            .present_mode(vk::PresentModeKHR::FIFO)
+            .clipped(true)
+            .old_swapchain(old);
+        let loader = ash::khr::swapchain::Device::new(&base.instance, &gpu.device);
+        let handle =
+            unsafe { loader.create_swapchain(&info, None) }.context("vkCreateSwapchainKHR")?;
+        let mut this = Self {
+            loader,
+            handle,
+            images: Vec::new(),
+            format: format.format,
+            extent,
+            rendered: Vec::new(),
+            device: gpu.device.clone(),
+        };
+        this.images = unsafe { this.loader.get_swapchain_images(handle) }
+            .context("vkGetSwapchainImagesKHR")?;
+        for _ in 0..this.images.len() {
+            let semaphore = unsafe {
+                this.device
+                    .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
+            }
+            .context("vkCreateSemaphore")?;
+            this.rendered.push(semaphore);
+        }
+        Ok(this)
+    }
+
+    pub fn size(&self) -> (u32, u32) {
+        (self.extent.width, self.extent.height)
+    }
+
+    /// The next image to draw into, made available when `ready` is signalled.
+    pub fn acquire(&self, ready: vk::Semaphore) -> anyhow::Result<Acquired> {
+        match unsafe {
+            self.loader
+                .acquire_next_image(self.handle, u64::MAX, ready, vk::Fence::null())
+        } {
+            // Suboptimal still presents; the resize event that follows makes a new one.
+            Ok((index, _suboptimal)) => Ok(Acquired::Image(index)),
+            Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(Acquired::OutOfDate),
+            Err(vk::Result::ERROR_SURFACE_LOST_KHR) => {
+                bail!("the window's surface was lost (the window system closed it)")
+            }
+            Err(e) => Err(e).context("vkAcquireNextImageKHR"),
+        }
+    }
+
+    /// Presents `index` once its frame signalled `rendered[index]`; false where the surface
+    /// is out of date (the swapchain must be made again).
+    pub fn present(&self, queue: vk::Queue, index: u32) -> anyhow::Result<bool> {
+        let swapchains = [self.handle];
+        let indices = [index];
+        let waits = [self.rendered[index as usize]];
+        let info = vk::PresentInfoKHR::default()
+            .wait_semaphores(&waits)
+            .swapchains(&swapchains)
+            .image_indices(&indices);
+        match unsafe { self.loader.queue_present(queue, &info) } {
+            Ok(_suboptimal) => Ok(true),
+            Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(false),
+            Err(vk::Result::ERROR_SURFACE_LOST_KHR) => {
+                bail!("the window's surface was lost (the window system closed it)")
+            }
+            Err(e) => Err(e).context("vkQueuePresentKHR"),
+        }
+    }
+}
+
+impl Drop for Swapchain {
+    /// The caller waited for the device (no present or frame uses the images).
+    fn drop(&mut self) {
+        unsafe {
+            for &s in &self.rendered {
+                self.device.destroy_semaphore(s, None);
+            }
+            self.loader.destroy_swapchain(self.handle, None);
+        }
+    }
+}
