@@ -30,6 +30,7 @@ unsafe extern "system" fn on_message(
         .unwrap_or_default();
     let line = format!("[{severity:?}] {text}");
     eprintln!("vulkan validation: {line}");
+    // SAFETY: `user` is null or the boxed sink the instance was made with, which outlives it.
     if let Some(sink) = unsafe { (user as *const Messages).as_ref() }
         && let Ok(mut messages) = sink.lock()
     {
@@ -77,6 +78,7 @@ impl ViewInstance {
         let entry = unsafe { ash::Entry::load() }
             .map_err(|e| anyhow!("the Vulkan loader (libvulkan.so.1) could not be loaded: {e}"))?;
         if validation {
+            // SAFETY: `entry` holds a loaded Vulkan loader; the call has no other precondition.
             let layers = unsafe { entry.enumerate_instance_layer_properties() }?;
             if !layers
                 .iter()

@@ -91,6 +91,8 @@ pub unsafe fn record_frame(
         anyhow::bail!("the frame slot has no images of the window's size");
     };
     let ts = &mut slot.timestamps;
+    // SAFETY: the caller's contract: `cmd` is recording, the slot's previous frame completed,
+    // its targets exist at the image's size and the map's room was reserved.
     unsafe {
         ts.mark(cmd, "start");
         slot.draws

@@ -40,11 +40,14 @@ impl Swapchain {
     ) -> anyhow::Result<Self> {
         let base = &gpu.base;
         let (physical, surface) = (gpu.physical, base.surface);
+        // SAFETY: `physical` and `surface` belong to the instance `surface_loader` was made
+        // from, and the surface is alive (the window owns it until the swapchain is dropped).
         let caps = unsafe {
             base.surface_loader
                 .get_physical_device_surface_capabilities(physical, surface)
         }
         .context("the surface's capabilities (was the window closed?)")?;
+        // SAFETY: as above.
         let formats = unsafe {
             base.surface_loader
                 .get_physical_device_surface_formats(physical, surface)
