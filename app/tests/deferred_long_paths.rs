@@ -217,18 +217,27 @@ fn long_paths_with_the_exact_lookup_are_answered_as_the_truth() {
 
 /// With a budget of a few triangles' tests per invocation, the exact walks stop within texels'
 /// lists too, carrying the texel's shadowed intervals so far to their next round: the answer
-/// is the same.
+/// is the same. Over a fine map (each texel's window a sliver of the shutter) and a coarse
+/// one (a texel's list alone decides a long window, the slab's edges inside it).
 #[test]
 fn exact_walks_stopped_within_texel_lists_are_answered_as_the_truth() {
-    answered_as_the_truth(
-        SQUARE,
-        Lookup::Exact,
-        Some(Walks {
-            budget: EXACT_TEST_BUDGET,
-            rounds: 400,
-        }),
-    );
+    for setup in [SQUARE, COARSE] {
+        answered_as_the_truth(
+            setup,
+            Lookup::Exact,
+            Some(Walks {
+                budget: EXACT_TEST_BUDGET,
+                rounds: 400,
+            }),
+        );
+    }
 }
+
+/// SQUARE's view over a map of 16 x 16 texels: a floor point crosses 16 of them.
+const COARSE: Setup = Setup {
+    map: (16, 16),
+    ..SQUARE
+};
 
 /// A loop budget per invocation (per lane) of a handful of exact tests: the walks over SQUARE
 /// stop within texels' lists and need many rounds.
