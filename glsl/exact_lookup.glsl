@@ -260,8 +260,9 @@ bool ms_visible_exact(MsMap map, vec3 p, float t, uint own) {
         ++ms_loop_iterations;
         MsRange range = ms_range(map.ranges, r);
         r = range.next;
-        // The sample's own triangle: its ray leaves from it.
-        if (own == range.id) continue;
+        // The sample's own triangle: its ray leaves from it. A range's times bound those at
+        // which its triangle may cover a point of the texel: outside them it blocks nothing.
+        if (own == range.id || t < range.t_s || t > range.t_e) continue;
         vec3 at0[3], at1[3];
         ms_exact_triangle(map.triangles, range.id, at0, at1);
         if (ms_exact_blocks_at(p, u, at0, at1, t, spot, s_min)) return false;
