@@ -30,6 +30,21 @@ pub enum Acquired {
     OutOfDate,
 }
 
+/// The way the window system composites the images' alpha (one the surface supports, as
+/// `vkCreateSwapchainKHR` requires); opaque where it can, else any other: the shading writes
+/// alpha 1, so each shows the same pixels.
+fn composite_alpha(
+    supported: vk::CompositeAlphaFlagsKHR,
+) -> anyhow::Result<vk::CompositeAlphaFlagsKHR> {
+    use vk::CompositeAlphaFlagsKHR as A;
+    [A::OPAQUE, A::INHERIT, A::PRE_MULTIPLIED, A::POST_MULTIPLIED]
+        .into_iter()
+        .find(|&mode| supported.contains(mode))
+        .ok_or_else(|| {
+            anyhow::anyhow!("the surface supports no way to composite the images ({supported:?})")
+        })
+}
+
 impl Swapchain {
     /// A swapchain of `wanted` pixels (the window's size; the surface's own extent where it
     /// has one), replacing `old` (which the caller destroys after).
@@ -96,7 +111,7 @@ impl Swapchain {
             .image_usage(usage)
             .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
             .pre_transform(caps.current_transform)
-            .composite_alpha(vk::CompositeAlphaFlagsKHR::OPAQUE)
+            .composite_alpha(composite_alpha(caps.supported_composite_alpha)?)
             // Always there; the frame rate is the renderer's, far below a display's on a CPU.
             .present_mode(vk::PresentModeKHR::FIFO)
             .clipped(true)
@@ -104,9 +119,11 @@ impl Swapchain {
         let loader = ash::khr::swapchain::Device::new(&base.instance, &gpu.device);
         // SAFETY: `loader` is of `gpu`'s device, made with the swapchain extension; `info`'s
         // surface is alive (above) and presentable from the device's queue family
-        // (`pick_device`); its format, colour space, usage, extent, count, transform and
-        // present mode are among those the surface reported (FIFO always is); `old` is null
-        // or this surface's current swapchain, not yet destroyed (the caller's contract).
+        // (`pick_device`); its format, colour space, usage, count, transform, composite alpha
+        // and present mode are among those the surface reported (FIFO always is), its extent
+        // the surface's own or the caller's non-zero size clamped to the surface's range;
+        // `old` is null or this surface's current swapchain, not yet destroyed (the caller's
+        // contract).
         let handle =
             unsafe { loader.create_swapchain(&info, None) }.context("vkCreateSwapchainKHR")?;
         let mut this = Self {
@@ -193,6 +210,38 @@ impl Drop for Swapchain {
                 self.device.destroy_semaphore(s, None);
             }
             self.loader.destroy_swapchain(self.handle, None);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The swapchain asks only for a way of compositing alpha the surface offers (a surface
+    /// need not offer opaque), opaque first, and refuses a surface that offers none.
+    #[test]
+    fn composite_alpha_is_one_the_surface_supports() {
+        use vk::CompositeAlphaFlagsKHR as A;
+        let cases = [
+            (A::OPAQUE | A::INHERIT, Some(A::OPAQUE)),
+            (A::INHERIT, Some(A::INHERIT)),
+            (
+                A::PRE_MULTIPLIED | A::POST_MULTIPLIED,
+                Some(A::PRE_MULTIPLIED),
+            ),
+            (A::POST_MULTIPLIED, Some(A::POST_MULTIPLIED)),
+            (A::empty(), None),
+        ];
+        for (supported, expected) in cases {
+            let chosen = composite_alpha(supported);
+            match expected {
+                Some(mode) => assert_eq!(chosen.ok(), Some(mode), "{supported:?}"),
+                None => {
+                    let message = chosen.err().map(|e| e.to_string()).unwrap_or_default();
+                    assert!(message.contains("composite"), "{supported:?}: {message:?}");
+                }
+            }
         }
     }
 }
