@@ -167,11 +167,12 @@ impl ViewInstance {
 
 impl Drop for ViewInstance {
     fn drop(&mut self) {
-        // SAFETY: every child of the instance is gone: the device (a `ViewInstance` is only
-        // dropped after its `ViewDevice`, which destroys the device first) and the swapchain
-        // made on the surface (dropped with the frame loop, before the device). The surface
-        // may be null (ignored). The sink came from `Box::into_raw` in `new` and is freed
-        // once, here, after the instance and its messengers, the only ones that use it.
+        // SAFETY: every child of the instance is gone: the device, if one was made (the
+        // `ViewDevice` that owns this instance destroys it before dropping its `base`), and
+        // the swapchain made on the surface (dropped with the frame loop, before the
+        // device). The surface may be null (ignored). The sink came from `Box::into_raw` in
+        // `new` and is freed once, here, after the instance and its messengers, the only
+        // ones that use it.
         unsafe {
             self.surface_loader.destroy_surface(self.surface, None);
             if let Some((loader, handle)) = self.messenger.take() {
@@ -215,9 +216,10 @@ impl ViewDevice {
                 .enabled_extension_names(&extensions),
         );
         // SAFETY: `physical` is the instance's; `info`'s queue family is one of its families
-        // (`pick_device`), its extensions and chained features are those it supports
-        // (`DeviceRequirements::for_device`, and the swapchain extension a presenting device
-        // has); everything `info` points to lives until the call returns.
+        // (`pick_device`), its chained features and the library's extensions are those it
+        // supports (`DeviceRequirements::for_device`; a missing swapchain extension fails the
+        // call with EXTENSION_NOT_PRESENT); everything `info` points to lives until the call
+        // returns.
         let device = unsafe { base.instance.create_device(physical, &info, None) }
             .context("vkCreateDevice with the swapchain extension")?;
         // SAFETY: the device was made with one queue of `queue_family`, index 0.
@@ -255,7 +257,7 @@ impl Drop for ViewDevice {
     fn drop(&mut self) {
         // SAFETY: every object made on the device is gone: the frame loop owns this device
         // and drops its own objects, the library's context and the swapchain first (its
-        // field order); the wait leaves no work pending (or the device is lost and runs
+        // field order; where its start failed, its locals go before its argument); the wait leaves no work pending (or the device is lost and runs
         // none). The instance (`base`) is dropped after this.
         unsafe {
             let _ = self.device.device_wait_idle();

@@ -92,11 +92,12 @@ pub unsafe fn record_frame(
     };
     let ts = &mut slot.timestamps;
     // SAFETY: the caller's contract: `cmd` (the slot's, of `device`) is recording, outside
-    // rendering, on the viewer's graphics-and-compute queue with timestamps, and the slot's
-    // previous frame completed, so its draw list and timestamps are not in use; the draw
-    // list's update is recorded before the G-buffer reads it; the slot's buffers and images
-    // outlive `cmd`'s execution (replaced only once the slot's frame completed, and then
-    // retired through the context until it did).
+    // rendering, for the viewer's graphics-and-compute queue (the context's: its timestamps
+    // record nothing where that family has none), and the slot's previous frame completed,
+    // so its draw list and timestamps are not in use; the draw list's update is recorded
+    // before the G-buffer reads it; the slot's buffers and images outlive `cmd`'s execution
+    // (the slot replaces them only after its frame completed, and the context retires a
+    // dropped object only once the frames that may use it completed).
     unsafe {
         ts.mark(cmd, "start");
         slot.draws
