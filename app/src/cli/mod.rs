@@ -12,6 +12,8 @@ pub mod render_cmd;
 pub mod shared;
 pub mod summary;
 pub mod unread_options;
+pub mod value_parsers;
+pub mod view_args;
 pub mod view_cmd;
 
 /// With `MOTION_SHADOWS_VALIDATION=1`, a run the validation layer complained about fails.

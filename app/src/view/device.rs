@@ -22,15 +22,18 @@ unsafe extern "system" fn on_message(
     data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
     user: *mut c_void,
 ) -> vk::Bool32 {
-    // SAFETY: the layer passes valid callback data or null; `user` is the boxed sink, which
-    // outlives the instance.
+    // SAFETY: the layer passes callback data that is valid for this call, or null.
     let text = unsafe { data.as_ref() }
+        // SAFETY: `p_message` of the layer's data is null or a NUL-terminated string valid
+        // for this call (the borrow ends before it returns).
         .and_then(|d| unsafe { d.message_as_c_str() })
         .map(|m| m.to_string_lossy().into_owned())
         .unwrap_or_default();
     let line = format!("[{severity:?}] {text}");
     eprintln!("vulkan validation: {line}");
-    // SAFETY: `user` is null or the boxed sink the instance was made with, which outlives it.
+    // SAFETY: `user` is the `Box<Messages>` both messengers were made with (`messenger_info`):
+    // freed only in `ViewInstance`'s Drop after the instance (and so every messenger that
+    // calls this) is destroyed; shared access only, through the mutex.
     if let Some(sink) = unsafe { (user as *const Messages).as_ref() }
         && let Ok(mut messages) = sink.lock()
     {
@@ -74,7 +77,8 @@ impl ViewInstance {
         window: RawWindowHandle,
         validation: bool,
     ) -> anyhow::Result<Self> {
-        // SAFETY: loading the system's Vulkan loader.
+        // SAFETY: loads the system's libvulkan.so.1 (its initialisers run; the loader is
+        // trusted as every Vulkan program trusts it); `entry` keeps it loaded while used.
         let entry = unsafe { ash::Entry::load() }
             .map_err(|e| anyhow!("the Vulkan loader (libvulkan.so.1) could not be loaded: {e}"))?;
         if validation {
@@ -116,9 +120,15 @@ impl ViewInstance {
                 .push_next(&mut features)
                 .push_next(&mut creation_messenger);
         }
+        // SAFETY: `info` and everything it points to (application info, names, the pNext
+        // chain with the validation features and the messenger's info) live on this stack
+        // until the call returns; the layer and extensions were found or are the window
+        // system's; the messenger's `user` is `sink`, alive until Drop.
         let instance = match unsafe { entry.create_instance(&info, None) } {
             Ok(instance) => instance,
             Err(e) => {
+                // SAFETY: `sink` came from `Box::into_raw` above and no instance exists that
+                // could call back with it; it is freed once, here (Drop never runs).
                 drop(unsafe { Box::from_raw(sink) });
                 bail!("vkCreateInstance with the window system's surface extensions: {e}");
             }
@@ -136,13 +146,17 @@ impl ViewInstance {
         };
         if validation {
             let loader = ash::ext::debug_utils::Instance::new(&this.entry, &this.instance);
+            // SAFETY: `loader` is of the live instance, made with the debug-utils extension
+            // (enabled when `validation`); `sink` outlives the messenger (destroyed first in
+            // Drop).
             let handle =
                 unsafe { loader.create_debug_utils_messenger(&messenger_info(sink), None) }
                     .context("vkCreateDebugUtilsMessengerEXT")?;
             this.messenger = Some((loader, handle));
         }
-        // SAFETY: the handles are the live window's; the surface is destroyed (Drop) before
-        // the window goes (the viewer drops its GPU state first).
+        // SAFETY: the handles are the live window's, of the display the instance's surface
+        // extensions were enumerated for; the surface is destroyed (Drop) before the window
+        // goes (the viewer's GPU state is declared, and so dropped, before its window).
         this.surface = unsafe {
             ash_window::create_surface(&this.entry, &this.instance, display, window, None)
         }
@@ -153,13 +167,18 @@ impl ViewInstance {
 
 impl Drop for ViewInstance {
     fn drop(&mut self) {
+        // SAFETY: every child of the instance is gone: the device, if one was made (the
+        // `ViewDevice` that owns this instance destroys it before dropping its `base`), and
+        // the swapchain made on the surface (dropped with the frame loop, before the
+        // device). The surface may be null (ignored). The sink came from `Box::into_raw` in
+        // `new` and is freed once, here, after the instance and its messengers, the only
+        // ones that use it.
         unsafe {
             self.surface_loader.destroy_surface(self.surface, None);
             if let Some((loader, handle)) = self.messenger.take() {
                 loader.destroy_debug_utils_messenger(handle, None);
             }
             self.instance.destroy_instance(None);
-            // SAFETY: nothing refers to the sink once the instance is destroyed.
             drop(Box::from_raw(self.sink));
         }
     }
@@ -196,8 +215,14 @@ impl ViewDevice {
                 .queue_create_infos(&queues)
                 .enabled_extension_names(&extensions),
         );
+        // SAFETY: `physical` is the instance's; `info`'s queue family is one of its families
+        // (`pick_device`), its chained features and the library's extensions are those it
+        // supports (`DeviceRequirements::for_device`; a missing swapchain extension fails the
+        // call with EXTENSION_NOT_PRESENT); everything `info` points to lives until the call
+        // returns.
         let device = unsafe { base.instance.create_device(physical, &info, None) }
             .context("vkCreateDevice with the swapchain extension")?;
+        // SAFETY: the device was made with one queue of `queue_family`, index 0.
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
         Ok(Self {
             physical,
@@ -230,6 +255,10 @@ impl ViewDevice {
 
 impl Drop for ViewDevice {
     fn drop(&mut self) {
+        // SAFETY: every object made on the device is gone: the frame loop owns this device
+        // and drops its own objects, the library's context and the swapchain first (its
+        // field order; where its start failed, its locals go before its argument); the wait leaves no work pending (or the device is lost and runs
+        // none). The instance (`base`) is dropped after this.
         unsafe {
             let _ = self.device.device_wait_idle();
             self.device.destroy_device(None);
@@ -239,6 +268,7 @@ impl Drop for ViewDevice {
 
 fn pick_device(base: &ViewInstance) -> anyhow::Result<(vk::PhysicalDevice, u32, String)> {
     let instance = &base.instance;
+    // SAFETY: `instance` is alive (borrowed from `base`).
     let devices =
         unsafe { instance.enumerate_physical_devices() }.context("vkEnumeratePhysicalDevices")?;
     let rank = |t: vk::PhysicalDeviceType| match t {
@@ -254,8 +284,12 @@ fn pick_device(base: &ViewInstance) -> anyhow::Result<(vk::PhysicalDevice, u32, 
         if unsafe { DeviceRequirements::for_device(instance, physical) }.is_err() {
             continue;
         }
+        // SAFETY: `physical` was enumerated from `instance`.
         let props = unsafe { instance.get_physical_device_properties(physical) };
+        // SAFETY: as above.
         let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
+        // SAFETY: `physical` and `base.surface` belong to the instance the surface loader was
+        // made from; `family` is below the count just queried.
         let presents = |family: u32| unsafe {
             base.surface_loader
                 .get_physical_device_surface_support(physical, family, base.surface)

@@ -120,6 +120,8 @@ impl FrameLoop {
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(gpu.queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: `gpu.device` is alive and `queue_family` is one of its queues' families; the
+        // pool is destroyed before the device (Drop, or below on error).
         let pool = counter
             .counted(unsafe { gpu.device.create_command_pool(&pool_info, None) })
             .context("vkCreateCommandPool")?;
@@ -147,6 +149,8 @@ impl FrameLoop {
         let (passes, slots) = match parts {
             Ok(parts) => parts,
             Err(e) => {
+                // SAFETY: the pool is this device's and nothing was submitted from it; the
+                // slots made from it were dropped with the closure's error.
                 unsafe { gpu.device.destroy_command_pool(pool, None) };
                 return Err(e);
             }
@@ -222,6 +226,8 @@ impl FrameLoop {
         counter: &mut AllocationCounter,
     ) -> anyhow::Result<()> {
         // Nothing may use the old swapchain's images or semaphores any more.
+        // SAFETY: the device is alive; no other thread uses its queue (the viewer is one
+        // thread).
         unsafe { self.gpu.device.device_wait_idle() }.map_err(device_error)?;
         self.finish_all(counter)?;
         let old = self.swapchain.take();
@@ -265,6 +271,7 @@ impl FrameLoop {
         let index = self.frame as usize % FRAMES_IN_FLIGHT;
         let device = self.gpu.device.clone();
         let fence = self.slots[index].fence;
+        // SAFETY: the fence is the slot's, of this device, alive while the slot is.
         unsafe { device.wait_for_fences(&[fence], true, u64::MAX) }.map_err(device_error)?;
         self.finish(index, counter)?;
         let acquired = self
@@ -382,6 +389,15 @@ impl FrameLoop {
             image: swap_image,
             screenshot: slot.screenshot.as_ref().map(|(b, _)| b.raw()),
         };
+        // SAFETY: the slot's last frame completed (its fence was waited for above), so its
+        // command buffer, fence, timestamps and descriptor sets are not in use; the buffer is
+        // from a pool made with RESET_COMMAND_BUFFER, and is recording when `record_frame`
+        // runs. `record_frame`'s contract: the slot's targets are of the swapchain image's
+        // size (checked above), `swap_image` was acquired with `slot.acquired`, which the
+        // submission waits for at the transfer stage, and the map's room was reserved above
+        // (temporal) or grows after a frame that overflowed (exact). The submission's
+        // semaphores and fence are this device's; `rendered` is the image's own, unsignalled
+        // (its last present, which waited on it, was before this image's acquire).
         unsafe {
             slot.timestamps.clear();
             device
@@ -426,6 +442,7 @@ impl FrameLoop {
     pub fn finish_all(&mut self, counter: &mut AllocationCounter) -> anyhow::Result<()> {
         for index in 0..self.slots.len() {
             let fence = self.slots[index].fence;
+            // SAFETY: the fence is the slot's, of this device, alive while the slot is.
             unsafe { self.gpu.device.wait_for_fences(&[fence], true, u64::MAX) }
                 .map_err(device_error)?;
             self.finish(index, counter)?;
@@ -548,15 +565,18 @@ fn reserve_map(
 
 impl Drop for FrameLoop {
     fn drop(&mut self) {
+        // SAFETY: after the wait no submission is pending (or the device is lost and runs
+        // none), so every frame the context retired objects for has completed.
         unsafe {
             let _ = self.gpu.device.device_wait_idle();
-            // SAFETY: the device is idle.
             self.ctx.collect(u64::MAX);
         }
         // The library's objects go before the context, the swapchain and the pool before the
         // device (fields drop in order after this).
         self.slots.clear();
         self.tsm_pass = None;
+        // SAFETY: the device is idle (above) and the slots, whose command buffers came from
+        // the pool, are gone; the pool is this device's and destroyed once.
         unsafe { self.gpu.device.destroy_command_pool(self.pool, None) };
     }
 }

@@ -141,18 +141,24 @@ impl FrameSlot {
             .command_pool(pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
+        // SAFETY: `pool` is the caller's, of this device, used from this thread only; the
+        // buffer is freed with the pool (the frame loop drops the slots first).
         let cmd = counter
             .counted(unsafe { device.allocate_command_buffers(&alloc) })
             .context("vkAllocateCommandBuffers")?[0];
         let signalled = vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED);
+        // SAFETY: the context's device is alive; the fence is destroyed in Drop (or below on
+        // error).
         let fence = counter
             .counted(unsafe { device.create_fence(&signalled, None) })
             .context("vkCreateFence")?;
+        // SAFETY: as for the fence.
         let acquired = match counter
             .counted(unsafe { device.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) })
         {
             Ok(s) => s,
             Err(e) => {
+                // SAFETY: the fence was just made, is of this device and was never submitted.
                 unsafe { device.destroy_fence(fence, None) };
                 return Err(e).context("vkCreateSemaphore");
             }
@@ -186,6 +192,7 @@ impl FrameSlot {
         let (draws, map, timestamps, overlay, geometry) = match make() {
             Ok(v) => v,
             Err(e) => {
+                // SAFETY: both were just made on this device and never submitted.
                 unsafe {
                     device.destroy_fence(fence, None);
                     device.destroy_semaphore(acquired, None);
@@ -309,6 +316,9 @@ impl FrameSlot {
 impl Drop for FrameSlot {
     /// The caller waited for the device; the command buffer goes with its pool.
     fn drop(&mut self) {
+        // SAFETY: the fence and semaphore are this device's, destroyed once; the frame loop
+        // drops its slots only after waiting for the device to be idle (or, when its start
+        // failed, before any submission), so no submission or acquire uses them.
         unsafe {
             self.device.destroy_fence(self.fence, None);
             self.device.destroy_semaphore(self.acquired, None);

@@ -91,8 +91,13 @@ pub unsafe fn record_frame(
         anyhow::bail!("the frame slot has no images of the window's size");
     };
     let ts = &mut slot.timestamps;
-    // SAFETY: the caller's contract: `cmd` is recording, the slot's previous frame completed,
-    // its targets exist at the image's size and the map's room was reserved.
+    // SAFETY: the caller's contract: `cmd` (the slot's, of `device`) is recording, outside
+    // rendering, for the viewer's graphics-and-compute queue (the context's: its timestamps
+    // record nothing where that family has none), and the slot's previous frame completed,
+    // so its draw list and timestamps are not in use; the draw list's update is recorded
+    // before the G-buffer reads it; the slot's buffers and images outlive `cmd`'s execution
+    // (the slot replaces them only after its frame completed, and the context retires a
+    // dropped object only once the frames that may use it completed).
     unsafe {
         ts.mark(cmd, "start");
         slot.draws
@@ -120,6 +125,16 @@ pub unsafe fn record_frame(
     );
     inputs.plane_test_where_still = view.plane_test_where_still;
     let (width, height) = targets.size;
+    // SAFETY: as above, and: the passes' descriptor sets (mask, shading, TSM, lighting
+    // output) are the slot's own, unused by any pending command buffer (its previous frame
+    // completed); each pass follows the one whose output it reads in `cmd` (collection,
+    // generation, then the mask, the lighting pass or TSM's; the shading after the global
+    // compute barrier), the G-buffer left its images in the layouts `inputs` names; every
+    // image barrier names the image's layout at that point or UNDEFINED (contents
+    // discarded: the lit shares, radiance and shaded image are rewritten each frame, the
+    // swapchain image is acquired), and the blit and copy stay inside the images (the
+    // targets, the swapchain image and the screenshot buffer are all of `targets.size`, the
+    // caller's contract and `FrameLoop::draw`'s checks).
     unsafe {
         // The lit shares: the last frame's shading read them (contents discarded).
         image_barrier(
@@ -199,9 +214,13 @@ pub unsafe fn record_frame(
                     ts.mark(cmd, "collection");
                     passes.generation.record(device, cmd, &slot.map);
                     ts.mark(cmd, "generation");
-                    passes
-                        .mask
-                        .record(device, cmd, &mut targets.mask_bindings, &inputs, &slot.map);
+                    passes.mask.record(
+                        device,
+                        cmd,
+                        &mut targets.mask_bindings,
+                        &inputs,
+                        &slot.map,
+                    )?;
                     ts.mark(cmd, "mask");
                     slot.map.record_counter_readback(device, cmd);
                 }

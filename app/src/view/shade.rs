@@ -138,9 +138,14 @@ impl ShadePass {
     /// into `frame.output`.
     ///
     /// # Safety
-    /// `cmd` is recording, outside rendering; `bindings` is not used by a pending command
-    /// buffer; the mask pass was recorded before in `cmd` and its output made visible to
-    /// compute reads; the images stay alive until `cmd` completes.
+    /// `cmd` is recording, outside rendering, on a queue with compute; `bindings` was made by
+    /// this pass and is not used by a pending command buffer; the G-buffer images are in
+    /// `inputs`' layouts, written and made visible to compute sampled reads earlier in `cmd`;
+    /// `inputs.output` (the lit shares), `frame.output` and `frame.radiance` are storage
+    /// images of this device in GENERAL, earlier accesses ordered before compute reads and
+    /// writes: the lit shares written by the mask pass (read unless `frame.stochastic`), the
+    /// radiance by the lighting pass's output (read if `frame.stochastic`); the images stay
+    /// alive until `cmd` completes.
     pub unsafe fn record(
         &self,
         device: &ash::Device,
@@ -156,6 +161,8 @@ impl ShadePass {
             .ids
             .ok_or_else(|| anyhow!("the viewer's G-buffer has triangle ids"))?;
         let general = vk::ImageLayout::GENERAL;
+        // SAFETY: the caller's contract: the set is not in use; the views are this device's,
+        // of the usages the binding types need (sampled G-buffer images, storage images).
         unsafe {
             bindings.write(&[
                 (inputs.depth, inputs.depth_layout),
@@ -180,6 +187,10 @@ impl ShadePass {
                 | if frame.stochastic { STOCHASTIC } else { 0 },
         };
         let (width, height) = inputs.size;
+        // SAFETY: the caller's contract: `cmd` is recording, outside rendering, on a compute
+        // queue; the pipeline, its layout and the set (just written) are this pass's, and
+        // `ShadePush` is the layout's push range (its size); the dispatch covers the images'
+        // size, which the shader bounds-checks.
         unsafe {
             self.pipeline.bind(device, cmd);
             device.cmd_bind_descriptor_sets(

@@ -30,6 +30,21 @@ pub enum Acquired {
     OutOfDate,
 }
 
+/// The way the window system composites the images' alpha (one the surface supports, as
+/// `vkCreateSwapchainKHR` requires); opaque where it can, else any other: the shading writes
+/// alpha 1, so each shows the same pixels.
+fn composite_alpha(
+    supported: vk::CompositeAlphaFlagsKHR,
+) -> anyhow::Result<vk::CompositeAlphaFlagsKHR> {
+    use vk::CompositeAlphaFlagsKHR as A;
+    [A::OPAQUE, A::INHERIT, A::PRE_MULTIPLIED, A::POST_MULTIPLIED]
+        .into_iter()
+        .find(|&mode| supported.contains(mode))
+        .ok_or_else(|| {
+            anyhow::anyhow!("the surface supports no way to composite the images ({supported:?})")
+        })
+}
+
 impl Swapchain {
     /// A swapchain of `wanted` pixels (the window's size; the surface's own extent where it
     /// has one), replacing `old` (which the caller destroys after).
@@ -41,7 +56,8 @@ impl Swapchain {
         let base = &gpu.base;
         let (physical, surface) = (gpu.physical, base.surface);
         // SAFETY: `physical` and `surface` belong to the instance `surface_loader` was made
-        // from, and the surface is alive (the window owns it until the swapchain is dropped).
+        // from, and the surface is alive: `gpu.base` owns it and destroys it only after the
+        // device, whose swapchains go first (the frame loop's field order).
         let caps = unsafe {
             base.surface_loader
                 .get_physical_device_surface_capabilities(physical, surface)
@@ -95,12 +111,19 @@ impl Swapchain {
             .image_usage(usage)
             .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
             .pre_transform(caps.current_transform)
-            .composite_alpha(vk::CompositeAlphaFlagsKHR::OPAQUE)
+            .composite_alpha(composite_alpha(caps.supported_composite_alpha)?)
             // Always there; the frame rate is the renderer's, far below a display's on a CPU.
             .present_mode(vk::PresentModeKHR::FIFO)
             .clipped(true)
             .old_swapchain(old);
         let loader = ash::khr::swapchain::Device::new(&base.instance, &gpu.device);
+        // SAFETY: `loader` is of `gpu`'s device, made with the swapchain extension; `info`'s
+        // surface is alive (above) and presentable from the device's queue family
+        // (`pick_device`); its format, colour space, usage, count, transform, composite alpha
+        // and present mode are among those the surface reported (FIFO always is), its extent
+        // the surface's own or the caller's non-zero size clamped to the surface's range;
+        // `old` is null or this surface's current swapchain, not yet destroyed (the caller's
+        // contract).
         let handle =
             unsafe { loader.create_swapchain(&info, None) }.context("vkCreateSwapchainKHR")?;
         let mut this = Self {
@@ -112,9 +135,12 @@ impl Swapchain {
             rendered: Vec::new(),
             device: gpu.device.clone(),
         };
+        // SAFETY: `handle` was just made by this loader's device.
         this.images = unsafe { this.loader.get_swapchain_images(handle) }
             .context("vkGetSwapchainImagesKHR")?;
         for _ in 0..this.images.len() {
+            // SAFETY: `this.device` is alive; on error `this` is dropped, destroying the
+            // semaphores made so far and the swapchain.
             let semaphore = unsafe {
                 this.device
                     .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
@@ -131,6 +157,10 @@ impl Swapchain {
 
     /// The next image to draw into, made available when `ready` is signalled.
     pub fn acquire(&self, ready: vk::Semaphore) -> anyhow::Result<Acquired> {
+        // SAFETY: the swapchain is alive (`self`) and not retired: a new one replaces it only
+        // in `make_swapchain`, which drops this one; `ready` is the slot's acquire semaphore,
+        // unsignalled with no pending signal (the slot's last frame, which waited on it,
+        // completed: its fence was waited for before this call).
         match unsafe {
             self.loader
                 .acquire_next_image(self.handle, u64::MAX, ready, vk::Fence::null())
@@ -155,6 +185,10 @@ impl Swapchain {
             .wait_semaphores(&waits)
             .swapchains(&swapchains)
             .image_indices(&indices);
+        // SAFETY: `queue` is the device's, of the family that presents to the surface;
+        // `index` was acquired from this swapchain and the frame just submitted, which
+        // signals `rendered[index]`, left the image in PRESENT_SRC_KHR; `info` borrows arrays
+        // that live until the call returns.
         match unsafe { self.loader.queue_present(queue, &info) } {
             Ok(_suboptimal) => Ok(true),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(false),
@@ -169,11 +203,45 @@ impl Swapchain {
 impl Drop for Swapchain {
     /// The caller waited for the device (no present or frame uses the images).
     fn drop(&mut self) {
+        // SAFETY: the semaphores and the swapchain are this device's, destroyed once; the
+        // caller waited for the device, so no submission or present still uses them.
         unsafe {
             for &s in &self.rendered {
                 self.device.destroy_semaphore(s, None);
             }
             self.loader.destroy_swapchain(self.handle, None);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The swapchain asks only for a way of compositing alpha the surface offers (a surface
+    /// need not offer opaque), opaque first, and refuses a surface that offers none.
+    #[test]
+    fn composite_alpha_is_one_the_surface_supports() {
+        use vk::CompositeAlphaFlagsKHR as A;
+        let cases = [
+            (A::OPAQUE | A::INHERIT, Some(A::OPAQUE)),
+            (A::INHERIT, Some(A::INHERIT)),
+            (
+                A::PRE_MULTIPLIED | A::POST_MULTIPLIED,
+                Some(A::PRE_MULTIPLIED),
+            ),
+            (A::POST_MULTIPLIED, Some(A::POST_MULTIPLIED)),
+            (A::empty(), None),
+        ];
+        for (supported, expected) in cases {
+            let chosen = composite_alpha(supported);
+            match expected {
+                Some(mode) => assert_eq!(chosen.ok(), Some(mode), "{supported:?}"),
+                None => {
+                    let message = chosen.err().map(|e| e.to_string()).unwrap_or_default();
+                    assert!(message.contains("composite"), "{supported:?}: {message:?}");
+                }
+            }
         }
     }
 }
