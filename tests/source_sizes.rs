@@ -17,7 +17,7 @@ const SOURCE_EXTENSIONS: [&str; 8] = ["rs", "glsl", "comp", "frag", "vert", "geo
 /// The files over `TARGET_LINES` lines, relative to the repository root, with the most lines
 /// each may have.
 const OVERSIZED: [(&str, usize); 10] = [
-    ("app/src/cli/args.rs", 696),
+    ("app/src/cli/args.rs", 671),
     ("app/src/render/deferred.rs", 669),
     ("app/tests/cli.rs", 1001),
     ("app/tests/gpu/deferred_host.rs", 673),
