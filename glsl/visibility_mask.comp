@@ -164,13 +164,6 @@ bool loops_were_cut() {
     return ran < pc.probe;
 }
 
-// The walks' budget with the exact lookup: the device's per-lane share (pc.loop_budget), as
-// ms_loop_iterations counts the exact test's own loops too (its roots, its sort), per lane,
-// and llvmpipe's limiter a SIMD group's iterations, whose lanes may each run their own loops.
-uint exact_budget() {
-    return pc.loop_budget;
-}
-
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     // Where this invocation's walk starts (moving receivers and the exact lookup).
@@ -205,7 +198,9 @@ void main() {
     if (EXACT) {
         // A map built for the exact lookup (Lookup::Exact): the receiver's own shadow ray
         // against the triangles named along its path; no normal, offset or bias.
-        ms_walk_exact(tested, p0, p0 + motion, own, FOLLOW_UP ? exact_budget() : 0u, walk,
+        // The same per-lane budget as the depth lines': ms_loop_iterations counts the exact
+        // test's own loops too (its roots, its sort).
+        ms_walk_exact(tested, p0, p0 + motion, own, FOLLOW_UP ? pc.loop_budget : 0u, walk,
                       carried);
     } else if (MOVING) {
         if (motion == vec3(0.0) && (pc.flags & MASK_STILL_PIXELS_PLANE) != 0u) {
