@@ -27,6 +27,11 @@ if [[ -z "${XDG_RUNTIME_DIR:-}" ]]; then
 fi
 export XDG_RUNTIME_DIR
 export MOTION_SHADOWS_VALIDATION=1
+# The full check builds once from scratch (CI's fresh clone): incremental state would only
+# take disk (3 GB of target/). The edit loop (--quick) keeps it.
+if [[ $quick == 0 ]]; then
+    export CARGO_INCREMENTAL="${CARGO_INCREMENTAL:-0}"
+fi
 
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets -- -D warnings
