@@ -64,67 +64,136 @@ float ms_exact_scene_size(MsMap map) {
 const uint MS_EXACT_CURSOR_START = 0u;
 const uint MS_EXACT_CURSOR_STATIC = 0x80000000u;
 
+// How many undecided triangles a texel walk gathers before it asks them (ms_exact_texel_walk).
+#define MS_EXACT_ASKED_TOGETHER 4
+
 // Adds to `shadowed` the times of the window w during which the triangles named in `texel`
 // (other than `own`), from `cursor` on, block the shadow ray of the receiver moving from p0
 // (t = 0) to p1 (t = 1): the union of their shadowed intervals. Each range's own times narrow
 // the window (the conservative collection gives the whole shutter). True when done: the
-// list's end, or a triangle shadowing all of the window (which ends the walk of the list).
+// list's end, or triangles shadowing all of the window (which ends the walk of the list).
 // False when it stopped before the entry `cursor` then names, the invocation's loop
 // iterations (ms_loop_iterations, the exact test's own included) being past `stop`: a later
 // invocation goes on from there with the same union. Tests at least one triangle before it
 // stops where the count is below `stop` when it is called.
+//
+// The static names first (most of a level's casters: one that shadows the whole window, a
+// wall, spares the walk of the moving ones), then the ranges, in one loop that decides each
+// triangle with the cheap half of the test (ms_exact_classify) and gathers those it cannot
+// decide, up to MS_EXACT_ASKED_TOGETHER, for a second loop that asks them the whole test: on
+// llvmpipe a loop's body costs its whole code per iteration of the SIMD group, taken or not,
+// and the root finding is most of it while most triangles are decided without it.
 bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint own, uint stop,
                          inout uint cursor, inout ms_exact_Union shadowed) {
     bool spot = map.light.position.w != 0.0;
     vec3 light = spot ? map.light.position.xyz : map.light.direction.xyz;
     float s_min = ms_exact_s_min(spot, ms_exact_scene_size(map));
     bool from_start = cursor == MS_EXACT_CURSOR_START;
-    // The static triangles first: they are most of a level's casters, and one that shadows
-    // the whole window (a wall) spares the walk of the moving ones.
-    if (map.static_names != 0UL && (from_start || (cursor & MS_EXACT_CURSOR_STATIC) != 0u)) {
-        uint r = from_start ? ms_static_names_head(map, texel) : cursor & ~MS_EXACT_CURSOR_STATIC;
-        while (r != 0u) {
+    bool in_static =
+        map.static_names != 0UL && (from_start || (cursor & MS_EXACT_CURSOR_STATIC) != 0u);
+    uint r;
+    if (in_static) {
+        r = from_start ? ms_static_names_head(map, texel) : cursor & ~MS_EXACT_CURSOR_STATIC;
+    } else {
+        r = from_start ? MsUints(map.range_heads).v[texel] : cursor;
+    }
+    bool stopped = false;
+    bool listed = true;
+    while (listed && !stopped) {
+        // The undecided triangles (their ids and windows), held in vectors with constant
+        // indices rather than arrays (which lavapipe keeps in memory).
+        uvec4 asked_id = uvec4(0u);
+        // Where each is in the lists (a cursor): a walk stopped before asking it goes on there.
+        uvec4 asked_at = uvec4(0u);
+        vec4 asked_w0 = vec4(0.0);
+        vec4 asked_w1 = vec4(0.0);
+        int asked = 0;
+        // The static names: against a still receiver they are decided on the constants, so
+        // this loop holds that test alone; a moving receiver's are asked the whole test.
+        while (in_static && asked < MS_EXACT_ASKED_TOGETHER) {
+            if (r == 0u) {
+                in_static = false;
+                r = MsUints(map.range_heads).v[texel];
+                break;
+            }
             if (ms_loop_iterations > stop) {
                 cursor = r | MS_EXACT_CURSOR_STATIC;
-                return false;
+                stopped = true;
+                break;
             }
             ++ms_loop_iterations;
+            uint here = r | MS_EXACT_CURSOR_STATIC;
             uint id = ms_static_name(map, r);
             if (id == own) continue;
-            vec3 at[3];
-            ms_exact_still_triangle(map.triangles, id, at);
+            if (p0 == p1) {
+                vec3 at[3];
+                ms_exact_still_triangle(map.triangles, id, at);
+                if (ms_exact_blocks_still_at(p0, spot, light, s_min, at)) {
+                    ms_exact_union_add(shadowed, w);
+                    if (ms_exact_union_covers(shadowed, w.x, w.y)) return true;
+                }
+            } else {
+                bvec4 slot = equal(ivec4(0, 1, 2, 3), ivec4(asked));
+                asked_id = mix(asked_id, uvec4(id), slot);
+                asked_at = mix(asked_at, uvec4(here), slot);
+                asked_w0 = mix(asked_w0, vec4(w.x), slot);
+                asked_w1 = mix(asked_w1, vec4(w.y), slot);
+                ++asked;
+            }
+        }
+        while (!in_static && !stopped && asked < MS_EXACT_ASKED_TOGETHER) {
+            if (r == MS_END_OF_LIST) {
+                listed = false;
+                break;
+            }
+            if (ms_loop_iterations > stop) {
+                cursor = r;
+                stopped = true;
+                break;
+            }
+            ++ms_loop_iterations;
+            uint here = r;
+            MsRange range = ms_range(map.ranges, r);
+            r = range.next;
+            float w0 = max(w.x, clamp(range.t_s, 0.0, 1.0));
+            float w1 = min(w.y, clamp(range.t_e, 0.0, 1.0));
+            if (range.id == own || !(w1 > w0)) continue;
+            vec3 at0[3], at1[3];
+            ms_exact_triangle(map.triangles, range.id, at0, at1);
+            int decided = ms_exact_classify(p0, p1, spot, light, s_min, at0, at1, w0, w1);
+            if (decided == MS_EXACT_ALL) {
+                ms_exact_union_add(shadowed, vec2(w0, w1));
+                if (ms_exact_union_covers(shadowed, w.x, w.y)) return true;
+            } else if (decided == MS_EXACT_ASK) {
+                bvec4 slot = equal(ivec4(0, 1, 2, 3), ivec4(asked));
+                asked_id = mix(asked_id, uvec4(range.id), slot);
+                asked_at = mix(asked_at, uvec4(here), slot);
+                asked_w0 = mix(asked_w0, vec4(w0), slot);
+                asked_w1 = mix(asked_w1, vec4(w1), slot);
+                ++asked;
+            }
+        }
+        for (int i = 0; i < asked; ++i) {
+            // Past the budget after one test at least: the next invocation goes on from this
+            // one and walks what came after it again (a union takes the same interval twice
+            // without change).
+            if (i > 0 && ms_loop_iterations > stop) {
+                cursor = asked_at[i];
+                stopped = true;
+                break;
+            }
+            vec3 at0[3], at1[3];
+            ms_exact_triangle(map.triangles, asked_id[i], at0, at1);
             vec2 iv[MS_EXACT_MAX_INTERVALS];
-            int n = ms_exact_shadowed_intervals(p0, p1, spot, light, s_min, at, at, w.x, w.y, iv);
+            int n = ms_exact_shadowed_intervals(p0, p1, spot, light, s_min, at0, at1,
+                                                asked_w0[i], asked_w1[i], iv);
             ms_loop_iterations += ms_exact_iterations;
             ms_exact_iterations = 0u;
-            for (int i = 0; i < n; ++i) ms_exact_union_add(shadowed, iv[i]);
+            for (int k = 0; k < n; ++k) ms_exact_union_add(shadowed, iv[k]);
             if (ms_exact_union_covers(shadowed, w.x, w.y)) return true;
         }
-        from_start = true;
     }
-    uint r = from_start ? MsUints(map.range_heads).v[texel] : cursor;
-    while (r != MS_END_OF_LIST) {
-        if (ms_loop_iterations > stop) {
-            cursor = r;
-            return false;
-        }
-        ++ms_loop_iterations;
-        MsRange range = ms_range(map.ranges, r);
-        r = range.next;
-        if (range.id == own) continue;
-        float w0 = max(w.x, clamp(range.t_s, 0.0, 1.0));
-        float w1 = min(w.y, clamp(range.t_e, 0.0, 1.0));
-        if (!(w1 > w0)) continue;
-        vec3 at0[3], at1[3];
-        ms_exact_triangle(map.triangles, range.id, at0, at1);
-        vec2 iv[MS_EXACT_MAX_INTERVALS];
-        int n = ms_exact_shadowed_intervals(p0, p1, spot, light, s_min, at0, at1, w0, w1, iv);
-        ms_loop_iterations += ms_exact_iterations;
-        ms_exact_iterations = 0u;
-        for (int i = 0; i < n; ++i) ms_exact_union_add(shadowed, iv[i]);
-        if (ms_exact_union_covers(shadowed, w.x, w.y)) return true;
-    }
-    return true;
+    return !stopped;
 }
 
 // The fraction of the shutter [0, 1] during which a receiver moving linearly from p0 (t = 0)

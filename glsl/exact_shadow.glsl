@@ -285,23 +285,37 @@ bool ms_exact_blocks(vec4 edges[3], vec4 plane, bool spot, float s_min, float t)
 
 // ms_exact_shadowed_intervals's general case: the test's changes found as the polynomials'
 // sign changes in [w0, w1], and the test asked once between consecutive ones.
-int ms_exact_general_intervals(ms_exact_Linear corner[3], ms_exact_Linear u, vec4 edges[3],
-                               vec4 plane, bool spot, float s_min, float w0, float w1,
-                               inout vec2 intervals[MS_EXACT_MAX_INTERVALS]) {
-    // Two edge functions of opposite signs over the whole window: never a hit.
-    float r = 0.0;
+// The sizes the certain-sign margins are relative to: the corners' largest reach from the
+// receiver over the shutter (r) and the ray's (ray).
+void ms_exact_sizes(ms_exact_Linear corner[3], ms_exact_Linear u, out float r, out float ray) {
+    r = 0.0;
     for (int i = 0; i < 3; ++i) r = max(r, length(corner[i].a) + length(corner[i].b));
-    float ray = length(u.a) + length(u.b);
+    ray = length(u.a) + length(u.b);
+}
+
+// Each edge function's certain sign over [w0, w1] (ms_exact_certain_sign); true when two of
+// them have opposite ones: the ray is then outside the triangle all window long.
+bool ms_exact_edges_disagree(vec4 edges[3], float r, float ray, float w0, float w1,
+                             out int edge_sign[3]) {
     float margin = MS_EXACT_CERTAIN * r * r * ray;
     bool positive = false;
     bool negative = false;
-    int edge_sign[3];
     for (int i = 0; i < 3; ++i) {
         edge_sign[i] = ms_exact_certain_sign(edges[i], w0, w1, margin);
         positive = positive || edge_sign[i] > 0;
         negative = negative || edge_sign[i] < 0;
     }
-    if (positive && negative) return 0;
+    return positive && negative;
+}
+
+int ms_exact_general_intervals(ms_exact_Linear corner[3], ms_exact_Linear u, vec4 edges[3],
+                               vec4 plane, bool spot, float s_min, float w0, float w1,
+                               inout vec2 intervals[MS_EXACT_MAX_INTERVALS]) {
+    // Two edge functions of opposite signs over the whole window: never a hit.
+    float r, ray;
+    ms_exact_sizes(corner, u, r, ray);
+    int edge_sign[3];
+    if (ms_exact_edges_disagree(edges, r, ray, w0, w1, edge_sign)) return 0;
 
     vec4 sum = edges[0] + edges[1] + edges[2];
     float events[MS_EXACT_MAX_EVENTS];
@@ -352,6 +366,51 @@ int ms_exact_general_intervals(ms_exact_Linear corner[3], ms_exact_Linear u, vec
     return count;
 }
 
+// The shadow ray u and the triangle's corners relative to the receiver moving from p0 to p1,
+// each linear in t (see the top).
+void ms_exact_relative(vec3 p0, vec3 p1, bool spot, vec3 light, vec3 t0_corners[3],
+                       vec3 t1_corners[3], out ms_exact_Linear u,
+                       out ms_exact_Linear corner[3]) {
+    vec3 m = p1 - p0;
+    if (spot) {
+        u = ms_exact_Linear(light - p0, -m);
+    } else {
+        u = ms_exact_Linear(-normalize(light), vec3(0.0));
+    }
+    for (int i = 0; i < 3; ++i) {
+        corner[i] = ms_exact_Linear(t0_corners[i] - p0, (t1_corners[i] - t0_corners[i]) - m);
+    }
+}
+
+// Nothing moves relative to the receiver (a still triangle and a still receiver, the common
+// case of a level's static geometry): every polynomial is a constant, the answer is the same
+// all window long (the general case would find no root and ask the same test once, on the
+// same constants).
+bool ms_exact_relatively_still(ms_exact_Linear u, ms_exact_Linear corner[3]) {
+    return u.b == vec3(0.0) && corner[0].b == vec3(0.0) && corner[1].b == vec3(0.0)
+        && corner[2].b == vec3(0.0);
+}
+
+// The test where ms_exact_relatively_still holds: on the constants alone.
+bool ms_exact_blocks_still(ms_exact_Linear u, ms_exact_Linear corner[3], bool spot,
+                           float s_min) {
+    vec3 c[3] = vec3[3](corner[0].a, corner[1].a, corner[2].a);
+    vec4 edges[3] = vec4[3](vec4(ms_exact_edge_still(c[0], c[1], u.a), vec3(0.0)),
+                            vec4(ms_exact_edge_still(c[1], c[2], u.a), vec3(0.0)),
+                            vec4(ms_exact_edge_still(c[2], c[0], u.a), vec3(0.0)));
+    vec4 plane = vec4(ms_exact_det(c[0], c[1], c[2]), vec3(0.0));
+    return ms_exact_blocks(edges, plane, spot, s_min, 0.0);
+}
+
+// ms_exact_blocks_still for a receiver at p and a triangle with corners `at` that both stand
+// still (a directional light's ray stands still; a spot's does when the receiver does).
+bool ms_exact_blocks_still_at(vec3 p, bool spot, vec3 light, float s_min, vec3 at[3]) {
+    ms_exact_Linear u = ms_exact_Linear(spot ? light - p : -normalize(light), vec3(0.0));
+    ms_exact_Linear corner[3];
+    for (int i = 0; i < 3; ++i) corner[i] = ms_exact_Linear(at[i] - p, vec3(0.0));
+    return ms_exact_blocks_still(u, corner, spot, s_min);
+}
+
 // The intervals of [w0, w1] (within the shutter [0, 1]) during which the triangle with
 // corners t0_corners at t = 0 and t1_corners at t = 1 blocks the shadow ray of the receiver
 // moving from p0 (t = 0) to p1 (t = 1): ascending, disjoint, apart; their count (at most
@@ -362,30 +421,10 @@ int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s
                                 out vec2 intervals[MS_EXACT_MAX_INTERVALS]) {
     for (int i = 0; i < MS_EXACT_MAX_INTERVALS; ++i) intervals[i] = vec2(0.0);
     if (!(w1 > w0)) return 0;
-    vec3 m = p1 - p0;
-    ms_exact_Linear u;
-    if (spot) {
-        u = ms_exact_Linear(light - p0, -m);
-    } else {
-        u = ms_exact_Linear(-normalize(light), vec3(0.0));
-    }
-    ms_exact_Linear corner[3];
-    for (int i = 0; i < 3; ++i) {
-        corner[i] = ms_exact_Linear(t0_corners[i] - p0, (t1_corners[i] - t0_corners[i]) - m);
-    }
-    // Nothing moves relative to the receiver (a still triangle and a still receiver, the
-    // common case of a level's static geometry): every polynomial is a constant, the answer
-    // is the same all window long (the general case would find no root and ask the same test
-    // once, on the same constants).
-    bool still = u.b == vec3(0.0) && corner[0].b == vec3(0.0) && corner[1].b == vec3(0.0)
-        && corner[2].b == vec3(0.0);
-    if (still) {
-        vec3 c[3] = vec3[3](corner[0].a, corner[1].a, corner[2].a);
-        vec4 edges[3] = vec4[3](vec4(ms_exact_edge_still(c[0], c[1], u.a), vec3(0.0)),
-                                vec4(ms_exact_edge_still(c[1], c[2], u.a), vec3(0.0)),
-                                vec4(ms_exact_edge_still(c[2], c[0], u.a), vec3(0.0)));
-        vec4 plane = vec4(ms_exact_det(corner[0].a, corner[1].a, corner[2].a), vec3(0.0));
-        if (!ms_exact_blocks(edges, plane, spot, s_min, w0)) return 0;
+    ms_exact_Linear u, corner[3];
+    ms_exact_relative(p0, p1, spot, light, t0_corners, t1_corners, u, corner);
+    if (ms_exact_relatively_still(u, corner)) {
+        if (!ms_exact_blocks_still(u, corner, spot, s_min)) return 0;
         intervals[0] = vec2(w0, w1);
         return 1;
     }
@@ -394,6 +433,35 @@ int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s
                             ms_exact_edge(corner[2], corner[0], u));
     vec4 plane = ms_exact_triple(corner[0], corner[1], corner[2]);
     return ms_exact_general_intervals(corner, u, edges, plane, spot, s_min, w0, w1, intervals);
+}
+
+// What ms_exact_shadowed_intervals answers, as far as it is known without root finding:
+// MS_EXACT_NONE (the triangle blocks the ray at no time of [w0, w1]), MS_EXACT_ALL (at every
+// time: only where nothing moves relative to the receiver) or MS_EXACT_ASK (it may block part
+// of the window: ask ms_exact_shadowed_intervals). The cheap half of the test, for callers
+// that gather the triangles left to ask and ask them together: on a device that runs a
+// branch's code whether or not a lane takes it (llvmpipe), a loop whose body holds the whole
+// test pays for its root finding on every triangle, where most are decided here.
+const int MS_EXACT_NONE = 0;
+const int MS_EXACT_ALL = 1;
+const int MS_EXACT_ASK = 2;
+
+int ms_exact_classify(vec3 p0, vec3 p1, bool spot, vec3 light, float s_min,
+                      vec3 t0_corners[3], vec3 t1_corners[3], float w0, float w1) {
+    if (!(w1 > w0)) return MS_EXACT_NONE;
+    ms_exact_Linear u, corner[3];
+    ms_exact_relative(p0, p1, spot, light, t0_corners, t1_corners, u, corner);
+    if (ms_exact_relatively_still(u, corner)) {
+        return ms_exact_blocks_still(u, corner, spot, s_min) ? MS_EXACT_ALL : MS_EXACT_NONE;
+    }
+    vec4 edges[3] = vec4[3](ms_exact_edge(corner[0], corner[1], u),
+                            ms_exact_edge(corner[1], corner[2], u),
+                            ms_exact_edge(corner[2], corner[0], u));
+    float r, ray;
+    ms_exact_sizes(corner, u, r, ray);
+    int edge_sign[3];
+    return ms_exact_edges_disagree(edges, r, ray, w0, w1, edge_sign) ? MS_EXACT_NONE
+                                                                     : MS_EXACT_ASK;
 }
 
 // The union of several triangles' shadowed intervals: up to MS_EXACT_UNION_CAPACITY disjoint
