@@ -9,10 +9,7 @@
 use clap::Parser;
 use motion_shadows_app::cli::args::{Cli, Command, MAX_GIF_DELAY_S};
 
-#[allow(dead_code)]
-#[path = "../../tests/support/rng.rs"]
-mod rng;
-use rng::Rng;
+use motion_shadows_test_support::rng::Rng;
 
 const NUMBERS: &[&str] = &[
     "0",

@@ -1,6 +1,6 @@
 //! What every GPU test needs: a validated context on a real Vulkan device (lavapipe in CI).
-//! The library's tests use it as `support::gpu`; the app's GPU tests (`app/tests/gpu`) include
-//! it as `support::device` and add their scene builders on top.
+//! The library's tests use it as `support::gpu`; the app's GPU tests (`app/tests/gpu`) as
+//! `support::device`, with their scene builders on top.
 
 use motion_shadows::gpu::{Context, ContextOptions};
 

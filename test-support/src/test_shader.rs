@@ -3,10 +3,14 @@
 //! library's shaders use, not copies.
 
 use motion_shadows::technique::gpu_constants;
+// Links shaderc where the distribution's libshaderc.so cannot be linked as it is; see
+// build-support/shaderc-link.
+use motion_shadows_shaderc_link as _;
 
 /// SPIR-V of the compute shader `source` (named `name` in messages).
 pub fn compile_compute(name: &str, source: &str) -> Vec<u8> {
-    let glsl = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("glsl");
+    // The library's GLSL, beside this crate in the repository.
+    let glsl = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../glsl");
     let compiler = shaderc::Compiler::new().expect("shaderc");
     let mut options = shaderc::CompileOptions::new().expect("shaderc options");
     options.set_target_env(

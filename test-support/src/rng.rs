@@ -1,5 +1,5 @@
 //! SplitMix64: a small, seeded, reproducible stream for the randomized tests (the library's
-//! and, through `#[path]`, the app's fuzz tests), so that a failing case can be replayed.
+//! and the app's fuzz tests), so that a failing case can be replayed.
 
 pub struct Rng(pub u64);
 

@@ -5,8 +5,7 @@
 
 use glam::{DVec3, Vec3, Vec4};
 
-// For the app's GPU tests, which include this file; the library's own use only `CameraRays`.
-#[allow(unused_imports)]
+// The app's GPU tests follow the samples too; the library's own use only `CameraRays`.
 pub use motion_shadows::technique::sampling::{pixel_key, pixel_sample};
 
 /// The camera ray through an image position: `ray00 + x dx + y dy` (unit view-axis

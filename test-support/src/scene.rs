@@ -1,7 +1,8 @@
 //! Small scenes built by hand, and their temporal shadow map from the library's passes alone:
 //! what the prism and generation tests need, without the app. The types have the app's scene
 //! types' fields (`motion_shadows_app::scene`), so a test reads the same on either side; the
-//! upload is the app's (`render::upload`): one interleaved vertex buffer (t0 and t1 positions,
+//! upload does what the app's (`render::upload`) does, written again here because the
+//! library's tests must not depend on the app: one interleaved vertex buffer (t0 and t1 positions,
 //! stride 32), one draw per mesh, a mesh that does not move naming its t0 positions twice,
 //! triangle ids in scene order.
 
