@@ -5,10 +5,10 @@
 //! Nothing here uses the app: the library's tests need only its public API.
 
 pub mod coverage_oracle;
+pub mod deferred_host;
 pub mod gpu;
-// The deferred host's device (`examples/deferred_host/`), shared with the example.
-#[path = "../../examples/deferred_host/host.rs"]
-pub mod host;
+// The deferred host's device (the example engine's crate, `examples/deferred_host/`).
+pub use motion_shadows_deferred_host::host;
 pub mod prism_model;
 pub mod rng;
 pub mod sampling;

@@ -1,31 +1,25 @@
-//! The deferred host engine (`examples/deferred_host/deferred.rs`, the engine of the
+//! The deferred host engine (`examples/deferred_host/src/deferred.rs`, the engine of the
 //! `deferred_host` example): its own device, buffers, G-buffer, two frames in flight and
 //! two lights, with the library's shadow and mask passes recorded into its command buffers.
 //! Checked against the lighting pass's own per-sample decisions and against closed forms;
 //! the comparisons with the standalone renderer and the ray tracer (the app, used there as a
-//! reference only) are in `app/tests/gpu/deferred_host.rs`, which shares `common.rs`.
+//! reference only) are in `app/tests/gpu/deferred_host.rs`, which shares
+//! `test-support/src/deferred_host.rs`.
 
-use crate::support::host::{self, Host};
+use crate::support::host::Host;
 use deferred::{
     Camera, Engine, FrameOutput, Light, Mesh, MeshIndices, Motion, Settings, ShadowLookup, Vertex,
     World,
 };
 use glam::{DMat4, DVec3, Vec3};
 
-// `deferred` finds the host's device type as `super::host`.
-#[allow(dead_code)]
-#[path = "../../examples/deferred_host/deferred.rs"]
-mod deferred;
+use motion_shadows_deferred_host::deferred;
 
 // The helpers this file shares with the app's deferred-host tests.
-#[allow(dead_code)]
-mod common;
-use common::*;
+use crate::support::deferred_host::*;
 
-#[path = "deferred_moving.rs"]
 mod moving;
 
-#[path = "deferred_union.rs"]
 mod union;
 
 /// A square of side `SIDE` at height 1 translating by `TRAVEL` in +x over the shutter, under

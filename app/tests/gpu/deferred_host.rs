@@ -1,11 +1,12 @@
-//! The deferred host engine (`examples/deferred_host/deferred.rs`, the engine of the
+//! The deferred host engine (`examples/deferred_host/src/deferred.rs`, the engine of the
 //! `deferred_host` example) checked against the library's standalone renderer (the app, used
 //! here as a reference only) and against the ray tracer's exact truth (`truth`). Its tests
 //! against the lighting pass's own per-sample decisions and closed forms are the library's
-//! (`tests/gpu/deferred_host.rs`), with which this file shares `common.rs`.
+//! (`tests/gpu/deferred_host.rs`), with which this file shares
+//! `test-support/src/deferred_host.rs`.
 
 use crate::support::gpu::{assert_no_validation_messages, context, render};
-use crate::support::host::{self, Host};
+use crate::support::host::Host;
 use crate::support::sampling::{CameraRays, hits, pixel_key, pixel_sample};
 use ash::vk;
 use deferred::{Engine, FrameOutput, Light, World};
@@ -15,18 +16,11 @@ use motion_shadows_app::render::upload::camera_view;
 use motion_shadows_app::render::{Method, ReceiverTest, RenderSettings};
 use motion_shadows_app::scene as app;
 
-// `deferred` finds the host's device type as `super::host`.
-#[allow(dead_code)]
-#[path = "../../../examples/deferred_host/deferred.rs"]
-mod deferred;
+use motion_shadows_deferred_host::deferred;
 
 // The helpers this file shares with the library's deferred-host tests.
-#[allow(dead_code)]
-#[path = "../../../tests/gpu/deferred_host/common.rs"]
-mod common;
-use common::*;
+use crate::support::deferred_host::*;
 
-#[path = "deferred_host_truth.rs"]
 mod truth;
 
 /// Frame `frame` of the host's world as the app's scene lit by light `light` alone: every

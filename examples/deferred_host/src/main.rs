@@ -4,22 +4,19 @@
 //! frame loop (two frames in flight) and shading, and motion-shadows adds a temporal shadow
 //! map per light and a visibility mask per light that follows each receiver along its motion
 //! over the shutter. The engine is `deferred.rs` beside this
-//! file (the tests include it and drive the same code); read it from the top. `host.rs` is
-//! the engine's device, `glsl/` its shaders.
+//! file (the tests drive the same code, through this crate's library); read it from the top.
+//! `host.rs` is the engine's device, `glsl/` its shaders.
 //!
 //! ```sh
-//! cargo run --example deferred_host        # MOTION_SHADOWS_VALIDATION=1: validation layer on
+//! cargo run -p motion-shadows-deferred-host   # MOTION_SHADOWS_VALIDATION=1: validation layer on
 //! ```
 //!
 //! Writes `out/deferred_host.png` and prints a summary.
 
-// The host's device (instance, device, queue; no help from the library) and the engine.
-// The tests include both (`tests/gpu/deferred_host.rs`, `app/tests/gpu/deferred_host.rs`)
-// and use more of them than this example does.
-#[allow(dead_code)]
-mod deferred;
-#[allow(dead_code)]
-mod host;
+// The host's device (instance, device, queue; no help from the library) and the engine, the
+// crate's library: the tests (`tests/gpu/deferred_host.rs`, `app/tests/gpu/deferred_host.rs`)
+// use more of them than this example does.
+use motion_shadows_deferred_host::{deferred, host};
 
 use deferred::{Engine, FrameOutput, Settings, ShadowLookup, World};
 use std::path::Path;

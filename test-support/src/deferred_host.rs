@@ -1,15 +1,15 @@
 //! What the deferred host engine's tests share: the library's (`tests/gpu/deferred_host.rs`)
-//! and the app's (`app/tests/gpu/deferred_host.rs`, which includes this file with `#[path]`
-//! and compares the engine with the standalone renderer). The parent module provides
-//! `deferred` (`examples/deferred_host/deferred.rs`); the test crate provides
-//! `support::host` and `support::sampling`.
+//! and the app's (`app/tests/gpu/deferred_host.rs`, which compares the engine with the
+//! standalone renderer).
 
-use super::deferred::{self, HostBuffer, Light, Settings, ShadowLookup, World};
-use crate::support::host::Host;
-use crate::support::sampling::CameraRays;
+use crate::sampling::CameraRays;
 use ash::vk;
 use glam::DVec3;
 use motion_shadows::technique::{CameraView, TemporalShadowMap};
+use motion_shadows_deferred_host::deferred::{
+    self, HostBuffer, Light, Settings, ShadowLookup, World,
+};
+use motion_shadows_deferred_host::host::Host;
 
 pub const SIZE: (u32, u32) = (160, 120);
 pub const SHADOW: (u32, u32) = (256, 256);

@@ -24,11 +24,11 @@
 //! last frame's positions for its motion vectors anyway, and that is exactly what the shadow
 //! pass needs. Nothing here uses the app crate (the tests use it as a reference only).
 //!
-//! The `deferred_host` example's engine (`examples/deferred_host/main.rs`), included with
-//! `#[path]` by `tests/gpu/deferred_host.rs` and `app/tests/gpu/deferred_host.rs`; the parent
-//! module provides `host` (`host.rs` beside this file).
+//! The `deferred_host` example's engine (`main.rs` runs it), a module of its crate so that
+//! the tests (`tests/gpu/deferred_host.rs`, `app/tests/gpu/deferred_host.rs`) drive the same
+//! code; `host` is the engine's device.
 
-use super::host::Host;
+use crate::host::Host;
 // Links shaderc (compiled into this program to build the host's own shaders) where the
 // distribution's libshaderc.so cannot be linked as it is; see build-support/shaderc-link.
 use ash::vk;
@@ -1776,18 +1776,18 @@ fn read_mask(buffer: &HostBuffer, format: vk::Format, pixels: usize) -> Result<V
 // constant `GLSL_INCLUDE` by the include callback, exactly as a host's shader system would.
 // ---------------------------------------------------------------------------------------
 
-/// The host's own shader sources (`glsl/` beside this file).
+/// The host's own shader sources (the crate's `glsl/`).
 pub mod sources {
-    pub const FRAME_GLSL: &str = include_str!("glsl/frame.glsl");
-    pub const GBUFFER_VERT: &str = include_str!("glsl/gbuffer.vert");
-    pub const GBUFFER_FRAG: &str = include_str!("glsl/gbuffer.frag");
-    pub const SHADE_COMP: &str = include_str!("glsl/shade.comp");
-    pub const PROBE_COMP: &str = include_str!("glsl/probe.comp");
-    pub const SAMPLES_PROBE_COMP: &str = include_str!("glsl/samples_probe.comp");
-    pub const MOVING_PROBE_COMP: &str = include_str!("glsl/moving_probe.comp");
+    pub const FRAME_GLSL: &str = include_str!("../glsl/frame.glsl");
+    pub const GBUFFER_VERT: &str = include_str!("../glsl/gbuffer.vert");
+    pub const GBUFFER_FRAG: &str = include_str!("../glsl/gbuffer.frag");
+    pub const SHADE_COMP: &str = include_str!("../glsl/shade.comp");
+    pub const PROBE_COMP: &str = include_str!("../glsl/probe.comp");
+    pub const SAMPLES_PROBE_COMP: &str = include_str!("../glsl/samples_probe.comp");
+    pub const MOVING_PROBE_COMP: &str = include_str!("../glsl/moving_probe.comp");
     /// The library's own per-texel test of a pixel's samples (not part of the public
     /// include), for the test that holds it to `ms_texel_shadowed`.
-    pub const TEMPORAL_SAMPLES_GLSL: &str = include_str!("../../glsl/temporal_samples.glsl");
+    pub const TEMPORAL_SAMPLES_GLSL: &str = include_str!(env!("TEMPORAL_SAMPLES_GLSL"));
 }
 
 /// Compiles one GLSL stage to SPIR-V. `#include "motion_shadows.glsl"` resolves to the

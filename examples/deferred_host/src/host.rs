@@ -1,10 +1,7 @@
 //! A minimal "host engine": its own `ash::Entry`, instance, device, queue, command pool and
-//! fence, so that tests and `examples/deferred_host.rs` can check that `Context::from_raw`
+//! fence, so that tests and the `deferred_host` example can check that `Context::from_raw`
 //! and the passes work inside someone else's Vulkan setup. The only help it takes from the
 //! library is `DeviceRequirements`: the features it chains into its `VkDeviceCreateInfo`.
-//!
-//! The `deferred_host` example's module, included with `#[path]` by the GPU tests
-//! (`tests/support/mod.rs`, `app/tests/support/mod.rs`).
 
 use ash::vk;
 use motion_shadows::gpu::{DeviceFeatures, DeviceRequirements};
