@@ -1,5 +1,5 @@
 //! What every GPU test needs: a validated context on a real Vulkan device (lavapipe in CI)
-//! (the library's `tests/support/gpu.rs`, here `support::device`), and small scenes built by
+//! (`test-support`'s `gpu`, here `support::device`), and small scenes built by
 //! hand, rendered with the app's standalone renderer.
 
 use glam::Vec3;

@@ -34,7 +34,7 @@ fn rust_blocks(readme: &str) -> Vec<(String, String)> {
 
 #[test]
 fn every_readme_rust_snippet_is_compiled_here() {
-    let readme = include_str!("../README.md");
+    let readme = include_str!("../../README.md");
     let blocks = rust_blocks(readme);
     assert!(
         blocks.len() >= 2,
@@ -48,7 +48,7 @@ fn every_readme_rust_snippet_is_compiled_here() {
             "a README snippet is not compiled as a doctest (starts {first:?})"
         );
     }
-    let lib = include_str!("../src/lib.rs");
+    let lib = include_str!("../../src/lib.rs");
     assert!(
         lib.contains("#[cfg(doctest)]\n#[doc = include_str!(\"../README.md\")]"),
         "src/lib.rs no longer compiles the README's snippets as doctests"

@@ -1,6 +1,6 @@
 //! The repository's size report: every source file over `TARGET_LINES` lines (issue 42's
 //! target for a file that holds one concept), printed largest first
-//! (`cargo test --test source_sizes -- --nocapture` shows it). The files over the target today
+//! (`cargo test --test repository -- source_sizes --nocapture` shows it). The files over the target today
 //! are listed in `OVERSIZED` with their line counts; a listed file may only shrink, and no
 //! other file may cross the target, so the list can only get shorter. Splitting a listed file
 //! below the target means deleting its line here (the test says so).
@@ -16,10 +16,9 @@ const SOURCE_EXTENSIONS: [&str; 8] = ["rs", "glsl", "comp", "frag", "vert", "geo
 
 /// The files over `TARGET_LINES` lines, relative to the repository root, with the most lines
 /// each may have.
-const OVERSIZED: [(&str, usize); 10] = [
+const OVERSIZED: [(&str, usize); 9] = [
     ("app/src/cli/args.rs", 671),
     ("app/src/render/deferred.rs", 669),
-    ("app/tests/cli.rs", 1001),
     ("app/tests/gpu/deferred_host.rs", 673),
     ("app/tests/gpu/exact_shadow.rs", 787),
     // Grew by the id attachment the mask now requires (issue 37 item 4); to be split along
