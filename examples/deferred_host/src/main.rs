@@ -4,7 +4,8 @@
 //! frame loop (two frames in flight) and shading, and motion-shadows adds a temporal shadow
 //! map per light and a visibility mask per light that follows each receiver along its motion
 //! over the shutter. The engine is `deferred.rs` beside this
-//! file (the tests drive the same code, through this crate's library); read it from the top.
+//! file and its parts in `deferred/` (the tests drive the same code, through this crate's
+//! library); read it from the top.
 //! `host.rs` is the engine's device, `glsl/` its shaders.
 //!
 //! ```sh
