@@ -96,5 +96,11 @@ pub mod gpu;
 pub mod technique;
 
 pub use error::{Error, Result};
+
+// The README's Rust snippets are doctests of this item, compiled from the README itself (their
+// setup in hidden `#` lines); `no_run`, since they need a host's device.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeSnippets;
 /// The ash (Vulkan), glam (math) and gpu-allocator versions the library's API uses.
 pub use {ash, glam, gpu_allocator};

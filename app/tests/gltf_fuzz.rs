@@ -21,10 +21,7 @@ const CASE_PEAK_LIMIT: usize = 512 << 20;
 /// Cases run (each parses and loads the whole model: about 1 ms in the test profile).
 const CASES: usize = 4000;
 
-#[allow(dead_code)]
-#[path = "../../tests/support/rng.rs"]
-mod rng;
-use rng::Rng;
+use motion_shadows_test_support::rng::Rng;
 
 /// The top-level arrays whose fields decide how much the loader reads and builds.
 const SECTIONS: &[&str] = &[

@@ -21,10 +21,7 @@ mod counting_alloc;
 /// can ask for (boxes of 256 x 256 quads a face), far below what the probes needed (GiBs).
 const CASE_PEAK_LIMIT: usize = 1 << 30;
 
-#[allow(dead_code)]
-#[path = "../../tests/support/rng.rs"]
-mod rng;
-use rng::Rng;
+use motion_shadows_test_support::rng::Rng;
 
 struct Generator {
     rng: Rng,

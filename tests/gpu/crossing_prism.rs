@@ -1,6 +1,6 @@
 //! The papers' crossing case (Hong & Oh 2018, 4.1, equation (1) and Fig. 6) against the f64
 //! oracle of support/coverage_oracle.rs, which shares no code or constant with the shaders or
-//! with the CPU prism model (tests/support/prism_model/, which copies the shader's rule).
+//! with the CPU prism model (test-support/src/prism_model/, which copies the shader's rule).
 //!
 //! The motion: one edge of a large level triangle turns 120 degrees about its own midpoint X
 //! (the corners move on chords), under an overhead directional light. The edge at t = 0 and

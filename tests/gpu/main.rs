@@ -3,8 +3,7 @@
 //! the library's public API; the tests that use the app (its standalone renderer, scenes, ray
 //! tracer, compare and bench) are in `app/tests/gpu/`.
 
-#[path = "../support/mod.rs"]
-mod support;
+use motion_shadows_test_support as support;
 
 mod analytic;
 mod conservative_collection;

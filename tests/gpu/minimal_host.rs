@@ -2,7 +2,7 @@
 //! reads) runs as a test: its own device with validation and synchronization validation,
 //! one frame, the host shader's lit fractions against the closed form of a square sliding
 //! over the ground, and no validation message (`run` fails on any). Its size is kept by the
-//! repository's size report (`tests/source_sizes.rs`), as every file's.
+//! repository's size report (`tests/repository/source_sizes.rs`), as every file's.
 
 #[path = "../../examples/minimal_host.rs"]
 #[allow(dead_code)]

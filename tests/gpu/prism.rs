@@ -1,5 +1,5 @@
 //! The GPU's prisms in the papers' construction (`PrismConstruction::Paper`) against an independent CPU model of the geometry shader's triangulation
-//! (tests/support/prism_model/): same fragment count, times and depths at every pixel whose
+//! (test-support/src/prism_model/): same fragment count, times and depths at every pixel whose
 //! centre is clear of all prism edges, in the centre-vertex case and in the crossing case.
 
 use crate::support::gpu::{assert_no_validation_messages, context};

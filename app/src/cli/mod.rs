@@ -11,6 +11,7 @@ pub mod install_hint;
 pub mod render_cmd;
 pub mod shared;
 pub mod summary;
+pub mod technique_args;
 pub mod unread_options;
 pub mod value_parsers;
 pub mod view_args;

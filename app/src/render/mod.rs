@@ -7,6 +7,7 @@
 //! re-run if needed) -> lighting -> radiance read back -> [`RadianceImage`].
 
 pub mod deferred;
+pub mod deferred_settings;
 mod empty_map;
 mod frame;
 mod mask_walks;

@@ -1,5 +1,5 @@
 //! The measurement plumbing: the counters agree with the lists they count. (The quick bench
-//! presets' files are checked in app/tests/cli.rs.)
+//! presets' files are checked in app/tests/cli/scripted/bench_presets.rs.)
 
 use crate::support::gpu::{
     assert_no_validation_messages, context, temporal_map, temporal_map_with,

@@ -4,7 +4,6 @@
 //! client or as an independent reference; the tests that need only the library's public API
 //! are in the library's `tests/gpu/`.
 
-#[path = "../support/mod.rs"]
 mod support;
 
 mod analytic_estimator;
@@ -12,7 +11,10 @@ mod baselines;
 mod bench;
 mod character;
 mod coverage;
+mod deferred_exact;
+mod deferred_frame;
 mod deferred_host;
+mod deferred_long_paths;
 mod embedding;
 mod errors;
 mod exact_lookup_lighting;
@@ -24,6 +26,7 @@ mod lighting;
 mod loop_limit;
 mod range_bound;
 mod range_storage;
+mod raytrace;
 mod receiver_plane;
 mod static_layer;
 mod through_light;

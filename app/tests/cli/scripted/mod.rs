@@ -1,0 +1,62 @@
+//! The `motion-shadows` binary as users script it: `--json` output, scene export and
+//! re-import, bench output files, and a clear error without a Vulkan device. Every run has the
+//! validation layer on (MOTION_SHADOWS_VALIDATION=1) and fails if it reports anything.
+
+mod animate;
+mod bench_presets;
+mod no_device;
+mod raytrace_method;
+mod render_report;
+mod scene_export;
+
+use motion_shadows_app::scene::{BuiltinOptions, builtin};
+use std::path::Path;
+use std::process::Command;
+
+fn motion_shadows(args: &[&str], out: &Path) -> std::process::Output {
+    let output = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .env("MOTION_SHADOWS_VALIDATION", "1")
+        .output()
+        .expect("run the binary");
+    assert!(
+        output.status.success(),
+        "{args:?} failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    output
+}
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("motion-shadows-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Whether a figure a bench wrote (six significant digits) agrees with `expected`, worked
+/// out here from other figures it wrote: within the rounding of a quotient of two of them.
+fn agrees(written: f64, expected: f64) -> bool {
+    written.is_finite() && (written - expected).abs() <= 1e-4 * expected.abs()
+}
+
+/// One row of a bench CSV, its cells by column name.
+struct CsvRow<'a> {
+    header: &'a [&'a str],
+    cells: Vec<&'a str>,
+}
+
+impl CsvRow<'_> {
+    fn cell(&self, column: &str) -> &str {
+        let i = (self.header.iter().position(|h| *h == column))
+            .unwrap_or_else(|| panic!("no column {column} in {:?}", self.header));
+        self.cells[i]
+    }
+
+    fn num(&self, column: &str) -> f64 {
+        let cell = self.cell(column);
+        cell.parse()
+            .unwrap_or_else(|_| panic!("{column}: {cell:?} is not a number"))
+    }
+}

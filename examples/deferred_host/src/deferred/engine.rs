@@ -1,0 +1,475 @@
+//! The engine: its settings, its per-frame slots and their setup, and its teardown.
+
+use super::*;
+
+// ---------------------------------------------------------------------------------------
+// The engine.
+// ---------------------------------------------------------------------------------------
+
+/// How the shading pass gets each light's visibility.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ShadowLookup {
+    /// From the mask images the library's visibility-mask pass wrote.
+    MaskImages,
+    /// `ms_lit_fraction` called by the engine's own shading shader.
+    LitFractionInShader,
+    /// `ms_visibility` at one shutter time, in the engine's own shading shader.
+    VisibilityAt(f32),
+}
+
+/// What the engine is set up with.
+#[derive(Debug, Clone)]
+pub struct Settings {
+    pub width: u32,
+    pub height: u32,
+    /// Texels of every shadow map.
+    pub shadow_size: (u32, u32),
+    /// Fragments and ranges every shadow map has room for at first. Too small only costs a
+    /// re-render of a kept frame (see `Engine::render`).
+    pub initial_capacity: (u32, u32),
+    pub lookup: ShadowLookup,
+    /// Keep each shadow map's static layer across frames (`LightView::keep_static_layer`):
+    /// the world's static meshes never change in place, and its lights do not move.
+    pub keep_static_layer: bool,
+    /// Give the mask pass the G-buffer's motion (receivers followed along their path); off,
+    /// every receiver stands still where the G-buffer shows it (the mask's cheaper variant,
+    /// exact for a world whose receivers do not move).
+    pub receivers_move: bool,
+}
+
+/// A frame's results, read back once its fence signalled.
+#[derive(Debug, Clone)]
+pub struct FrameOutput {
+    pub frame: u32,
+    /// The frame-in-flight slot that rendered it.
+    pub slot: usize,
+    /// Submissions it took (more than 1 when a shadow map overflowed and was grown).
+    pub attempts: u32,
+    /// Per light: the shadow map's counters (N_f = node_count, N_r = range_count).
+    pub counters: Vec<Counters>,
+    /// Linear radiance per pixel (rgb; a = 1 where a surface is, 0 for the background).
+    pub radiance: Vec<[f32; 4]>,
+    /// Per light: the visibility mask (lit fraction of the shutter) per pixel.
+    pub masks: Vec<Vec<f32>>,
+}
+
+pub(super) const NORMAL_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+pub(super) const ALBEDO_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+/// World-space motion over the shutter: half floats, as an engine stores motion vectors.
+pub(super) const MOTION_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+/// Each pixel's triangle: the global id the shadow pass's draws give it (`u32::MAX`: none).
+pub(super) const ID_FORMAT: vk::Format = vk::Format::R32_UINT;
+pub(super) const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+pub(super) const RADIANCE_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+
+/// The deferred engine. Borrows the host's device for its whole life.
+pub struct Engine<'h> {
+    pub(super) host: &'h Host,
+    pub(super) settings: Settings,
+    pub(super) mask_format: vk::Format,
+    pub(super) pipelines: Pipelines,
+    pub(super) geometry: Geometry,
+    pub(super) slots: Vec<Slot>,
+    pub(super) passes: Passes,
+    /// Submissions so far: the frame number the library is told (`Context::begin_frame`),
+    /// counting re-rendered frames again, so that it only grows.
+    pub(super) submissions: u64,
+    // Last: every library object above must go before the context.
+    pub(super) ctx: Context,
+}
+
+/// The library's passes: immutable, one set for every frame in flight and every light.
+pub(super) struct Passes {
+    pub(super) collection: CollectionPass,
+    pub(super) generation: GenerationPass,
+    pub(super) mask: VisibilityMaskPass,
+}
+
+/// What recording a frame reads: everything of the engine but the slots.
+pub(super) struct Recorder<'a> {
+    pub(super) device: &'a ash::Device,
+    pub(super) settings: &'a Settings,
+    pub(super) passes: &'a Passes,
+    pub(super) pipelines: &'a Pipelines,
+    pub(super) geometry: &'a Geometry,
+}
+
+/// Layout + access + stage in one tuple, for `Image::barrier`.
+pub(super) type State = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
+
+/// Everything one frame in flight writes.
+pub(super) struct Slot {
+    pub(super) cmd: vk::CommandBuffer,
+    pub(super) fence: vk::Fence,
+    /// The frame submitted with this slot and not yet retired.
+    pub(super) pending: Option<u32>,
+    /// Its submission's number (`Engine::submissions`): what `Context::collect` is told once
+    /// the slot's fence has signalled.
+    pub(super) submission: u64,
+    pub(super) attempts: u32,
+    pub(super) frame_constants: HostBuffer,
+    /// Last frame's and this frame's positions of the deformed meshes.
+    pub(super) deformed: HostBuffer,
+    pub(super) depth: Image,
+    pub(super) normals: Image,
+    pub(super) albedo: Image,
+    /// Per pixel: the surface point's world displacement from frame f - 1 to frame f.
+    pub(super) motion: Image,
+    /// Per pixel: the global id of the triangle it shows (the mask's own-triangle skip,
+    /// which moving receivers need).
+    pub(super) ids: Image,
+    /// One per light.
+    pub(super) masks: Vec<Image>,
+    pub(super) radiance: Image,
+    pub(super) radiance_readback: HostBuffer,
+    pub(super) mask_readback: Vec<HostBuffer>,
+    pub(super) frame_set: vk::DescriptorSet,
+    pub(super) image_set: vk::DescriptorSet,
+    // The library's per-frame objects.
+    pub(super) draws: DrawList,
+    pub(super) maps: Vec<TemporalShadowMap>,
+    pub(super) mask_bindings: Vec<MaskBindings>,
+}
+
+impl<'h> Engine<'h> {
+    /// Sets the engine up for `world` (its geometry, lights count) with `settings`.
+    pub fn new(host: &'h Host, world: &World, settings: Settings) -> Result<Self> {
+        if world.lights.is_empty() || world.lights.len() > MAX_LIGHTS {
+            return Err(format!(
+                "{} lights: the engine shades 1 to {MAX_LIGHTS}",
+                world.lights.len()
+            )
+            .into());
+        }
+        if !host.storage_image_write_without_format {
+            return Err("the device lacks shaderStorageImageWriteWithoutFormat, which the visibility-mask pass needs".into());
+        }
+        let device = &host.device;
+        // SAFETY: Host::new made `device` from `physical` of `instance`, Vulkan 1.3, with a
+        // graphics+compute queue of `queue_family` and every feature the contract lists
+        // (shaderStorageImageWriteWithoutFormat checked above). The host outlives the engine
+        // (the borrow), which drops the context last, after waiting for its own frames. The
+        // library never submits: the engine records its passes into its own command buffers.
+        let ctx = unsafe {
+            Context::from_raw(
+                &host.instance,
+                host.physical,
+                host.device.clone(),
+                host.queue_family,
+                host.queue,
+                &host.enabled,
+            )
+        }?;
+        let mask_format = Self::pick_mask_format(host)?;
+        for (format, features, what) in [
+            (
+                DEPTH_FORMAT,
+                vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT
+                    | vk::FormatFeatureFlags::SAMPLED_IMAGE,
+                "a sampled depth attachment",
+            ),
+            (
+                NORMAL_FORMAT,
+                vk::FormatFeatureFlags::COLOR_ATTACHMENT | vk::FormatFeatureFlags::SAMPLED_IMAGE,
+                "a sampled color attachment",
+            ),
+        ] {
+            if !Self::format_features(host, format).contains(features) {
+                return Err(format!("{format:?} cannot be {what} on this device").into());
+            }
+        }
+        let pipelines = Pipelines::new(device, host.queue_family)?;
+        let geometry = Geometry::upload(host, world)?;
+        let mut engine = Engine {
+            host,
+            settings,
+            mask_format,
+            pipelines,
+            geometry,
+            slots: Vec::new(),
+            submissions: 0,
+            passes: Passes {
+                collection: CollectionPass::new(&ctx)?,
+                generation: GenerationPass::new(&ctx)?,
+                mask: VisibilityMaskPass::new(&ctx)?,
+            },
+            ctx,
+        };
+        for _ in 0..FRAMES_IN_FLIGHT {
+            let slot = engine.new_slot(world)?;
+            engine.slots.push(slot);
+        }
+        Ok(engine)
+    }
+
+    pub(super) fn format_features(host: &Host, format: vk::Format) -> vk::FormatFeatureFlags {
+        // SAFETY: `host.physical` is a physical device of the host's live instance.
+        unsafe {
+            host.instance
+                .get_physical_device_format_properties(host.physical, format)
+        }
+        .optimal_tiling_features
+    }
+
+    /// R16_UNORM masks (2 bytes, 1/65535 steps) where the device can write them as storage
+    /// images, else R32_SFLOAT (which every device can).
+    pub(super) fn pick_mask_format(host: &Host) -> Result<vk::Format> {
+        let needed = vk::FormatFeatureFlags::STORAGE_IMAGE
+            | vk::FormatFeatureFlags::SAMPLED_IMAGE
+            | vk::FormatFeatureFlags::TRANSFER_SRC;
+        [vk::Format::R16_UNORM, vk::Format::R32_SFLOAT]
+            .into_iter()
+            .find(|&f| Self::format_features(host, f).contains(needed))
+            .ok_or_else(|| "no single-channel storage format for the masks".into())
+    }
+
+    /// The library's context (device information, validation messages).
+    pub fn context(&self) -> &Context {
+        &self.ctx
+    }
+
+    /// The mask images' format.
+    pub fn mask_format(&self) -> vk::Format {
+        self.mask_format
+    }
+
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// How the shading pass takes visibility from the next frame on.
+    pub fn set_lookup(&mut self, lookup: ShadowLookup) {
+        self.settings.lookup = lookup;
+    }
+
+    /// Global id of mesh `mesh`'s first triangle.
+    pub fn first_triangle_id(&self, mesh: usize) -> u32 {
+        self.geometry.meshes[mesh].first_triangle_id
+    }
+
+    /// Light `light`'s shadow map in frame slot `slot`: holds the last frame that slot
+    /// rendered until the slot renders again.
+    pub fn shadow_map(&self, slot: usize, light: usize) -> &TemporalShadowMap {
+        &self.slots[slot].maps[light]
+    }
+
+    pub(super) fn new_slot(&self, world: &World) -> Result<Slot> {
+        let host = self.host;
+        let device = &host.device;
+        let size = (self.settings.width, self.settings.height);
+        let pixels = size.0 as u64 * size.1 as u64;
+        let lights = world.lights.len();
+        let sampled = vk::ImageUsageFlags::SAMPLED;
+        let color = vk::ImageAspectFlags::COLOR;
+        let alloc = vk::CommandBufferAllocateInfo::default()
+            .command_pool(self.pipelines.command_pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        // SAFETY: the engine's command pool, made for the host's queue family with
+        // RESET_COMMAND_BUFFER; slots are made on this thread only.
+        let cmd =
+            unsafe { device.allocate_command_buffers(&alloc) }.vk("vkAllocateCommandBuffers")?[0];
+        // Freed with the pool; the fence is destroyed by the engine's Drop once in the slot.
+        // SAFETY: creating an unsignalled fence on the host's live device has no precondition.
+        let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
+            .vk("vkCreateFence")?;
+        let build = || -> Result<Slot> {
+            let set_layouts = [
+                self.pipelines.frame_set_layout,
+                self.pipelines.image_set_layout,
+            ];
+            let alloc = vk::DescriptorSetAllocateInfo::default()
+                .descriptor_pool(self.pipelines.descriptor_pool)
+                .set_layouts(&set_layouts);
+            // SAFETY: the pool was made for FRAMES_IN_FLIGHT slots' two sets each (its sizes count
+            // every binding of both layouts), and at most that many slots are made.
+            let sets = unsafe { device.allocate_descriptor_sets(&alloc) }
+                .vk("vkAllocateDescriptorSets")?;
+            let (sw, sh) = self.settings.shadow_size;
+            let (nodes, ranges) = self.settings.initial_capacity;
+            let slot = Slot {
+                cmd,
+                fence,
+                pending: None,
+                submission: 0,
+                attempts: 0,
+                frame_constants: HostBuffer::new(
+                    host,
+                    std::mem::size_of::<FrameConstants>() as u64,
+                    vk::BufferUsageFlags::UNIFORM_BUFFER,
+                )?,
+                deformed: HostBuffer::new(
+                    host,
+                    self.geometry.deformed_bytes,
+                    vk::BufferUsageFlags::VERTEX_BUFFER
+                        | vk::BufferUsageFlags::STORAGE_BUFFER
+                        | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS,
+                )?,
+                depth: Image::new(
+                    host,
+                    DEPTH_FORMAT,
+                    size,
+                    vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | sampled,
+                    vk::ImageAspectFlags::DEPTH,
+                )?,
+                normals: Image::new(
+                    host,
+                    NORMAL_FORMAT,
+                    size,
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT | sampled,
+                    color,
+                )?,
+                albedo: Image::new(
+                    host,
+                    ALBEDO_FORMAT,
+                    size,
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT | sampled,
+                    color,
+                )?,
+                motion: Image::new(
+                    host,
+                    MOTION_FORMAT,
+                    size,
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT | sampled,
+                    color,
+                )?,
+                ids: Image::new(
+                    host,
+                    ID_FORMAT,
+                    size,
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT | sampled,
+                    color,
+                )?,
+                masks: (0..lights)
+                    .map(|_| {
+                        Image::new(
+                            host,
+                            self.mask_format,
+                            size,
+                            vk::ImageUsageFlags::STORAGE
+                                | sampled
+                                | vk::ImageUsageFlags::TRANSFER_SRC,
+                            color,
+                        )
+                    })
+                    .collect::<Result<_>>()?,
+                radiance: Image::new(
+                    host,
+                    RADIANCE_FORMAT,
+                    size,
+                    vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,
+                    color,
+                )?,
+                radiance_readback: HostBuffer::new(
+                    host,
+                    pixels * 16,
+                    vk::BufferUsageFlags::TRANSFER_DST,
+                )?,
+                mask_readback: (0..lights)
+                    .map(|_| {
+                        HostBuffer::new(
+                            host,
+                            pixels * mask_texel_bytes(self.mask_format),
+                            vk::BufferUsageFlags::TRANSFER_DST,
+                        )
+                    })
+                    .collect::<Result<_>>()?,
+                frame_set: sets[0],
+                image_set: sets[1],
+                draws: DrawList::new(&self.ctx, world.meshes.len() as u32)?,
+                maps: (0..lights)
+                    .map(|_| TemporalShadowMap::new(&self.ctx, sw, sh, nodes, ranges))
+                    .collect::<motion_shadows::Result<_>>()?,
+                mask_bindings: (0..lights)
+                    .map(|_| self.passes.mask.bindings(&self.ctx, size))
+                    .collect::<motion_shadows::Result<_>>()?,
+            };
+            self.write_descriptors(&slot);
+            Ok(slot)
+        };
+        // SAFETY: the slot was not built, so its fence was never submitted and is destroyed once,
+        // here.
+        build().inspect_err(|_| unsafe { device.destroy_fence(fence, None) })
+    }
+
+    /// The slot's descriptor sets point at its own images and uniform buffer, for good.
+    pub(super) fn write_descriptors(&self, slot: &Slot) {
+        let ubo = [vk::DescriptorBufferInfo {
+            buffer: slot.frame_constants.buffer,
+            offset: 0,
+            range: vk::WHOLE_SIZE,
+        }];
+        let sampled = |view, layout| {
+            [vk::DescriptorImageInfo {
+                sampler: self.pipelines.sampler,
+                image_view: view,
+                image_layout: layout,
+            }]
+        };
+        let read_only = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        // A single light leaves binding 4 pointing at light 0's mask (never read then).
+        let mask1 = slot.masks.get(1).unwrap_or(&slot.masks[0]);
+        let images = [
+            sampled(
+                slot.depth.view,
+                vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+            ),
+            sampled(slot.normals.view, read_only),
+            sampled(slot.albedo.view, read_only),
+            sampled(slot.masks[0].view, read_only),
+            sampled(mask1.view, read_only),
+        ];
+        let motion = sampled(slot.motion.view, read_only);
+        let output = [vk::DescriptorImageInfo {
+            sampler: vk::Sampler::null(),
+            image_view: slot.radiance.view,
+            image_layout: vk::ImageLayout::GENERAL,
+        }];
+        let mut writes = vec![
+            vk::WriteDescriptorSet::default()
+                .dst_set(slot.frame_set)
+                .dst_binding(0)
+                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+                .buffer_info(&ubo),
+            vk::WriteDescriptorSet::default()
+                .dst_set(slot.image_set)
+                .dst_binding(5)
+                .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+                .image_info(&output),
+            vk::WriteDescriptorSet::default()
+                .dst_set(slot.image_set)
+                .dst_binding(6)
+                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                .image_info(&motion),
+        ];
+        for (binding, info) in images.iter().enumerate() {
+            writes.push(
+                vk::WriteDescriptorSet::default()
+                    .dst_set(slot.image_set)
+                    .dst_binding(binding as u32)
+                    .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                    .image_info(info),
+            );
+        }
+        // SAFETY: the slot's sets are written once, while it is being built, before any command
+        // buffer uses them; each write names an image view or buffer of this slot, alive as long as
+        // it.
+        unsafe { self.host.device.update_descriptor_sets(&writes, &[]) };
+    }
+}
+
+impl Drop for Engine<'_> {
+    fn drop(&mut self) {
+        // Frames still in flight use everything below: wait for them (the engine's own
+        // fences; the library never waits on a host's device).
+        self.wait_all();
+        let device = &self.host.device;
+        for slot in &self.slots {
+            // SAFETY: wait_all just waited for every pending slot, so no fence is in use; each is
+            // destroyed once.
+            unsafe { device.destroy_fence(slot.fence, None) };
+        }
+        // The fields drop next: the pipelines and pools, the slots' images and buffers, the
+        // library's objects, and the context last.
+    }
+}

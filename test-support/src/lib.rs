@@ -1,0 +1,16 @@
+//! What the tests of the workspace share, compiled once as a dev-dependency instead of being
+//! included into each test crate: the library's tests (`tests/gpu/`) use it as `support`, the
+//! app's tests (`app/tests/`) for the context, the RNG and the sampling model.
+//!
+//! Nothing here uses the app: the library's tests need only its public API.
+
+pub mod coverage_oracle;
+pub mod deferred_host;
+pub mod gpu;
+// The deferred host's device (the example engine's crate, `examples/deferred_host/`).
+pub use motion_shadows_deferred_host::host;
+pub mod prism_model;
+pub mod rng;
+pub mod sampling;
+pub mod scene;
+pub mod test_shader;
