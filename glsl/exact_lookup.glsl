@@ -78,11 +78,12 @@ const uint MS_EXACT_CURSOR_STATIC = 0x80000000u;
 // stops where the count is below `stop` when it is called.
 //
 // The static names first (most of a level's casters: one that shadows the whole window, a
-// wall, spares the walk of the moving ones), then the ranges, in one loop that decides each
-// triangle with the cheap half of the test (ms_exact_classify) and gathers those it cannot
-// decide, up to MS_EXACT_ASKED_TOGETHER, for a second loop that asks them the whole test: on
-// llvmpipe a loop's body costs its whole code per iteration of the SIMD group, taken or not,
-// and the root finding is most of it while most triangles are decided without it.
+// wall, spares the walk of the moving ones), then the ranges. Their loops decide each
+// triangle with the cheap half of the test (a still receiver's static names: the test on
+// constants; the ranges: ms_exact_classify) and gather those they cannot decide, up to
+// MS_EXACT_ASKED_TOGETHER, for a third loop that asks them the whole test: on llvmpipe a
+// loop's body costs its whole code per iteration of the SIMD group, taken or not, and the
+// root finding is most of it while most triangles are decided without it.
 bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint own, uint stop,
                          inout uint cursor, inout ms_exact_Union shadowed) {
     bool spot = map.light.position.w != 0.0;
