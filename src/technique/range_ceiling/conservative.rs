@@ -1,0 +1,67 @@
+//! The bound for the exact lookup's conservative collection (`Lookup::Exact`,
+//! `collection_conservative.geom`): it draws each triangle's footprint, the hull of its six
+//! corners' images, grown by a texel's half-diagonal on top of the default growth, so that
+//! every texel whose square the swept triangle touches is drawn; its fragment shader stores
+//! one range (a still triangle kept in the static layer: one static name) per texel drawn.
+//! Where a corner is at or behind the light, or imaged far out, it draws the whole map.
+
+use glam::{DVec2, DVec3, DVec4, Vec3};
+
+use super::Setup;
+use super::culling::faces_away_whole_frame;
+use super::footprint::{Footprint, GROWTH_TEXELS};
+use super::{FAR_MAP_WIDTHS, NEAR_W};
+
+/// `HALF_DIAGONAL_TEXELS` of `collection_exact_geom.glsl`, rounded up: every point of a
+/// texel lies within it of the texel's centre.
+const HALF_DIAGONAL_TEXELS: f64 = 0.7072;
+
+/// Images this many map widths out count as far: the geometry shader draws the whole map
+/// beyond 64 NDC (32 map widths), so the host counts it from half that on.
+const CONSERVATIVE_FAR_MAP_WIDTHS: f64 = FAR_MAP_WIDTHS / 4.0;
+
+impl Setup {
+    /// At most how many ranges (or static names) the conservative collection stores for one
+    /// triangle: one per texel centre in its grown footprint, every texel where the
+    /// footprint is not bounded.
+    pub(super) fn conservative_ranges_at_most(
+        &self,
+        t0: &[Vec3; 3],
+        t1: &[Vec3; 3],
+        closed: bool,
+    ) -> u64 {
+        let view = |p: Vec3| -> DVec3 { self.to_view.transform_point3(p.as_dvec3()) };
+        let (e0, e1): ([DVec3; 3], [DVec3; 3]) = (
+            [0, 1, 2].map(|k| view(t0[k])),
+            [0, 1, 2].map(|k| view(t1[k])),
+        );
+        let clip = |p: DVec3| -> DVec3 {
+            let c: DVec4 = self.proj * p.extend(1.0);
+            DVec3::new(c.x, c.y, c.w)
+        };
+        let corners: Vec<DVec3> = e0.iter().chain(&e1).map(|&p| clip(p)).collect();
+        let map = &self.map;
+        if corners.iter().all(|c| c.z <= 0.0) {
+            // Wholly behind the light: the geometry shader emits nothing.
+            return 0;
+        }
+        if closed && faces_away_whole_frame(&e0, &e1, self.orthographic) {
+            return 0;
+        }
+        if !corners.iter().all(|c| c.is_finite()) {
+            return map.texels();
+        }
+        let w_scale = corners.iter().map(|c| c.z.abs()).fold(0.0, f64::max);
+        if corners.iter().any(|c| c.z <= NEAR_W * w_scale) {
+            return map.texels();
+        }
+        let images: Vec<DVec2> = corners.iter().map(|&c| map.texel(c)).collect();
+        let reach = CONSERVATIVE_FAR_MAP_WIDTHS * map.width.max(map.height);
+        if images.iter().any(|p| p.abs().max_element() > reach) {
+            return map.texels();
+        }
+        let growth = GROWTH_TEXELS + HALF_DIAGONAL_TEXELS;
+        let centres = Footprint::grown(&images, map, growth).count(&[]).0;
+        centres.min(map.texels())
+    }
+}
