@@ -68,19 +68,17 @@ impl RangeCeiling {
     /// collection (`Lookup::Exact`), which covers whole texels, it counts the texels of each
     /// triangle's grown footprint (one range, or one static name, each).
     pub fn new(light: &LightView, width: u32, height: u32) -> Option<Self> {
-        (light.prisms == PrismConstruction::Exact).then(|| {
-            Self {
-                conservative: light.lookup == Lookup::Exact,
-                setup: Setup {
-                    to_view: light.view.as_dmat4(),
-                    proj: light.proj.as_dmat4(),
-                    orthographic: !light.is_spot(),
-                    map: Map {
-                        width: f64::from(width),
-                        height: f64::from(height),
-                    },
+        (light.prisms == PrismConstruction::Exact).then(|| Self {
+            conservative: light.lookup == Lookup::Exact,
+            setup: Setup {
+                to_view: light.view.as_dmat4(),
+                proj: light.proj.as_dmat4(),
+                orthographic: !light.is_spot(),
+                map: Map {
+                    width: f64::from(width),
+                    height: f64::from(height),
                 },
-            }
+            },
         })
     }
 
