@@ -75,11 +75,22 @@ pub fn reserve_map(
     scene: &Scene,
     counter: &mut AllocationCounter,
 ) -> anyhow::Result<()> {
+    // As the upload draws them (`render::upload::scene_draws`): a mesh that does not move
+    // names its positions twice (static: in the static layer, not in the lists), closed
+    // meshes are culled.
+    let closed = crate::scene::effective_closed(scene);
     let host_draws: Vec<HostDraw> = scene
         .meshes
         .iter()
-        .filter(|m| m.t0.len() >= 3)
-        .map(|m| HostDraw::new(&m.t0, &m.t1, None))
+        .zip(closed)
+        .filter(|(m, _)| m.t0.len() >= 3)
+        .map(|(m, closed)| {
+            let t1 = if m.t0 == m.t1 { &m.t0 } else { &m.t1 };
+            HostDraw {
+                closed,
+                ..HostDraw::new(&m.t0, t1, None)
+            }
+        })
         .collect();
     let before = map.allocated_bytes();
     if map.reserve_for(ctx, light, None, &host_draws)?.is_none() {
