@@ -7,6 +7,7 @@ use std::time::Duration;
 #[test]
 fn view_keys_switch_the_method_and_take_a_screenshot_of_what_is_shown() {
     let dir = temp_dir("view-keys");
+    let alone = one_renderer_at_a_time();
     let xvfb = Xvfb::start();
     let size = ["--width", "160", "--height", "90"];
     let mut viewer = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
@@ -41,6 +42,7 @@ fn view_keys_switch_the_method_and_take_a_screenshot_of_what_is_shown() {
     });
     let output = viewer.wait_with_output().expect("the viewer's output");
     drop(xvfb);
+    drop(alone);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(status.success(), "view failed: {stderr}");
     assert!(!stderr.contains("vulkan validation"), "{stderr}");

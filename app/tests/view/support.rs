@@ -6,6 +6,17 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+/// Held while a viewer or an offline render runs: lavapipe's frames take every core, and
+/// runs side by side only slow each other down (a window then took minutes to appear).
+static ONE_RENDERER: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// The lock of [`ONE_RENDERER`] (a test that failed while holding it leaves it usable).
+pub fn one_renderer_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    ONE_RENDERER
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
 /// A virtual X server on a free display, ended when dropped.
 pub struct Xvfb {
     child: Child,
@@ -69,6 +80,7 @@ pub fn temp_dir(name: &str) -> PathBuf {
 /// its own Xvfb; returns the summary and the screenshot.
 pub fn view(args: &[&str], dir: &Path) -> (serde_json::Value, image::RgbImage) {
     let shot = dir.join("shot.png");
+    let _alone = one_renderer_at_a_time();
     let xvfb = Xvfb::start();
     let output = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
         .arg("view")
@@ -103,6 +115,7 @@ pub fn offline(args: &[&str], dir: &Path, file: &str) -> image::RgbImage {
 /// The offline frame of `args` (`render ... --exposure 0`).
 pub fn offline_frame(args: &[&str], dir: &Path, file: &str) -> image::RgbImage {
     let out = dir.join("offline");
+    let _alone = one_renderer_at_a_time();
     let render = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
         .args(["render", "--exposure", "0"])
         .args(args)
