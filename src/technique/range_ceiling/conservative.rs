@@ -3,7 +3,8 @@
 //! corners' images, grown by a texel's half-diagonal on top of the default growth, so that
 //! every texel whose square the swept triangle touches is drawn; its fragment shader stores
 //! one range (a still triangle kept in the static layer: one static name) per texel drawn.
-//! Where a corner is at or behind the light, or imaged far out, it draws the whole map.
+//! Where a corner is at or behind the light it stores at every texel; where one is imaged far
+//! out it draws the whole map and stores where the corners' box meets the texel.
 
 use glam::{DVec2, DVec3, DVec4, Vec3};
 
@@ -52,16 +53,36 @@ impl Setup {
             return map.texels();
         }
         let w_scale = corners.iter().map(|c| c.z.abs()).fold(0.0, f64::max);
-        if corners.iter().any(|c| c.z <= NEAR_W * w_scale) {
+        // The geometry shader draws nothing where every corner is beyond one side of the
+        // light's frustum (x < -w, ...): so here by a margin, f32 there culling at least this.
+        let margin = NEAR_W * w_scale;
+        let beyond = |side: &dyn Fn(&DVec3) -> f64| corners.iter().all(|c| side(c) > margin);
+        let sides: [&dyn Fn(&DVec3) -> f64; 4] =
+            [&|c| -c.z - c.x, &|c| c.x - c.z, &|c| -c.z - c.y, &|c| {
+                c.y - c.z
+            }];
+        if sides.iter().any(|side| beyond(side)) {
+            return 0;
+        }
+        if corners.iter().any(|c| c.z <= margin) {
+            // At or behind the light: stored at every texel drawn, the whole map.
             return map.texels();
         }
         let images: Vec<DVec2> = corners.iter().map(|&c| map.texel(c)).collect();
         let reach = CONSERVATIVE_FAR_MAP_WIDTHS * map.width.max(map.height);
-        if images.iter().any(|p| p.abs().max_element() > reach) {
-            return map.texels();
-        }
         let growth = GROWTH_TEXELS + HALF_DIAGONAL_TEXELS;
-        let centres = Footprint::grown(&images, map, growth).count(&[]).0;
+        let outline = if images.iter().any(|p| p.abs().max_element() > reach) {
+            // Drawn as the whole map, stored where the corners' box meets the texel (all in
+            // front of the light: the fragment shader's `square_times`): the box, its far
+            // sides held at the reach (beyond the map all the same).
+            let lo = images.iter().fold(DVec2::INFINITY, |a, &p| a.min(p));
+            let hi = images.iter().fold(DVec2::NEG_INFINITY, |a, &p| a.max(p));
+            let (lo, hi) = (lo.max(DVec2::splat(-reach)), hi.min(DVec2::splat(reach)));
+            vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]
+        } else {
+            images
+        };
+        let centres = Footprint::grown(&outline, map, growth).count(&[]).0;
         centres.min(map.texels())
     }
 }
