@@ -198,7 +198,7 @@ fn print_summary(
         report.fps()
     );
     for (pass, ms) in &passes {
-        println!("  {pass:<12} {ms:>9.2} ms");
+        println!("  {pass:<18} {ms:>9.2} ms");
     }
     println!(
         "  maps {:.1} MiB; allocations: {} at setup, {} after the first frame, {} on events \
