@@ -23,6 +23,14 @@ fn view_keys_switch_the_method_and_take_a_screenshot_of_what_is_shown() {
         .expect("run the binary");
     let limit = Duration::from_secs(120);
     let window = wait_for("the viewer's window", limit, || {
+        if let Ok(Some(status)) = viewer.try_wait() {
+            // Ended before its window was found: its own words say why.
+            let mut stderr = String::new();
+            if let Some(mut pipe) = viewer.stderr.take() {
+                std::io::Read::read_to_string(&mut pipe, &mut stderr).ok();
+            }
+            panic!("the viewer ended ({status}) before its window was found: {stderr}");
+        }
         let found = xdotool(&xvfb.display, &["search", "--name", "motion-shadows"]);
         found.lines().next().map(str::to_owned)
     });

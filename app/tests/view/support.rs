@@ -202,6 +202,14 @@ pub fn xdotool(display: &str, args: &[&str]) -> String {
         .env("DISPLAY", display)
         .output()
         .expect("xdotool must be installed (scripts/setup.sh installs it)");
+    if !output.stderr.is_empty() || !output.status.success() {
+        // Shown with a failing test's output.
+        eprintln!(
+            "xdotool {args:?} ({}): {}",
+            output.status,
+            String::from_utf8_lossy(&output.stderr)
+        );
+    }
     String::from_utf8_lossy(&output.stdout).into_owned()
 }
 
