@@ -7,7 +7,7 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// Held while a viewer or an offline render runs: lavapipe's frames take every core, and
-/// runs side by side only slow each other down (a window then took minutes to appear).
+/// runs side by side only slow each other down.
 static ONE_RENDERER: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 /// The lock of [`ONE_RENDERER`] (a test that failed while holding it leaves it usable).

@@ -86,3 +86,102 @@ impl Setup {
         centres.min(map.texels())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::map::Map;
+    use super::*;
+    use glam::DMat4;
+
+    const N: u32 = 20;
+
+    /// A spot light looking down -z (in front at z < 0) over an N x N map.
+    fn spot() -> Setup {
+        Setup {
+            to_view: DMat4::IDENTITY,
+            proj: glam::camera::rh::proj::vulkan::perspective(1.2, 1.0, 0.1, 50.0).as_dmat4(),
+            orthographic: false,
+            map: Map {
+                width: f64::from(N),
+                height: f64::from(N),
+            },
+        }
+    }
+
+    /// Texels whose square, grown by 1/16 texel (the fragment shader's margin), holds the
+    /// image of some point of the still triangle `t` (sampled on a 400 x 400 grid of
+    /// barycentric steps): the texels the conservative collection stores it at, at least.
+    fn touched(setup: &Setup, t: &[Vec3; 3]) -> u64 {
+        let mut hit = vec![false; (N * N) as usize];
+        let steps = 400;
+        for i in 0..=steps {
+            for j in 0..=steps - i {
+                let (a, b) = (
+                    f64::from(i) / f64::from(steps),
+                    f64::from(j) / f64::from(steps),
+                );
+                let p = t[0].as_dvec3() * (1.0 - a - b) + t[1].as_dvec3() * a + t[2].as_dvec3() * b;
+                let c = setup.proj * p.extend(1.0);
+                if c.w <= 0.0 {
+                    continue;
+                }
+                let texel = setup.map.texel(DVec3::new(c.x, c.y, c.w));
+                for y in 0..N {
+                    for x in 0..N {
+                        let near =
+                            |v: f64, k: u32| (v - (f64::from(k) + 0.5)).abs() <= 0.5 + 1.0 / 16.0;
+                        if near(texel.x, x) && near(texel.y, y) {
+                            hit[(y * N + x) as usize] = true;
+                        }
+                    }
+                }
+            }
+        }
+        hit.iter().filter(|&&h| h).count() as u64
+    }
+
+    /// A triangle reaching behind the light is stored at every texel, unless every corner is
+    /// beyond one side of the frustum (the geometry shader then draws nothing).
+    #[test]
+    fn behind_the_light_the_whole_map_unless_beyond_a_side() {
+        let setup = spot();
+        let left = [
+            Vec3::new(-10.0, 0.0, -1.0),
+            Vec3::new(-10.0, 1.0, -1.0),
+            Vec3::new(-10.0, 0.0, 1.0),
+        ];
+        assert_eq!(setup.conservative_ranges_at_most(&left, &left, false), 0);
+        let across = [
+            Vec3::new(-10.0, 0.0, -1.0),
+            Vec3::new(10.0, 1.0, -1.0),
+            Vec3::new(0.0, 0.0, 1.0),
+        ];
+        let whole = u64::from(N * N);
+        assert_eq!(
+            setup.conservative_ranges_at_most(&across, &across, false),
+            whole
+        );
+    }
+
+    /// A still triangle with a corner nearly level with the light (imaged hundreds of map
+    /// widths out): bounded by its corners' box within the map, which holds every texel it
+    /// touches, and is far below the whole map.
+    #[test]
+    fn far_imaged_corners_are_bounded_by_their_box() {
+        let setup = spot();
+        let t = [
+            Vec3::new(0.5, 0.5, -1.0),
+            Vec3::new(0.55, 0.5, -1.0),
+            Vec3::new(0.5, 0.5, -0.002),
+        ];
+        let bound = setup.conservative_ranges_at_most(&t, &t, false);
+        let stored = touched(&setup, &t);
+        assert!(stored > 0);
+        assert!(stored <= bound, "touched {stored}, bound {bound}");
+        assert!(
+            bound * 4 < u64::from(N * N),
+            "bound {bound} of {} texels",
+            N * N
+        );
+    }
+}
