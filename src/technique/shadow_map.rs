@@ -780,10 +780,10 @@ impl TemporalShadowMap {
     /// Reserves room for all that a frame of `draws` lit by `light` (with or without a
     /// coverage map) can store, bounded from the host's positions by [`RangeCeiling`]: such
     /// a frame never runs out of room, so it never has to be grown a frame late. Returns the
-    /// ranges it has room for, or None with the papers' prisms or the exact lookup
-    /// ([`RangeCeiling::new`]), which are not bounded (grow
-    /// after a frame that overflowed instead). Static draws are left out where the frame
-    /// keeps them in the static layer. Like [`Self::reserve`], it only grows, and retires the
+    /// ranges it has room for, or None with the papers' prisms ([`RangeCeiling::new`]), not
+    /// bounded (grow after a frame that overflowed instead). Static draws are left out where
+    /// the frame keeps them in the static layer (the exact lookup's static names reserved
+    /// for them instead). Like [`Self::reserve`], it only grows, and retires the
     /// old buffers; it also makes the buffers `light`'s path uses that the map lacks (as
     /// [`Self::prepare_for`], keeping the others). Errors if the bound is more than a map counts (u32) or the device holds.
     pub fn reserve_for(
@@ -802,10 +802,13 @@ impl TemporalShadowMap {
             return Ok(None);
         };
         let static_layer = self.uses_static_layer(light, coverage);
-        let mut ranges = 0u64;
+        let static_names = self.uses_static_names(light, coverage);
+        let (mut ranges, mut names) = (0u64, 0u64);
         for draw in draws {
             if !(static_layer && draw.is_static()) {
                 ranges += ceiling.draw(draw)?;
+            } else if static_names {
+                names += ceiling.draw(draw)?;
             }
         }
         // Where nodes are stored, a run's range pairs two of them.
@@ -823,6 +826,9 @@ impl TemporalShadowMap {
             })
         };
         self.reserve(ctx, counted(nodes, "nodes")?, counted(ranges, "ranges")?)?;
+        if names > u64::from(self.static_name_capacity()) {
+            self.reserve_static_names(ctx, counted(names, "static names")?)?;
+        }
         Ok(Some(ranges))
     }
 

@@ -14,7 +14,7 @@ use glam::{Mat4, Quat, Vec3};
 use motion_shadows::gpu::{Buffer, BufferUsage, Context, OneShot};
 use motion_shadows::technique::{
     CollectionPass, Counters, Draw, DrawList, GenerationPass, HostDraw, IndexStream, Indices,
-    LightView, PositionStream, PrismConstruction, RangeCeiling, TemporalShadowMap,
+    LightView, Lookup, PositionStream, PrismConstruction, RangeCeiling, TemporalShadowMap,
 };
 
 const SIZE: (u32, u32) = (160, 128);
@@ -245,6 +245,58 @@ fn a_map_reserved_for_the_host_draws_never_overflows() {
         }
     }
     // Rigid motion and a gentle wave: the bound's footprint is about what is swept.
+    assert!(
+        worst <= 3.0,
+        "the bound is {worst:.2} times the ranges stored"
+    );
+    assert_no_validation_messages(&ctx);
+}
+
+/// The exact lookup's conservative collection stores one range per texel a triangle's grown
+/// footprint covers, and names still triangles in the static name lists: a map reserved for
+/// the host draws (records, ranges and names) holds the whole frame, with and without the
+/// static layer; the bound is at most 3x what was stored.
+#[test]
+fn a_map_reserved_for_the_exact_lookup_never_overflows() {
+    let ctx = context();
+    let mut rng = Rng(0x5eed_0040);
+    let mut worst: f64 = 1.0;
+    for case in 0..2 {
+        let meshes = meshes(&mut rng, 3 + case);
+        let host: Vec<HostDraw> = meshes.iter().map(Mesh::host).collect();
+        let triangles: u64 = meshes.iter().map(|m| m.indices.len() as u64 / 3).sum();
+        for static_layer in [true, false] {
+            let light = LightView {
+                lookup: Lookup::Exact,
+                ..light(static_layer)
+            };
+            let mut map =
+                TemporalShadowMap::new(&ctx, SIZE.0, SIZE.1, 1, 1).expect("temporal shadow map");
+            map.reserve_triangle_records(&ctx, triangles)
+                .expect("triangle records");
+            let bound = map
+                .reserve_for(&ctx, &light, None, &host)
+                .expect("reserve")
+                .expect("the exact lookup is bounded");
+            let counts = frame(&ctx, &meshes, &light, &map);
+            let stored = u64::from(counts.range_count);
+            eprintln!(
+                "exact, case {case}, static layer {static_layer}: bound {bound}, stored {stored}, \
+                 static names {} of {}",
+                counts.static_names,
+                map.static_name_capacity()
+            );
+            assert!(
+                !map.needs_more_room(&counts),
+                "case {case} (static layer {static_layer}): {counts:?} overflowed a map reserved for {bound} ranges, {} names",
+                map.static_name_capacity()
+            );
+            map.check_complete(&counts).expect("complete map");
+            assert!(stored > 1000, "case {case}: only {stored} ranges");
+            assert_eq!(counts.static_names > 0, static_layer, "{counts:?}");
+            worst = worst.max(bound as f64 / stored as f64);
+        }
+    }
     assert!(
         worst <= 3.0,
         "the bound is {worst:.2} times the ranges stored"

@@ -57,6 +57,10 @@ pub struct ViewArgs {
     /// (`--tsm-maps`), or one plain map at mid-shutter.
     #[arg(long, value_enum, default_value_t = ViewMethodArg::Temporal)]
     pub method: ViewMethodArg,
+    /// The split view at the start: the left half shows `--method`'s deferred frame, the
+    /// right half this method's (V cycles it, and turns it off); not with `--frame forward`.
+    #[arg(long, value_enum)]
+    pub split: Option<ViewMethodArg>,
     /// N of TSM-N (1 to 1024).
     #[arg(long, default_value_t = 8)]
     pub tsm_maps: u32,

@@ -67,14 +67,20 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
          temporal or temporal-exact), not {}",
         method_name(args)
     );
-    let method = match args.method {
-        ViewMethodArg::Temporal => ViewMethod::Temporal,
-        ViewMethodArg::TemporalExact => ViewMethod::TemporalExact,
-        ViewMethodArg::Tsm => ViewMethod::Tsm {
-            maps: args.tsm_maps,
-        },
-        ViewMethodArg::Plain => ViewMethod::Tsm { maps: 1 },
-    };
+    let method = view_method(args.method, args.tsm_maps);
+    let split = args.split.map(|m| view_method(m, args.tsm_maps));
+    if let Some(right) = split {
+        anyhow::ensure!(
+            right != method,
+            "--split {}: the same method as --method (the split view compares two)",
+            right.name()
+        );
+        anyhow::ensure!(
+            args.frame == FrameArg::Deferred,
+            "--split {}: the split view shows the deferred frame, not --frame forward",
+            right.name()
+        );
+    }
     crate::scene::memory::set_renderer(false);
     let scene = match &args.scene_file {
         Some(path) => load_scene_file(path)?,
@@ -100,6 +106,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         frame,
         method,
         tsm_maps: args.tsm_maps,
+        split,
         overlay: args.overlay == OnOff::On,
         stochastic: args.frame == FrameArg::Forward,
         spp: args.spp,
@@ -147,6 +154,7 @@ fn print_summary(
             "scene": scene,
             "method": method_name(&ViewArgs {
                 frame: FrameArg::Deferred,
+                split: None,
                 ..args.clone()
             }),
             "frame": match args.frame {
@@ -154,6 +162,7 @@ fn print_summary(
                 FrameArg::Forward => "forward",
             },
             "spp": args.spp,
+            "split": args.split.map(|m| view_method(m, args.tsm_maps).name()),
             "device": report.device,
             "frames": report.frames,
             "frames_in_flight": FRAMES_IN_FLIGHT,
@@ -189,7 +198,7 @@ fn print_summary(
         report.fps()
     );
     for (pass, ms) in &passes {
-        println!("  {pass:<12} {ms:>9.2} ms");
+        println!("  {pass:<18} {ms:>9.2} ms");
     }
     println!(
         "  maps {:.1} MiB; allocations: {} at setup, {} after the first frame, {} on events \
@@ -206,12 +215,28 @@ fn print_summary(
     Ok(())
 }
 
+fn view_method(arg: ViewMethodArg, tsm_maps: u32) -> ViewMethod {
+    match arg {
+        ViewMethodArg::Temporal => ViewMethod::Temporal,
+        ViewMethodArg::TemporalExact => ViewMethod::TemporalExact,
+        ViewMethodArg::Tsm => ViewMethod::Tsm { maps: tsm_maps },
+        ViewMethodArg::Plain => ViewMethod::Tsm { maps: 1 },
+    }
+}
+
 fn method_name(args: &ViewArgs) -> String {
     let method = match args.method {
         ViewMethodArg::Temporal => "temporal".to_owned(),
         ViewMethodArg::TemporalExact => "temporal-exact".to_owned(),
         ViewMethodArg::Tsm => format!("tsm-{}", args.tsm_maps),
         ViewMethodArg::Plain => "plain".to_owned(),
+    };
+    let method = match args.split {
+        Some(right) => format!(
+            "{method} | {} (split)",
+            view_method(right, args.tsm_maps).name()
+        ),
+        None => method,
     };
     match args.frame {
         FrameArg::Deferred => method,

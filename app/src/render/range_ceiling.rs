@@ -9,13 +9,18 @@ use crate::scene::Scene;
 
 /// At most as many ranges as a temporal frame with the exact construction stores in a map
 /// of `size` texels (moving triangles; static ones too unless `static_layer_used`, when the
-/// static draws are in the layer), or None for the papers' prisms (not bounded).
+/// static draws are in the layer), or None for the papers' prisms (not bounded) and for the
+/// exact lookup: its static names are not bounded here, so "one attempt" would not hold;
+/// the renderer grows that map after an overflow, as before the library bounded it.
 pub fn ranges_at_most(
     scene: &Scene,
     light: &LightView,
     size: (u32, u32),
     static_layer_used: bool,
 ) -> Option<u64> {
+    if light.lookup == motion_shadows::technique::Lookup::Exact {
+        return None;
+    }
     let ceiling = RangeCeiling::new(light, size.0, size.1)?;
     // The upload's culling flags: no culling where the light or camera is inside a mesh.
     let closed = crate::scene::effective_closed(scene);

@@ -26,6 +26,8 @@ pub enum Action {
     /// Changes the shutter angle by this many steps.
     Shutter(f32),
     NextMethod,
+    /// The split view's right-hand method: the next other method, or off.
+    NextSplit,
     /// The stochastic frame instead of the deferred one, or back.
     ToggleFrame,
     /// The stochastic frame's shadow estimator: sampled or analytic.
@@ -45,6 +47,7 @@ pub const KEYS: &[&str] = &[
     "mouse drag: orbit   wheel: dolly   W/S A/D Q/E: fly   R: reset camera",
     "space: play/pause   left/right: scrub time   [ ]: shutter angle",
     "M: method (temporal, temporal-exact, TSM-N, plain)   F: stochastic/deferred frame",
+    "V: split view, right half: the next other method, then off (deferred frame)",
     "G: estimator (sampled/analytic)   B: filter (none/bilinear/footprint), stochastic frame",
     "O: overlay",
     "P: screenshot (PNG of what is shown)   H: keys   Esc: quit",
@@ -60,6 +63,7 @@ pub fn action_for_key(key: &Key) -> Option<Action> {
             "[" => Action::Shutter(-1.0),
             "]" => Action::Shutter(1.0),
             "m" => Action::NextMethod,
+            "v" => Action::NextSplit,
             "f" => Action::ToggleFrame,
             "g" => Action::NextEstimator,
             "b" => Action::NextFilter,
@@ -85,6 +89,8 @@ pub struct ViewState {
     pub camera: CameraControl,
     pub method: ViewMethod,
     pub tsm_maps: u32,
+    /// The split view's right-hand method (None: no split).
+    pub split: Option<ViewMethod>,
     pub playing: bool,
     /// Seconds of animation since the start.
     pub time: f64,
@@ -109,6 +115,7 @@ impl ViewState {
             camera,
             method,
             tsm_maps,
+            split: None,
             stochastic: false,
             estimator: ShadowEstimator::Sampled,
             filter: ShadowFilter::None,
@@ -138,7 +145,14 @@ impl ViewState {
                 self.scene_changed |= angle != self.shutter_deg;
                 self.shutter_deg = angle;
             }
-            Action::NextMethod => self.method = self.method.next(self.tsm_maps),
+            Action::NextMethod => {
+                self.method = self.method.next(self.tsm_maps);
+                // The split's right side stays another method.
+                if self.split == Some(self.method) {
+                    self.split = self.method.next_split(self.split, self.tsm_maps);
+                }
+            }
+            Action::NextSplit => self.split = self.method.next_split(self.split, self.tsm_maps),
             Action::ToggleFrame => self.stochastic = !self.stochastic,
             Action::NextEstimator => {
                 self.estimator = match self.estimator {

@@ -34,6 +34,10 @@ pub struct SizedTargets {
     pub output: Image,
     /// The stochastic frame's radiance (RGBA32F), which the shading reads in that frame.
     pub radiance: Image,
+    /// The split view's right-hand method's lit shares and its mask's bindings (made with
+    /// the size, so that toggling the split allocates no image).
+    pub split_lit: Image,
+    pub split_mask_bindings: MaskBindings,
 }
 
 impl SizedTargets {
@@ -69,6 +73,14 @@ impl SizedTargets {
             vk::Format::R32G32B32A32_SFLOAT,
             vk::ImageUsageFlags::STORAGE,
         )?);
+        let split_lit = counter.counted(Image::new(
+            ctx,
+            "viewer split lit shares",
+            (width, height, 1),
+            vk::Format::R32_SFLOAT,
+            vk::ImageUsageFlags::STORAGE,
+        )?);
+        let split_mask_bindings = counter.counted(mask.bindings(ctx, size)?);
         Ok(Self {
             size,
             gbuffer,
@@ -77,6 +89,8 @@ impl SizedTargets {
             shade_bindings,
             output,
             radiance,
+            split_lit,
+            split_mask_bindings,
         })
     }
 }
@@ -99,6 +113,52 @@ pub struct TsmTargets {
 /// TSM maps drawn per batch (as the offline deferred frame draws them).
 pub const TSM_LAYERS_PER_BATCH: u32 = 8;
 
+/// The split view's right-hand method's maps in one slot (made on its first split frame):
+/// its own temporal map (the left one may be built for another lookup) and TSM's maps.
+pub struct SplitSide {
+    pub map: TemporalShadowMap,
+    pub tsm: Option<TsmTargets>,
+    /// The right-hand method of the slot's last split frame.
+    pub last_method: Option<ViewMethod>,
+}
+
+/// A submitted frame whose results are still to be read.
+pub struct Pending {
+    pub frame: u64,
+    pub method: ViewMethod,
+    /// The stochastic frame (else the deferred one).
+    pub stochastic: bool,
+    /// The split view's right-hand method.
+    pub split: Option<ViewMethod>,
+}
+
+impl SplitSide {
+    pub fn new(
+        ctx: &Context,
+        shadow_size: (u32, u32),
+        counter: &mut AllocationCounter,
+    ) -> anyhow::Result<Self> {
+        Ok(Self {
+            map: counter.counted(empty_map(ctx, shadow_size)?),
+            tsm: None,
+            last_method: None,
+        })
+    }
+}
+
+/// A temporal map with room for one range: its room is reserved before each frame from the
+/// host's positions (`super::room`).
+fn empty_map(ctx: &Context, shadow_size: (u32, u32)) -> anyhow::Result<TemporalShadowMap> {
+    Ok(TemporalShadowMap::with_storage(
+        ctx,
+        shadow_size.0,
+        shadow_size.1,
+        1,
+        1,
+        RangeStorage::Sorted,
+    )?)
+}
+
 pub struct FrameSlot {
     pub cmd: vk::CommandBuffer,
     /// Signalled when the slot's last frame completed (made signalled).
@@ -114,15 +174,18 @@ pub struct FrameSlot {
     pub map: TemporalShadowMap,
     /// Made on the first frame of a TSM method.
     pub tsm: Option<TsmTargets>,
+    /// Made on the first split frame.
+    pub split: Option<SplitSide>,
     /// Made on the first stochastic frame (again after a resize).
     pub lighting: Option<LightingTargets>,
     pub timestamps: TimestampQueries,
     /// The overlay's codes (`overlay.rs`), written each frame it is shown.
     pub overlay: Buffer,
     pub targets: Option<SizedTargets>,
-    /// The frame number last submitted from this slot, its method and whether it was the
-    /// stochastic frame, until its results were read.
-    pub pending: Option<(u64, ViewMethod, bool)>,
+    /// The method of the slot's last frame (its maps were prepared for it).
+    pub last_method: Option<ViewMethod>,
+    /// The frame last submitted from this slot, until its results were read.
+    pub pending: Option<Pending>,
     /// A screenshot's readback buffer, when this slot's pending frame copies one.
     pub screenshot: Option<(Buffer, (u32, u32))>,
     device: ash::Device,
@@ -165,16 +228,7 @@ impl FrameSlot {
         };
         // The slot owns the fence and semaphore from here on (Drop).
         let make = || -> anyhow::Result<_> {
-            // Capacities start at one: the map's room is reserved before each frame from the
-            // host's positions (TemporalShadowMap::reserve_for).
-            let map = TemporalShadowMap::with_storage(
-                ctx,
-                shadow_size.0,
-                shadow_size.1,
-                1,
-                1,
-                RangeStorage::Sorted,
-            )?;
+            let map = empty_map(ctx, shadow_size)?;
             let geometry = SceneGeometry::upload(ctx, scene)?;
             Ok((
                 DrawList::new(ctx, geometry.draws.len() as u32)?,
@@ -211,10 +265,12 @@ impl FrameSlot {
             draws,
             map,
             tsm: None,
+            split: None,
             lighting: None,
             timestamps,
             overlay,
             targets: None,
+            last_method: None,
             pending: None,
             screenshot: None,
             device,
@@ -248,6 +304,17 @@ impl FrameSlot {
         }
         self.scene_version = version;
         Ok(())
+    }
+
+    /// Bytes of the slot's shadow maps: the temporal map, TSM's, the split side's.
+    pub fn map_bytes(&self) -> u64 {
+        let tsm = |t: &Option<TsmTargets>| t.as_ref().map_or(0, |t| t.map.bytes());
+        self.map.allocated_bytes()
+            + tsm(&self.tsm)
+            + self
+                .split
+                .as_ref()
+                .map_or(0, |s| s.map.allocated_bytes() + tsm(&s.tsm))
     }
 
     /// The stochastic frame's target for `size` and `spp`, made (counted) on first use and
@@ -284,33 +351,6 @@ impl FrameSlot {
         });
         Ok(())
     }
-
-    /// TSM's maps for `maps` maps of `shadow_size`, made (counted) on first use or when the
-    /// batch size changes.
-    pub fn tsm_targets(
-        &mut self,
-        ctx: &Context,
-        pass: &motion_shadows::technique::EngineTsmPass,
-        shadow_size: (u32, u32),
-        maps: u32,
-        counter: &mut AllocationCounter,
-    ) -> anyhow::Result<()> {
-        let layers = TSM_LAYERS_PER_BATCH.min(maps);
-        if self.tsm.as_ref().is_some_and(|t| t.map.layers() == layers) {
-            return Ok(());
-        }
-        self.tsm = None;
-        let map = counter.counted(EngineTsmMap::new(
-            ctx,
-            shadow_size.0,
-            shadow_size.1,
-            layers,
-            motion_shadows::technique::TsmStart::Copy,
-        )?);
-        let bindings = counter.counted(pass.bindings()?);
-        self.tsm = Some(TsmTargets { map, bindings });
-        Ok(())
-    }
 }
 
 impl Drop for FrameSlot {
@@ -334,4 +374,31 @@ pub fn screenshot_buffer(ctx: &Context, size: (u32, u32)) -> anyhow::Result<Buff
         4 * u64::from(size.0) * u64::from(size.1),
         BufferUsage::Readback,
     )?)
+}
+
+/// TSM's maps in `tsm` for `maps` maps of `shadow_size`, made (counted) on first use or when
+/// the batch size changes.
+pub fn tsm_targets(
+    tsm: &mut Option<TsmTargets>,
+    ctx: &Context,
+    pass: &motion_shadows::technique::EngineTsmPass,
+    shadow_size: (u32, u32),
+    maps: u32,
+    counter: &mut AllocationCounter,
+) -> anyhow::Result<()> {
+    let layers = TSM_LAYERS_PER_BATCH.min(maps);
+    if tsm.as_ref().is_some_and(|t| t.map.layers() == layers) {
+        return Ok(());
+    }
+    *tsm = None;
+    let map = counter.counted(EngineTsmMap::new(
+        ctx,
+        shadow_size.0,
+        shadow_size.1,
+        layers,
+        motion_shadows::technique::TsmStart::Copy,
+    )?);
+    let bindings = counter.counted(pass.bindings()?);
+    *tsm = Some(TsmTargets { map, bindings });
+    Ok(())
 }

@@ -37,6 +37,13 @@ impl ViewMethod {
         }
     }
 
+    /// The split view's right-hand method after `right` (None: the split is off) with
+    /// `self` on the left: every other method in the method key's order, then off again.
+    pub fn next_split(self, right: Option<Self>, tsm_maps: u32) -> Option<Self> {
+        let next = right.unwrap_or(self).next(tsm_maps);
+        (next != self).then_some(next)
+    }
+
     /// `base` with this method (and its lookup).
     pub fn deferred(&self, base: &DeferredSettings) -> DeferredSettings {
         let (method, lookup) = match *self {
@@ -102,5 +109,26 @@ mod tests {
         }
         assert_eq!(method, ViewMethod::Temporal);
         assert_eq!(names, ["temporal", "temporal-exact", "tsm-8", "plain"]);
+    }
+
+    /// The split key shows each other method on the right once, then turns the split off.
+    #[test]
+    fn the_split_key_visits_every_other_method_then_turns_it_off() {
+        for left in [
+            ViewMethod::Temporal,
+            ViewMethod::TemporalExact,
+            ViewMethod::Tsm { maps: 8 },
+            ViewMethod::Tsm { maps: 1 },
+        ] {
+            let mut right = None;
+            let mut shown = Vec::new();
+            for _ in 0..4 {
+                right = left.next_split(right, 8);
+                shown.extend(right);
+            }
+            assert_eq!(right, None, "off after the other three ({left:?})");
+            assert_eq!(shown.len(), 3, "{left:?}: {shown:?}");
+            assert!(!shown.contains(&left), "{left:?}: {shown:?}");
+        }
     }
 }

@@ -3,7 +3,8 @@
 //! ([`device`], [`swapchain`]), and runs a frame loop with frames in flight ([`frame_loop`],
 //! [`frame_slot`]): per frame the library's shadow pass and visibility mask with moving
 //! receivers ([`record`]), its own shading ([`shade`]), the blit into the swapchain image.
-//! [`window`] is the event loop. What it allocates is counted ([`allocations`]): nothing per
+//! [`window`] is the event loop. The split view draws a second method's shadows with its
+//! own maps ([`room`] readies each side's) and shades the right half with them. What it allocates is counted ([`allocations`]): nothing per
 //! frame after the first.
 
 pub mod allocations;
@@ -15,7 +16,9 @@ pub mod frame_slot;
 pub mod method;
 pub mod overlay;
 pub mod record;
+pub mod room;
 pub mod shade;
+pub mod split;
 pub mod swapchain;
 pub mod window;
 
@@ -40,6 +43,8 @@ pub struct ViewOptions {
     pub method: ViewMethod,
     /// N of TSM-N when the method key reaches TSM.
     pub tsm_maps: u32,
+    /// The split view's right-hand method at the start (the split key changes it).
+    pub split: Option<ViewMethod>,
     pub overlay: bool,
     /// Start with the stochastic frame (the temporal map's lighting pass).
     pub stochastic: bool,

@@ -4,14 +4,15 @@
 //! lookups, the viewer's shading (with the overlay), and the blit into the acquired
 //! swapchain image (with a copy back for a screenshot).
 
-use super::frame_slot::FrameSlot;
+use super::frame_slot::{FrameSlot, TsmTargets};
 use super::shade::{ShadeFrame, ShadePass};
 use ash::vk;
 use glam::Mat4;
-use motion_shadows::gpu::{Access, image_barrier, memory_barrier};
+use motion_shadows::gpu::{Access, TimestampQueries, image_barrier, memory_barrier};
 use motion_shadows::technique::{
-    CollectionPass, EngineTsmPass, GBufferCamera, GBufferPass, GenerationPass, LightView,
-    LightingImageOutput, LightingPass, LightingView, ShadowSource, VisibilityMaskPass,
+    CollectionPass, DrawList, EngineTsmPass, GBufferCamera, GBufferPass, GenerationPass, LightView,
+    LightingImageOutput, LightingPass, LightingView, MaskBindings, MaskInputs, ShadowSource,
+    TemporalShadowMap, VisibilityMaskPass,
 };
 
 /// The library's passes and the viewer's shading, made once.
@@ -41,7 +42,21 @@ pub struct FrameView<'a> {
     /// The stochastic frame instead of the deferred one: the lighting pass, its output into
     /// the radiance image, and the camera's samples.
     pub stochastic: Option<(&'a LightingPass, &'a LightingImageOutput, LightingView)>,
+    /// The split view: the right half shows this method's deferred frame.
+    pub split: Option<SplitFrame<'a>>,
 }
+
+/// The split view's right-hand method, drawn with the slot's split side's maps into the split
+/// lit shares.
+pub struct SplitFrame<'a> {
+    pub light: &'a LightView,
+    pub plane_test_where_still: bool,
+    /// TSM's pass and its number of maps, for TSM methods.
+    pub tsm: Option<(&'a EngineTsmPass, u32)>,
+}
+
+/// The timestamps' names of the split view's right-hand method's passes start with this.
+pub const SPLIT_PASS_PREFIX: &str = "split ";
 
 /// The swapchain image the frame ends in.
 pub struct Present {
@@ -187,43 +202,45 @@ pub unsafe fn record_frame(
             );
             ts.mark(cmd, "to image");
         } else {
-            match (view.tsm, slot.tsm.as_mut()) {
-                (Some((pass, maps)), Some(tsm)) => {
-                    pass.record(
-                        device,
-                        cmd,
-                        &mut tsm.bindings,
-                        &inputs,
-                        &slot.draws,
-                        view.light,
-                        &tsm.map,
-                        maps,
-                    )?;
-                    ts.mark(cmd, "tsm + mask");
-                }
-                (Some(_), None) => anyhow::bail!("TSM's maps were not made for this slot"),
-                (None, _) => {
-                    passes.collection.record(
-                        device,
-                        cmd,
-                        &slot.draws,
-                        view.light,
-                        &slot.map,
-                        None,
-                    )?;
-                    ts.mark(cmd, "collection");
-                    passes.generation.record(device, cmd, &slot.map);
-                    ts.mark(cmd, "generation");
-                    passes.mask.record(
-                        device,
-                        cmd,
-                        &mut targets.mask_bindings,
-                        &inputs,
-                        &slot.map,
-                    )?;
-                    ts.mark(cmd, "mask");
-                    slot.map.record_counter_readback(device, cmd);
-                }
+            let left = Shadows {
+                light: view.light,
+                tsm: view.tsm,
+                map: &slot.map,
+                tsm_maps: slot.tsm.as_mut(),
+                mask_bindings: &mut targets.mask_bindings,
+                prefix: "",
+            };
+            record_shadows(device, cmd, passes, &slot.draws, ts, left, &inputs)?;
+            if let Some(split) = &view.split {
+                let Some(side) = slot.split.as_mut() else {
+                    anyhow::bail!("the split view's maps were not made for this slot");
+                };
+                // The right-hand method's lit shares: the last frame's shading read them.
+                image_barrier(
+                    device,
+                    cmd,
+                    targets.split_lit.raw(),
+                    COLOR,
+                    (vk::ImageLayout::UNDEFINED, vk::ImageLayout::GENERAL),
+                    Access::COMPUTE_RW,
+                    Access::COMPUTE_RW,
+                );
+                let mut split_inputs = targets.gbuffer.mask_inputs(
+                    targets.split_lit.layer_view(0),
+                    view.view_proj.inverse(),
+                    view.camera_time,
+                    view.moving_receivers,
+                );
+                split_inputs.plane_test_where_still = split.plane_test_where_still;
+                let right = Shadows {
+                    light: split.light,
+                    tsm: split.tsm,
+                    map: &side.map,
+                    tsm_maps: side.tsm.as_mut(),
+                    mask_bindings: &mut targets.split_mask_bindings,
+                    prefix: SPLIT_PASS_PREFIX,
+                };
+                record_shadows(device, cmd, passes, &slot.draws, ts, right, &split_inputs)?;
             }
         }
         if view.stochastic.is_none() {
@@ -260,6 +277,7 @@ pub unsafe fn record_frame(
                 exposure: view.exposure,
                 overlay: view.overlay,
                 stochastic: view.stochastic.is_some(),
+                split_lit: view.split.as_ref().map(|_| targets.split_lit.layer_view(0)),
                 output: targets.output.layer_view(0),
                 radiance: targets.radiance.layer_view(0),
             },
@@ -358,6 +376,73 @@ pub unsafe fn record_frame(
             Access::NONE,
         );
         ts.mark(cmd, "present copy");
+    }
+    Ok(())
+}
+
+/// One method's shadow work of a deferred frame: the temporal map's collection, generation
+/// and mask, or TSM's maps and lookups, into the lit shares `inputs.output`.
+struct Shadows<'a> {
+    light: &'a LightView,
+    /// TSM's pass and number of maps, for TSM methods.
+    tsm: Option<(&'a EngineTsmPass, u32)>,
+    map: &'a TemporalShadowMap,
+    tsm_maps: Option<&'a mut TsmTargets>,
+    mask_bindings: &'a mut MaskBindings,
+    /// Put before the timestamps' names.
+    prefix: &'static str,
+}
+
+/// Records `shadows` into `cmd`.
+///
+/// # Safety
+/// As [`record_frame`]'s: `cmd` is recording, the maps' and bindings' last frame completed,
+/// the G-buffer's images are in `inputs`' layouts, `inputs.output` is in GENERAL with
+/// earlier accesses ordered before compute, and the temporal map's room was reserved.
+unsafe fn record_shadows(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    passes: &Passes,
+    draws: &DrawList,
+    ts: &mut TimestampQueries,
+    shadows: Shadows<'_>,
+    inputs: &MaskInputs,
+) -> anyhow::Result<()> {
+    let named = |pass: &str| format!("{}{pass}", shadows.prefix);
+    // SAFETY: the caller's contract, which each pass's needs (a recording command buffer of
+    // this device, outside rendering, its descriptor sets and maps unused by pending work,
+    // the inputs' images in their layouts) are part of; each pass follows the one whose
+    // output it reads.
+    unsafe {
+        match (shadows.tsm, shadows.tsm_maps) {
+            (Some((pass, maps)), Some(tsm)) => {
+                pass.record(
+                    device,
+                    cmd,
+                    &mut tsm.bindings,
+                    inputs,
+                    draws,
+                    shadows.light,
+                    &tsm.map,
+                    maps,
+                )?;
+                ts.mark(cmd, &named("tsm + mask"));
+            }
+            (Some(_), None) => anyhow::bail!("TSM's maps were not made for this slot"),
+            (None, _) => {
+                passes
+                    .collection
+                    .record(device, cmd, draws, shadows.light, shadows.map, None)?;
+                ts.mark(cmd, &named("collection"));
+                passes.generation.record(device, cmd, shadows.map);
+                ts.mark(cmd, &named("generation"));
+                passes
+                    .mask
+                    .record(device, cmd, shadows.mask_bindings, inputs, shadows.map)?;
+                ts.mark(cmd, &named("mask"));
+                shadows.map.record_counter_readback(device, cmd);
+            }
+        }
     }
     Ok(())
 }

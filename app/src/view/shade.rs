@@ -34,12 +34,16 @@ struct ShadePush {
     emission: f32,
     ambient: f32,
     exposure_scale: f32,
-    /// Width | height << 15 of the overlay's grid (0 without one) | [`STOCHASTIC`].
+    /// Width | height << 15 of the overlay's grid (0 without one) | [`STOCHASTIC`] |
+    /// [`SPLIT`].
     overlay_size: u32,
 }
 
 /// The push constants' flag: show the stochastic frame's radiance image.
 const STOCHASTIC: u32 = 1 << 31;
+/// The push constants' flag: the split view, the right half's lit shares from the split
+/// image.
+const SPLIT: u32 = 1 << 30;
 
 /// What one frame's shading reads besides its images.
 #[derive(Clone, Copy)]
@@ -51,6 +55,9 @@ pub struct ShadeFrame<'a> {
     pub overlay: Option<(u64, (u32, u32))>,
     /// Show the radiance image (the stochastic frame) instead of shading the G-buffer.
     pub stochastic: bool,
+    /// The split view: the right half's lit shares (R32F, storage, in GENERAL), the
+    /// columns from `width / 2` on shaded with them.
+    pub split_lit: Option<vk::ImageView>,
     /// The shaded image written (`OUTPUT_FORMAT`, storage, in GENERAL).
     pub output: vk::ImageView,
     /// The stochastic frame's radiance (RGBA32F, storage, in GENERAL; bound in every frame).
@@ -61,7 +68,26 @@ pub struct ShadePass {
     layout: ImageBindingLayout,
     pipeline: Pipeline,
     albedos: Buffer,
+    /// What `albedos` holds.
+    table: Vec<[u32; 4]>,
     ambient: f32,
+}
+
+/// `shade.comp`'s `Albedos`: the number of triangles (then three unused words), then the
+/// albedo of every triangle by global id, mesh by mesh as the upload numbers them
+/// (`render::upload::scene_draws`: `t0.len() / 3` ids a mesh, drawn or not).
+fn albedo_table(scene: &Scene) -> anyhow::Result<Vec<[u32; 4]>> {
+    let triangles: usize = scene.meshes.iter().map(|m| m.t0.len() / 3).sum();
+    let count = u32::try_from(triangles).map_err(|_| {
+        anyhow!("{triangles} triangles: more than the viewer's albedo table counts")
+    })?;
+    let albedos = scene.meshes.iter().flat_map(|mesh| {
+        std::iter::repeat_n(
+            mesh.albedo.extend(1.0).to_array().map(f32::to_bits),
+            mesh.t0.len() / 3,
+        )
+    });
+    Ok(std::iter::once([count, 0, 0, 0]).chain(albedos).collect())
 }
 
 /// Compiles `glsl/shade.comp` to SPIR-V.
@@ -98,6 +124,7 @@ impl ShadePass {
             vk::DescriptorType::STORAGE_IMAGE,
             vk::DescriptorType::STORAGE_IMAGE,
             vk::DescriptorType::STORAGE_IMAGE,
+            vk::DescriptorType::STORAGE_IMAGE,
         ];
         let layout = ImageBindingLayout::new(ctx, &types)?;
         let spirv = compile()?;
@@ -111,21 +138,29 @@ impl ShadePass {
             // declared formats; its push block is `ShadePush`, its bindings `types`.
             unsafe { Spirv::new(&spirv) },
         )?;
-        let mut albedo: Vec<Vec4> = scene
-            .meshes
-            .iter()
-            .flat_map(|mesh| std::iter::repeat_n(mesh.albedo.extend(1.0), mesh.t0.len() / 3))
-            .collect();
-        if albedo.is_empty() {
-            albedo.push(Vec4::ZERO);
-        }
-        let albedos = Buffer::with_data(ctx, "viewer albedos", BufferUsage::HostToDevice, &albedo)?;
+        let table = albedo_table(scene)?;
+        let albedos = Buffer::with_data(ctx, "viewer albedos", BufferUsage::HostToDevice, &table)?;
         Ok(Self {
             layout,
             pipeline,
             albedos,
+            table,
             ambient: scene.ambient,
         })
+    }
+
+    /// The albedos of `scene` posed anew: where its triangles or their albedos differ from
+    /// the table's, a new table (true: an allocation; the old one is retired past the frames
+    /// in flight that read it, never written while they may).
+    pub fn set_scene(&mut self, ctx: &Context, scene: &Scene) -> anyhow::Result<bool> {
+        let table = albedo_table(scene)?;
+        self.ambient = scene.ambient;
+        if table == self.table {
+            return Ok(false);
+        }
+        self.albedos = Buffer::with_data(ctx, "viewer albedos", BufferUsage::HostToDevice, &table)?;
+        self.table = table;
+        Ok(true)
     }
 
     /// A descriptor set for one frame slot.
@@ -141,9 +176,9 @@ impl ShadePass {
     /// `cmd` is recording, outside rendering, on a queue with compute; `bindings` was made by
     /// this pass and is not used by a pending command buffer; the G-buffer images are in
     /// `inputs`' layouts, written and made visible to compute sampled reads earlier in `cmd`;
-    /// `inputs.output` (the lit shares), `frame.output` and `frame.radiance` are storage
+    /// `inputs.output` (the lit shares), `frame.split_lit`, `frame.output` and `frame.radiance` are storage
     /// images of this device in GENERAL, earlier accesses ordered before compute reads and
-    /// writes: the lit shares written by the mask pass (read unless `frame.stochastic`), the
+    /// writes: the lit shares written by the mask passes (read unless `frame.stochastic`), the
     /// radiance by the lighting pass's output (read if `frame.stochastic`); the images stay
     /// alive until `cmd` completes.
     pub unsafe fn record(
@@ -171,6 +206,8 @@ impl ShadePass {
                 (inputs.output, general),
                 (frame.output, general),
                 (frame.radiance, general),
+                // Without the split the lit shares again (bound, not read).
+                (frame.split_lit.unwrap_or(inputs.output), general),
             ])
         };
         let gpu = frame.light.gpu();
@@ -184,7 +221,8 @@ impl ShadePass {
             ambient: self.ambient,
             exposure_scale: frame.exposure.exp2(),
             overlay_size: frame.overlay.map_or(0, |(_, (w, h))| w | (h << 15))
-                | if frame.stochastic { STOCHASTIC } else { 0 },
+                | if frame.stochastic { STOCHASTIC } else { 0 }
+                | if frame.split_lit.is_some() { SPLIT } else { 0 },
         };
         let (width, height) = inputs.size;
         // SAFETY: the caller's contract: `cmd` is recording, outside rendering, on a compute
@@ -205,5 +243,49 @@ impl ShadePass {
             device.cmd_dispatch(cmd, width.div_ceil(GROUP), height.div_ceil(GROUP), 1);
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{BuiltinOptions, builtin};
+
+    /// The table's count is the ids the upload gives (the shader reads no albedo past it),
+    /// and the albedo at each id is its mesh's: checked against the draws' own numbering
+    /// (`first_id`, `albedo`), with a mesh of two corners (no triangle, no draw) among them.
+    #[test]
+    fn the_albedo_table_covers_every_triangle_id_and_no_more() {
+        let mut scene = builtin("cubes-toward-light", &BuiltinOptions::default()).unwrap();
+        let mut stub = scene.meshes[0].clone();
+        stub.t0.truncate(2);
+        stub.t1.truncate(2);
+        stub.albedo = glam::Vec3::new(0.9, 0.1, 0.1);
+        scene.meshes.insert(1, stub);
+        scene.meshes[2].albedo = glam::Vec3::new(0.2, 0.7, 0.3);
+        let table = albedo_table(&scene).unwrap();
+        let ids: u32 = scene.meshes.iter().map(|m| m.t0.len() as u32 / 3).sum();
+        assert_eq!(table[0][0], ids);
+        assert_eq!(table.len() as u32, 1 + ids);
+        for (mesh, first_id) in scene.meshes.iter().zip(first_ids(&scene)) {
+            for id in first_id..first_id + mesh.t0.len() as u32 / 3 {
+                let albedo = Vec4::from_array(table[1 + id as usize].map(f32::from_bits));
+                assert_eq!(albedo, mesh.albedo.extend(1.0), "id {id}");
+            }
+        }
+    }
+
+    /// Each mesh's first triangle id as `render::upload::scene_draws` numbers them.
+    fn first_ids(scene: &Scene) -> Vec<u32> {
+        let mut next = 0;
+        scene
+            .meshes
+            .iter()
+            .map(|m| {
+                let first = next;
+                next += m.t0.len() as u32 / 3;
+                first
+            })
+            .collect()
     }
 }

@@ -25,7 +25,9 @@ pub struct Swapchain {
 
 /// What acquiring an image found.
 pub enum Acquired {
-    Image(u32),
+    /// An image to draw into; true: the swapchain no longer matches the surface exactly
+    /// (suboptimal): it still presents, and is made again after.
+    Image(u32, bool),
     /// The surface changed (resized, lost): make the swapchain again.
     OutOfDate,
 }
@@ -45,14 +47,34 @@ fn composite_alpha(
         })
 }
 
+/// The swapchain images' size for a window of `wanted` pixels: the surface's own extent,
+/// or, where it lets the swapchain choose (`u32::MAX`), `wanted` within the surface's range;
+/// None where that has no area (a minimized window): Vulkan allows no swapchain of it.
+fn image_extent(caps: &vk::SurfaceCapabilitiesKHR, wanted: (u32, u32)) -> Option<vk::Extent2D> {
+    let extent = if caps.current_extent.width != u32::MAX {
+        caps.current_extent
+    } else {
+        vk::Extent2D {
+            width: wanted
+                .0
+                .clamp(caps.min_image_extent.width, caps.max_image_extent.width),
+            height: wanted
+                .1
+                .clamp(caps.min_image_extent.height, caps.max_image_extent.height),
+        }
+    };
+    (extent.width > 0 && extent.height > 0).then_some(extent)
+}
+
 impl Swapchain {
     /// A swapchain of `wanted` pixels (the window's size; the surface's own extent where it
-    /// has one), replacing `old` (which the caller destroys after).
+    /// has one), replacing `old` (which the caller destroys after); None, `old` left as it
+    /// is, where the surface has no area (a minimized window).
     pub fn new(
         gpu: &ViewDevice,
         wanted: (u32, u32),
         old: vk::SwapchainKHR,
-    ) -> anyhow::Result<Self> {
+    ) -> anyhow::Result<Option<Self>> {
         let base = &gpu.base;
         let (physical, surface) = (gpu.physical, base.surface);
         // SAFETY: `physical` and `surface` belong to the instance `surface_loader` was made
@@ -84,18 +106,8 @@ impl Swapchain {
                 caps.supported_usage_flags
             );
         }
-        // u32::MAX: the surface takes the swapchain's size.
-        let extent = if caps.current_extent.width != u32::MAX {
-            caps.current_extent
-        } else {
-            vk::Extent2D {
-                width: wanted
-                    .0
-                    .clamp(caps.min_image_extent.width, caps.max_image_extent.width),
-                height: wanted
-                    .1
-                    .clamp(caps.min_image_extent.height, caps.max_image_extent.height),
-            }
+        let Some(extent) = image_extent(&caps, wanted) else {
+            return Ok(None);
         };
         let mut count = caps.min_image_count + 1;
         if caps.max_image_count > 0 {
@@ -148,7 +160,7 @@ impl Swapchain {
             .context("vkCreateSemaphore")?;
             this.rendered.push(semaphore);
         }
-        Ok(this)
+        Ok(Some(this))
     }
 
     pub fn size(&self) -> (u32, u32) {
@@ -165,8 +177,7 @@ impl Swapchain {
             self.loader
                 .acquire_next_image(self.handle, u64::MAX, ready, vk::Fence::null())
         } {
-            // Suboptimal still presents; the resize event that follows makes a new one.
-            Ok((index, _suboptimal)) => Ok(Acquired::Image(index)),
+            Ok((index, suboptimal)) => Ok(Acquired::Image(index, suboptimal)),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(Acquired::OutOfDate),
             Err(vk::Result::ERROR_SURFACE_LOST_KHR) => {
                 bail!("the window's surface was lost (the window system closed it)")
@@ -176,7 +187,7 @@ impl Swapchain {
     }
 
     /// Presents `index` once its frame signalled `rendered[index]`; false where the surface
-    /// is out of date (the swapchain must be made again).
+    /// is out of date or the swapchain suboptimal (it must be made again).
     pub fn present(&self, queue: vk::Queue, index: u32) -> anyhow::Result<bool> {
         let swapchains = [self.handle];
         let indices = [index];
@@ -190,7 +201,7 @@ impl Swapchain {
         // signals `rendered[index]`, left the image in PRESENT_SRC_KHR; `info` borrows arrays
         // that live until the call returns.
         match unsafe { self.loader.queue_present(queue, &info) } {
-            Ok(_suboptimal) => Ok(true),
+            Ok(suboptimal) => Ok(!suboptimal),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(false),
             Err(vk::Result::ERROR_SURFACE_LOST_KHR) => {
                 bail!("the window's surface was lost (the window system closed it)")
@@ -220,6 +231,61 @@ mod tests {
 
     /// The swapchain asks only for a way of compositing alpha the surface offers (a surface
     /// need not offer opaque), opaque first, and refuses a surface that offers none.
+    /// A minimized window's surface has no area (its extent 0x0, or a range whose largest
+    /// is 0): no swapchain is made for it (Vulkan forbids a zero extent), the frame is
+    /// skipped; otherwise the surface's own extent, or the window's size within its range.
+    #[test]
+    fn a_surface_without_area_gets_no_swapchain_extent() {
+        let extent = |width, height| vk::Extent2D { width, height };
+        let caps = |current, min, max| vk::SurfaceCapabilitiesKHR {
+            current_extent: current,
+            min_image_extent: min,
+            max_image_extent: max,
+            ..Default::default()
+        };
+        let any = extent(u32::MAX, u32::MAX);
+        let cases = [
+            // X11 and most: the surface says its size.
+            (
+                caps(extent(640, 360), extent(640, 360), extent(640, 360)),
+                (640, 360),
+                Some(extent(640, 360)),
+            ),
+            (
+                caps(extent(0, 0), extent(0, 0), extent(0, 0)),
+                (640, 360),
+                None,
+            ),
+            (
+                caps(extent(640, 0), extent(640, 0), extent(640, 0)),
+                (640, 360),
+                None,
+            ),
+            // Surfaces that let the swapchain choose.
+            (
+                caps(any, extent(1, 1), extent(4096, 4096)),
+                (800, 5000),
+                Some(extent(800, 4096)),
+            ),
+            (
+                caps(any, extent(1, 1), extent(4096, 4096)),
+                (0, 360),
+                Some(extent(1, 360)),
+            ),
+            (caps(any, extent(0, 0), extent(0, 0)), (640, 360), None),
+        ];
+        for (caps, wanted, expected) in cases {
+            assert_eq!(
+                image_extent(&caps, wanted),
+                expected,
+                "{:?} in {:?}..{:?}, window {wanted:?}",
+                caps.current_extent,
+                caps.min_image_extent,
+                caps.max_image_extent
+            );
+        }
+    }
+
     #[test]
     fn composite_alpha_is_one_the_surface_supports() {
         use vk::CompositeAlphaFlagsKHR as A;

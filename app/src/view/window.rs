@@ -8,8 +8,9 @@ use super::allocations::{AllocationCounter, Phase};
 use super::camera::CameraControl;
 use super::controls::{KEYS, ViewState, action_for_key, with_shutter};
 use super::device::{ViewDevice, ViewInstance};
-use super::frame_loop::{Drawn, FrameLoop, FrameRequest};
+use super::frame_loop::{Drawn, FrameLoop, FrameRequest, SplitRequest};
 use super::method::ViewMethod;
+use super::split::split_line;
 use super::{ViewOptions, ViewReport};
 use crate::output::write_rgb8_png;
 use anyhow::{Context as _, anyhow, bail};
@@ -24,6 +25,8 @@ use winit::window::{Window, WindowId};
 
 /// How long a scripted run waits past its frames for the window system to resize.
 const RESIZE_WAIT: Duration = Duration::from_secs(20);
+/// How long the loop sleeps between frames while the surface has no area (minimized).
+const NO_AREA_WAIT: Duration = Duration::from_millis(50);
 /// Weight of the newest frame in the overlay's frame rate.
 const FPS_SMOOTHING: f64 = 0.2;
 
@@ -77,6 +80,7 @@ impl Viewer {
         let frames = FrameLoop::new(
             gpu,
             self.options.scene.clone(),
+            self.state.method,
             &light,
             self.options.frame,
             (size.width.max(1), size.height.max(1)),
@@ -118,6 +122,9 @@ impl Viewer {
             "still scene".to_owned()
         };
         let frame = match (self.state.stochastic, self.state.method) {
+            (true, _) if self.state.split.is_some() => {
+                "deferred (split: stochastic off)".to_owned()
+            }
             (false, _) => "deferred".to_owned(),
             (true, ViewMethod::Tsm { .. }) => "deferred (stochastic: temporal only)".to_owned(),
             (true, method) => format!(
@@ -135,7 +142,7 @@ impl Viewer {
                 }
             ),
         };
-        vec![
+        let mut lines = vec![
             format!(
                 "{}  {} {frame}  {}x{}  {time}  shutter {:.0} deg",
                 frames.scene().name,
@@ -155,8 +162,12 @@ impl Viewer {
                 }
             ),
             format!("ms: {}", passes.join("  ")),
-            "H: keys on the terminal".to_owned(),
-        ]
+        ];
+        if let Some(right) = self.state.split {
+            lines.push(split_line(self.state.method, right, &stats.last_pass_ms));
+        }
+        lines.push("H: keys on the terminal".to_owned());
+        lines
     }
 
     /// Poses the scene again where the time or the shutter changed.
@@ -171,7 +182,7 @@ impl Viewer {
         };
         let scene = with_shutter(posed, self.state.shutter_fraction());
         if let Some(frames) = self.frames.as_mut() {
-            frames.set_scene(scene);
+            frames.set_scene(scene, &mut self.counter)?;
         }
         Ok(())
     }
@@ -183,6 +194,7 @@ impl Viewer {
         };
         if size.width == 0 || size.height == 0 {
             // Minimized: nothing to present to.
+            std::thread::sleep(NO_AREA_WAIT);
             return Ok(false);
         }
         let now = Instant::now();
@@ -210,9 +222,19 @@ impl Viewer {
         );
         // The stochastic frame is the temporal map's: with a TSM method the deferred one is
         // shown (the overlay says so).
-        let forward = self
-            .state
-            .stochastic
+        let split = self.state.split.map(|method| {
+            let (light, plane_test_where_still) = method.light(
+                frames.scene(),
+                &self.options.settings,
+                &self.options.deferred,
+            );
+            SplitRequest {
+                method,
+                light,
+                plane_test_where_still,
+            }
+        });
+        let forward = (self.state.stochastic && split.is_none())
             .then(|| {
                 self.state
                     .method
@@ -244,11 +266,17 @@ impl Viewer {
             overlay: lines.as_deref(),
             screenshot: scripted_shot || self.state.screenshot,
             stochastic,
+            split,
         };
         let Some(frames) = self.frames.as_mut() else {
             return Ok(false);
         };
         let drawn = frames.draw(&request, &mut self.counter)?;
+        if let Drawn::NoArea = drawn {
+            // Minimized: nothing to present to until the window is restored; no busy loop.
+            std::thread::sleep(NO_AREA_WAIT);
+            return Ok(false);
+        }
         if let Drawn::Presented = drawn {
             self.state.screenshot = false;
             self.presented += 1;
@@ -410,6 +438,7 @@ pub fn run(options: ViewOptions) -> anyhow::Result<ViewReport> {
         options.overlay,
     );
     state.stochastic = options.stochastic;
+    state.split = options.split;
     state.estimator = options.settings.shadow_estimator;
     state.filter = options.settings.shadow_filter;
     let mut viewer = Viewer {

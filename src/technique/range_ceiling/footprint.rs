@@ -9,7 +9,7 @@ use super::map::{Affine, Map};
 /// How far the hull is grown, in texels: far more than f32 rounding of the corners' images
 /// (about 1e-3 texel at 4096 texels), far less than a texel. (A triangle that does not move
 /// is cut to the light's frustum first; the cut points are as exact as its corners.)
-const GROWTH_TEXELS: f64 = 0.125;
+pub(super) const GROWTH_TEXELS: f64 = 0.125;
 
 /// The texel centres a triangle's ranges may lie at: the convex hull of its corners' images
 /// at t = 0 and t = 1, grown by `GROWTH_TEXELS`, within the map.
@@ -22,6 +22,12 @@ pub(super) struct Footprint {
 
 impl Footprint {
     pub(super) fn new(points: &[DVec2], map: &Map) -> Self {
+        Self::grown(points, map, GROWTH_TEXELS)
+    }
+
+    /// The hull of `points` grown by `growth` texels (at least `GROWTH_TEXELS`), within the
+    /// map.
+    pub(super) fn grown(points: &[DVec2], map: &Map, growth: f64) -> Self {
         let hull = convex_hull(points);
         let n = hull.len();
         let mut edges = Vec::with_capacity(n.max(2));
@@ -37,10 +43,10 @@ impl Footprint {
             let d = (v - u).normalize();
             // Counter-clockwise hull: inside is to the left of u -> v.
             let (a, b) = (-d.y, d.x);
-            edges.push((a, b, -(a * u.x + b * u.y) + GROWTH_TEXELS));
+            edges.push((a, b, -(a * u.x + b * u.y) + growth));
         }
-        let lo = hull.iter().copied().fold(DVec2::INFINITY, DVec2::min) - GROWTH_TEXELS;
-        let hi = hull.iter().copied().fold(DVec2::NEG_INFINITY, DVec2::max) + GROWTH_TEXELS;
+        let lo = hull.iter().copied().fold(DVec2::INFINITY, DVec2::min) - growth;
+        let hi = hull.iter().copied().fold(DVec2::NEG_INFINITY, DVec2::max) + growth;
         let lo = lo.max(DVec2::splat(0.5));
         let hi = hi.min(DVec2::new(map.width - 0.5, map.height - 0.5));
         Self {

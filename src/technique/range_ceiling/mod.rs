@@ -20,6 +20,7 @@
 //! `tests/gpu/range_ceiling.rs` that an engine's map reserved with it never overflows.
 
 mod beyond_light;
+mod conservative;
 mod culling;
 mod footprint;
 mod frustum;
@@ -56,26 +57,28 @@ const NEAR_W: f64 = 1e-4;
 #[derive(Debug, Clone)]
 pub struct RangeCeiling {
     setup: Setup,
+    /// The exact lookup's conservative collection (`conservative.rs`): one range per texel
+    /// its grown footprint covers.
+    conservative: bool,
 }
 
 impl RangeCeiling {
     /// For a map of `width` x `height` texels lit by `light`; None with the papers' prisms
-    /// (`PrismConstruction::Paper`, not bounded here) and with the exact lookup's
-    /// conservative collection (`Lookup::Exact`: it covers whole texels, this counts runs
-    /// at texel centres).
+    /// (`PrismConstruction::Paper`, not bounded here). With the exact lookup's conservative
+    /// collection (`Lookup::Exact`), which covers whole texels, it counts the texels of each
+    /// triangle's grown footprint (one range, or one static name, each).
     pub fn new(light: &LightView, width: u32, height: u32) -> Option<Self> {
-        (light.prisms == PrismConstruction::Exact && light.lookup == Lookup::DepthLine).then(|| {
-            Self {
-                setup: Setup {
-                    to_view: light.view.as_dmat4(),
-                    proj: light.proj.as_dmat4(),
-                    orthographic: !light.is_spot(),
-                    map: Map {
-                        width: f64::from(width),
-                        height: f64::from(height),
-                    },
+        (light.prisms == PrismConstruction::Exact).then(|| Self {
+            conservative: light.lookup == Lookup::Exact,
+            setup: Setup {
+                to_view: light.view.as_dmat4(),
+                proj: light.proj.as_dmat4(),
+                orthographic: !light.is_spot(),
+                map: Map {
+                    width: f64::from(width),
+                    height: f64::from(height),
                 },
-            }
+            },
         })
     }
 
@@ -84,7 +87,11 @@ impl RangeCeiling {
     /// stores none where the frame keeps static draws in the static layer
     /// ([`super::TemporalShadowMap::uses_static_layer`]): leave those out.
     pub fn triangle(&self, t0: &[Vec3; 3], t1: &[Vec3; 3], closed: bool) -> u64 {
-        self.setup.triangle_ranges_at_most(t0, t1, closed)
+        if self.conservative {
+            self.setup.conservative_ranges_at_most(t0, t1, closed)
+        } else {
+            self.setup.triangle_ranges_at_most(t0, t1, closed)
+        }
     }
 
     /// The sum over a draw's triangles (static or not: the caller leaves out static draws

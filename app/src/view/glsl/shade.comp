@@ -15,9 +15,12 @@ layout(set = 0, binding = 3, r32f) uniform readonly image2D lit_image;
 layout(set = 0, binding = 4, rgba8) uniform writeonly image2D output_image;
 // The stochastic frame's radiance (the lighting pass's, written into this image).
 layout(set = 0, binding = 5, rgba32f) uniform readonly image2D radiance_image;
+// The split view's right-hand method's lit shares, read from column width / 2 on.
+layout(set = 0, binding = 6, r32f) uniform readonly image2D split_lit_image;
 
-// Per triangle (its global id): the albedo of its mesh.
+// The number of triangles, then per triangle (its global id) the albedo of its mesh.
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Albedos {
+    uint count;
     vec4 albedo[];
 };
 
@@ -38,7 +41,8 @@ layout(push_constant) uniform Push {
     float emission;
     float ambient;
     float exposure_scale;
-    // Width | height << 15 (0: no overlay); bit 31: show the stochastic frame's radiance.
+    // Width | height << 15 (0: no overlay); bit 31: show the stochastic frame's radiance;
+    // bit 30: the split view.
     uint overlay_size;
 } pc;
 
@@ -59,6 +63,7 @@ void main() {
     float depth = texelFetch(depth_image, p, 0).r;
     vec3 radiance = vec3(0.0);
     bool stochastic = (pc.overlay_size >> 31) != 0u;
+    bool split = ((pc.overlay_size >> 30) & 1u) != 0u;
     if (stochastic) {
         radiance = imageLoad(radiance_image, p).rgb;
     } else if (depth < 1.0) {
@@ -67,7 +72,9 @@ void main() {
         vec3 position = h.xyz / h.w;
         vec3 n = texelFetch(normal_image, p, 0).xyz;
         uint id = texelFetch(id_image, p, 0).r;
-        vec3 albedo = pc.albedos.albedo[id].rgb;
+        // An id past the table (not the viewer's own scenes: the table is made again
+        // whenever the posed scene's triangles change) reads nothing: magenta shows it.
+        vec3 albedo = id < pc.albedos.count ? pc.albedos.albedo[id].rgb : vec3(1.0, 0.0, 1.0);
         bool spot = pc.light_position.w > 0.5;
         vec3 to_light = spot ? pc.light_position.xyz - position : -pc.light_direction.xyz;
         float dist2 = spot ? dot(to_light, to_light) : 1.0;
@@ -78,13 +85,18 @@ void main() {
         if (cos_theta > 0.0 && in_cone) {
             direct = pc.emission * cos_theta / (PI * dist2);
         }
-        float lit = imageLoad(lit_image, p).r;
+        float lit = split && p.x >= size.x / 2 ? imageLoad(split_lit_image, p).r
+                                               : imageLoad(lit_image, p).r;
         radiance = albedo * (pc.ambient + direct * lit);
     }
     // Rounded here to one of 256 levels: the store's own float-to-unorm rounding is not
     // pinned down by Vulkan.
     vec3 encoded = round(srgb(radiance * pc.exposure_scale) * 255.0) / 255.0;
     uvec2 overlay = uvec2(pc.overlay_size & 0x7fffu, (pc.overlay_size >> 15) & 0x7fffu);
+    if (split && overlay.x > 0u && p.x == size.x / 2) {
+        // The seam, with the overlay (off, each half is its method's frame exactly).
+        encoded = vec3(1.0);
+    }
     if (all(lessThan(uvec2(p), overlay))) {
         uint code = pc.overlay.code[uint(p.y) * overlay.x + uint(p.x)];
         if (code == 1u) {

@@ -6,9 +6,11 @@
 use super::allocations::AllocationCounter;
 use super::device::{Messages, ViewDevice};
 use super::frame_slot::{FrameSlot, SizedTargets, screenshot_buffer};
+use super::frame_slot::{Pending, SplitSide};
 use super::method::ViewMethod;
 use super::overlay::{OVERLAY_HEIGHT, OVERLAY_WIDTH, Overlay};
-use super::record::{FrameView, Passes, Present, record_frame};
+use super::record::{FrameView, Passes, Present, SplitFrame, record_frame};
+use super::room::{Side, prepare_side};
 use super::shade::ShadePass;
 use super::swapchain::{Acquired, Swapchain};
 use crate::scene::Scene;
@@ -16,9 +18,11 @@ use anyhow::Context as _;
 use ash::vk;
 use motion_shadows::gpu::Context;
 use motion_shadows::technique::{
-    CameraView, CollectionPass, EngineTsmPass, GBufferPass, GenerationPass, HostDraw, LightView,
-    LightingImageOutput, LightingPass, LightingView, TemporalShadowMap, VisibilityMaskPass,
+    CameraView, CollectionPass, EngineTsmPass, GBufferPass, GenerationPass, LightView,
+    LightingImageOutput, LightingPass, LightingView, VisibilityMaskPass,
 };
+
+mod results;
 
 /// Frames recorded while earlier ones still run.
 pub const FRAMES_IN_FLIGHT: usize = 2;
@@ -48,6 +52,16 @@ pub struct FrameRequest<'a> {
     /// The stochastic frame (the temporal map's, `light` its forward light) with these
     /// samples per pixel, instead of the deferred frame.
     pub stochastic: Option<(LightingView, u32)>,
+    /// The split view (the deferred frame only): the right half shows this method's frame.
+    pub split: Option<SplitRequest>,
+}
+
+/// The split view's right-hand method, its light and still pixels' plane test
+/// ([`ViewMethod::light`]).
+pub struct SplitRequest {
+    pub method: ViewMethod,
+    pub light: LightView,
+    pub plane_test_where_still: bool,
 }
 
 /// A presented frame read back: RGB, 3 bytes a pixel, rows from the top.
@@ -79,6 +93,9 @@ pub enum Drawn {
     Presented,
     /// Nothing drawn: the surface was out of date (the swapchain was made again).
     Skipped,
+    /// Nothing drawn: the surface has no area (a minimized window); the swapchain is made
+    /// when it has one again.
+    NoArea,
 }
 
 pub struct FrameLoop {
@@ -107,10 +124,11 @@ pub struct FrameLoop {
 
 impl FrameLoop {
     /// The loop's objects, the swapchain for `window`, and each slot's map reserved for
-    /// `light` (the first method's) before the first frame.
+    /// `method` lit by `light` (the first method's) before the first frame.
     pub fn new(
         gpu: ViewDevice,
         scene: Scene,
+        method: ViewMethod,
         light: &LightView,
         settings: FrameSettings,
         window: (u32, u32),
@@ -173,11 +191,23 @@ impl FrameLoop {
             pool,
             gpu,
         };
+        // Where the window starts without area, the first frame with one makes it.
         this.make_swapchain(window, counter)?;
         // Each slot's map is reserved before its first frame, so that the frames after the
-        // first allocate nothing.
-        for slot in &mut this.slots {
-            reserve_map(&this.ctx, &mut slot.map, light, &this.scene, counter)?;
+        // first allocate nothing (TSM's maps are made on the first frame that shows it).
+        if !matches!(method, ViewMethod::Tsm { .. }) {
+            for slot in &mut this.slots {
+                let triangles = u64::from(slot.geometry.triangle_count);
+                let side = Side {
+                    method,
+                    light,
+                    map: &mut slot.map,
+                    tsm: &mut slot.tsm,
+                    switched: false,
+                };
+                prepare_side(&this.ctx, side, None, &this.scene, triangles, counter)?;
+                slot.last_method = Some(method);
+            }
         }
         Ok(this)
     }
@@ -211,32 +241,46 @@ impl FrameLoop {
 
     /// The scene posed anew (the animation's time, the shutter): each slot rewrites its
     /// vertices before its next frame.
-    pub fn set_scene(&mut self, scene: Scene) {
+    pub fn set_scene(
+        &mut self,
+        scene: Scene,
+        counter: &mut AllocationCounter,
+    ) -> anyhow::Result<()> {
+        if self.passes.shade.set_scene(&self.ctx, &scene)? {
+            counter.during_event(|c| c.note(1));
+        }
         self.scene = scene;
         self.scene_version += 1;
+        Ok(())
     }
 
     pub fn take_screenshot(&mut self) -> Option<Screenshot> {
         self.screenshot.take()
     }
 
+    /// Makes the swapchain for `window` and the slots' images of its size; false (the old
+    /// one kept, still stale) where the surface has no area.
     fn make_swapchain(
         &mut self,
         window: (u32, u32),
         counter: &mut AllocationCounter,
-    ) -> anyhow::Result<()> {
+    ) -> anyhow::Result<bool> {
         // Nothing may use the old swapchain's images or semaphores any more.
         // SAFETY: the device is alive; no other thread uses its queue (the viewer is one
         // thread).
         unsafe { self.gpu.device.device_wait_idle() }.map_err(device_error)?;
         self.finish_all(counter)?;
-        let old = self.swapchain.take();
-        let made = Swapchain::new(
-            &self.gpu,
-            window,
-            old.as_ref().map_or(vk::SwapchainKHR::null(), |s| s.handle),
-        );
-        drop(old);
+        let old_handle = self
+            .swapchain
+            .as_ref()
+            .map_or(vk::SwapchainKHR::null(), |s| s.handle);
+        let made = Swapchain::new(&self.gpu, window, old_handle);
+        let Some(made) = made.transpose() else {
+            self.stale_swapchain = true;
+            return Ok(false);
+        };
+        // Retired by the new one (or by the failed attempt): destroyed either way.
+        self.swapchain = None;
         let swapchain = counter.counted(made?);
         let size = swapchain.size();
         self.swapchain = Some(swapchain);
@@ -256,7 +300,7 @@ impl FrameLoop {
                 )?);
             }
         }
-        Ok(())
+        Ok(true)
     }
 
     /// Draws and presents one frame.
@@ -265,8 +309,10 @@ impl FrameLoop {
         request: &FrameRequest<'_>,
         counter: &mut AllocationCounter,
     ) -> anyhow::Result<Drawn> {
-        if self.stale_swapchain {
-            counter.during_event(|c| self.make_swapchain(request.window, c))?;
+        if self.stale_swapchain
+            && !counter.during_event(|c| self.make_swapchain(request.window, c))?
+        {
+            return Ok(Drawn::NoArea);
         }
         let index = self.frame as usize % FRAMES_IN_FLIGHT;
         let device = self.gpu.device.clone();
@@ -279,11 +325,11 @@ impl FrameLoop {
             .as_ref()
             .context("the viewer has no swapchain")?
             .acquire(self.slots[index].acquired)?;
-        let image = match acquired {
-            Acquired::Image(image) => image,
+        let (image, suboptimal) = match acquired {
+            Acquired::Image(image, suboptimal) => (image, suboptimal),
             Acquired::OutOfDate => {
-                counter.during_event(|c| self.make_swapchain(request.window, c))?;
-                return Ok(Drawn::Skipped);
+                let made = counter.during_event(|c| self.make_swapchain(request.window, c))?;
+                return Ok(if made { Drawn::Skipped } else { Drawn::NoArea });
             }
         };
         let Some(swapchain) = self.swapchain.as_ref() else {
@@ -292,6 +338,15 @@ impl FrameLoop {
         let size = swapchain.size();
         let swap_image = swapchain.images[image as usize];
         let rendered = swapchain.rendered[image as usize];
+        let shows_tsm = |m: ViewMethod| matches!(m, ViewMethod::Tsm { .. });
+        if self.tsm_pass.is_none()
+            && (shows_tsm(request.method)
+                || request.split.as_ref().is_some_and(|s| shows_tsm(s.method)))
+        {
+            let ctx = &self.ctx;
+            self.tsm_pass =
+                Some(counter.during_event(|c| EngineTsmPass::new(ctx).map(|p| c.counted(p)))?);
+        }
         let ctx = &self.ctx;
         let slot = &mut self.slots[index];
         if slot.targets.as_ref().map(|t| t.size) != Some(size) {
@@ -318,37 +373,56 @@ impl FrameLoop {
             };
             counter.during_event(|c| slot.lighting_targets(ctx, output, size, spp, c))?;
         }
-        let tsm_maps = match request.method {
-            ViewMethod::Tsm { maps } => {
-                if self.tsm_pass.is_none() {
-                    self.tsm_pass = Some(
-                        counter.during_event(|c| EngineTsmPass::new(ctx).map(|p| c.counted(p)))?,
+        let triangles = u64::from(slot.geometry.triangle_count);
+        let method_switched = slot.last_method != Some(request.method);
+        let tsm_maps = prepare_side(
+            ctx,
+            Side {
+                method: request.method,
+                light: &request.light,
+                map: &mut slot.map,
+                tsm: &mut slot.tsm,
+                switched: method_switched,
+            },
+            self.tsm_pass.as_ref(),
+            &self.scene,
+            triangles,
+            counter,
+        )?;
+        slot.last_method = Some(request.method);
+        let split_maps = match &request.split {
+            Some(split) => {
+                if request.stochastic.is_some() {
+                    anyhow::bail!(
+                        "the split view shows the deferred frame, not the stochastic one"
                     );
                 }
-                let Some(pass) = self.tsm_pass.as_ref() else {
-                    anyhow::bail!("TSM's pass was not made");
-                };
                 let shadow = self.settings.shadow_size;
-                counter.during_event(|c| slot.tsm_targets(ctx, pass, shadow, maps, c))?;
-                Some(maps)
+                let side = match &mut slot.split {
+                    Some(side) => side,
+                    empty => {
+                        empty.insert(counter.during_event(|c| SplitSide::new(ctx, shadow, c))?)
+                    }
+                };
+                let switched = side.last_method != Some(split.method);
+                let maps = prepare_side(
+                    ctx,
+                    Side {
+                        method: split.method,
+                        light: &split.light,
+                        map: &mut side.map,
+                        tsm: &mut side.tsm,
+                        switched,
+                    },
+                    self.tsm_pass.as_ref(),
+                    &self.scene,
+                    triangles,
+                    counter,
+                )?;
+                side.last_method = Some(split.method);
+                Some((split, maps))
             }
-            ViewMethod::TemporalExact => {
-                // The exact lookup reads the triangles' corners: room for their records
-                // (made once; not bounded from the positions, so the map grows after a frame
-                // that overflowed).
-                let before = slot.map.allocated_bytes();
-                slot.map
-                    .reserve_triangle_records(ctx, u64::from(slot.geometry.triangle_count))?;
-                if slot.map.allocated_bytes() != before {
-                    counter.during_event(|c| c.note(1));
-                }
-                None
-            }
-            ViewMethod::Temporal => {
-                // Reserved before every frame: what it can store changes with the animation.
-                reserve_map(ctx, &mut slot.map, &request.light, &self.scene, counter)?;
-                None
-            }
+            None => None,
         };
         let overlay = match request.overlay {
             Some(lines) => {
@@ -372,6 +446,11 @@ impl FrameLoop {
             exposure: self.settings.exposure,
             overlay,
             tsm: tsm_maps.and_then(|maps| self.tsm_pass.as_ref().map(|pass| (pass, maps))),
+            split: split_maps.map(|(split, maps)| SplitFrame {
+                light: &split.light,
+                plane_test_where_still: split.plane_test_where_still,
+                tsm: maps.and_then(|maps| self.tsm_pass.as_ref().map(|pass| (pass, maps))),
+            }),
             stochastic: match (&request.stochastic, &self.lighting) {
                 (Some((lighting_view, _)), Some((pass, output))) => Some((
                     pass,
@@ -426,106 +505,22 @@ impl FrameLoop {
                 .queue_submit2(self.gpu.queue, &submit, slot.fence)
                 .map_err(device_error)?;
         }
-        if let Some(tsm) = &slot.tsm {
-            // The static map it may have drawn is now kept for the slot's next TSM frame.
+        let split_tsm = slot.split.as_ref().and_then(|s| s.tsm.as_ref());
+        for tsm in slot.tsm.iter().chain(split_tsm) {
+            // The static map it may have drawn is now kept for the side's next TSM frame.
             tsm.map.static_map_submitted();
         }
-        slot.pending = Some((self.frame, request.method, request.stochastic.is_some()));
+        slot.pending = Some(Pending {
+            frame: self.frame,
+            method: request.method,
+            stochastic: request.stochastic.is_some(),
+            split: request.split.as_ref().map(|s| s.method),
+        });
         self.frame += 1;
-        if !swapchain.present(self.gpu.queue, image)? {
+        if !swapchain.present(self.gpu.queue, image)? || suboptimal {
             self.stale_swapchain = true;
         }
         Ok(Drawn::Presented)
-    }
-
-    /// Waits for every frame in flight and reads its results.
-    pub fn finish_all(&mut self, counter: &mut AllocationCounter) -> anyhow::Result<()> {
-        for index in 0..self.slots.len() {
-            let fence = self.slots[index].fence;
-            // SAFETY: the fence is the slot's, of this device, alive while the slot is.
-            unsafe { self.gpu.device.wait_for_fences(&[fence], true, u64::MAX) }
-                .map_err(device_error)?;
-            self.finish(index, counter)?;
-        }
-        Ok(())
-    }
-
-    /// Reads the results of slot `index`'s completed frame, if not read yet.
-    fn finish(&mut self, index: usize, counter: &mut AllocationCounter) -> anyhow::Result<()> {
-        let slot = &mut self.slots[index];
-        let Some((frame, method, stochastic)) = slot.pending.take() else {
-            return Ok(());
-        };
-        // SAFETY: the slot's fence signalled; on one queue every earlier frame completed.
-        unsafe { self.ctx.collect(frame) };
-        if !matches!(method, ViewMethod::Tsm { .. }) {
-            let counts = slot.map.read_counters()?;
-            if slot.map.needs_more_room(&counts) {
-                // Only where the room could not be reserved (the exact lookup has no bound).
-                self.stats.incomplete_frames += 1;
-                slot.map.grow_to_fit(&self.ctx, &counts)?;
-                counter.note(1);
-            } else {
-                slot.map.check_complete(&counts)?;
-            }
-            self.stats.last_ranges = counts.range_count;
-            if let Some(targets) = slot.targets.as_ref().filter(|_| !stochastic) {
-                let over = targets.mask_bindings.read_over_budget_pixels()?;
-                if over > 0 {
-                    let limit = self.ctx.info().shader_loop_limit.unwrap_or(0);
-                    return Err(crate::render::deferred::loop_limit_error(
-                        over,
-                        limit,
-                        slot.map.recorded_lookup(),
-                    )
-                    .into());
-                }
-            }
-        }
-        if let Some(lighting) = slot.lighting.as_ref().filter(|_| stochastic) {
-            let over = lighting.target.read_over_budget_pixels()?;
-            if over > 0 {
-                anyhow::bail!(
-                    "the stochastic frame's shadow lookups ran past the device's loop limit \
-                     at {over} pixels (lavapipe): its shadows may be wrong there; use the \
-                     deferred frame (F) or the depth lookup"
-                );
-            }
-        }
-        let spans = slot.timestamps.spans_ms()?;
-        if frame > 0 {
-            self.stats.timed_frames += 1;
-            for (pass, ms) in &spans {
-                match self.stats.pass_ms.iter_mut().find(|(p, _)| p == pass) {
-                    Some((_, sum)) => *sum += ms,
-                    None => self.stats.pass_ms.push((pass.clone(), *ms)),
-                }
-            }
-        }
-        self.stats.last_pass_ms = spans;
-        self.stats.completed += 1;
-        self.stats.map_bytes = self
-            .slots
-            .iter()
-            .map(|s| s.map.allocated_bytes() + s.tsm.as_ref().map_or(0, |t| t.map.bytes()))
-            .sum();
-        let slot = &mut self.slots[index];
-        if let Some((buffer, size)) = slot.screenshot.take() {
-            let format = self
-                .swapchain
-                .as_ref()
-                .map_or(vk::Format::UNDEFINED, |s| s.format);
-            let pixels: Vec<u8> = buffer.read(4 * size.0 as usize * size.1 as usize)?;
-            let rgb = pixels
-                .chunks_exact(4)
-                .flat_map(|p| match format {
-                    vk::Format::B8G8R8A8_UNORM => [p[2], p[1], p[0]],
-                    _ => [p[0], p[1], p[2]],
-                })
-                .collect();
-            self.screenshot = Some(Screenshot { size, rgb });
-        }
-        Ok(())
     }
 }
 
@@ -537,30 +532,6 @@ fn device_error(result: vk::Result) -> anyhow::Error {
         ),
         other => anyhow::anyhow!("Vulkan: {other}"),
     }
-}
-
-/// Reserves room in `map` for all that a frame of `scene` lit by `light` can store, from the
-/// host's positions ([`TemporalShadowMap::reserve_for`]): such a frame never overflows and
-/// is never grown and drawn again. Counts the map's growth as an allocation.
-fn reserve_map(
-    ctx: &Context,
-    map: &mut TemporalShadowMap,
-    light: &LightView,
-    scene: &Scene,
-    counter: &mut AllocationCounter,
-) -> anyhow::Result<()> {
-    let host_draws: Vec<HostDraw> = scene
-        .meshes
-        .iter()
-        .filter(|m| m.t0.len() >= 3)
-        .map(|m| HostDraw::new(&m.t0, &m.t1, None))
-        .collect();
-    let before = map.allocated_bytes();
-    map.reserve_for(ctx, light, None, &host_draws)?;
-    if map.allocated_bytes() != before {
-        counter.note(1);
-    }
-    Ok(())
 }
 
 impl Drop for FrameLoop {
