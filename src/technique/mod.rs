@@ -39,6 +39,7 @@ pub mod gpu_types;
 mod image_output;
 mod image_pass;
 #[cfg(feature = "research")]
+mod light_motion;
 mod lighting;
 mod mask;
 mod mask_ids;
@@ -76,6 +77,7 @@ pub use gpu_types::{
 };
 #[cfg(feature = "research")]
 pub use image_output::LightingImageOutput;
+pub use light_motion::{LightEnd, MAX_LIGHT_TURN_DEG};
 #[cfg(feature = "research")]
 pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, Samples, ShadowSource};
 pub use mask::{

@@ -110,6 +110,10 @@ pub struct LightView {
     pub keep_static_layer: bool,
     /// What the map's ranges are for (default [`Lookup::DepthLine`], the papers' test).
     pub lookup: Lookup,
+    /// The light's pose at shutter close when it moves during the shutter (default `None`:
+    /// still, every field above is its pose all shutter). Set it with
+    /// [`LightView::moving_to`], which documents the motion between the two poses.
+    pub end: Option<super::light_motion::LightEnd>,
 }
 
 /// What a temporal shadow map's ranges answer, and so how the collection builds them.
@@ -193,6 +197,7 @@ impl LightView {
             keep_static_layer: false,
             receiver_plane: false,
             lookup: Lookup::DepthLine,
+            end: None,
         }
     }
 
@@ -227,6 +232,7 @@ impl LightView {
             keep_static_layer: false,
             receiver_plane: false,
             lookup: Lookup::DepthLine,
+            end: None,
         }
     }
 

@@ -178,6 +178,7 @@ impl Renderer<'_> {
                     .to_owned(),
             ));
         }
+        upload::refuse_moving_light(scene, &deferred.name())?;
         let ctx = self.ctx;
         progress("uploading the scene");
         let geometry = upload::SceneGeometry::upload(ctx, scene)?;

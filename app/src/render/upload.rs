@@ -125,6 +125,8 @@ pub fn camera_view(scene: &Scene, image_size: (u32, u32)) -> CameraView {
     )
 }
 
+/// The light of `scene` at t = 0 (a still light's only pose); what the shadow-map methods
+/// take, which refuse a moving light ([`refuse_moving_light`]).
 pub fn light_view(scene: &Scene, shadow_size: (u32, u32)) -> LightView {
     match &scene.light {
         Light::Spot(s) => LightView::spot(
@@ -147,4 +149,50 @@ pub fn light_view(scene: &Scene, shadow_size: (u32, u32)) -> LightView {
             shadow_size,
         ),
     }
+}
+
+/// The light of `scene` over the whole shutter: [`light_view`], with its pose at t = 1 where
+/// the scene's light moves (`LightView::moving_to`). Refused for poses `Scene::validate`
+/// refuses too (a turn of 90 degrees or more).
+pub fn moving_light_view(scene: &Scene, shadow_size: (u32, u32)) -> Result<LightView> {
+    let light = light_view(scene, shadow_size);
+    let end = match &scene.light {
+        Light::Spot(s) => s.t1.map(|end| (end.position, end.direction)),
+        Light::Directional(d) => d.t1.map(|end| (d.eye_t1(), end.direction)),
+    };
+    Ok(match end {
+        None => light,
+        Some((position, direction)) => light.moving_to(position, direction)?,
+    })
+}
+
+/// Refuses a scene whose light moves for `method`, a shadow-map method, which does not take
+/// a moving light yet (issue 38): its map would be built with the light at t = 0 only.
+pub fn refuse_moving_light(scene: &Scene, method: &str) -> Result<()> {
+    if scene.light.moves() {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "scene {:?}: its light moves during the shutter (the light's \"t1\"), which \
+             --method {method} does not take yet; --method raytrace (and `deferred \
+             --method raytrace`, the exact truth) do",
+            scene.name
+        )));
+    }
+    Ok(())
+}
+
+/// The light of `scene` held still where it is at shutter time `t` (its pose at `t`, the rest
+/// of [`moving_light_view`]'s view, its matrices t = 0's): what shades a G-buffer drawn at
+/// camera time `t`, for shading only. A still light's own view.
+pub fn light_at(scene: &Scene, shadow_size: (u32, u32), t: f32) -> Result<LightView> {
+    let light = moving_light_view(scene, shadow_size)?;
+    let (position, direction) = light.pose_at(t);
+    Ok(match light.end {
+        None => light,
+        Some(_) => LightView {
+            position,
+            direction,
+            end: None,
+            ..light
+        },
+    })
 }

@@ -153,6 +153,7 @@ fn cubes_toward_light() -> SceneFile {
             intensity: 250.0,
             near: 0.5,
             far: 50.0,
+            t1: None,
         },
         ambient: 0.0,
         objects: vec![
@@ -286,6 +287,7 @@ fn random_cubes(opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
             intensity: 0.5 * std::f32::consts::PI / 0.8 * light_height * light_height,
             near: half,
             far: 1.1 * light_height / cone.to_radians().cos(),
+            t1: None,
         },
         ambient: 0.0,
         objects,

@@ -59,6 +59,7 @@ fn app_scene(world: &World, frame: u32, light: usize) -> app::Scene {
                 intensity,
                 near,
                 far,
+                t1: None,
             }),
             Light::Directional {
                 direction,
@@ -76,6 +77,7 @@ fn app_scene(world: &World, frame: u32, light: usize) -> app::Scene {
                 distance,
                 near,
                 far,
+                t1: None,
             }),
         },
         ambient: world.ambient,
