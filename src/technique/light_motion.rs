@@ -56,7 +56,8 @@ impl LightView {
         }
         let direction = direction.normalize();
         let cos_turn = self.direction.dot(direction);
-        if cos_turn <= MAX_LIGHT_TURN_DEG.to_radians().cos() {
+        // cos(90 degrees) is 0 exactly; its f32 radians are not.
+        if cos_turn <= 0.0 {
             return Err(crate::Error::InvalidArgument(format!(
                 "LightView::moving_to: the light turns {:.1} degrees during the shutter; at \
                  most {MAX_LIGHT_TURN_DEG} (less) is supported",
@@ -94,5 +95,67 @@ impl LightView {
     /// closing positions are projected with.
     pub fn view_proj_at_end(&self) -> Mat4 {
         self.proj * self.end.map_or(self.view, |end| end.view)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spot(position: Vec3, direction: Vec3) -> LightView {
+        LightView::spot(position, direction, 30.0, 1.0, 0.5, 20.0, (64, 64))
+    }
+
+    #[test]
+    fn a_translating_light_ends_with_the_view_of_a_light_built_there() {
+        let d = Vec3::new(0.2, -1.0, 0.1);
+        let moved = spot(Vec3::new(0.0, 5.0, 0.0), d)
+            .moving_to(Vec3::new(3.0, 5.0, -1.0), d)
+            .unwrap();
+        let built_there = spot(Vec3::new(3.0, 5.0, -1.0), d);
+        let end = moved.end.unwrap();
+        assert!(end.view.abs_diff_eq(built_there.view, 1e-6), "{}", end.view);
+        assert_eq!(moved.pose_at(0.5).0, Vec3::new(1.5, 5.0, -0.5));
+        assert_eq!(moved.pose_at(0.5).1, built_there.direction);
+    }
+
+    #[test]
+    fn a_turning_light_looks_along_its_end_direction_without_roll() {
+        let (d0, d1) = (Vec3::NEG_Y, Vec3::new(1.0, -1.0, 0.0).normalize());
+        let light = spot(Vec3::ZERO, d0)
+            .moving_to(Vec3::X, Vec3::new(2.0, -2.0, 0.0))
+            .unwrap();
+        let end = light.end.unwrap();
+        // The end view looks down -z along d1 from the end position.
+        let ahead = end.view.transform_point3(Vec3::X + d1);
+        assert!(ahead.abs_diff_eq(Vec3::NEG_Z, 1e-6), "{ahead}");
+        // The whole frame turned by 45 degrees about z (the axis of d0 x d1), right and up
+        // axes too: no roll about the light's axis.
+        let turn = Quat::from_rotation_z(std::f32::consts::FRAC_PI_4);
+        for axis in 0..2 {
+            let start = light.view.inverse().col(axis).truncate();
+            let got = end.view.inverse().col(axis).truncate();
+            assert!(got.abs_diff_eq(turn * start, 1e-6), "{axis}: {got} {start}");
+        }
+        // Halfway: the normalised blend, 22.5 degrees from each end.
+        let half = light.pose_at(0.5).1;
+        assert!((half.angle_between(d0).to_degrees() - 22.5).abs() < 1e-4);
+    }
+
+    #[test]
+    fn a_right_angle_turn_and_a_zero_direction_are_refused() {
+        let light = spot(Vec3::ZERO, Vec3::NEG_Y);
+        let turned = light
+            .moving_to(Vec3::ZERO, Vec3::X)
+            .unwrap_err()
+            .to_string();
+        assert!(turned.contains("turns 90.0 degrees"), "{turned}");
+        let zero = light
+            .moving_to(Vec3::ZERO, Vec3::ZERO)
+            .unwrap_err()
+            .to_string();
+        assert!(zero.contains("non-zero"), "{zero}");
+        assert!(!light.is_moving());
+        assert_eq!(light.view_proj_at_end(), light.proj * light.view);
     }
 }

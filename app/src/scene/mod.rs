@@ -20,6 +20,7 @@ mod hard;
 mod leg;
 pub mod limits;
 pub mod memory;
+mod moving_light;
 mod name;
 mod obj;
 mod parts;

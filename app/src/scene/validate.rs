@@ -146,7 +146,8 @@ fn check_light(light: &Light) -> Result<(), SceneError> {
 fn turn(what: &str, d0: Vec3, d1: Vec3) -> Result<(), SceneError> {
     use motion_shadows::technique::MAX_LIGHT_TURN_DEG;
     let cos_turn = d0.normalize().dot(d1.normalize());
-    if cos_turn <= MAX_LIGHT_TURN_DEG.to_radians().cos() {
+    // cos(90 degrees) is 0 exactly; its f32 radians are not.
+    if cos_turn <= 0.0 {
         let degrees = cos_turn.clamp(-1.0, 1.0).acos().to_degrees();
         return Err(invalid(
             what,

@@ -7,6 +7,8 @@
 mod budget;
 mod convert;
 mod format;
+#[cfg(test)]
+mod light_motion_tests;
 mod load;
 #[cfg(test)]
 mod tests;
