@@ -1,0 +1,128 @@
+//! A moving light end to end where it is supported today: the ray tracer and the exact
+//! deferred truth take it (their closed-form tests are the library crate's
+//! `raytrace::tests::moving_light`), `--json` says the light moves, the shadow-map methods
+//! refuse it by name, and a light whose t = 1 pose is its t = 0 pose renders bit for bit as
+//! the still light.
+
+use motion_shadows_app::raytrace::deferred::deferred_truth;
+use motion_shadows_app::render::{Method, RenderSettings};
+use motion_shadows_app::scene::{BuiltinOptions, Light, Scene, SpotPose, builtin};
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn motion_shadows(args: &[&str], out: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .env("MOTION_SHADOWS_VALIDATION", "1")
+        .output()
+        .expect("run the binary")
+}
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("motion-shadows-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+const SMALL: [&str; 6] = ["--width", "32", "--height", "24", "--spp", "2"];
+
+#[test]
+fn json_says_whether_the_light_moves() {
+    let dir = temp_dir("light-moves");
+    for (scene, moves) in [("moving-light", true), ("cubes-toward-light", false)] {
+        let mut args = vec!["render", "--scene", scene, "--method", "raytrace", "--json"];
+        args.extend(SMALL);
+        let out = motion_shadows(&args, &dir);
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(json["light_moves"], moves, "{scene}");
+    }
+    // The deferred frame's exact truth takes the moving light too.
+    let args = [
+        "render",
+        "--frame",
+        "deferred",
+        "--scene",
+        "moving-light",
+        "--method",
+        "raytrace",
+        "--width",
+        "32",
+        "--height",
+        "24",
+    ];
+    let out = motion_shadows(&args, &dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn shadow_map_methods_refuse_a_moving_light_by_name() {
+    let dir = temp_dir("light-refused");
+    for (command, method) in [
+        (vec!["render"], "temporal"),
+        (vec!["render"], "tsm"),
+        (vec!["render", "--frame", "deferred"], "temporal"),
+    ] {
+        let mut args = command.clone();
+        args.extend(["--scene", "moving-light", "--method", method]);
+        // `--spp` is the forward frame's only.
+        args.extend(&SMALL[..if command.len() == 1 { 6 } else { 4 }]);
+        let out = motion_shadows(&args, &dir);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} ran");
+        assert!(
+            stderr.contains("light moves") && stderr.contains("\"t1\"") && stderr.contains(method),
+            "{args:?}: {stderr}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `moving-light` with its light held at the t = 0 pose: once without `t1`, once with a
+/// `t1` equal to t = 0 (the moving light's arithmetic, no motion).
+fn held_still(with_t1: bool) -> Scene {
+    let mut scene = builtin("moving-light", &BuiltinOptions::default()).unwrap();
+    let Light::Spot(light) = &mut scene.light else {
+        panic!("spot expected")
+    };
+    light.t1 = with_t1.then_some(SpotPose {
+        position: light.position,
+        direction: light.direction,
+    });
+    scene
+}
+
+#[test]
+fn a_light_whose_t1_is_its_t0_renders_as_the_still_light_to_the_bit() {
+    let settings = RenderSettings {
+        width: 32,
+        height: 24,
+        spp: 2,
+        method: Method::Raytrace,
+        ..RenderSettings::default()
+    };
+    let [still, same] = [false, true].map(|with_t1| {
+        motion_shadows_app::raytrace::render(&held_still(with_t1), &settings, &mut |_| {}).unwrap()
+    });
+    assert!(!still.stats.light_moves && same.stats.light_moves);
+    let bits = |rgb: &[f32]| rgb.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&still.image.rgb), bits(&same.image.rgb));
+    let [still, same] = [false, true].map(|with_t1| {
+        deferred_truth(&held_still(with_t1), 32, 24, 0.5, (64, 64), &mut |_| {}).unwrap()
+    });
+    assert_eq!(bits(&still.rgb), bits(&same.rgb));
+    assert_eq!(bits(&still.lit), bits(&same.lit));
+    // Not a vacuous comparison: the scene has shadows.
+    assert!(still.lit.iter().any(|&l| l < 0.5), "no shadow in view");
+}
