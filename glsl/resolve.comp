@@ -272,13 +272,16 @@ void main() {
     uint facing = 0u;
     bool spot = light.position.w > 0.5;
     [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
-        vec3 to_light = spot ? light.position.xyz - point[j] : -light.direction.xyz;
+        // A moving light shades each sample from where it is at the sample's time.
+        MsLight at = light;
+        if (SHADE_SHADOW == SHADOW_TEMPORAL) at = ms_map_at(temporal, t[j]).light;
+        vec3 to_light = spot ? at.position.xyz - point[j] : -at.direction.xyz;
         float dist2 = spot ? dot(to_light, to_light) : 1.0;
         vec3 l = normalize(to_light);
         float cos_theta = dot(normal[j], l);
         ambient[j] = camera.shading.x * albedo[j];
-        direct[j] = albedo[j] / PI * light.emission.x * cos_theta / dist2;
-        bool away = cos_theta <= 0.0 || (spot && dot(-l, light.direction.xyz) < light.direction.w);
+        direct[j] = albedo[j] / PI * at.emission.x * cos_theta / dist2;
+        bool away = cos_theta <= 0.0 || (spot && dot(-l, at.direction.xyz) < at.direction.w);
         if (id[j] != NO_TRIANGLE && !away) facing |= 1u << j;
     }
 
@@ -290,7 +293,8 @@ void main() {
         float depth[SHADE_SAMPLES];
         uint seen = 0u;
         [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
-            bool tested = ms_receiver(temporal, point[j], normal[j], texel[j], depth[j]);
+            bool tested =
+                ms_receiver(ms_map_at(temporal, t[j]), point[j], normal[j], texel[j], depth[j]);
             if ((facing & (1u << j)) != 0u && tested) seen |= 1u << j;
         }
         uint shadowed = ms_samples_shadowed(temporal, seen, texel, depth, t, id);

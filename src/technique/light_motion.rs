@@ -16,6 +16,7 @@
 //! position under the turned view at t, and differs from it by a term in t (1 - t) that
 //! grows with the turn (see docs/src/scene-format.md, "A moving light").
 
+use super::gpu_types::GpuLightEnd;
 use super::view::LightView;
 use glam::camera::rh::view::look_at_mat4;
 use glam::{Mat4, Quat, Vec3};
@@ -89,6 +90,30 @@ impl LightView {
                 self.direction.lerp(end.direction, t).normalize(),
             ),
         }
+    }
+
+    /// The pose at t = 1 as a temporal map's header holds it (zeros for a still light).
+    pub fn gpu_end(&self) -> GpuLightEnd {
+        match &self.end {
+            None => GpuLightEnd::default(),
+            Some(end) => GpuLightEnd {
+                view: end.view,
+                position: end.position.extend(1.0),
+                direction: end.direction.extend(self.gpu().direction.w),
+            },
+        }
+    }
+
+    /// Refused with [`crate::Error::InvalidArgument`] naming `what` (a pass or a setting that
+    /// does not take a moving light yet) where this light moves.
+    pub(crate) fn refuse_moving(&self, what: &str) -> crate::Result<()> {
+        if self.is_moving() {
+            return Err(crate::Error::InvalidArgument(format!(
+                "{what} does not take a moving light (LightView::end) yet: build it with the \
+                 light still, or use the temporal map's depth-line lookup"
+            )));
+        }
+        Ok(())
     }
 
     /// World -> light clip at t = 1 (at t = 0 for a still light): the matrix the shutter's

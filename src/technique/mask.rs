@@ -433,6 +433,13 @@ impl VisibilityMaskPass {
         inputs: &MaskInputs,
         map: &TemporalShadowMap,
     ) -> Result<()> {
+        if map.recorded_for_moving_light() {
+            return Err(Error::InvalidArgument(
+                "the visibility mask does not take a map built for a moving light \
+                 (LightView::end) yet: the lighting pass does"
+                    .to_owned(),
+            ));
+        }
         if inputs.ids.is_none() {
             if let Some(why) = ids_required_by(inputs, map.recorded_lookup()) {
                 return Err(Error::InvalidArgument(format!(

@@ -71,9 +71,9 @@ pub use gbuffer::{
 };
 pub use generation::GenerationPass;
 pub use gpu_types::{
-    CameraParams, Counters, DepthFormat, DrawRecord, FIXED_TIME, GpuLight, LongListHeader,
-    MAX_LIST_NODES, NO_TRIANGLE, Node, PlainMapHeader, Range, ShadowMapHeader, ShadowMode,
-    TriangleRecord,
+    CameraParams, Counters, DepthFormat, DrawRecord, FIXED_TIME, GpuLight, GpuLightEnd,
+    LongListHeader, MAX_LIST_NODES, NO_TRIANGLE, Node, PlainMapHeader, Range, ShadowMapHeader,
+    ShadowMode, TriangleRecord,
 };
 #[cfg(feature = "research")]
 pub use image_output::LightingImageOutput;

@@ -104,6 +104,8 @@ pub struct TemporalShadowMap {
     pub(crate) static_names: Option<Buffer>,
     /// Whether the last recorded collection built the map for [`Lookup::Exact`].
     built_for_exact: AtomicBool,
+    /// Whether its last recorded collection was for a moving light ([`LightView::end`]).
+    built_for_moving_light: AtomicBool,
 }
 
 /// What the static layer holds for keeping: nothing is kept on the strength of a recording
@@ -343,6 +345,7 @@ impl TemporalShadowMap {
             triangle_records: None,
             static_names: None,
             built_for_exact: AtomicBool::new(false),
+            built_for_moving_light: AtomicBool::new(false),
         })
     }
 
@@ -423,6 +426,12 @@ impl TemporalShadowMap {
         coverage: Option<&CoverageMap>,
     ) -> bool {
         light.lookup == Lookup::Exact && self.uses_static_layer(light, coverage)
+    }
+
+    /// Whether the last recorded collection built the map for a moving light
+    /// ([`LightView::end`]; false before any).
+    pub fn recorded_for_moving_light(&self) -> bool {
+        self.built_for_moving_light.load(Ordering::Relaxed)
     }
 
     /// The lookup the last recorded collection built the map for ([`LightView::lookup`];
@@ -528,6 +537,8 @@ impl TemporalShadowMap {
         let sorted = self.sorts_ranges(light, coverage);
         self.built_for_exact
             .store(light.lookup == Lookup::Exact, Ordering::Relaxed);
+        self.built_for_moving_light
+            .store(light.is_moving(), Ordering::Relaxed);
         let header = ShadowMapHeader {
             light: light.gpu(),
             size: UVec4::new(self.width, self.height, sorted as u32 * MS_SORTED_RANGES, 0),
@@ -561,6 +572,7 @@ impl TemporalShadowMap {
                 Some(names) if self.uses_static_names(light, coverage) => names.device_address(),
                 _ => 0,
             },
+            light_end: light.gpu_end(),
         };
         if outer_barriers {
             // SAFETY: `cmd` is recording outside a render pass on a graphics and compute queue (the

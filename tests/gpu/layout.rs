@@ -18,8 +18,8 @@ use motion_shadows::technique::push_constants::{
     RadiancePush, RasterCamera, RasterPush, ShadePush, TsmMaskPush,
 };
 use motion_shadows::technique::{
-    CameraParams, Counters, DrawRecord, GpuLight, LongListHeader, Node, PlainMapHeader, Range,
-    ShadowMapHeader,
+    CameraParams, Counters, DrawRecord, GpuLight, GpuLightEnd, LongListHeader, Node,
+    PlainMapHeader, Range, ShadowMapHeader,
 };
 
 /// SPIR-V of the probe, its `#include`s resolved from `glsl/` (and the generated constants).
@@ -149,6 +149,11 @@ fn shared_structs_match_glsl() {
         list_ranges: val.a(),
         triangles: val.a(),
         static_names: val.a(),
+        light_end: GpuLightEnd {
+            view: val.m(),
+            position: val.v(),
+            direction: val.v(),
+        },
     };
     let plain = PlainMapHeader {
         light: val.light(),
@@ -362,6 +367,9 @@ fn shared_structs_match_glsl() {
     ] {
         expected.a(a);
     }
+    expected.m(shadow.light_end.view);
+    expected.v(shadow.light_end.position);
+    expected.v(shadow.light_end.direction);
     expected.light(&plain.light);
     expected.uv(plain.size);
     expected.a(plain.depths);

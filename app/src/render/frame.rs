@@ -98,7 +98,7 @@ impl Renderer<'_> {
             // SAFETY: a OneShot command buffer of this context, recording, outside rendering.
             unsafe { draws.record_update(this.ctx.device(), cmd, &geometry.draws) }
         })?;
-        let light = forward_light(scene, settings);
+        let light = upload::with_motion(scene, forward_light(scene, settings))?;
         let view = LightingView {
             camera: upload::camera_view(scene, (settings.width, settings.height)),
             seed: settings.seed,

@@ -4,6 +4,7 @@
 //! host-geometry interface, not a private door.
 
 use crate::error::Result;
+use crate::render::{Method, RenderSettings};
 use crate::scene::{Light, Scene};
 use motion_shadows::gpu::{Buffer, BufferUsage, Context};
 use motion_shadows::technique::{CameraView, Draw, Indices, LightView, PositionStream};
@@ -125,8 +126,8 @@ pub fn camera_view(scene: &Scene, image_size: (u32, u32)) -> CameraView {
     )
 }
 
-/// The light of `scene` at t = 0 (a still light's only pose); what the shadow-map methods
-/// take, which refuse a moving light ([`refuse_moving_light`]).
+/// The light of `scene` at t = 0 (a still light's only pose); [`with_motion`] adds its pose at
+/// t = 1.
 pub fn light_view(scene: &Scene, shadow_size: (u32, u32)) -> LightView {
     match &scene.light {
         Light::Spot(s) => LightView::spot(
@@ -155,7 +156,12 @@ pub fn light_view(scene: &Scene, shadow_size: (u32, u32)) -> LightView {
 /// the scene's light moves (`LightView::moving_to`). Refused for poses `Scene::validate`
 /// refuses too (a turn of 90 degrees or more).
 pub fn moving_light_view(scene: &Scene, shadow_size: (u32, u32)) -> Result<LightView> {
-    let light = light_view(scene, shadow_size);
+    with_motion(scene, light_view(scene, shadow_size))
+}
+
+/// `light` (a view of the scene's light at t = 0, with whatever settings) moving as the
+/// scene's light does; as it is for a still light.
+pub fn with_motion(scene: &Scene, light: LightView) -> Result<LightView> {
     let end = match &scene.light {
         Light::Spot(s) => s.t1.map(|end| (end.position, end.direction)),
         Light::Directional(d) => d.t1.map(|end| (d.eye_t1(), end.direction)),
@@ -166,14 +172,36 @@ pub fn moving_light_view(scene: &Scene, shadow_size: (u32, u32)) -> Result<Light
     })
 }
 
-/// Refuses a scene whose light moves for `method`, a shadow-map method, which does not take
-/// a moving light yet (issue 38): its map would be built with the light at t = 0 only.
+/// Refuses a moving light for the forward frame's settings that do not take one yet: every
+/// method but the temporal map (`--method temporal`), and with it the exact lookup
+/// (`--lookup exact`) and the analytic estimator (`--shadow-estimator analytic`), named.
+pub fn check_moving_light_forward(scene: &Scene, settings: &RenderSettings) -> Result<()> {
+    use motion_shadows::technique::{Lookup, ShadowEstimator};
+    if settings.method != Method::Temporal {
+        return refuse_moving_light(
+            scene,
+            &format!("{} (the forward frame)", settings.method_name()),
+        );
+    }
+    if settings.lookup == Lookup::Exact {
+        return refuse_moving_light(scene, "temporal --lookup exact");
+    }
+    if settings.shadow_estimator == ShadowEstimator::Analytic {
+        return refuse_moving_light(scene, "temporal --shadow-estimator analytic");
+    }
+    Ok(())
+}
+
+/// Refuses a scene whose light moves for `method`, a shadow-map method (or setting) that
+/// does not take a moving light yet (issue 38): its map would be built with the light at
+/// t = 0 only.
 pub fn refuse_moving_light(scene: &Scene, method: &str) -> Result<()> {
     if scene.light.moves() {
         return Err(crate::error::Error::InvalidArgument(format!(
             "scene {:?}: its light moves during the shutter (the light's \"t1\"), which \
-             --method {method} does not take yet; --method raytrace (and `deferred \
-             --method raytrace`, the exact truth) do",
+             --method {method} does not take yet; the forward frame's --method temporal \
+             (depth lookup, sampled estimator) and --method raytrace (and `render --frame \
+             deferred --method raytrace`, the exact truth) do",
             scene.name
         )));
     }

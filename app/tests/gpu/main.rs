@@ -22,6 +22,7 @@ mod generation;
 mod host_geometry;
 mod lighting;
 mod loop_limit;
+mod moving_light;
 mod range_bound;
 mod range_storage;
 mod receiver_plane;

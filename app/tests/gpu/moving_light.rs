@@ -1,0 +1,89 @@
+//! The temporal map under a moving light (issue 38): built in the light's moving frame and
+//! looked up with the light at each sample's time, against the ray tracer on the same samples
+//! (the light at each sample's time, exact; nothing shared with the map).
+//!
+//! The bound: the same scene with its light held still, whose error against its own truth is
+//! the map's discretisation alone (texels, normal offset, bias). The translating light is the
+//! exact case of the moving frame, so the moving light must agree about as well; a map that
+//! ignored the light's motion (the still light's image against the moving light's truth) is
+//! far off, so the bound can tell.
+
+use crate::support::gpu::{assert_no_validation_messages, context, render};
+use motion_shadows_app::compare::error_stats;
+use motion_shadows_app::render::{Method, RenderResult, RenderSettings};
+use motion_shadows_app::scene::{BuiltinOptions, Light, Scene, SpotPose, builtin};
+
+fn settings(method: Method) -> RenderSettings {
+    RenderSettings {
+        width: 96,
+        height: 72,
+        spp: 8,
+        seed: 1,
+        shadow_size: Some((1024, 1024)),
+        method,
+        ..RenderSettings::default()
+    }
+}
+
+/// `moving-light`, its light as built (`Some`: carried), held still (`None`), or with a t = 1
+/// pose equal to t = 0's (`Some(Vec3::ZERO)`: moving by nothing).
+fn scene(carried: Option<glam::Vec3>) -> Scene {
+    let mut scene = builtin("moving-light", &BuiltinOptions::default()).unwrap();
+    let Light::Spot(light) = &mut scene.light else {
+        panic!("spot expected")
+    };
+    let built = light.t1.unwrap();
+    light.t1 = carried.map(|by| SpotPose {
+        position: if by == glam::Vec3::ZERO {
+            light.position
+        } else {
+            built.position
+        },
+        direction: light.direction,
+    });
+    scene
+}
+
+fn truth(scene: &Scene) -> RenderResult {
+    motion_shadows_app::raytrace::render(scene, &settings(Method::Raytrace), &mut |_| {}).unwrap()
+}
+
+#[test]
+fn a_carried_light_renders_like_the_ray_tracer() {
+    let ctx = context();
+    let moving = scene(Some(glam::Vec3::X));
+    let still = scene(None);
+    let (moving_truth, still_truth) = (truth(&moving), truth(&still));
+    let moving_map = render(&ctx, &moving, &settings(Method::Temporal));
+    let still_map = render(&ctx, &still, &settings(Method::Temporal));
+    let rmse = |image, truth| error_stats(image, truth, None).unwrap().rmse;
+    let moving_error = rmse(&moving_map.image, &moving_truth.image);
+    let still_error = rmse(&still_map.image, &still_truth.image);
+    let ignored = rmse(&still_map.image, &moving_truth.image);
+    eprintln!(
+        "RMSE against the ray tracer: carried light {moving_error:.5}, still light \
+         {still_error:.5}, the light's motion ignored {ignored:.5}"
+    );
+    assert!(moving_map.stats.light_moves && !still_map.stats.light_moves);
+    // Every draw is collected as moving: no static layer.
+    assert_eq!(moving_map.stats.static_layer_bytes, 0);
+    assert!(still_map.stats.static_layer_bytes > 0);
+    assert!(
+        moving_error < 1.5 * still_error.max(1e-3),
+        "{moving_error} vs {still_error}"
+    );
+    assert!(ignored > 4.0 * moving_error, "{ignored} vs {moving_error}");
+    // A light moving by nothing: the moving frame's arithmetic leaves the still light's view
+    // as it is, and the still draws collected as moving store the same shadow the static
+    // layer does: the same image, to the bit.
+    let unmoved = render(
+        &ctx,
+        &scene(Some(glam::Vec3::ZERO)),
+        &settings(Method::Temporal),
+    );
+    let differs = (unmoved.image.rgb.iter().zip(&still_map.image.rgb))
+        .filter(|(a, b)| a.to_bits() != b.to_bits())
+        .count();
+    assert_eq!(differs, 0, "a light moving by nothing changed the image");
+    assert_no_validation_messages(&ctx);
+}
