@@ -803,11 +803,13 @@ struct MsLightPath {
     float t;
 };
 
-// False where the path never enters the light's view.
-bool ms_path_start(MsLight light, uvec2 size, vec3 p0, vec3 p1, out MsLightPath path) {
-    mat4 to_clip = light.proj * light.view;
-    path.c0 = to_clip * vec4(p0, 1.0);
-    path.dc = to_clip * vec4(p1, 1.0) - path.c0;
+// False where the path never enters the light's view. p0 is seen from `light0` (the light at
+// t = 0), p1 from `light1` (at t = 1: the same light where it is still), and the clip
+// position blended between: a moving light's frame, as its map was built.
+bool ms_path_start(MsLight light0, MsLight light1, uvec2 size, vec3 p0, vec3 p1,
+                   out MsLightPath path) {
+    path.c0 = (light0.proj * light0.view) * vec4(p0, 1.0);
+    path.dc = (light1.proj * light1.view) * vec4(p1, 1.0) - path.c0;
     vec4 c0 = path.c0, dc = path.dc;
     path.lo = 0.0;
     path.hi = 1.0;
@@ -923,11 +925,17 @@ void ms_walk_end(inout MsWalk walk, uint budget, bool stopped, float t, ivec2 te
 void ms_walk_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own, uint budget,
                     inout MsWalk walk) {
     MsLight light = map.light;
+    // A moving light: the point at t = 1 seen from the light at t = 1 (ms_map_at), its clip
+    // position and light depth blended between the ends, as the map's vertices were; for a
+    // translating light that is exact.
+    bool moving_light = light.emission.y != 0.0;
+    MsLight light1 = light;
+    if (moving_light) light1 = ms_map_at(map, 1.0).light;
     // The normal offset is linear in the point's light depth, so the offset point moves
     // linearly too.
-    vec3 q0 = ms_offset_receiver(light, p0, n), q1 = ms_offset_receiver(light, p1, n);
+    vec3 q0 = ms_offset_receiver(light, p0, n), q1 = ms_offset_receiver(light1, p1, n);
     MsLightPath path;
-    if (!ms_path_start(light, map.size, q0, q1, path)) {
+    if (!ms_path_start(light, light1, map.size, q0, q1, path)) {
         walk.state = MS_WALK_DONE;
         walk.sum = 1.0;
         return;
@@ -938,7 +946,7 @@ void ms_walk_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own, uint budget,
         path.texel = walk.texel;
         lit = walk.sum;
     }
-    float depth0 = -(light.view * vec4(q0, 1.0)).z, depth1 = -(light.view * vec4(q1, 1.0)).z;
+    float depth0 = -(light.view * vec4(q0, 1.0)).z, depth1 = -(light1.view * vec4(q1, 1.0)).z;
     uint stop_count = ms_walk_stop_count(budget);
     bool stopped = false;
     for (uint crossed = 0u; path.t < path.hi && crossed <= map.size.x + map.size.y; ++crossed) {
@@ -950,8 +958,15 @@ void ms_walk_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own, uint budget,
         uvec2 at = uvec2(path.texel);
         float t = path.t, exit;
         bool inside = ms_path_advance(path, map.size, exit);
-        float da = ms_tested_depth(light, map.size, at, mix(q0, q1, t), n, mix(depth0, depth1, t));
-        float db = ms_tested_depth(light, map.size, at, mix(q0, q1, exit), n,
+        // (A moving light's receiver plane is taken in the light's frame at each end.)
+        MsLight light_a = light, light_b = light;
+        if (moving_light) {
+            light_a = ms_map_at(map, t).light;
+            light_b = ms_map_at(map, exit).light;
+        }
+        float da = ms_tested_depth(light_a, map.size, at, mix(q0, q1, t), n,
+                                   mix(depth0, depth1, t));
+        float db = ms_tested_depth(light_b, map.size, at, mix(q0, q1, exit), n,
                                    mix(depth0, depth1, exit));
         lit += ms_texel_lit_span(map, at.y * map.size.x + at.x, vec2(t, exit), vec2(da, db), own);
         ++walk.walked;
@@ -963,6 +978,11 @@ void ms_walk_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own, uint budget,
         }
     }
     ms_walk_end(walk, budget, stopped, path.t, path.texel, lit, min(lit, 1.0));
+}
+
+// The still light's path of a point (see ms_path_start).
+bool ms_path_start(MsLight light, uvec2 size, vec3 p0, vec3 p1, out MsLightPath path) {
+    return ms_path_start(light, light, size, p0, p1, path);
 }
 
 float ms_lit_fraction_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own) {

@@ -433,10 +433,12 @@ impl VisibilityMaskPass {
         inputs: &MaskInputs,
         map: &TemporalShadowMap,
     ) -> Result<()> {
-        if map.recorded_for_moving_light() {
+        if map.recorded_for_moving_light() && inputs.motion.is_none() {
+            // Under a moving light no receiver stands still in the light's frame: only the
+            // moving receivers' walk follows one.
             return Err(Error::InvalidArgument(
-                "the visibility mask does not take a map built for a moving light \
-                 (LightView::end) yet: the lighting pass does"
+                "a map built for a moving light (LightView::end) needs the moving receivers' \
+                 mask (MaskInputs::motion; zero motion for still pixels)"
                     .to_owned(),
             ));
         }

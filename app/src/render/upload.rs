@@ -4,6 +4,7 @@
 //! host-geometry interface, not a private door.
 
 use crate::error::Result;
+use crate::render::deferred::{DeferredMethod, DeferredSettings};
 use crate::render::{Method, RenderSettings};
 use crate::scene::{Light, Scene};
 use motion_shadows::gpu::{Buffer, BufferUsage, Context};
@@ -192,6 +193,21 @@ pub fn check_moving_light_forward(scene: &Scene, settings: &RenderSettings) -> R
     Ok(())
 }
 
+/// Refuses a moving light for the deferred frame's settings that do not take one yet: every
+/// method but the temporal map's mask (`--method temporal`), and with it the exact lookup
+/// (`--lookup exact`) and standing receivers (`--static-receivers`: under a moving light no
+/// receiver stands still in the light's frame), named.
+pub fn check_moving_light_deferred(scene: &Scene, deferred: &DeferredSettings) -> Result<()> {
+    use motion_shadows::technique::Lookup;
+    if deferred.method != DeferredMethod::Temporal || deferred.lookup == Lookup::Exact {
+        return refuse_moving_light(scene, &format!("{} (the deferred frame)", deferred.name()));
+    }
+    if !deferred.moving_receivers {
+        return refuse_moving_light(scene, "temporal --static-receivers (the deferred frame)");
+    }
+    Ok(())
+}
+
 /// Refuses a scene whose light moves for `method`, a shadow-map method (or setting) that
 /// does not take a moving light yet (issue 38): its map would be built with the light at
 /// t = 0 only.
@@ -199,9 +215,9 @@ pub fn refuse_moving_light(scene: &Scene, method: &str) -> Result<()> {
     if scene.light.moves() {
         return Err(crate::error::Error::InvalidArgument(format!(
             "scene {:?}: its light moves during the shutter (the light's \"t1\"), which \
-             --method {method} does not take yet; the forward frame's --method temporal \
-             (depth lookup, sampled estimator) and --method raytrace (and `render --frame \
-             deferred --method raytrace`, the exact truth) do",
+             --method {method} does not take yet; --method temporal (depth lookup; the \
+             forward frame's sampled estimator, the deferred frame's moving receivers) and \
+             --method raytrace (both frames: the exact truth) do",
             scene.name
         )));
     }
