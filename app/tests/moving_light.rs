@@ -1,8 +1,8 @@
-//! A moving light end to end where it is supported today: the ray tracer and the exact
-//! deferred truth take it (their closed-form tests are the library crate's
-//! `raytrace::tests::moving_light`), `--json` says the light moves, the shadow-map methods
-//! refuse it by name, and a light whose t = 1 pose is its t = 0 pose renders bit for bit as
-//! the still light.
+//! A moving light on the command line: the ray tracer, the exact deferred truth and the
+//! temporal map (forward frame and deferred mask) take it (their tests against closed forms
+//! and the truth: `raytrace::tests::moving_light`, `tests/gpu/moving_light.rs`), `--json` says
+//! the light moves, what does not take it yet refuses it by name, and a light whose t = 1
+//! pose is its t = 0 pose renders bit for bit as the still light in the tracer.
 
 use motion_shadows_app::raytrace::deferred::deferred_truth;
 use motion_shadows_app::render::{Method, RenderSettings};
@@ -31,8 +31,12 @@ const SMALL: [&str; 6] = ["--width", "32", "--height", "24", "--spp", "2"];
 #[test]
 fn json_says_whether_the_light_moves() {
     let dir = temp_dir("light-moves");
-    for (scene, moves) in [("moving-light", true), ("cubes-toward-light", false)] {
-        let mut args = vec!["render", "--scene", scene, "--method", "raytrace", "--json"];
+    for (scene, method, moves) in [
+        ("moving-light", "raytrace", true),
+        ("moving-light", "temporal", true),
+        ("cubes-toward-light", "raytrace", false),
+    ] {
+        let mut args = vec!["render", "--scene", scene, "--method", method, "--json"];
         args.extend(SMALL);
         let out = motion_shadows(&args, &dir);
         assert!(
@@ -42,47 +46,67 @@ fn json_says_whether_the_light_moves() {
         );
         let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         assert_eq!(json["light_moves"], moves, "{scene}");
+        if method == "temporal" {
+            // Nothing stands still relative to a moving light: no static layer.
+            assert_eq!(json["static_layer_bytes"], 0, "{scene}");
+        }
     }
-    // The deferred frame's exact truth takes the moving light too.
-    let args = [
-        "render",
-        "--frame",
-        "deferred",
-        "--scene",
-        "moving-light",
-        "--method",
-        "raytrace",
-        "--width",
-        "32",
-        "--height",
-        "24",
-    ];
-    let out = motion_shadows(&args, &dir);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    // The deferred frame's mask and its exact truth take the moving light too.
+    for method in ["temporal", "raytrace"] {
+        let args = [
+            "render",
+            "--frame",
+            "deferred",
+            "--scene",
+            "moving-light",
+            "--method",
+            method,
+            "--width",
+            "32",
+            "--height",
+            "24",
+        ];
+        let out = motion_shadows(&args, &dir);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
     std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
-fn shadow_map_methods_refuse_a_moving_light_by_name() {
+fn what_does_not_take_a_moving_light_refuses_it_by_name() {
     let dir = temp_dir("light-refused");
-    for (command, method) in [
-        (vec!["render"], "temporal"),
-        (vec!["render"], "tsm"),
-        (vec!["render", "--frame", "deferred"], "temporal"),
+    let forward = |extra: &[&'static str]| {
+        let mut args = vec!["render", "--scene", "moving-light"];
+        args.extend(extra);
+        args.extend(SMALL);
+        args
+    };
+    // `--spp` is the forward frame's only.
+    let deferred = |extra: &[&'static str]| {
+        let mut args = vec!["render", "--frame", "deferred", "--scene", "moving-light"];
+        args.extend(extra);
+        args.extend(&SMALL[..4]);
+        args
+    };
+    for (args, named) in [
+        (forward(&["--method", "tsm"]), "--method tsm"),
+        (forward(&["--lookup", "exact"]), "--lookup exact"),
+        (
+            forward(&["--shadow-estimator", "analytic"]),
+            "--shadow-estimator analytic",
+        ),
+        (deferred(&["--method", "tsm"]), "--method tsm"),
+        (deferred(&["--static-receivers"]), "--static-receivers"),
     ] {
-        let mut args = command.clone();
-        args.extend(["--scene", "moving-light", "--method", method]);
-        // `--spp` is the forward frame's only.
-        args.extend(&SMALL[..if command.len() == 1 { 6 } else { 4 }]);
         let out = motion_shadows(&args, &dir);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{args:?} ran");
         assert!(
-            stderr.contains("light moves") && stderr.contains("\"t1\"") && stderr.contains(method),
+            stderr.contains("light moves") && stderr.contains("\"t1\"") && stderr.contains(named),
             "{args:?}: {stderr}"
         );
     }

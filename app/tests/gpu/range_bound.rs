@@ -38,7 +38,7 @@ fn the_bound_never_exceeds_the_ranges_stored() {
     for &name in BUILTIN_NAMES {
         let scene = builtin(name, &BuiltinOptions::default()).unwrap();
         if scene.light.moves() {
-            continue; // the shadow-map methods refuse a moving light (moving-light)
+            continue; // no bound is claimed for a moving light (moving-light)
         }
         for static_layer in [true, false] {
             let s = settings((512, 512), static_layer);

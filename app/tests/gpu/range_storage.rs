@@ -106,7 +106,8 @@ fn sorted_ranges_render_what_the_lists_render() {
         cube_size: 16.0,
         ..options.clone()
     };
-    // The shadow-map methods refuse a moving light (moving-light).
+    // Not moving-light: its light moves (no static layer, none of the pruning rules' cases;
+    // its map is checked against the ray tracer in moving_light.rs).
     let scenes = (BUILTIN_NAMES
         .iter()
         .map(|&name| (name, builtin(name, &options).unwrap()))
