@@ -231,7 +231,9 @@ impl PlainShadowPass {
     }
 
     /// Renders layer i of `map` with the scene at `times[i]` into the map's attachments
-    /// (cleared first: depth 1, ids [`NO_TRIANGLE`]), and writes its header for `light`.
+    /// (cleared first: depth 1, ids [`NO_TRIANGLE`]), and writes its header for `light`
+    /// (with its pose at t = 0 for every layer: a moving light's [`LightView::end`] is not
+    /// read; the standalone renderer refuses a moving light for these maps).
     ///
     /// # Safety
     /// As [`super::CollectionPass::record`] (for `map` instead of a temporal map); must be

@@ -62,20 +62,22 @@ impl RangeCeiling {
     /// For a map of `width` x `height` texels lit by `light`; None with the papers' prisms
     /// (`PrismConstruction::Paper`, not bounded here) and with the exact lookup's
     /// conservative collection (`Lookup::Exact`: it covers whole texels, this counts runs
-    /// at texel centres).
+    /// at texel centres), and for a moving light (`LightView::end`: its triangles move in
+    /// the light's moving frame, which this does not follow).
     pub fn new(light: &LightView, width: u32, height: u32) -> Option<Self> {
-        (light.prisms == PrismConstruction::Exact && light.lookup == Lookup::DepthLine).then(|| {
-            Self {
-                setup: Setup {
-                    to_view: light.view.as_dmat4(),
-                    proj: light.proj.as_dmat4(),
-                    orthographic: !light.is_spot(),
-                    map: Map {
-                        width: f64::from(width),
-                        height: f64::from(height),
-                    },
+        let bounded = light.prisms == PrismConstruction::Exact
+            && light.lookup == Lookup::DepthLine
+            && !light.is_moving();
+        bounded.then(|| Self {
+            setup: Setup {
+                to_view: light.view.as_dmat4(),
+                proj: light.proj.as_dmat4(),
+                orthographic: !light.is_spot(),
+                map: Map {
+                    width: f64::from(width),
+                    height: f64::from(height),
                 },
-            }
+            },
         })
     }
 
