@@ -124,11 +124,11 @@ void main() {
         }
     }
     MsLight light = map.light;
-    // A moving light (emission.y = 1): each vertex's t = 1 position is seen from the light at
-    // t = 1, and its light-clip position is blended between the two (the light's moving
-    // frame; the lookups project receivers the same way, ms_map_at).
+    // A moving light: each vertex's t = 1 position is seen from the light at t = 1, its
+    // light-clip position blended between the two (the light's moving frame,
+    // light_motion.glsl).
     mat4 view1 = light.view;
-    if (light.emission.y != 0.0) view1 = map.light_end.view;
+    if (ms_light_moves(light)) view1 = ms_light_end(pc.map).view;
     bool orthographic = light.position.w == 0.0;
 
     vec3 v0[3], v1[3];

@@ -52,20 +52,11 @@ struct MsLight {
     mat4 proj;          // light view -> clip (Vulkan: z in [0, w], y down)
     vec4 position;      // xyz; w = 1 for a spot light, 0 for a directional light
     vec4 direction;     // xyz unit; w = cos(cone half angle) (-1 for directional)
-    vec4 emission;      // x = intensity (W/sr, spot) or irradiance (W/m^2, directional);
-                        // y = 1 where the light moves (the map's header has MsLightEnd)
+    vec4 emission;      // x = intensity (W/sr, spot) or irradiance (W/m^2, directional)
     vec4 bias;          // x = receiver offset along its normal, in shadow texels;
                         // y = relative depth bias (depth d is tested as d * (1 - y));
                         // z = world size of a texel per unit depth (spot) or absolute;
                         // w = 1: test the receiver's plane at the texel centre
-};
-
-// A moving light's pose at t = 1 (std430, 96 bytes), at the end of a temporal map's header;
-// zeros for a still light.
-struct MsLightEnd {
-    mat4 view;          // world -> light view at t = 1
-    vec4 position;      // xyz at t = 1; w = 1
-    vec4 direction;     // xyz unit at t = 1; w = cos(cone half angle), as MsLight's
 };
 
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer MsUints {
@@ -109,7 +100,6 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ms
                               // id its world corners at t = 0 and t = 1 (exact_lookup.glsl)
     uint64_t static_names;    // 0, or with the exact lookup and the static layer: MsStaticNames,
                               // per texel the static triangles whose shadow touches it
-    MsLightEnd light_end;     // the light's pose at t = 1 where it moves (light.emission.y = 1)
 };
 
 // Where a world point falls in the light's image, in texels from the map's corner
@@ -295,7 +285,6 @@ struct MsMap {
     bool sorted;            // size.z == MS_SORTED_RANGES
     uint64_t triangles;     // 0, or the exact lookup's triangle records
     uint64_t static_names;  // 0, or the exact lookup's static name lists
-    uint64_t header;        // the MsShadowMap it was loaded from (a moving light's end pose)
 };
 
 // The same header as 64-bit words (ms_load reads it so: half the loads of its 32-bit
@@ -341,26 +330,7 @@ MsMap ms_load(MsShadowMap header) {
     return MsMap(light, unpackUint2x32(words.size), words.range_heads, words.ranges,
                  words.coverage, words.cover_depth, words.static_nearest,
                  unpackUint2x32(words.size_zw).x == MS_SORTED_RANGES, words.triangles,
-                 words.static_names, uint64_t(header));
-}
-
-// The map as a receiver at time t reads it. A light that moves during the shutter
-// (light.emission.y = 1) had each vertex's light-clip position blended between the t = 0
-// view and the t = 1 view (the light's moving frame, exact for a translating light): the
-// receiver is projected so too, with the blend of the two views; the light's position moves
-// linearly and its direction is the normalised blend (where it turns). A still light's map
-// is returned as it is.
-MsMap ms_map_at(MsMap map, float t) {
-    if (map.light.emission.y == 0.0) return map;
-    MsLightEnd end = MsShadowMap(map.header).light_end;
-    // a + t (b - a): exactly a where b = a (a light that does not move at all).
-    map.light.view = map.light.view + t * (end.view - map.light.view);
-    map.light.position.xyz += t * (end.position.xyz - map.light.position.xyz);
-    if (end.direction.xyz != map.light.direction.xyz) {
-        map.light.direction.xyz =
-            normalize(map.light.direction.xyz + t * (end.direction.xyz - map.light.direction.xyz));
-    }
-    return map;
+                 words.static_names);
 }
 
 // The bits of a depth as an unsigned key in the depth's order (negative depths too: a
@@ -453,7 +423,7 @@ bool ms_receiver(MsMap map, vec3 p, vec3 n, out uint texel, out float depth) {
 bool ms_shadowed(MsMap map, vec3 p, vec3 n, float t, uint own) {
     uint texel;
     float depth;
-    if (!ms_receiver(ms_map_at(map, t), p, n, texel, depth)) return false;
+    if (!ms_receiver(map, p, n, texel, depth)) return false;
     return ms_texel_shadowed(map, texel, depth, t, own);
 }
 
@@ -752,9 +722,7 @@ float ms_texel_lit_fraction(MsMap map, uint texel, float depth, uint own) {
 // of its texel is nearer to the light than it. Exact (no time samples, no noise), with the
 // same receiver offset, bias and own-triangle rule as ms_shadowed. The union is measured by
 // taking the intervals in order of their start, found by a scan per interval: no arrays,
-// O(n^2) in the texel's ranges (a handful in practice; at most 512). Under a moving light
-// (light.emission.y = 1) no receiver stays still in the light's frame: test samples with
-// ms_visibility instead (the library's lighting pass refuses the analytic estimator there).
+// O(n^2) in the texel's ranges (a handful in practice; at most 512).
 float ms_lit_fraction(MsMap map, vec3 p, vec3 n, uint own) {
     uint texel;
     float depth;
@@ -803,13 +771,11 @@ struct MsLightPath {
     float t;
 };
 
-// False where the path never enters the light's view. p0 is seen from `light0` (the light at
-// t = 0), p1 from `light1` (at t = 1: the same light where it is still), and the clip
-// position blended between: a moving light's frame, as its map was built.
-bool ms_path_start(MsLight light0, MsLight light1, uvec2 size, vec3 p0, vec3 p1,
-                   out MsLightPath path) {
-    path.c0 = (light0.proj * light0.view) * vec4(p0, 1.0);
-    path.dc = (light1.proj * light1.view) * vec4(p1, 1.0) - path.c0;
+// False where the path never enters the light's view.
+bool ms_path_start(MsLight light, uvec2 size, vec3 p0, vec3 p1, out MsLightPath path) {
+    mat4 to_clip = light.proj * light.view;
+    path.c0 = to_clip * vec4(p0, 1.0);
+    path.dc = to_clip * vec4(p1, 1.0) - path.c0;
     vec4 c0 = path.c0, dc = path.dc;
     path.lo = 0.0;
     path.hi = 1.0;
@@ -925,17 +891,11 @@ void ms_walk_end(inout MsWalk walk, uint budget, bool stopped, float t, ivec2 te
 void ms_walk_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own, uint budget,
                     inout MsWalk walk) {
     MsLight light = map.light;
-    // A moving light: the point at t = 1 seen from the light at t = 1 (ms_map_at), its clip
-    // position and light depth blended between the ends, as the map's vertices were; for a
-    // translating light that is exact.
-    bool moving_light = light.emission.y != 0.0;
-    MsLight light1 = light;
-    if (moving_light) light1 = ms_map_at(map, 1.0).light;
     // The normal offset is linear in the point's light depth, so the offset point moves
     // linearly too.
-    vec3 q0 = ms_offset_receiver(light, p0, n), q1 = ms_offset_receiver(light1, p1, n);
+    vec3 q0 = ms_offset_receiver(light, p0, n), q1 = ms_offset_receiver(light, p1, n);
     MsLightPath path;
-    if (!ms_path_start(light, light1, map.size, q0, q1, path)) {
+    if (!ms_path_start(light, map.size, q0, q1, path)) {
         walk.state = MS_WALK_DONE;
         walk.sum = 1.0;
         return;
@@ -946,7 +906,7 @@ void ms_walk_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own, uint budget,
         path.texel = walk.texel;
         lit = walk.sum;
     }
-    float depth0 = -(light.view * vec4(q0, 1.0)).z, depth1 = -(light1.view * vec4(q1, 1.0)).z;
+    float depth0 = -(light.view * vec4(q0, 1.0)).z, depth1 = -(light.view * vec4(q1, 1.0)).z;
     uint stop_count = ms_walk_stop_count(budget);
     bool stopped = false;
     for (uint crossed = 0u; path.t < path.hi && crossed <= map.size.x + map.size.y; ++crossed) {
@@ -958,15 +918,8 @@ void ms_walk_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own, uint budget,
         uvec2 at = uvec2(path.texel);
         float t = path.t, exit;
         bool inside = ms_path_advance(path, map.size, exit);
-        // (A moving light's receiver plane is taken in the light's frame at each end.)
-        MsLight light_a = light, light_b = light;
-        if (moving_light) {
-            light_a = ms_map_at(map, t).light;
-            light_b = ms_map_at(map, exit).light;
-        }
-        float da = ms_tested_depth(light_a, map.size, at, mix(q0, q1, t), n,
-                                   mix(depth0, depth1, t));
-        float db = ms_tested_depth(light_b, map.size, at, mix(q0, q1, exit), n,
+        float da = ms_tested_depth(light, map.size, at, mix(q0, q1, t), n, mix(depth0, depth1, t));
+        float db = ms_tested_depth(light, map.size, at, mix(q0, q1, exit), n,
                                    mix(depth0, depth1, exit));
         lit += ms_texel_lit_span(map, at.y * map.size.x + at.x, vec2(t, exit), vec2(da, db), own);
         ++walk.walked;
@@ -978,11 +931,6 @@ void ms_walk_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own, uint budget,
         }
     }
     ms_walk_end(walk, budget, stopped, path.t, path.texel, lit, min(lit, 1.0));
-}
-
-// The still light's path of a point (see ms_path_start).
-bool ms_path_start(MsLight light, uvec2 size, vec3 p0, vec3 p1, out MsLightPath path) {
-    return ms_path_start(light, light, size, p0, p1, path);
 }
 
 float ms_lit_fraction_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own) {
@@ -1005,7 +953,6 @@ float ms_lit_fraction_moving(MsShadowMap header, vec3 p0, vec3 p1, vec3 n, uint 
 const int MS_FOOTPRINT_MAX_TEXELS = 4 * MS_FOOTPRINT_MAX_TAPS * MS_FOOTPRINT_MAX_TAPS;
 
 float ms_footprint_lookup(MsMap map, vec3 p, vec3 n, float t, uint own, vec3 dpdx, vec3 dpdy) {
-    if (t >= 0.0) map = ms_map_at(map, t);
     ivec2 taps = ms_footprint_taps(map.light, map.size, p, dpdx, dpdy);
     int tap_count = taps.x * taps.y;
     uint texels[MS_FOOTPRINT_MAX_TEXELS];

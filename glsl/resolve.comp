@@ -191,9 +191,11 @@ float sample_lit(uvec2 pixel, uint rotation, uint k, vec2 offset, vec3 p, vec3 n
               : filtered ? ms_lit_fraction_filtered(temporal, p, n, id)
                          : ms_lit_fraction(temporal, p, n, id);
     } else if (SHADE_SHADOW == SHADOW_TEMPORAL) {
-        lit = footprint ? ms_visibility_footprint(temporal, centre, n, t, id, dpdx, dpdy)
-              : filtered ? ms_visibility_filtered(temporal, p, n, t, id)
-                         : ms_visibility(temporal, p, n, t, id);
+        // With the light where it is at t (a moving light, light_motion.glsl).
+        MsMap at = ms_map_at(temporal, pc.shadow, t);
+        lit = footprint ? ms_visibility_footprint(at, centre, n, t, id, dpdx, dpdy)
+              : filtered ? ms_visibility_filtered(at, p, n, t, id)
+                         : ms_visibility(at, p, n, t, id);
     } else if (SHADE_SHADOW != SHADOW_NONE) {
         lit = footprint ? visibility_ordinary_footprint(centre, n, id, stratum, dpdx, dpdy)
                         : visibility_ordinary(p, n, id, stratum, filtered);
@@ -274,7 +276,7 @@ void main() {
     [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
         // A moving light shades each sample from where it is at the sample's time.
         MsLight at = light;
-        if (SHADE_SHADOW == SHADOW_TEMPORAL) at = ms_map_at(temporal, t[j]).light;
+        if (SHADE_SHADOW == SHADOW_TEMPORAL) at = ms_map_at(temporal, pc.shadow, t[j]).light;
         vec3 to_light = spot ? at.position.xyz - point[j] : -at.direction.xyz;
         float dist2 = spot ? dot(to_light, to_light) : 1.0;
         vec3 l = normalize(to_light);
@@ -294,7 +296,8 @@ void main() {
         uint seen = 0u;
         [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
             bool tested =
-                ms_receiver(ms_map_at(temporal, t[j]), point[j], normal[j], texel[j], depth[j]);
+                ms_receiver(ms_map_at(temporal, pc.shadow, t[j]), point[j], normal[j], texel[j],
+                            depth[j]);
             if ((facing & (1u << j)) != 0u && tested) seen |= 1u << j;
         }
         uint shadowed = ms_samples_shadowed(temporal, seen, texel, depth, t, id);

@@ -9,6 +9,7 @@
 // pass objects serves any number of frames in flight and lights.
 
 #include "motion_shadows.glsl"
+#include "light_motion.glsl"
 
 const uint END_OF_LIST = MS_END_OF_LIST;
 const uint NO_TRIANGLE = MS_NO_TRIANGLE;

@@ -132,20 +132,24 @@ pub struct GpuLight {
     pub bias: Vec4,
 }
 
-/// A moving light's pose at t = 1 as shaders read it (`MsLightEnd`, 96 bytes), at the end of
-/// a temporal map's header; zeros for a still light.
+/// A moving light's pose at t = 1 as shaders read it (`MsLightEnd` in glsl/light_motion.glsl,
+/// 160 bytes), at the end of a temporal map's header; zeros for a still light.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct GpuLightEnd {
     /// World -> light view at t = 1.
     pub view: Mat4,
+    /// The t = 0 view's inverse times the t = 1 view: a world point at t = 1 as the t = 0
+    /// view must see it to see it where the t = 1 view does.
+    pub frame: Mat4,
     /// xyz: position at t = 1 (see [`super::LightEnd::position`]); w = 1.
     pub position: Vec4,
     /// xyz: unit direction at t = 1; w = the cone's cosine, as in [`GpuLight::direction`].
     pub direction: Vec4,
 }
 
-/// The header of a temporal shadow map (`MsShadowMap` in GLSL, 416 bytes): what a host
+/// The header of a temporal shadow map (`MsShadowMap` in GLSL, then `MsLightEnd` at byte 320:
+/// 480 bytes): what a host
 /// shader reads through the address [`super::TemporalShadowMap::header_address`].
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -341,8 +345,9 @@ const _: () = {
     assert!(std::mem::size_of::<Counters>() == 48);
     assert!(std::mem::size_of::<LongListHeader>() == 16);
     assert!(std::mem::size_of::<GpuLight>() == 192);
-    assert!(std::mem::size_of::<ShadowMapHeader>() == 416);
-    assert!(std::mem::size_of::<GpuLightEnd>() == 96);
+    assert!(std::mem::size_of::<ShadowMapHeader>() == 480);
+    assert!(std::mem::offset_of!(ShadowMapHeader, light_end) == 320);
+    assert!(std::mem::size_of::<GpuLightEnd>() == 160);
     assert!(std::mem::size_of::<TriangleRecord>() == 96);
     assert!(std::mem::size_of::<PlainMapHeader>() == 224);
     assert!(std::mem::size_of::<DrawRecord>() == 160);

@@ -17,9 +17,11 @@
 //! grows with the turn (see docs/src/scene-format.md, "A moving light").
 
 use super::gpu_types::GpuLightEnd;
-use super::view::LightView;
+use super::shadow_map::TemporalShadowMap;
+use super::view::{LightView, Lookup};
 use glam::camera::rh::view::look_at_mat4;
 use glam::{Mat4, Quat, Vec3};
+use std::sync::atomic::Ordering;
 
 /// The light's pose at shutter close, t = 1 (see the module's documentation for the motion
 /// between).
@@ -33,6 +35,19 @@ pub struct LightEnd {
     /// World -> light view at t = 1: the view at t = 0 turned by the shortest rotation from
     /// the t = 0 direction to this one and moved to `position` (no roll about the axis).
     pub view: Mat4,
+}
+
+/// [`TemporalShadowMap`]'s record of what its last collection was for: the exact lookup.
+pub(super) const RECORDED_EXACT: u8 = 1;
+/// ... a moving light.
+pub(super) const RECORDED_MOVING_LIGHT: u8 = 2;
+
+impl TemporalShadowMap {
+    /// Whether the last recorded collection built the map for a moving light
+    /// ([`LightView::end`]; false before any).
+    pub fn recorded_for_moving_light(&self) -> bool {
+        self.built_for.load(Ordering::Relaxed) & RECORDED_MOVING_LIGHT != 0
+    }
 }
 
 /// Directions at the two ends of a moving light's shutter must be less than this many degrees
@@ -98,10 +113,27 @@ impl LightView {
             None => GpuLightEnd::default(),
             Some(end) => GpuLightEnd {
                 view: end.view,
+                frame: self.view.inverse() * end.view,
                 position: end.position.extend(1.0),
                 direction: end.direction.extend(self.gpu().direction.w),
             },
         }
+    }
+
+    /// What a map's collection for this light records ([`RECORDED_EXACT`],
+    /// [`RECORDED_MOVING_LIGHT`]).
+    pub(super) fn recorded_flags(&self) -> u8 {
+        let exact = if self.lookup == Lookup::Exact {
+            RECORDED_EXACT
+        } else {
+            0
+        };
+        exact
+            | if self.is_moving() {
+                RECORDED_MOVING_LIGHT
+            } else {
+                0
+            }
     }
 
     /// Refused with [`crate::Error::InvalidArgument`] naming `what` (a pass or a setting that

@@ -103,6 +103,11 @@ pub use view::{
 /// device has maintenance4: for 1.3 glslang declares workgroup sizes with LocalSizeId.
 pub const GLSL_INCLUDE: &str = include_str!("../../glsl/motion_shadows.glsl");
 
+/// `glsl/light_motion.glsl`: a moving light's lookups ([`LightView::moving_to`]:
+/// `ms_map_at` for a sample at its time, `ms_light_frame_end` for a moving receiver's path,
+/// `MsLightEnd`), included after [`GLSL_INCLUDE`]. A still light's map needs none of it.
+pub const GLSL_LIGHT_MOTION_INCLUDE: &str = include_str!("../../glsl/light_motion.glsl");
+
 /// `glsl/exact_lookup.glsl`: the exact lookup ([`Lookup::Exact`]:
 /// `ms_lit_fraction_exact`, `ms_lit_fraction_exact_moving`, `ms_visible_exact` for one time),
 /// included after
