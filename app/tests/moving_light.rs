@@ -110,6 +110,18 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
             "{args:?}: {stderr}"
         );
     }
+    // The viewer, before it opens a window.
+    let out = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args(["view", "--scene", "moving-light"])
+        .env("MOTION_SHADOWS_VALIDATION", "1")
+        .output()
+        .expect("run the binary");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "view ran");
+    assert!(
+        stderr.contains("light moves") && stderr.contains("the viewer"),
+        "{stderr}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 

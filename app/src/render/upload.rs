@@ -181,14 +181,14 @@ pub fn check_moving_light_forward(scene: &Scene, settings: &RenderSettings) -> R
     if settings.method != Method::Temporal {
         return refuse_moving_light(
             scene,
-            &format!("{} (the forward frame)", settings.method_name()),
+            &format!("--method {} (the forward frame)", settings.method_name()),
         );
     }
     if settings.lookup == Lookup::Exact {
-        return refuse_moving_light(scene, "temporal --lookup exact");
+        return refuse_moving_light(scene, "--method temporal --lookup exact");
     }
     if settings.shadow_estimator == ShadowEstimator::Analytic {
-        return refuse_moving_light(scene, "temporal --shadow-estimator analytic");
+        return refuse_moving_light(scene, "--method temporal --shadow-estimator analytic");
     }
     Ok(())
 }
@@ -200,24 +200,29 @@ pub fn check_moving_light_forward(scene: &Scene, settings: &RenderSettings) -> R
 pub fn check_moving_light_deferred(scene: &Scene, deferred: &DeferredSettings) -> Result<()> {
     use motion_shadows::technique::Lookup;
     if deferred.method != DeferredMethod::Temporal || deferred.lookup == Lookup::Exact {
-        return refuse_moving_light(scene, &format!("{} (the deferred frame)", deferred.name()));
+        return refuse_moving_light(
+            scene,
+            &format!("--method {} (the deferred frame)", deferred.name()),
+        );
     }
     if !deferred.moving_receivers {
-        return refuse_moving_light(scene, "temporal --static-receivers (the deferred frame)");
+        return refuse_moving_light(
+            scene,
+            "--method temporal --static-receivers (the deferred frame)",
+        );
     }
     Ok(())
 }
 
-/// Refuses a scene whose light moves for `method`, a shadow-map method (or setting) that
-/// does not take a moving light yet (issue 38): its map would be built with the light at
-/// t = 0 only.
-pub fn refuse_moving_light(scene: &Scene, method: &str) -> Result<()> {
+/// Refuses a scene whose light moves for `what` (a method, a setting, the viewer) that does
+/// not take a moving light yet (issue 38): it would see the light at t = 0 only.
+pub fn refuse_moving_light(scene: &Scene, what: &str) -> Result<()> {
     if scene.light.moves() {
         return Err(crate::error::Error::InvalidArgument(format!(
             "scene {:?}: its light moves during the shutter (the light's \"t1\"), which \
-             --method {method} does not take yet; --method temporal (depth lookup; the \
-             forward frame's sampled estimator, the deferred frame's moving receivers) and \
-             --method raytrace (both frames: the exact truth) do",
+             {what} does not take yet; render --method temporal (depth lookup; the forward \
+             frame's sampled estimator, the deferred frame's moving receivers) and --method \
+             raytrace (both frames: the exact truth) do",
             scene.name
         )));
     }
