@@ -36,16 +36,23 @@ MsLightEnd ms_light_end(uint64_t header) {
     return MsLightEndRef(header + MS_LIGHT_END_OFFSET).end;
 }
 
-// `map` (loaded from `header`) as a receiver at time t reads it: the light's view blended
-// between its two ends, its position linear, its direction the normalised blend.
-MsMap ms_map_at(MsMap map, uint64_t header, float t) {
-    if (!ms_light_moves(map.light)) return map;
-    MsLightEnd end = ms_light_end(header);
+// The light at time t, from its pose at t = 0 (`light`) and its MsLightEnd at `end_address`:
+// the view blended between the two ends, the position linear, the direction the normalised
+// blend. A still light as it is.
+MsLight ms_light_at(MsLight light, uint64_t end_address, float t) {
+    if (!ms_light_moves(light)) return light;
+    MsLightEnd end = MsLightEndRef(end_address).end;
     // a + t (b - a): exactly a where b = a (a light that does not move at all).
-    map.light.view = map.light.view + t * (end.view - map.light.view);
-    map.light.position.xyz += t * (end.position.xyz - map.light.position.xyz);
-    vec3 d0 = map.light.direction.xyz, d1 = end.direction.xyz;
-    if (d1 != d0) map.light.direction.xyz = normalize(d0 + t * (d1 - d0));
+    light.view = light.view + t * (end.view - light.view);
+    light.position.xyz += t * (end.position.xyz - light.position.xyz);
+    vec3 d0 = light.direction.xyz, d1 = end.direction.xyz;
+    if (d1 != d0) light.direction.xyz = normalize(d0 + t * (d1 - d0));
+    return light;
+}
+
+// `map` (loaded from `header`) as a receiver at time t reads it (ms_light_at).
+MsMap ms_map_at(MsMap map, uint64_t header, float t) {
+    map.light = ms_light_at(map.light, header + MS_LIGHT_END_OFFSET, t);
     return map;
 }
 

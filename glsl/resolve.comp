@@ -197,8 +197,12 @@ float sample_lit(uvec2 pixel, uint rotation, uint k, vec2 offset, vec3 p, vec3 n
               : filtered ? ms_visibility_filtered(at, p, n, t, id)
                          : ms_visibility(at, p, n, t, id);
     } else if (SHADE_SHADOW != SHADOW_NONE) {
+        // Read with the light the layer was drawn with (a moving light's, at the layer's time).
+        MsLight kept = light;
+        light = plain_layer_light(pc.shadow, SHADE_SHADOW == SHADOW_TSM ? stratum : 0u);
         lit = footprint ? visibility_ordinary_footprint(centre, n, id, stratum, dpdx, dpdy)
                         : visibility_ordinary(p, n, id, stratum, filtered);
+        light = kept;
     }
     return lit;
 }
@@ -277,6 +281,7 @@ void main() {
         // A moving light shades each sample from where it is at the sample's time.
         MsLight at = light;
         if (SHADE_SHADOW == SHADOW_TEMPORAL) at = ms_map_at(temporal, pc.shadow, t[j]).light;
+        else at = ms_light_at(light, pc.shadow + PLAIN_LIGHT_END_OFFSET, t[j]);
         vec3 to_light = spot ? at.position.xyz - point[j] : -at.direction.xyz;
         float dist2 = spot ? dot(to_light, to_light) : 1.0;
         vec3 l = normalize(to_light);

@@ -34,6 +34,7 @@ fn json_says_whether_the_light_moves() {
     for (scene, method, moves) in [
         ("moving-light", "raytrace", true),
         ("moving-light", "temporal", true),
+        ("moving-light", "tsm", true),
         ("cubes-toward-light", "raytrace", false),
     ] {
         let mut args = vec!["render", "--scene", scene, "--method", method, "--json"];
@@ -93,7 +94,7 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
         args
     };
     for (args, named) in [
-        (forward(&["--method", "tsm"]), "--method tsm"),
+        (forward(&["--method", "coverage"]), "--method coverage"),
         (forward(&["--lookup", "exact"]), "--lookup exact"),
         (
             forward(&["--shadow-estimator", "analytic"]),

@@ -173,16 +173,17 @@ pub fn with_motion(scene: &Scene, light: LightView) -> Result<LightView> {
     })
 }
 
-/// Refuses a moving light for the forward frame's settings that do not take one yet: every
-/// method but the temporal map (`--method temporal`), and with it the exact lookup
-/// (`--lookup exact`) and the analytic estimator (`--shadow-estimator analytic`), named.
+/// Refuses a moving light for the forward frame's settings that do not take one yet: the
+/// coverage map (`--method coverage`), and the temporal map's exact lookup (`--lookup exact`)
+/// and analytic estimator (`--shadow-estimator analytic`), named. The ordinary maps (TSM,
+/// plain, the reference) draw and read each layer with the light at its time.
 pub fn check_moving_light_forward(scene: &Scene, settings: &RenderSettings) -> Result<()> {
     use motion_shadows::technique::{Lookup, ShadowEstimator};
+    if settings.method == Method::Coverage {
+        return refuse_moving_light(scene, "--method coverage (the forward frame)");
+    }
     if settings.method != Method::Temporal {
-        return refuse_moving_light(
-            scene,
-            &format!("--method {} (the forward frame)", settings.method_name()),
-        );
+        return Ok(());
     }
     if settings.lookup == Lookup::Exact {
         return refuse_moving_light(scene, "--method temporal --lookup exact");
@@ -221,8 +222,8 @@ pub fn refuse_moving_light(scene: &Scene, what: &str) -> Result<()> {
         return Err(crate::error::Error::InvalidArgument(format!(
             "scene {:?}: its light moves during the shutter (the light's \"t1\"), which \
              {what} does not take yet; render --method temporal (depth lookup; the forward \
-             frame's sampled estimator, the deferred frame's moving receivers) and --method \
-             raytrace (both frames: the exact truth) do",
+             frame's sampled estimator, the deferred frame's moving receivers), the forward \
+             frame's tsm, plain and reference, and --method raytrace (both frames) do",
             scene.name
         )));
     }
