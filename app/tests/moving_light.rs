@@ -6,7 +6,9 @@
 
 use motion_shadows_app::raytrace::deferred::deferred_truth;
 use motion_shadows_app::render::{Method, RenderSettings};
-use motion_shadows_app::scene::{BuiltinOptions, Light, Scene, SpotPose, builtin};
+use motion_shadows_app::scene::{
+    BuiltinOptions, Light, LightFile, Scene, SpotPose, builtin, builtin_file, scene_to_json,
+};
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -111,6 +113,20 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
             "{args:?}: {stderr}"
         );
     }
+    // The deferred mask with a light that turns.
+    let mut file = builtin_file("moving-light", &BuiltinOptions::default()).unwrap();
+    if let LightFile::Spot { t1: Some(end), .. } = &mut file.light {
+        end.direction = Some(glam::Vec3::new(0.3, -1.0, 0.9));
+    }
+    let path = dir.join("turning.json");
+    std::fs::write(&path, scene_to_json(&file)).unwrap();
+    let mut args = vec!["render", "--frame", "deferred", "--scene-file"];
+    args.push(path.to_str().unwrap());
+    args.extend(&SMALL[..4]);
+    let out = motion_shadows(&args, &dir);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} ran");
+    assert!(stderr.contains("a turning light"), "{stderr}");
     // The viewer, before it opens a window.
     let out = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
         .args(["view", "--scene", "moving-light"])

@@ -10,7 +10,7 @@ use super::file::{
 use super::parts::{ground, object, translate};
 
 /// The flashlight's position at t = 0 and how far it is carried (along +x) by t = 1.
-pub(super) const LIGHT_START: Vec3 = Vec3::new(-1.0, 2.6, 3.0);
+pub(super) const LIGHT_START: Vec3 = Vec3::new(-1.0, 2.6, -3.5);
 pub(super) const LIGHT_CARRIED: Vec3 = Vec3::new(2.0, 0.0, 0.0);
 
 pub(super) fn moving_light() -> SceneFile {
@@ -41,8 +41,9 @@ pub(super) fn moving_light() -> SceneFile {
         translate(Vec3::new(1.5, 0.4, 1.0)),
         Some(translate(Vec3::new(-0.5, 0.4, 1.0))),
     ));
-    // The ground 3.9 units ahead of the light at radiance ~0.4: I = 0.4 pi / 0.8 d^2.
-    let direction = Vec3::new(0.0, -1.0, -0.9);
+    // Behind the posts, so that their shadows fall toward the camera. The ground 3.9 units
+    // ahead of the light at radiance ~0.4: I = 0.4 pi / 0.8 d^2.
+    let direction = Vec3::new(0.0, -1.0, 0.9);
     SceneFile {
         format: SCENE_FORMAT.to_owned(),
         name: Some("moving-light".to_owned()),

@@ -90,15 +90,16 @@ fn a_carried_light_renders_like_the_ray_tracer() {
 
 /// The deferred frame's mask under the carried light: every receiver walked along its path
 /// in the light's moving frame (still pixels too), against the exact lit share of the
-/// shutter. The still light is no bound here (its sharp edges put whole pixels off by a
-/// texel: RMSE 0.046 measured against 0.0013 for the carried light, lavapipe, 2026-12-07): the
-/// bound is the issue's target, 0.005, about four times the measured error (a texel's
-/// misplacement of a shadow blurred over a unit or so is ~0.01 at its edge pixels, few of
-/// them); ignoring the light's motion is far off (0.28).
+/// shutter, on the pixels the light's cone holds all shutter. The still light is no bound
+/// here (its sharp edges put whole pixels off by a texel: RMSE 0.048 measured against 0.0013
+/// for the carried light, lavapipe, 2026-12-07): the bound is the issue's target, 0.005,
+/// about four times the measured error (a texel's misplacement of a shadow blurred over a
+/// unit or so is ~0.01 at its edge pixels, few of them); ignoring the light's motion is far
+/// off (0.39).
 #[test]
 fn the_mask_under_a_carried_light_agrees_with_the_exact_truth() {
     use motion_shadows_app::compare::mask_error;
-    use motion_shadows_app::raytrace::deferred::render_truth;
+    use motion_shadows_app::raytrace::deferred::{deferred_truth, render_truth};
     use motion_shadows_app::render::Renderer;
     use motion_shadows_app::render::deferred::{DeferredMethod, DeferredSettings};
     let ctx = context();
@@ -131,11 +132,28 @@ fn the_mask_under_a_carried_light_agrees_with_the_exact_truth() {
     };
     let (moving_mask, still_mask) = (mask(&moving), mask(&still));
     drop(renderer);
+    // Where the light's cone holds the point all shutter (at both ends: for a translating
+    // light then at every time): elsewhere the truth counts shadows the light's cone never
+    // lights, the map (a square around the cone) counts time outside its view lit.
+    let points = deferred_truth(&moving, 96, 72, 0.5, (1024, 1024), &mut |_| {}).unwrap();
+    let Light::Spot(light) = &moving.light else {
+        panic!("spot expected")
+    };
+    let cos_cone = light.cone_angle_deg.to_radians().cos();
+    let in_cone =
+        |p: glam::Vec3, at: glam::Vec3| (p - at).normalize().dot(light.direction) > cos_cone;
+    let ends = [light.position, light.t1.unwrap().position];
+    let held: Vec<bool> = (0..points.hit.len())
+        .map(|i| {
+            let p = glam::Vec3::from(points.position[i]);
+            moving_truth.facing[i] && points.hit[i] && ends.iter().all(|&at| in_cone(p, at))
+        })
+        .collect();
     let error = |r: &[f32], truth: &motion_shadows_app::render::deferred::DeferredResult| {
-        mask_error(r, &truth.lit, &truth.facing)
+        mask_error(r, &truth.lit, &held)
     };
     let moving_error = error(&moving_mask.lit, &moving_truth);
-    let still_error = error(&still_mask.lit, &still_truth);
+    let still_error = mask_error(&still_mask.lit, &still_truth.lit, &still_truth.facing);
     let ignored = error(&still_mask.lit, &moving_truth);
     eprintln!(
         "mask RMSE against the exact truth: carried light {:.5}, still light {:.5}, the \
@@ -172,14 +190,17 @@ fn ordinary_maps_take_the_light_at_each_layer_s_time() {
              {still_error:.5}, the light's motion ignored {ignored:.5}",
             method.name()
         );
-        // Measured (lavapipe, 2026-12-07): reference 0.0119 against 0.0093 (its own sampling
-        // noise either way), TSM-8 0.0053 against 0.0035 (its time mismatch now includes the
-        // light's motion within a stratum), ignored 0.106: twice the still error allows both.
+        // Measured (lavapipe, 2026-12-07): the reference 0.0111 against 0.0073 (its own
+        // sampling noise either way: twice allows it); TSM-8 0.0037 against 0.0019: its time
+        // mismatch (a sample tested in its stratum's map, drawn at another time) now moves
+        // every post's shadow too, not only the box's: three times allows it. Ignoring the
+        // light's motion: 0.050, over three times either.
+        let factor = if method == Method::Tsm { 3.0 } else { 2.0 };
         assert!(
-            moving_error < 2.0 * still_error,
+            moving_error < factor * still_error,
             "{method:?}: {moving_error} vs {still_error}"
         );
-        assert!(ignored > 4.0 * moving_error, "{method:?}: {ignored}");
+        assert!(ignored > 3.0 * moving_error, "{method:?}: {ignored}");
     }
     assert_no_validation_messages(&ctx);
 }
