@@ -380,6 +380,19 @@ fn attachment_state(image: &Image) -> (vk::ImageLayout, Access) {
     }
 }
 
+/// Where a moving light's pose at t = 1 ([`super::GpuLightEnd`]) starts in an ordinary map's
+/// header buffer (shared.glsl's `PLAIN_LIGHT_END_OFFSET`), and where the layers' times start
+/// (`PLAIN_LAYER_TIMES_OFFSET`): every layer is drawn and read with the light at its time.
+const HEADER: usize = std::mem::size_of::<PlainMapHeader>();
+const TIMES: usize = HEADER + std::mem::size_of::<super::GpuLightEnd>();
+
+/// The header buffer's bytes for `layers` layers (zeros).
+fn header_bytes(layers: u32) -> Vec<u8> {
+    vec![0; TIMES + 4 * layers as usize]
+}
+
+const _: () = assert!(HEADER == 224 && TIMES == 384);
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -413,16 +426,3 @@ mod tests {
         }
     }
 }
-
-/// Where a moving light's pose at t = 1 ([`super::GpuLightEnd`]) starts in an ordinary map's
-/// header buffer (shared.glsl's `PLAIN_LIGHT_END_OFFSET`), and where the layers' times start
-/// (`PLAIN_LAYER_TIMES_OFFSET`): every layer is drawn and read with the light at its time.
-const HEADER: usize = std::mem::size_of::<PlainMapHeader>();
-const TIMES: usize = HEADER + std::mem::size_of::<super::GpuLightEnd>();
-
-/// The header buffer's bytes for `layers` layers (zeros).
-fn header_bytes(layers: u32) -> Vec<u8> {
-    vec![0; TIMES + 4 * layers as usize]
-}
-
-const _: () = assert!(HEADER == 224 && TIMES == 384);
