@@ -92,6 +92,11 @@ void main() {
     }
     triangle_id = d.first_id + uint(gl_PrimitiveIDIn);
     MsLight light = map.light;
+    // A moving light: each vertex's t = 1 position is seen from the light at t = 1, its
+    // light-clip position blended between the two (the light's moving frame,
+    // light_motion.glsl).
+    mat4 view1 = light.view;
+    if (ms_light_moves(light)) view1 = ms_light_end(pc.map).view;
     bool orthographic = light.position.w == 0.0;
 
     vec3 v0[3], v1[3];
@@ -99,7 +104,7 @@ void main() {
     vec4 clip[6];
     for (int i = 0; i < 3; ++i) {
         v0[i] = (light.view * vec4(in_p0[i], 1.0)).xyz;
-        v1[i] = (light.view * vec4(in_p1[i], 1.0)).xyz;
+        v1[i] = (view1 * vec4(in_p1[i], 1.0)).xyz;
         s0[i] = PrismVertex(light.proj * vec4(v0[i], 1.0), -v0[i].z, 0.0);
         s1[i] = PrismVertex(light.proj * vec4(v1[i], 1.0), -v1[i].z, 1.0);
         clip[i] = s0[i].clip;

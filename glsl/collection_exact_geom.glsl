@@ -124,6 +124,11 @@ void main() {
         }
     }
     MsLight light = map.light;
+    // A moving light: each vertex's t = 1 position is seen from the light at t = 1, its
+    // light-clip position blended between the two (the light's moving frame,
+    // light_motion.glsl).
+    mat4 view1 = light.view;
+    if (ms_light_moves(light)) view1 = ms_light_end(pc.map).view;
     bool orthographic = light.position.w == 0.0;
 
     vec3 v0[3], v1[3];
@@ -131,7 +136,7 @@ void main() {
     bool all_in_front = true;
     for (int i = 0; i < 3; ++i) {
         v0[i] = (light.view * vec4(in_p0[i], 1.0)).xyz;
-        v1[i] = (light.view * vec4(in_p1[i], 1.0)).xyz;
+        v1[i] = (view1 * vec4(in_p1[i], 1.0)).xyz;
         clip[i] = light.proj * vec4(v0[i], 1.0);
         clip[i + 3] = light.proj * vec4(v1[i], 1.0);
         corner_at0[i] = vec4(clip[i].xyw, -v0[i].z);

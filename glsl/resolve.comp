@@ -191,12 +191,18 @@ float sample_lit(uvec2 pixel, uint rotation, uint k, vec2 offset, vec3 p, vec3 n
               : filtered ? ms_lit_fraction_filtered(temporal, p, n, id)
                          : ms_lit_fraction(temporal, p, n, id);
     } else if (SHADE_SHADOW == SHADOW_TEMPORAL) {
-        lit = footprint ? ms_visibility_footprint(temporal, centre, n, t, id, dpdx, dpdy)
-              : filtered ? ms_visibility_filtered(temporal, p, n, t, id)
-                         : ms_visibility(temporal, p, n, t, id);
+        // With the light where it is at t (a moving light, light_motion.glsl).
+        MsMap at = ms_map_at(temporal, pc.shadow, t);
+        lit = footprint ? ms_visibility_footprint(at, centre, n, t, id, dpdx, dpdy)
+              : filtered ? ms_visibility_filtered(at, p, n, t, id)
+                         : ms_visibility(at, p, n, t, id);
     } else if (SHADE_SHADOW != SHADOW_NONE) {
+        // Read with the light the layer was drawn with (a moving light's, at the layer's time).
+        MsLight kept = light;
+        light = plain_layer_light(pc.shadow, SHADE_SHADOW == SHADOW_TSM ? stratum : 0u);
         lit = footprint ? visibility_ordinary_footprint(centre, n, id, stratum, dpdx, dpdy)
                         : visibility_ordinary(p, n, id, stratum, filtered);
+        light = kept;
     }
     return lit;
 }
@@ -272,13 +278,17 @@ void main() {
     uint facing = 0u;
     bool spot = light.position.w > 0.5;
     [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
-        vec3 to_light = spot ? light.position.xyz - point[j] : -light.direction.xyz;
+        // A moving light shades each sample from where it is at the sample's time.
+        MsLight at = light;
+        if (SHADE_SHADOW == SHADOW_TEMPORAL) at = ms_map_at(temporal, pc.shadow, t[j]).light;
+        else at = ms_light_at(light, pc.shadow + PLAIN_LIGHT_END_OFFSET, t[j]);
+        vec3 to_light = spot ? at.position.xyz - point[j] : -at.direction.xyz;
         float dist2 = spot ? dot(to_light, to_light) : 1.0;
         vec3 l = normalize(to_light);
         float cos_theta = dot(normal[j], l);
         ambient[j] = camera.shading.x * albedo[j];
-        direct[j] = albedo[j] / PI * light.emission.x * cos_theta / dist2;
-        bool away = cos_theta <= 0.0 || (spot && dot(-l, light.direction.xyz) < light.direction.w);
+        direct[j] = albedo[j] / PI * at.emission.x * cos_theta / dist2;
+        bool away = cos_theta <= 0.0 || (spot && dot(-l, at.direction.xyz) < at.direction.w);
         if (id[j] != NO_TRIANGLE && !away) facing |= 1u << j;
     }
 
@@ -290,7 +300,9 @@ void main() {
         float depth[SHADE_SAMPLES];
         uint seen = 0u;
         [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
-            bool tested = ms_receiver(temporal, point[j], normal[j], texel[j], depth[j]);
+            bool tested =
+                ms_receiver(ms_map_at(temporal, pc.shadow, t[j]), point[j], normal[j], texel[j],
+                            depth[j]);
             if ((facing & (1u << j)) != 0u && tested) seen |= 1u << j;
         }
         uint shadowed = ms_samples_shadowed(temporal, seen, texel, depth, t, id);

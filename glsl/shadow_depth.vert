@@ -11,6 +11,9 @@ layout(location = 0) flat out uint out_id;
 
 void main() {
     float depth;
-    ordinary_map_vertex(pc.draw, pc.time, PlainHeader(pc.map).light,
-                        uint(gl_VertexIndex), gl_Position, depth, out_id);
+    // A moving light where it is at the layer's time (shared.glsl's PlainHeader).
+    MsLight light =
+        ms_light_at(PlainHeader(pc.map).light, pc.map + PLAIN_LIGHT_END_OFFSET, pc.time);
+    ordinary_map_vertex(pc.draw, pc.time, light, uint(gl_VertexIndex), gl_Position, depth,
+                        out_id);
 }

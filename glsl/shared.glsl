@@ -9,6 +9,7 @@
 // pass objects serves any number of frames in flight and lights.
 
 #include "motion_shadows.glsl"
+#include "light_motion.glsl"
 
 const uint END_OF_LIST = MS_END_OF_LIST;
 const uint NO_TRIANGLE = MS_NO_TRIANGLE;
@@ -256,6 +257,18 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Pl
     uint64_t depths;        // floats: the attachment's z/w in [0, 1]; 1 = nothing drawn
     uint64_t ids;           // DEPTH_AND_ID: uints, NO_TRIANGLE = nothing drawn
 };
+// After it, a moving light's pose at t = 1 (MsLightEnd, zeros for a still light), then each
+// layer's time (floats): every layer is drawn, and read, with the light at its time.
+const uint64_t PLAIN_LIGHT_END_OFFSET = 224UL;
+const uint64_t PLAIN_LAYER_TIMES_OFFSET = 384UL;
+
+// The light an ordinary map's layer was drawn with (its own for a still light).
+MsLight plain_layer_light(uint64_t header, uint layer) {
+    MsLight light = PlainHeader(header).light;
+    if (!ms_light_moves(light)) return light;
+    float t = FloatArray(header + PLAIN_LAYER_TIMES_OFFSET).v[layer];
+    return ms_light_at(light, header + PLAIN_LIGHT_END_OFFSET, t);
+}
 
 // The head of the map's long-pixel list (the generation's second tier, the sort's long
 // lists): how many pixels, then that tier's indirect dispatch, whose x group count the first

@@ -15,6 +15,7 @@
 #extension GL_EXT_buffer_reference : require
 #extension GL_KHR_shader_subgroup_vote : require
 #include "motion_shadows.glsl"
+#include "light_motion.glsl"
 #include "exact_lookup.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -213,7 +214,9 @@ void main() {
             tested.light.bias.x = 0.0;
             tested.light.bias.w = 1.0;
         }
-        ms_walk_moving(tested, p0, p0 + motion, n, own, FOLLOW_UP ? pc.loop_budget : 0u, walk);
+        // (A moving light: the path's end seen as the t = 1 view sees it, light_motion.glsl.)
+        vec3 p1 = ms_light_frame_end(tested.light, pc.map, p0 + motion);
+        ms_walk_moving(tested, p0, p1, n, own, FOLLOW_UP ? pc.loop_budget : 0u, walk);
     } else {
         float lit = ms_lit_fraction(tested, p, n, own);
         imageStore(mask, pixel, vec4(lit));

@@ -130,6 +130,7 @@ impl PrismPipelines {
         ranges: bool,
         conservative: bool,
         static_names: bool,
+        light_moves: bool,
     ) {
         let exact_moving = match (&self.exact_conservative, &self.exact_ranges) {
             (Some(pipeline), _) if conservative => pipeline,
@@ -139,8 +140,11 @@ impl PrismPipelines {
         let pipeline_of = |record: &DrawRecord| match construction {
             PrismConstruction::Paper => &self.paper,
             // The conservative collection (Lookup::Exact) gives static triangles the moving
-            // ones' footprints: its lists name every triangle near a texel.
-            _ if record.flags() & DRAW_STATIC != 0 && !conservative => &self.exact_static,
+            // ones' footprints: its lists name every triangle near a texel. Under a moving
+            // light nothing stands still in the light's frame.
+            _ if record.flags() & DRAW_STATIC != 0 && !conservative && !light_moves => {
+                &self.exact_static
+            }
             PrismConstruction::Exact => exact_moving,
         };
         let mut bound: Option<vk::Pipeline> = None;
@@ -305,6 +309,12 @@ impl CollectionPass {
         }
         map.check_prepared_for(light, coverage)?;
         if light.lookup == Lookup::Exact {
+            light.refuse_moving("the exact lookup (Lookup::Exact)")?;
+        }
+        if coverage.is_some() {
+            light.refuse_moving("the coverage map")?;
+        }
+        if light.lookup == Lookup::Exact {
             check_exact_lookup(draws, light, map, coverage)?;
         }
         let static_layer = map.uses_static_layer(light, coverage);
@@ -401,6 +411,7 @@ impl CollectionPass {
             collects_ranges,
             conservative,
             static_names,
+            light.is_moving(),
         );
         // SAFETY: rendering was begun just above and every draw recorded into it has been recorded.
         unsafe { device.cmd_end_rendering(cmd) };

@@ -137,6 +137,8 @@ impl CoveragePass {
             false,
             false,
             false,
+            // The collection refuses a moving light with a coverage map.
+            false,
         );
         // SAFETY: the reset pass's rendering was begun just above and its draws are recorded.
         unsafe { device.cmd_end_rendering(cmd) };

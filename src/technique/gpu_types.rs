@@ -123,14 +123,33 @@ pub struct GpuLight {
     pub position: Vec4,
     /// xyz unit; w = cos(cone half angle), -1 for a directional light.
     pub direction: Vec4,
-    /// x = radiant intensity (W/sr, spot) or irradiance (W/m^2, directional).
+    /// x = radiant intensity (W/sr, spot) or irradiance (W/m^2, directional); y = 1 where
+    /// the light moves during the shutter (a temporal map's header then holds its pose at
+    /// t = 1, [`GpuLightEnd`]), 0 for a still light.
     pub emission: Vec4,
     /// x = receiver offset along its normal in shadow texels, y = relative depth bias,
     /// z = world size of a texel per unit depth (spot) or absolute (directional).
     pub bias: Vec4,
 }
 
-/// The header of a temporal shadow map (`MsShadowMap` in GLSL, 320 bytes): what a host
+/// A moving light's pose at t = 1 as shaders read it (`MsLightEnd` in glsl/light_motion.glsl,
+/// 160 bytes), at the end of a temporal map's header; zeros for a still light.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GpuLightEnd {
+    /// World -> light view at t = 1.
+    pub view: Mat4,
+    /// The t = 0 view's inverse times the t = 1 view: a world point at t = 1 as the t = 0
+    /// view must see it to see it where the t = 1 view does.
+    pub frame: Mat4,
+    /// xyz: position at t = 1 (see [`super::LightEnd::position`]); w = 1.
+    pub position: Vec4,
+    /// xyz: unit direction at t = 1; w = the cone's cosine, as in [`GpuLight::direction`].
+    pub direction: Vec4,
+}
+
+/// The header of a temporal shadow map (`MsShadowMap` in GLSL, then `MsLightEnd` at byte 320:
+/// 480 bytes): what a host
 /// shader reads through the address [`super::TemporalShadowMap::header_address`].
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -176,6 +195,9 @@ pub struct ShadowMapHeader {
     /// per texel, the static triangles whose shadow touches it, kept across frames as the
     /// static layer is.
     pub static_names: u64,
+    /// The light's pose at t = 1 where it moves ([`GpuLight::emission`] y = 1), zeros
+    /// otherwise.
+    pub light_end: GpuLightEnd,
 }
 
 /// One triangle as the exact lookup reads it (`MsTriangle` in GLSL, 96 bytes), written by
@@ -323,7 +345,9 @@ const _: () = {
     assert!(std::mem::size_of::<Counters>() == 48);
     assert!(std::mem::size_of::<LongListHeader>() == 16);
     assert!(std::mem::size_of::<GpuLight>() == 192);
-    assert!(std::mem::size_of::<ShadowMapHeader>() == 320);
+    assert!(std::mem::size_of::<ShadowMapHeader>() == 480);
+    assert!(std::mem::offset_of!(ShadowMapHeader, light_end) == 320);
+    assert!(std::mem::size_of::<GpuLightEnd>() == 160);
     assert!(std::mem::size_of::<TriangleRecord>() == 96);
     assert!(std::mem::size_of::<PlainMapHeader>() == 224);
     assert!(std::mem::size_of::<DrawRecord>() == 160);

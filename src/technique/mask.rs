@@ -433,6 +433,15 @@ impl VisibilityMaskPass {
         inputs: &MaskInputs,
         map: &TemporalShadowMap,
     ) -> Result<()> {
+        if map.recorded_for_moving_light() && inputs.motion.is_none() {
+            // Under a moving light no receiver stands still in the light's frame: only the
+            // moving receivers' walk follows one.
+            return Err(Error::InvalidArgument(
+                "a map built for a moving light (LightView::end) needs the moving receivers' \
+                 mask (MaskInputs::motion; zero motion for still pixels)"
+                    .to_owned(),
+            ));
+        }
         if inputs.ids.is_none() {
             if let Some(why) = ids_required_by(inputs, map.recorded_lookup()) {
                 return Err(Error::InvalidArgument(format!(

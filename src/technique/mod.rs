@@ -39,6 +39,7 @@ pub mod gpu_types;
 mod image_output;
 mod image_pass;
 #[cfg(feature = "research")]
+mod light_motion;
 mod lighting;
 mod mask;
 mod mask_ids;
@@ -70,12 +71,13 @@ pub use gbuffer::{
 };
 pub use generation::GenerationPass;
 pub use gpu_types::{
-    CameraParams, Counters, DepthFormat, DrawRecord, FIXED_TIME, GpuLight, LongListHeader,
-    MAX_LIST_NODES, NO_TRIANGLE, Node, PlainMapHeader, Range, ShadowMapHeader, ShadowMode,
-    TriangleRecord,
+    CameraParams, Counters, DepthFormat, DrawRecord, FIXED_TIME, GpuLight, GpuLightEnd,
+    LongListHeader, MAX_LIST_NODES, NO_TRIANGLE, Node, PlainMapHeader, Range, ShadowMapHeader,
+    ShadowMode, TriangleRecord,
 };
 #[cfg(feature = "research")]
 pub use image_output::LightingImageOutput;
+pub use light_motion::{LightEnd, MAX_LIGHT_TURN_DEG};
 #[cfg(feature = "research")]
 pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, Samples, ShadowSource};
 pub use mask::{
@@ -100,6 +102,11 @@ pub use view::{
 /// include callback. With shaderc, target Vulkan 1.2 (`EnvVersion::Vulkan1_2`) unless the
 /// device has maintenance4: for 1.3 glslang declares workgroup sizes with LocalSizeId.
 pub const GLSL_INCLUDE: &str = include_str!("../../glsl/motion_shadows.glsl");
+
+/// `glsl/light_motion.glsl`: a moving light's lookups ([`LightView::moving_to`]:
+/// `ms_map_at` for a sample at its time, `ms_light_frame_end` for a moving receiver's path,
+/// `MsLightEnd`), included after [`GLSL_INCLUDE`]. A still light's map needs none of it.
+pub const GLSL_LIGHT_MOTION_INCLUDE: &str = include_str!("../../glsl/light_motion.glsl");
 
 /// `glsl/exact_lookup.glsl`: the exact lookup ([`Lookup::Exact`]:
 /// `ms_lit_fraction_exact`, `ms_lit_fraction_exact_moving`, `ms_visible_exact` for one time),

@@ -108,7 +108,7 @@ impl PlainShadowMap {
             header: Buffer::new(
                 ctx,
                 "ordinary shadow map header",
-                std::mem::size_of::<PlainMapHeader>() as u64,
+                header_bytes(layers).len() as u64,
                 BufferUsage::Storage,
             )?,
             depths: planes("ordinary shadow maps' depths")?,
@@ -231,7 +231,8 @@ impl PlainShadowPass {
     }
 
     /// Renders layer i of `map` with the scene at `times[i]` into the map's attachments
-    /// (cleared first: depth 1, ids [`NO_TRIANGLE`]), and writes its header for `light`.
+    /// (cleared first: depth 1, ids [`NO_TRIANGLE`]), and writes its header for `light`
+    /// (a moving light's pose at each layer's time: [`LightView::moving_to`]).
     ///
     /// # Safety
     /// As [`super::CollectionPass::record`] (for `map` instead of a temporal map); must be
@@ -258,10 +259,16 @@ impl PlainShadowPass {
         // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue (the
         // contract), so every shader stage and transfer are supported.
         unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
-        // SAFETY: one PlainMapHeader into the map's header buffer, made with that size and
+        let mut bytes = header_bytes(map.layers);
+        bytes[..HEADER].copy_from_slice(bytemuck::bytes_of(&header));
+        bytes[HEADER..TIMES].copy_from_slice(bytemuck::bytes_of(&light.gpu_end()));
+        for (k, t) in times.iter().take(map.layers as usize).enumerate() {
+            bytes[TIMES + 4 * k..TIMES + 4 * k + 4].copy_from_slice(&t.to_le_bytes());
+        }
+        // SAFETY: the map's header buffer, made with this size (header_bytes) and
         // transfer-destination usage; outside rendering, after its earlier readers (the barrier
         // above).
-        unsafe { map.header.record_write(device, cmd, &[header]) };
+        unsafe { map.header.record_write(device, cmd, &bytes) };
         // SAFETY: the same command buffer, outside rendering; stages its queue supports.
         unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ) };
         for image in map.attachments() {
@@ -372,6 +379,19 @@ fn attachment_state(image: &Image) -> (vk::ImageLayout, Access) {
         )
     }
 }
+
+/// Where a moving light's pose at t = 1 ([`super::GpuLightEnd`]) starts in an ordinary map's
+/// header buffer (shared.glsl's `PLAIN_LIGHT_END_OFFSET`), and where the layers' times start
+/// (`PLAIN_LAYER_TIMES_OFFSET`): every layer is drawn and read with the light at its time.
+const HEADER: usize = std::mem::size_of::<PlainMapHeader>();
+const TIMES: usize = HEADER + std::mem::size_of::<super::GpuLightEnd>();
+
+/// The header buffer's bytes for `layers` layers (zeros).
+fn header_bytes(layers: u32) -> Vec<u8> {
+    vec![0; TIMES + 4 * layers as usize]
+}
+
+const _: () = assert!(HEADER == 224 && TIMES == 384);
 
 #[cfg(test)]
 mod tests {

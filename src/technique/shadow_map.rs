@@ -9,6 +9,7 @@ use super::draws::DrawList;
 use super::gpu_types::{
     Counters, DRAW_STATIC, DrawRecord, MAX_LIST_NODES, ShadowMapHeader, TriangleRecord,
 };
+use super::light_motion::RECORDED_EXACT;
 use super::path_buffers::PathBuffers;
 use super::pruning::Pruning;
 use super::range_ceiling::{HostDraw, RangeCeiling};
@@ -18,7 +19,7 @@ use crate::gpu::{Access, Buffer, BufferUsage, Context, OneShot, memory_barrier};
 use ash::vk;
 use glam::{Mat4, UVec4};
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::atomic::{AtomicU8, AtomicU32, Ordering};
 
 /// What `download` copies back: the map's buffers as host data, and their readers.
 mod contents;
@@ -102,8 +103,8 @@ pub struct TemporalShadowMap {
     /// capacity, 2 unused words, a head per texel, then (id, next) pairs; see
     /// [`super::ShadowMapHeader::static_names`]), made with the triangle records.
     pub(crate) static_names: Option<Buffer>,
-    /// Whether the last recorded collection built the map for [`Lookup::Exact`].
-    built_for_exact: AtomicBool,
+    /// What the last recorded collection built the map for ([`LightView::recorded_flags`]).
+    pub(super) built_for: AtomicU8,
 }
 
 /// What the static layer holds for keeping: nothing is kept on the strength of a recording
@@ -342,7 +343,7 @@ impl TemporalShadowMap {
             static_layer_builds: AtomicU32::new(0),
             triangle_records: None,
             static_names: None,
-            built_for_exact: AtomicBool::new(false),
+            built_for: AtomicU8::new(0),
         })
     }
 
@@ -428,7 +429,7 @@ impl TemporalShadowMap {
     /// The lookup the last recorded collection built the map for ([`LightView::lookup`];
     /// [`Lookup::DepthLine`] before any).
     pub fn recorded_lookup(&self) -> Lookup {
-        if self.built_for_exact.load(Ordering::Relaxed) {
+        if self.built_for.load(Ordering::Relaxed) & RECORDED_EXACT != 0 {
             Lookup::Exact
         } else {
             Lookup::DepthLine
@@ -526,8 +527,8 @@ impl TemporalShadowMap {
         outer_barriers: bool,
     ) {
         let sorted = self.sorts_ranges(light, coverage);
-        self.built_for_exact
-            .store(light.lookup == Lookup::Exact, Ordering::Relaxed);
+        self.built_for
+            .store(light.recorded_flags(), Ordering::Relaxed);
         let header = ShadowMapHeader {
             light: light.gpu(),
             size: UVec4::new(self.width, self.height, sorted as u32 * MS_SORTED_RANGES, 0),
@@ -561,6 +562,7 @@ impl TemporalShadowMap {
                 Some(names) if self.uses_static_names(light, coverage) => names.device_address(),
                 _ => 0,
             },
+            light_end: light.gpu_end(),
         };
         if outer_barriers {
             // SAFETY: `cmd` is recording outside a render pass on a graphics and compute queue (the

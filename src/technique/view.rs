@@ -110,6 +110,10 @@ pub struct LightView {
     pub keep_static_layer: bool,
     /// What the map's ranges are for (default [`Lookup::DepthLine`], the papers' test).
     pub lookup: Lookup,
+    /// The light's pose at shutter close when it moves during the shutter (default `None`:
+    /// still, every field above is its pose all shutter). Set it with
+    /// [`LightView::moving_to`], which documents the motion between the two poses.
+    pub end: Option<super::light_motion::LightEnd>,
 }
 
 /// What a temporal shadow map's ranges answer, and so how the collection builds them.
@@ -193,6 +197,7 @@ impl LightView {
             keep_static_layer: false,
             receiver_plane: false,
             lookup: Lookup::DepthLine,
+            end: None,
         }
     }
 
@@ -227,6 +232,7 @@ impl LightView {
             keep_static_layer: false,
             receiver_plane: false,
             lookup: Lookup::DepthLine,
+            end: None,
         }
     }
 
@@ -249,8 +255,10 @@ impl LightView {
     /// lookup, which needs every triangle near a texel named, it is a list per texel of the
     /// static triangles whose shadow touches it (the static name lists,
     /// [`super::TemporalShadowMap::static_name_capacity`]).
+    /// A moving light has none: every triangle moves relative to it (still ones too), so
+    /// every draw is collected as moving ([`Self::is_moving`]).
     pub fn uses_static_layer(&self, with_coverage_map: bool) -> bool {
-        self.static_layer && self.collects_ranges(with_coverage_map)
+        self.static_layer && self.collects_ranges(with_coverage_map) && !self.is_moving()
     }
 
     /// Whether it is a spot light (perspective map) rather than directional (orthographic).
@@ -272,7 +280,7 @@ impl LightView {
             proj: self.proj,
             position: self.position.extend(w),
             direction: self.direction.extend(cos_cone),
-            emission: Vec4::new(emission, 0.0, 0.0, 0.0),
+            emission: Vec4::new(emission, if self.is_moving() { 1.0 } else { 0.0 }, 0.0, 0.0),
             bias: Vec4::new(
                 self.normal_offset_texels,
                 self.depth_bias,

@@ -103,6 +103,8 @@ void main() {
     put(m.cover_depth); put(m.heads); put(m.nodes); put(m.counters); put(m.long_pixels);
     put(m.nearest); put(m.static_nearest); put(m.tiles); put(m.list_ranges);
     put(m.triangles); put(m.static_names);
+    MsLightEnd e = MsLightEndRef(table.shadow_header + MS_LIGHT_END_OFFSET).end;
+    put(e.view); put(e.frame); put(e.position); put(e.direction);
 
     PlainHeader p = PlainHeader(table.plain_header);
     put(p.light); put(p.size); put(p.depths); put(p.ids);

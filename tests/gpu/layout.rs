@@ -1,11 +1,9 @@
 //! The Rust mirrors in `technique::gpu_types` and `technique::push_constants` have the
-//! layouts of the GLSL structs in `glsl/motion_shadows.glsl` and `glsl/shared.glsl`: a probe
-//! shader reads every struct the host writes (headers, draw record, camera, each pass's push
-//! constants, the long-pixel list's header) field by field and dumps the
-//! scalars, which must equal the host's fields in declaration order; and it writes known
-//! values through the structs shaders write (Node, MsRange, Counters). The probe is a test
-//! shader (`tests/glsl/layout_probe.comp`), compiled here with the library's own includes and
-//! generated constants, not one of the library's shaders.
+//! layouts of the GLSL structs (`glsl/motion_shadows.glsl`, `light_motion.glsl`,
+//! `shared.glsl`): a probe shader (`tests/glsl/layout_probe.comp`) reads every struct the
+//! host writes (headers, draw record, camera, push constants, the long-pixel list's header)
+//! field by field and dumps the scalars, which must equal the host's fields in order; and it
+//! writes known values through the structs shaders write (Node, MsRange, Counters).
 
 use crate::support::gpu::{assert_no_validation_messages, context};
 use crate::support::test_shader::compile_compute;
@@ -149,6 +147,7 @@ fn shared_structs_match_glsl() {
         list_ranges: val.a(),
         triangles: val.a(),
         static_names: val.a(),
+        light_end: bytemuck::cast(std::array::from_fn::<Vec4, 10, _>(|_| val.v())),
     };
     let plain = PlainMapHeader {
         light: val.light(),
@@ -329,8 +328,7 @@ fn shared_structs_match_glsl() {
             // SAFETY: `cmd` is the OneShot's command buffer, recording outside rendering; the probe
             // pipeline is a compute pipeline of this context, alive through the run.
             unsafe { pipeline.bind(device, cmd) };
-            // SAFETY: the probe's layout has MapPush's size as its push range (made with
-            // MapPush::BYTES above).
+            // SAFETY: the probe's layout has MapPush's size as its push range (MapPush::BYTES).
             unsafe { pipeline.push(device, cmd, &push) };
             // SAFETY: the pipeline is bound and pushed; the probe reads the table of buffer
             // addresses, every buffer alive until the OneShot has waited.
@@ -362,6 +360,8 @@ fn shared_structs_match_glsl() {
     ] {
         expected.a(a);
     }
+    let end: [Vec4; 10] = bytemuck::cast(shadow.light_end);
+    end.iter().for_each(|&v| expected.v(v));
     expected.light(&plain.light);
     expected.uv(plain.size);
     expected.a(plain.depths);

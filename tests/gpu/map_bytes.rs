@@ -15,9 +15,9 @@ const HEIGHT: u32 = 32;
 const NODES: u32 = 1000;
 const RANGES: u32 = 2000;
 
-/// The table's fixed part, in bytes: the header (320), the counters (48) and the generation's
+/// The table's fixed part, in bytes: the header (480), the counters (48) and the generation's
 /// dispatches (48).
-const FIXED: u64 = 320 + 48 + 48;
+const FIXED: u64 = 480 + 48 + 48;
 
 fn light() -> LightView {
     LightView::spot(

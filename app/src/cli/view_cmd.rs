@@ -86,6 +86,8 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         Some(path) => load_scene_file(path)?,
         None => builtin(&args.scene, &builtin_options(&args.random))?,
     };
+    let viewer = format!("the viewer (view --method {})", method_name(args));
+    crate::render::upload::refuse_moving_light(&scene, &viewer)?;
     // Only scenes with an animation can play (the others are refused by AnimatedScene with
     // the reason, which the overlay shows as "still scene").
     let animation = match &args.scene_file {

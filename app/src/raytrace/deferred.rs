@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 use crate::output::RadianceImage;
 use crate::render::MAX_IMAGE_SIDE;
 use crate::render::deferred::{DeferredResult, DeferredSettings, direct_factor};
-use crate::render::upload::{camera_view, light_view};
+use crate::render::upload::{camera_view, light_at, moving_light_view};
 use crate::render::{PassTime, RenderSettings};
 use crate::scene::Scene;
 use glam::{DVec3, Vec2};
@@ -157,7 +157,7 @@ pub fn deferred_truth_with(
     let ambient = f64::from(scene.ambient);
     let shading = Shading {
         bvh: &bvh,
-        light: ShadingLight::new(&light_view(scene, shadow_size), scale),
+        light: ShadingLight::new(&moving_light_view(scene, shadow_size)?, scale),
         albedo: scene
             .meshes
             .iter()
@@ -284,7 +284,8 @@ pub fn render_truth(
         progress,
     )?;
     let trace_ms = start.elapsed().as_secs_f64() * 1e3;
-    let light = light_view(scene, settings.shadow_size());
+    // Shaded, as the truth's pixels are, with the light where it is at the camera time.
+    let light = light_at(scene, settings.shadow_size(), deferred.camera_time)?;
     let facing = (0..truth.hit.len())
         .map(|i| {
             truth.hit[i]

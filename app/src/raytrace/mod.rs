@@ -25,7 +25,7 @@ pub mod triangles;
 
 use crate::error::Result;
 use crate::output::RadianceImage;
-use crate::render::upload::{camera_view, light_view};
+use crate::render::upload::{camera_view, moving_light_view};
 use crate::render::{FrameStats, PassTime, RenderResult, RenderSettings};
 use crate::scene::Scene;
 use bvh::Bvh;
@@ -72,7 +72,7 @@ pub fn render(
     let ambient = f64::from(scene.ambient);
     let shading = Shading {
         bvh: &bvh,
-        light: ShadingLight::new(&light_view(scene, settings.shadow_size()), scale),
+        light: ShadingLight::new(&moving_light_view(scene, settings.shadow_size())?, scale),
         albedo: scene
             .meshes
             .iter()
@@ -131,6 +131,7 @@ pub fn render(
         shadow_map_bytes_eq2_unpruned: 0,
         static_layer_bytes: 0,
         static_layer_kept: false,
+        light_moves: scene.light.moves(),
         shadow_map_bytes_eq2_without_coverage: 0,
         coverage_map_bytes: 0,
         shadow_map_bytes_allocated: 0,

@@ -7,8 +7,9 @@
 //! the ones the GPU shades with ([`LightView::gpu`]: the normalised direction, the cone's
 //! cosine and the emission as f32), so the two differ only in visibility.
 //!
-//! Visibility is a shadow ray from the hit point at the sample's time to the light, against
-//! every triangle at that same time but the hit one, with no normal offset or depth bias:
+//! Visibility is a shadow ray from the hit point at the sample's time to the light where it is
+//! at that time (a moving light: [`ShadingLight::at`]), against every triangle at that same
+//! time but the hit one, with no normal offset or depth bias:
 //!  - spot: the segment to the light's position, whatever the shadow map's near and far
 //!    planes (a caster nearer to the light than the map's near plane still casts its shadow);
 //!  - directional: a ray against the light's direction to infinity. The GPU methods see only
@@ -40,6 +41,9 @@ pub struct ShadingLight {
     emission: f64,
     /// Length scale of the directional shadow ray's epsilon (the scene's size).
     scale: f64,
+    /// A moving light's position and unit direction at t = 1 (`position` and `direction`
+    /// are then those at t = 0); `None`: still.
+    end: Option<(DVec3, DVec3)>,
 }
 
 impl ShadingLight {
@@ -52,7 +56,53 @@ impl ShadingLight {
             cos_cone: f64::from(gpu.direction.w),
             emission: f64::from(gpu.emission.x),
             scale: scene_scale.max(f64::MIN_POSITIVE),
+            end: light
+                .end
+                .map(|end| (end.position.as_dvec3(), end.direction.as_dvec3())),
         }
+    }
+
+    /// This light moving during the shutter to `position` (spot) and `direction` at t = 1.
+    /// For tests that ask [`super::shutter`] about bare geometry.
+    pub fn moving_to(self, position: DVec3, direction: DVec3) -> Self {
+        Self {
+            end: Some((position, direction.normalize())),
+            ..self
+        }
+    }
+
+    /// The still light this one is at shutter time `t`: position linear, direction the
+    /// normalised blend of the two ends (`LightView::moving_to`). A still light is returned
+    /// as it is, so its arithmetic is exactly that of a light that never moves.
+    pub fn at(&self, t: f64) -> Self {
+        match self.end {
+            None => *self,
+            Some((position, direction)) => Self {
+                position: self.position.lerp(position, t),
+                // A direction that does not turn is kept as it is (normalising it again
+                // could move its last bit), so a light that only translates, or does not
+                // move at all, shades exactly as a still light.
+                direction: if direction == self.direction {
+                    direction
+                } else {
+                    self.direction.lerp(direction, t).normalize()
+                },
+                end: None,
+                ..*self
+            },
+        }
+    }
+
+    /// The unit direction the light points (spot axis) or travels (directional) at t = 0.
+    pub fn direction(&self) -> DVec3 {
+        self.direction
+    }
+
+    /// The motion of a moving light over the shutter: the change of its position and of its
+    /// (unnormalised, linearly blended) direction from t = 0 to t = 1; `None` when still.
+    pub fn motion(&self) -> Option<(DVec3, DVec3)> {
+        self.end
+            .map(|(position, direction)| (position - self.position, direction - self.direction))
     }
 
     /// A light for shadow rays only (no cone, no emission): a spot light at `position`, or
@@ -66,6 +116,7 @@ impl ShadingLight {
             cos_cone: -1.0,
             emission: 0.0,
             scale: scene_scale.max(f64::MIN_POSITIVE),
+            end: None,
         }
     }
 
@@ -120,7 +171,7 @@ impl Shading<'_> {
     ) -> (Option<DVec3>, DVec3) {
         let n = facing_normal(tri, t, view_dir);
         let (albedo, ambient) = self.albedo[tri.mesh as usize];
-        let light = &self.light;
+        let light = &self.light.at(t);
         let to_light = if light.spot {
             light.position - p
         } else {
@@ -143,10 +194,10 @@ impl Shading<'_> {
         (Some(direct), ambient)
     }
 
-    /// Whether a triangle other than the one with id `skip` blocks the light from `p` at
-    /// time `t`.
+    /// Whether a triangle other than the one with id `skip` blocks the light (where it is at
+    /// time `t`) from `p` at time `t`.
     pub fn occluded(&self, p: DVec3, t: f64, skip: u32) -> bool {
-        let (shadow, s_min, s_max) = self.light.shadow_ray(p);
+        let (shadow, s_min, s_max) = self.light.at(t).shadow_ray(p);
         self.bvh.occluded(&shadow, t, s_min, s_max, skip)
     }
 }

@@ -9,7 +9,9 @@
 //! integrated over the shutter. Nothing of the shadow maps (texels, bias, normal offset).
 //!
 //! With every vector relative to `P(t)` (`A' = A(t) - P(t)`, linear in t) and `u(t)` the
-//! shadow ray's direction (directional: constant; spot: `L - P(t)`, linear), the ray meets
+//! shadow ray's direction (directional: constant, or for a turning light the blend
+//! `-((1 - t) D0 + t D1)`, linear; spot: `L(t) - P(t)`, linear also for a moving light whose
+//! position `L(t)` is linear), the ray meets
 //! triangle ABC iff its three edge functions `det(A', B', u)`, `det(B', C', u)`,
 //! `det(C', A', u)` share a sign and the plane's ray parameter `s = det(A', B', C') / E`
 //! (`E` their sum) lies in `[s_min, s_max]`, i.e. `det(A', B', C') - s0 E` has the right
@@ -232,12 +234,32 @@ impl<'a> Query<'a> {
     fn new(light: &'a ShadingLight, p0: DVec3, p1: DVec3) -> Self {
         let m = p1 - p0;
         let (ray, s_min, s_max) = light.shadow_ray(p0);
+        // A moving light's ray direction changes by `motion` over the shutter: the spot's
+        // position linearly, the directional light's (unnormalised) blended direction too.
+        let motion = light.motion();
         let (u, spot, s_far) = match light.spot_position() {
-            Some(l) => (Linear { a: l - p0, b: -m }, true, 1.0),
+            Some(l) => {
+                let dl = motion.map_or(DVec3::ZERO, |(dl, _)| dl);
+                (
+                    Linear {
+                        a: l - p0,
+                        b: dl - m,
+                    },
+                    true,
+                    1.0,
+                )
+            }
             None => (
-                Linear {
-                    a: ray.dir,
-                    b: DVec3::ZERO,
+                match motion {
+                    None => Linear {
+                        a: ray.dir,
+                        b: DVec3::ZERO,
+                    },
+                    // `-((1 - t) D0 + t D1)`: the blend itself, not its normalised start.
+                    Some((_, dd)) => Linear {
+                        a: -light.direction(),
+                        b: -dd,
+                    },
                 },
                 false,
                 f64::INFINITY,
@@ -264,10 +286,24 @@ impl<'a> Query<'a> {
     /// blend of `B0` and `B1 - m`, inside their bounding box. Spot: `(1 - s) P(t) + s L` in
     /// `B(t)` means `(1 - s) P0 + s L` in `B(t) - (1 - s) t m`, a convex combination of
     /// `B0`, `B1` and `B1 - m`. So the ray (segment) from `P0` against that box.
+    ///
+    /// A moving spot at `L0 + t dL`: `(1 - s) P0 + s L0` in `B(t) - t (1 - s) m - t s dL`, in
+    /// the box of `B0` and `B1` grown by the box of `0`, `-m` and `-dL`. A turning
+    /// directional light's rays fan out from `P0`, which one segment does not bound: every
+    /// box may be reached.
     fn may_reach(&self, lo0: DVec3, hi0: DVec3, lo1: DVec3, hi1: DVec3) -> bool {
         let (mut lo, mut hi) = (lo0.min(lo1 - self.m), hi0.max(hi1 - self.m));
-        if self.spot {
-            (lo, hi) = (lo.min(lo1), hi.max(hi1));
+        match (self.light.motion(), self.spot) {
+            (None, true) => (lo, hi) = (lo.min(lo1), hi.max(hi1)),
+            (None, false) => {}
+            (Some((dl, _)), true) => {
+                let (shift_lo, shift_hi) = (
+                    DVec3::ZERO.min(-self.m).min(-dl),
+                    DVec3::ZERO.max(-self.m).max(-dl),
+                );
+                (lo, hi) = (lo0.min(lo1) + shift_lo, hi0.max(hi1) + shift_hi);
+            }
+            (Some(_), false) => return true,
         }
         let pad = self.pad + SWEPT_PAD * lo.abs().max(hi.abs()).max_element();
         let (lo, hi) = (lo - pad, hi + pad);
@@ -290,9 +326,11 @@ impl<'a> Query<'a> {
         true
     }
 
-    /// The tracer's test: does the shadow ray of `P(t)` meet `tri` at time `t`?
+    /// The tracer's test: does the shadow ray of `P(t)` (to the light where it is at `t`) meet
+    /// `tri` at time `t`?
     fn blocks(&self, tri: &Triangle, t: f64) -> bool {
-        let (ray, s_min, s_max): (Ray, f64, f64) = self.light.shadow_ray(self.p0 + t * self.m);
+        let (ray, s_min, s_max): (Ray, f64, f64) =
+            self.light.at(t).shadow_ray(self.p0 + t * self.m);
         ray.intersect(&tri.at(t), s_min, s_max).is_some()
     }
 

@@ -64,6 +64,7 @@ impl Renderer<'_> {
                     .to_owned(),
             ));
         }
+        upload::check_moving_light_deferred(scene, deferred)?;
         let ctx = self.ctx;
         progress("uploading the scene");
         let geometry = upload::SceneGeometry::upload(ctx, scene)?;
@@ -72,7 +73,7 @@ impl Renderer<'_> {
             // SAFETY: a OneShot command buffer of this context, recording, outside rendering.
             unsafe { draws.record_update(this.ctx.device(), cmd, &geometry.draws) }
         })?;
-        let light = deferred_light(scene, settings, deferred);
+        let light = upload::with_motion(scene, deferred_light(scene, settings, deferred))?;
         let camera = upload::camera_view(scene, size);
         let view_proj = camera.proj * camera.view;
         let gbuffer = GBuffer::new(ctx, settings.width, settings.height)?;
@@ -160,7 +161,11 @@ impl Renderer<'_> {
         };
         let contents = gbuffer.read()?;
         let lit = mask.read(size)?;
-        let (image, hit, facing) = shade(scene, &light, &contents, view_proj.inverse(), &lit)?;
+        // Shaded with the light where it is at the camera time (a moving light's, as the
+        // deferred truth does).
+        let shading_light = upload::light_at(scene, shadow, deferred.camera_time)?;
+        let (image, hit, facing) =
+            shade(scene, &shading_light, &contents, view_proj.inverse(), &lit)?;
         let lit = lit
             .iter()
             .zip(&hit)

@@ -98,7 +98,7 @@ impl Renderer<'_> {
             // SAFETY: a OneShot command buffer of this context, recording, outside rendering.
             unsafe { draws.record_update(this.ctx.device(), cmd, &geometry.draws) }
         })?;
-        let light = forward_light(scene, settings);
+        let light = upload::with_motion(scene, forward_light(scene, settings))?;
         let view = LightingView {
             camera: upload::camera_view(scene, (settings.width, settings.height)),
             seed: settings.seed,
@@ -334,6 +334,7 @@ pub(super) fn stats(
         },
         static_layer_bytes: outcome.static_layer_bytes(&frame.light, shadow_pixels),
         static_layer_kept: outcome.static_layer_kept(&frame.light),
+        light_moves: scene.light.moves(),
         shadow_map_bytes_eq2_without_coverage: eq2(counts.ranges_without_coverage as u64),
         coverage_map_bytes: outcome.coverage_bytes(),
         shadow_map_bytes_allocated: outcome.allocated_bytes(),

@@ -316,6 +316,7 @@ impl<'a> Renderer<'a> {
         let start = Instant::now();
         settings.validate()?;
         scene.validate()?;
+        upload::check_moving_light_forward(scene, settings)?;
         let frame = self.prepare_frame(scene, settings, progress)?;
         let mut passes = Vec::new();
         let target = frame.lighting_target(self.ctx, settings)?;

@@ -18,7 +18,7 @@
 //! - each pair once, however many samples cover it (the union of the images, row by row).
 //!
 //! Not for the papers' prisms or the coverage map (which stores no range where one triangle
-//! covers a texel all frame): there the bound is 0.
+//! covers a texel all frame), nor for a moving light: there the bound is 0.
 
 use glam::{DMat4, DVec2, DVec3, DVec4, Vec3};
 use motion_shadows::technique::{LightView, PrismConstruction};
@@ -87,7 +87,9 @@ impl Image {
 /// of the shutter: at least as many ranges as the exact construction stores in a map of
 /// `size` texels.
 pub fn ranges_at_least(scene: &Scene, light: &LightView, size: (u32, u32)) -> u64 {
-    if light.prisms != PrismConstruction::Exact {
+    // A moving light sees every triangle move (still ones too) along other paths than the
+    // t = 0 view's: no claim (the map grows to fit instead).
+    if light.prisms != PrismConstruction::Exact || light.is_moving() {
         return 0;
     }
     let to_clip: DMat4 = light.proj.as_dmat4() * light.view.as_dmat4();

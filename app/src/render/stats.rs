@@ -138,6 +138,9 @@ pub struct FrameStats {
     pub static_layer_bytes: u64,
     /// The timed shadow pass kept a static layer drawn before it (`--static-layer kept`).
     pub static_layer_kept: bool,
+    /// Whether the scene's light moves during the shutter (its `t1` pose; only the ray
+    /// tracer takes such a scene so far).
+    pub light_moves: bool,
     /// Equation (2) with the ranges stored without the coverage map.
     pub shadow_map_bytes_eq2_without_coverage: u64,
     /// The nearest, coverage and cover-depth maps (coverage method; 0 otherwise).

@@ -13,6 +13,7 @@ use super::game::{GAME_TIME, game_level};
 use super::hard::hard_scene;
 use super::leg::leg_toward_light;
 use super::limits::{CUBE_SIZE_RANGE, MAX_CUBE_SPEED, MAX_SCENE_TRIANGLES};
+use super::moving_light::moving_light;
 use super::parts::{ground, object, random_moving_cube, translate};
 use super::rng::SplitMix64;
 use super::walker::{WALKER_TIME, walker_toward_light};
@@ -26,6 +27,7 @@ pub const BUILTIN_NAMES: &[&str] = &[
     "walker-toward-light",
     "fox-run",
     "game-level",
+    "moving-light",
     "hard-rotating-triangle",
     "hard-hinged-limb",
     "hard-propeller",
@@ -98,6 +100,7 @@ pub fn builtin_file(name: &str, opts: &BuiltinOptions) -> Result<SceneFile, Scen
         }
         "fox-run" => fox_run(frame_time(opts, FOX_TIME) as f32, opts.subdivide),
         "game-level" => game_level(frame_time(opts, GAME_TIME), opts.subdivide),
+        "moving-light" => Ok(moving_light()),
         _ => hard_scene(name).ok_or_else(|| SceneError::UnknownBuiltin {
             name: name.to_owned(),
             available: BUILTIN_NAMES.iter().map(|s| s.to_string()).collect(),
@@ -153,6 +156,7 @@ fn cubes_toward_light() -> SceneFile {
             intensity: 250.0,
             near: 0.5,
             far: 50.0,
+            t1: None,
         },
         ambient: 0.0,
         objects: vec![
@@ -286,6 +290,7 @@ fn random_cubes(opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
             intensity: 0.5 * std::f32::consts::PI / 0.8 * light_height * light_height,
             near: half,
             far: 1.1 * light_height / cone.to_radians().cos(),
+            t1: None,
         },
         ambient: 0.0,
         objects,

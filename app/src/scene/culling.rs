@@ -40,20 +40,22 @@ impl CullingException {
 }
 
 /// The closed meshes that contain (or touch) the spot light's position or the camera's
-/// position at some time of the shutter. A directional light has no position.
+/// position at some time of the shutter (a moving light where it is at that time). A
+/// directional light has no position.
 pub fn culling_exceptions(scene: &Scene) -> Vec<CullingException> {
-    let mut viewpoints = vec![("the camera", scene.camera.position)];
+    let mut viewpoints = vec![("the camera", scene.camera.position, Vec3::ZERO)];
     if let Light::Spot(s) = &scene.light {
-        viewpoints.insert(0, ("the spot light", s.position));
+        let moved = s.t1.map_or(Vec3::ZERO, |end| end.position - s.position);
+        viewpoints.insert(0, ("the spot light", s.position, moved));
     }
     let mut found = Vec::new();
     for (index, mesh) in scene.meshes.iter().enumerate() {
         if !mesh.closed {
             continue;
         }
-        if let Some(&(viewpoint, _)) = viewpoints
+        if let Some(&(viewpoint, _, _)) = viewpoints
             .iter()
-            .find(|(_, p)| contains_during_shutter(mesh, *p))
+            .find(|(_, p, moved)| contains_during_shutter(&relative(mesh, *moved), *p))
         {
             found.push(CullingException {
                 mesh: index,
@@ -62,6 +64,17 @@ pub fn culling_exceptions(scene: &Scene) -> Vec<CullingException> {
         }
     }
     found
+}
+
+/// `mesh` as seen from a point that moves by `moved` over the shutter, from where it stands
+/// at t = 0: its t = 1 positions moved back by `moved` (the relative motion stays linear).
+fn relative(mesh: &Mesh, moved: Vec3) -> std::borrow::Cow<'_, Mesh> {
+    if moved == Vec3::ZERO {
+        return std::borrow::Cow::Borrowed(mesh);
+    }
+    let mut shifted = mesh.clone();
+    shifted.t1.iter_mut().for_each(|p| *p -= moved);
+    std::borrow::Cow::Owned(shifted)
 }
 
 /// Per mesh, whether the renderer may treat it as closed (cull its back faces) this frame:
@@ -257,6 +270,26 @@ mod tests {
             .unwrap();
             assert_eq!(culling_exceptions(&s), [], "{name}");
         }
+    }
+
+    #[test]
+    fn a_moving_light_passing_through_a_still_box_opens_it() {
+        let mut s = builtin("moving-light", &BuiltinOptions::default()).unwrap();
+        let Light::Spot(light) = &s.light else {
+            panic!("spot expected")
+        };
+        let (start, end) = (light.position, light.t1.unwrap().position);
+        let post = s.meshes.iter().position(|m| m.name == "post-0").unwrap();
+        // Still, halfway along the light's path: outside it at t = 0 and t = 1, not between.
+        let halfway = unit_box(0.5 * (start + end), 0.5 * (start + end));
+        s.meshes[post].t0 = halfway.t0;
+        s.meshes[post].t1 = halfway.t1;
+        let exceptions = culling_exceptions(&s);
+        let expected = CullingException {
+            mesh: post,
+            viewpoint: "the spot light",
+        };
+        assert_eq!(exceptions, [expected]);
     }
 
     #[test]

@@ -250,6 +250,7 @@ pub(super) fn front_spot() -> LightFile {
         intensity: 25.0,
         near: 0.5,
         far: 20.0,
+        t1: None,
     }
 }
 

@@ -20,6 +20,7 @@ mod hard;
 mod leg;
 pub mod limits;
 pub mod memory;
+mod moving_light;
 mod name;
 mod obj;
 mod parts;
@@ -40,13 +41,15 @@ pub use culling::{
 };
 pub use error::SceneError;
 pub use file::{
-    BoxSpec, CameraFile, LightFile, MeshSpec, ObjectFile, PlaneSpec, SCENE_FORMAT, SceneFile,
-    SceneSource, TransformFile, TrianglesSpec, load_scene_file, parse_scene_json, read_scene_file,
-    scene_to_json,
+    BoxSpec, CameraFile, DirectionalPoseFile, LightFile, MeshSpec, ObjectFile, PlaneSpec,
+    SCENE_FORMAT, SceneFile, SceneSource, SpotPoseFile, TransformFile, TrianglesSpec,
+    load_scene_file, parse_scene_json, read_scene_file, scene_to_json,
 };
 pub use frames::AnimatedScene;
 pub use hard::HARD_NAMES;
 pub use name::{name_from_file_stem, scene_name_problem};
 pub use primitives::{RigidTransform, box_mesh, plane_mesh};
 pub use subdivide::subdivide;
-pub use types::{Camera, DirectionalLight, Light, Mesh, Scene, SpotLight};
+pub use types::{
+    Camera, DirectionalLight, DirectionalPose, Light, Mesh, Scene, SpotLight, SpotPose,
+};

@@ -60,6 +60,16 @@ pub struct SpotLight {
     pub intensity: f32,
     pub near: f32,
     pub far: f32,
+    /// The pose at t = 1 of a light that moves during the shutter; `None`: still.
+    pub t1: Option<SpotPose>,
+}
+
+/// A moving spot light's pose at t = 1: it moves linearly from its t = 0 position and its
+/// direction is the normalised blend of the two (`LightView::moving_to`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpotPose {
+    pub position: Vec3,
+    pub direction: Vec3,
 }
 
 /// Parallel light travelling along `direction`; `irradiance` in W/m^2 on a surface facing
@@ -78,12 +88,41 @@ pub struct DirectionalLight {
     pub distance: f32,
     pub near: f32,
     pub far: f32,
+    /// The pose at t = 1 of a light that turns (or whose shadow box moves) during the
+    /// shutter; `None`: still.
+    pub t1: Option<DirectionalPose>,
+}
+
+/// A moving directional light's pose at t = 1: its direction (the normalised blend of the
+/// two between) and its shadow box's centre (linear between).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DirectionalPose {
+    pub direction: Vec3,
+    pub center: Vec3,
 }
 
 impl DirectionalLight {
     /// Where the orthographic shadow camera sits (see the type's documentation).
     pub fn eye(&self) -> Vec3 {
         self.center - self.direction.normalize_or_zero() * self.distance
+    }
+
+    /// Where it sits at t = 1 (the same point for a still light).
+    pub fn eye_t1(&self) -> Vec3 {
+        match &self.t1 {
+            None => self.eye(),
+            Some(end) => end.center - end.direction.normalize_or_zero() * self.distance,
+        }
+    }
+}
+
+impl Light {
+    /// Whether the light moves during the shutter (the scene file gave it a `t1`).
+    pub fn moves(&self) -> bool {
+        match self {
+            Light::Spot(s) => s.t1.is_some(),
+            Light::Directional(d) => d.t1.is_some(),
+        }
     }
 }
 

@@ -98,6 +98,11 @@ fn check_light(light: &Light) -> Result<(), SceneError> {
                     format!("intensity must be >= 0, got {}", s.intensity),
                 ));
             }
+            if let Some(end) = &s.t1 {
+                finite3(what, "t1 position", end.position)?;
+                nonzero(what, "t1 direction", end.direction)?;
+                turn(what, s.direction, end.direction)?;
+            }
             depth_range(what, s.near, s.far)
         }
         Light::Directional(d) => {
@@ -126,9 +131,33 @@ fn check_light(light: &Light) -> Result<(), SceneError> {
                     format!("distance must be > 0, got {}", d.distance),
                 ));
             }
+            if let Some(end) = &d.t1 {
+                nonzero(what, "t1 direction", end.direction)?;
+                finite3(what, "t1 center", end.center)?;
+                turn(what, d.direction, end.direction)?;
+            }
             depth_range(what, d.near, d.far)
         }
     }
+}
+
+/// A moving light's directions at t = 0 and t = 1 must be less than
+/// `MAX_LIGHT_TURN_DEG` apart (the library's own test, `LightView::moving_to`).
+fn turn(what: &str, d0: Vec3, d1: Vec3) -> Result<(), SceneError> {
+    use motion_shadows::technique::MAX_LIGHT_TURN_DEG;
+    let cos_turn = d0.normalize().dot(d1.normalize());
+    // cos(90 degrees) is 0 exactly; its f32 radians are not.
+    if cos_turn <= 0.0 {
+        let degrees = cos_turn.clamp(-1.0, 1.0).acos().to_degrees();
+        return Err(invalid(
+            what,
+            format!(
+                "t1 direction turns {degrees:.1} degrees from direction; a moving light may \
+                 turn less than {MAX_LIGHT_TURN_DEG} degrees during the shutter"
+            ),
+        ));
+    }
+    Ok(())
 }
 
 fn check_mesh(index: usize, m: &Mesh) -> Result<(), SceneError> {
@@ -222,6 +251,7 @@ mod tests {
                 intensity: 10.0,
                 near: 0.5,
                 far: 20.0,
+                t1: None,
             }),
             ambient: 0.0,
             meshes: vec![Mesh {

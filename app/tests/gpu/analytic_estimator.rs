@@ -33,6 +33,7 @@ fn ground_view_scene() -> Scene {
             distance: 12.0,
             near: 0.5,
             far: 30.0,
+            t1: None,
         }),
         vec![
             mesh("ground", ground.clone(), ground, false),

@@ -72,6 +72,7 @@ fn block_and_flying_casters() -> Scene {
             distance: 10.0,
             near: 0.5,
             far: 30.0,
+            t1: None,
         }),
         ambient: 0.05,
         meshes: vec![

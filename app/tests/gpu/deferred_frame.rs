@@ -65,6 +65,7 @@ fn sliding_platform() -> Scene {
             distance: 12.0,
             near: 0.5,
             far: 30.0,
+            t1: None,
         }),
         ambient: 0.05,
         meshes: vec![
@@ -192,6 +193,7 @@ fn tumbling_cube() -> Scene {
             distance: 10.0,
             near: 0.5,
             far: 30.0,
+            t1: None,
         }),
         ambient: 0.05,
         meshes: vec![
@@ -271,6 +273,7 @@ fn grazing_ground() -> Scene {
             distance: 20.0,
             near: 0.1,
             far: 40.0,
+            t1: None,
         }),
         ambient: 0.05,
         meshes: vec![mesh("ground", ground.clone(), ground)],
@@ -356,6 +359,7 @@ fn block_and_flying_cube() -> Scene {
             distance: 10.0,
             near: 0.5,
             far: 30.0,
+            t1: None,
         }),
         ambient: 0.05,
         meshes: vec![

@@ -53,6 +53,7 @@ fn app_scene(world: &World, frame: u32, light: usize) -> app::Scene {
                 intensity,
                 near,
                 far,
+                t1: None,
             }),
             Light::Directional {
                 direction,
@@ -70,6 +71,7 @@ fn app_scene(world: &World, frame: u32, light: usize) -> app::Scene {
                 distance,
                 near,
                 far,
+                t1: None,
             }),
         },
         ambient: world.ambient,
@@ -103,9 +105,8 @@ fn stats(diffs: &[f64]) -> (f64, f64, f64, f64) {
 }
 
 /// Prints and checks the differences (renderer minus host, in visibility units, each with
-/// whether the host's value is partial) over all compared pixels and over the partly lit
-/// ones alone: the mean within 4 standard errors of 0 plus 0.004, the RMSE below 0.0625 (see
-/// the test's documentation).
+/// whether the host's value is partial) over all compared pixels and the partly lit ones
+/// alone: mean within 4 standard errors of 0 plus 0.004, RMSE below 0.0625 (see the test).
 fn check_agreement(what: &str, diffs: &[(f64, bool)], min_partial: usize) {
     let all: Vec<f64> = diffs.iter().map(|d| d.0).collect();
     let partial: Vec<f64> = diffs.iter().filter(|d| d.1).map(|d| d.0).collect();
@@ -191,9 +192,8 @@ fn compare_light(
 ///   Bernoulli estimate at visibility 1/2, the worst case before stratification (which only
 ///   lowers it).
 ///
-/// Both hold over all compared pixels and over the partly lit ones alone. The brute-force
-/// reference (256 time slices, ordinary shadow maps) is held to the same bounds for one
-/// frame.
+/// Both hold over all compared pixels and the partly lit ones alone. The brute-force
+/// reference (256 time slices, ordinary shadow maps) meets the same bounds for one frame.
 #[test]
 fn host_image_equals_the_standalone_renderer_on_static_receivers() {
     let host = new_host();

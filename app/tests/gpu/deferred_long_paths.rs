@@ -83,6 +83,7 @@ fn long_paths(setup: Setup) -> Scene {
             distance: 10.0,
             near: 0.1,
             far: 20.0,
+            t1: None,
         }),
         ambient: 0.0,
         meshes: vec![

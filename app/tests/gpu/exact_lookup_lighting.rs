@@ -105,6 +105,7 @@ fn lights() -> [(&'static str, Light); 2] {
                 distance: 10.0,
                 near: 0.5,
                 far: 30.0,
+                t1: None,
             }),
         ),
         (
@@ -116,6 +117,7 @@ fn lights() -> [(&'static str, Light); 2] {
                 intensity: 60.0,
                 near: 0.5,
                 far: 30.0,
+                t1: None,
             }),
         ),
     ]

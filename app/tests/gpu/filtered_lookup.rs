@@ -48,6 +48,7 @@ fn slanted_light() -> Light {
         distance: 10.0,
         near: 0.5,
         far: 20.0,
+        t1: None,
     })
 }
 

@@ -37,6 +37,9 @@ fn the_bound_never_exceeds_the_ranges_stored() {
     let mut checked = 0;
     for &name in BUILTIN_NAMES {
         let scene = builtin(name, &BuiltinOptions::default()).unwrap();
+        if scene.light.moves() {
+            continue; // no bound is claimed for a moving light (moving-light)
+        }
         for static_layer in [true, false] {
             let s = settings((512, 512), static_layer);
             let bound = ranges_at_least(&scene, &light_view(&scene, (512, 512)), (512, 512));

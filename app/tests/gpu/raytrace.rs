@@ -48,6 +48,7 @@ fn spot() -> Light {
         intensity: 40.0,
         near: 0.5,
         far: 50.0,
+        t1: None,
     })
 }
 
@@ -60,6 +61,7 @@ fn directional() -> Light {
         distance: 10.0,
         near: 0.5,
         far: 20.0,
+        t1: None,
     })
 }
 
@@ -269,6 +271,7 @@ fn moving_scene() -> Scene {
             intensity: 60.0,
             near: 0.5,
             far: 50.0,
+            t1: None,
         }),
         ambient: AMBIENT,
         meshes: vec![

@@ -58,6 +58,7 @@ fn grazing_scene() -> Scene {
             distance: 20.0,
             near: 1.0,
             far: 40.0,
+            t1: None,
         }),
         ambient: 0.0,
         meshes: vec![

@@ -142,6 +142,7 @@ impl EngineTsmPass {
         maps: u32,
     ) -> Result<()> {
         check_record(inputs.size, inputs.time, inputs.motion.is_some(), maps)?;
+        light.refuse_moving("the time-dependent shadow maps (EngineTsmPass)")?;
         // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue, and
         // no other pending command buffer uses `map` (this function's contract).
         unsafe { write_header(device, cmd, map, light) };

@@ -171,6 +171,16 @@ impl LightingPass {
                 view.filter
             )));
         }
+        if let ShadowSource::Temporal(map) = shadow {
+            if map.recorded_for_moving_light() && view.estimator == ShadowEstimator::Analytic {
+                return Err(Error::InvalidArgument(
+                    "ShadowEstimator::Analytic takes a still receiver's lit share of the shutter, \
+                     which a moving light (LightView::end) does not leave still: use \
+                     ShadowEstimator::Sampled"
+                        .to_owned(),
+                ));
+            }
+        }
         let (mode, _) = shadow.mode_and_header();
         let variant = ShadeVariant::of(
             mode,

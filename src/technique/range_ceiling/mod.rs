@@ -64,11 +64,14 @@ pub struct RangeCeiling {
 
 impl RangeCeiling {
     /// For a map of `width` x `height` texels lit by `light`; None with the papers' prisms
-    /// (`PrismConstruction::Paper`, not bounded here). With the exact lookup's conservative
-    /// collection (`Lookup::Exact`), which covers whole texels, it counts the texels of each
-    /// triangle's grown footprint (one range, or one static name, each).
+    /// (`PrismConstruction::Paper`, not bounded here) and for a moving light
+    /// (`LightView::end`: its triangles move in the light's moving frame, which this does not
+    /// follow). With the exact lookup's conservative collection (`Lookup::Exact`), which
+    /// covers whole texels, it counts the texels of each triangle's grown footprint (one
+    /// range, or one static name, each).
     pub fn new(light: &LightView, width: u32, height: u32) -> Option<Self> {
-        (light.prisms == PrismConstruction::Exact).then(|| Self {
+        let bounded = light.prisms == PrismConstruction::Exact && !light.is_moving();
+        bounded.then(|| Self {
             conservative: light.lookup == Lookup::Exact,
             setup: Setup {
                 to_view: light.view.as_dmat4(),

@@ -294,6 +294,7 @@ fn deferred_truth_of_a_crossing_square() {
             distance: 10.0,
             near: 0.1,
             far: 20.0,
+            t1: None,
         }),
         ambient: 0.1,
         meshes: vec![

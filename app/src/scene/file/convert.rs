@@ -15,7 +15,9 @@ use crate::scene::limits::MAX_SCENE_TRIANGLES;
 use crate::scene::name::scene_name_problem;
 use crate::scene::obj::load_obj_triangles;
 use crate::scene::primitives::{RigidTransform, box_mesh, plane_mesh};
-use crate::scene::{Camera, DirectionalLight, Light, Mesh, Scene, SceneError, SpotLight};
+use crate::scene::{
+    Camera, DirectionalLight, DirectionalPose, Light, Mesh, Scene, SceneError, SpotLight, SpotPose,
+};
 
 impl SceneFile {
     /// Converts to the runtime scene and validates it. `fallback_name` is used when
@@ -85,6 +87,7 @@ impl LightFile {
                 intensity,
                 near,
                 far,
+                t1,
             } => Light::Spot(SpotLight {
                 position,
                 direction: direction.normalize_or_zero(),
@@ -92,6 +95,10 @@ impl LightFile {
                 intensity,
                 near,
                 far,
+                t1: t1.map(|end| SpotPose {
+                    position: end.position.unwrap_or(position),
+                    direction: end.direction.unwrap_or(direction).normalize_or_zero(),
+                }),
             }),
             LightFile::Directional {
                 direction,
@@ -101,6 +108,7 @@ impl LightFile {
                 distance,
                 near,
                 far,
+                t1,
             } => Light::Directional(DirectionalLight {
                 direction: direction.normalize_or_zero(),
                 irradiance,
@@ -109,6 +117,10 @@ impl LightFile {
                 distance,
                 near,
                 far,
+                t1: t1.map(|end| DirectionalPose {
+                    direction: end.direction.unwrap_or(direction).normalize_or_zero(),
+                    center: end.center.unwrap_or(center),
+                }),
             }),
         }
     }

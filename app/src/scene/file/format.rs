@@ -50,6 +50,10 @@ pub enum LightFile {
         intensity: f32,
         near: f32,
         far: f32,
+        /// The light's pose at t = 1 (docs/scene-format.md, "A moving light"); fields left
+        /// out keep their t = 0 value, no `t1` at all: a still light.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        t1: Option<SpotPoseFile>,
     },
     Directional {
         direction: Vec3,
@@ -59,7 +63,31 @@ pub enum LightFile {
         distance: f32,
         near: f32,
         far: f32,
+        /// As the spot's `t1`.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        t1: Option<DirectionalPoseFile>,
     },
+}
+
+/// A spot light's `t1`: its position and direction at t = 1, each defaulting to t = 0's.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpotPoseFile {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub position: Option<Vec3>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub direction: Option<Vec3>,
+}
+
+/// A directional light's `t1`: its direction and its shadow box's centre at t = 1, each
+/// defaulting to t = 0's.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DirectionalPoseFile {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub direction: Option<Vec3>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub center: Option<Vec3>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

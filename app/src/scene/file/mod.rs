@@ -7,12 +7,14 @@
 mod budget;
 mod convert;
 mod format;
+#[cfg(test)]
+mod light_motion_tests;
 mod load;
 #[cfg(test)]
 mod tests;
 
 pub use format::{
-    BoxSpec, CameraFile, LightFile, MeshSpec, ObjectFile, PlaneSpec, SCENE_FORMAT, SceneFile,
-    TransformFile, TrianglesSpec,
+    BoxSpec, CameraFile, DirectionalPoseFile, LightFile, MeshSpec, ObjectFile, PlaneSpec,
+    SCENE_FORMAT, SceneFile, SpotPoseFile, TransformFile, TrianglesSpec,
 };
 pub use load::{SceneSource, load_scene_file, parse_scene_json, read_scene_file, scene_to_json};

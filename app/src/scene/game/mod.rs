@@ -56,6 +56,7 @@ pub(super) fn game_level(time: f64, subdivide: u32) -> Result<SceneFile, SceneEr
             intensity: LIGHT_INTENSITY,
             near: 0.5,
             far: 40.0,
+            t1: None,
         },
         // A little fill light, as games have, so the shadowed side of the room still reads.
         ambient: 0.04,

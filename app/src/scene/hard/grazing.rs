@@ -135,6 +135,7 @@ pub(super) fn scene() -> SceneFile {
             distance: 15.0,
             near: 1.0,
             far: 35.0,
+            t1: None,
         },
         objects,
     )

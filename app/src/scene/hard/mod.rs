@@ -100,6 +100,7 @@ fn spot(position: Vec3, aim: Vec3, cone_angle_deg: f32, near: f32, far: f32) -> 
             / cos,
         near,
         far,
+        t1: None,
     }
 }
 

@@ -80,6 +80,7 @@ pub fn overhead_directional(half_extent: f32) -> Light {
         distance: 10.0,
         near: 0.5,
         far: 20.0,
+        t1: None,
     })
 }
 
@@ -91,6 +92,7 @@ pub fn overhead_spot(height: f32, cone_deg: f32) -> Light {
         intensity: 40.0,
         near: 0.5,
         far: 50.0,
+        t1: None,
     })
 }
 

@@ -1,0 +1,181 @@
+//! A moving light on the command line: the ray tracer, the exact deferred truth and the
+//! temporal map (forward frame and deferred mask) take it (their tests against closed forms
+//! and the truth: `raytrace::tests::moving_light`, `tests/gpu/moving_light.rs`), `--json` says
+//! the light moves, what does not take it yet refuses it by name, and a light whose t = 1
+//! pose is its t = 0 pose renders bit for bit as the still light in the tracer.
+
+use motion_shadows_app::raytrace::deferred::deferred_truth;
+use motion_shadows_app::render::{Method, RenderSettings};
+use motion_shadows_app::scene::{
+    BuiltinOptions, Light, LightFile, Scene, SpotPose, builtin, builtin_file, scene_to_json,
+};
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn motion_shadows(args: &[&str], out: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .env("MOTION_SHADOWS_VALIDATION", "1")
+        .output()
+        .expect("run the binary")
+}
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("motion-shadows-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+const SMALL: [&str; 6] = ["--width", "32", "--height", "24", "--spp", "2"];
+
+#[test]
+fn json_says_whether_the_light_moves() {
+    let dir = temp_dir("light-moves");
+    for (scene, method, moves) in [
+        ("moving-light", "raytrace", true),
+        ("moving-light", "temporal", true),
+        ("moving-light", "tsm", true),
+        ("cubes-toward-light", "raytrace", false),
+    ] {
+        let mut args = vec!["render", "--scene", scene, "--method", method, "--json"];
+        args.extend(SMALL);
+        let out = motion_shadows(&args, &dir);
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(json["light_moves"], moves, "{scene}");
+        if method == "temporal" {
+            // Nothing stands still relative to a moving light: no static layer.
+            assert_eq!(json["static_layer_bytes"], 0, "{scene}");
+        }
+    }
+    // The deferred frame's mask and its exact truth take the moving light too.
+    for method in ["temporal", "raytrace"] {
+        let args = [
+            "render",
+            "--frame",
+            "deferred",
+            "--scene",
+            "moving-light",
+            "--method",
+            method,
+            "--width",
+            "32",
+            "--height",
+            "24",
+        ];
+        let out = motion_shadows(&args, &dir);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn what_does_not_take_a_moving_light_refuses_it_by_name() {
+    let dir = temp_dir("light-refused");
+    let forward = |extra: &[&'static str]| {
+        let mut args = vec!["render", "--scene", "moving-light"];
+        args.extend(extra);
+        args.extend(SMALL);
+        args
+    };
+    // `--spp` is the forward frame's only.
+    let deferred = |extra: &[&'static str]| {
+        let mut args = vec!["render", "--frame", "deferred", "--scene", "moving-light"];
+        args.extend(extra);
+        args.extend(&SMALL[..4]);
+        args
+    };
+    for (args, named) in [
+        (forward(&["--method", "coverage"]), "--method coverage"),
+        (forward(&["--lookup", "exact"]), "--lookup exact"),
+        (
+            forward(&["--shadow-estimator", "analytic"]),
+            "--shadow-estimator analytic",
+        ),
+        (deferred(&["--method", "tsm"]), "--method tsm"),
+        (deferred(&["--static-receivers"]), "--static-receivers"),
+    ] {
+        let out = motion_shadows(&args, &dir);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} ran");
+        assert!(
+            stderr.contains("light moves") && stderr.contains("\"t1\"") && stderr.contains(named),
+            "{args:?}: {stderr}"
+        );
+    }
+    // The deferred mask with a light that turns.
+    let mut file = builtin_file("moving-light", &BuiltinOptions::default()).unwrap();
+    if let LightFile::Spot { t1: Some(end), .. } = &mut file.light {
+        end.direction = Some(glam::Vec3::new(0.3, -1.0, 0.9));
+    }
+    let path = dir.join("turning.json");
+    std::fs::write(&path, scene_to_json(&file)).unwrap();
+    let mut args = vec!["render", "--frame", "deferred", "--scene-file"];
+    args.push(path.to_str().unwrap());
+    args.extend(&SMALL[..4]);
+    let out = motion_shadows(&args, &dir);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} ran");
+    assert!(stderr.contains("a turning light"), "{stderr}");
+    // The viewer, before it opens a window.
+    let out = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args(["view", "--scene", "moving-light"])
+        .env("MOTION_SHADOWS_VALIDATION", "1")
+        .output()
+        .expect("run the binary");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "view ran");
+    assert!(
+        stderr.contains("light moves") && stderr.contains("the viewer"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `moving-light` with its light held at the t = 0 pose: once without `t1`, once with a
+/// `t1` equal to t = 0 (the moving light's arithmetic, no motion).
+fn held_still(with_t1: bool) -> Scene {
+    let mut scene = builtin("moving-light", &BuiltinOptions::default()).unwrap();
+    let Light::Spot(light) = &mut scene.light else {
+        panic!("spot expected")
+    };
+    light.t1 = with_t1.then_some(SpotPose {
+        position: light.position,
+        direction: light.direction,
+    });
+    scene
+}
+
+#[test]
+fn a_light_whose_t1_is_its_t0_renders_as_the_still_light_to_the_bit() {
+    let settings = RenderSettings {
+        width: 32,
+        height: 24,
+        spp: 2,
+        method: Method::Raytrace,
+        ..RenderSettings::default()
+    };
+    let [still, same] = [false, true].map(|with_t1| {
+        motion_shadows_app::raytrace::render(&held_still(with_t1), &settings, &mut |_| {}).unwrap()
+    });
+    assert!(!still.stats.light_moves && same.stats.light_moves);
+    let bits = |rgb: &[f32]| rgb.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&still.image.rgb), bits(&same.image.rgb));
+    let [still, same] = [false, true].map(|with_t1| {
+        deferred_truth(&held_still(with_t1), 32, 24, 0.5, (64, 64), &mut |_| {}).unwrap()
+    });
+    assert_eq!(bits(&still.rgb), bits(&same.rgb));
+    assert_eq!(bits(&still.lit), bits(&same.lit));
+    // Not a vacuous comparison: the scene has shadows.
+    assert!(still.lit.iter().any(|&l| l < 0.5), "no shadow in view");
+}
