@@ -38,8 +38,8 @@ pub mod gpu_types;
 #[cfg(feature = "research")]
 mod image_output;
 mod image_pass;
-#[cfg(feature = "research")]
 mod light_motion;
+#[cfg(feature = "research")]
 mod lighting;
 mod mask;
 mod mask_ids;
