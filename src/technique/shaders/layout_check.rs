@@ -10,7 +10,8 @@ use super::rust_structs::{Flatten, leaves};
 use super::spirv_structs::{Leaf, Module};
 use super::*;
 use crate::technique::gpu_types::{
-    Counters, DrawRecord, GpuLight, LongListHeader, PlainMapHeader, ShadowMapHeader,
+    CameraParams, Counters, DrawRecord, GpuLight, LongListHeader, Node, PlainMapHeader, Range,
+    ShadowMapHeader,
 };
 use crate::technique::push_constants::{
     DrawPush, GBufferPush, LightingRasterPush, MapDrawPush, MapPush, MaskPush, RadiancePush,
@@ -62,6 +63,10 @@ fn shared_structs() -> Vec<(&'static str, Mirror)> {
         ("TsmMaskPush", mirror::<TsmMaskPush>("TsmMaskPush")),
         ("GBufferPush", mirror::<GBufferPush>("GBufferPush")),
         ("RadiancePush", mirror::<RadiancePush>("RadiancePush")),
+        // Laid out by the layout witness only (build.rs).
+        ("Node", mirror::<Node>("Node")),
+        ("MsRange", mirror::<Range>("Range")),
+        ("CameraParams", mirror::<CameraParams>("CameraParams")),
     ]
 }
 
@@ -151,6 +156,15 @@ fn shaders() -> Vec<(&'static str, Spirv<'static>, Option<Mirror>)> {
             "gbuffer.frag",
             GBUFFER_FRAG,
             Some(mirror::<GBufferPush>("GBufferPush")),
+        ),
+        // build.rs's layout witness (never run): the structs the stages read only as words.
+        (
+            "layout_witness.comp",
+            Spirv::trusted(include_bytes!(concat!(
+                env!("OUT_DIR"),
+                "/layout_witness.comp.spv"
+            ))),
+            None,
         ),
     ]
 }
