@@ -23,6 +23,29 @@ const GENERATED_CONSTANTS: &str = "gpu_constants.glsl";
 /// alone so that the build checks them.
 const CHECKED_ALONE: &[&str] = &["exact_shadow.glsl"];
 
+/// The layout witness: the structs that the library's shaders declare but only read and write
+/// as 64-bit words (`load_node`, `store_range`, `load_camera`), so that no compiled stage lays
+/// them out. Each is written whole through a buffer reference here, so that its std430 layout
+/// is in this module's SPIR-V for the device-free layout check
+/// (`src/technique/shaders/layout_check.rs`). Compiled like the stages, never run.
+const LAYOUT_WITNESS: &str = "layout_witness.comp";
+const LAYOUT_WITNESS_SOURCE: &str = r#"#version 450
+#include "shared.glsl"
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer WitnessNode { Node v; };
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer WitnessRange { MsRange v; };
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer WitnessCamera {
+    CameraParams v;
+};
+layout(push_constant) uniform WitnessPush { uint64_t node; uint64_t range; uint64_t camera; };
+layout(local_size_x = 1) in;
+void main() {
+    WitnessNode(node).v = Node(0.0, 0.0, 0u, 0u);
+    WitnessRange(range).v = MsRange(0.0, 0.0, 0.0, 0.0, 0u, 0u);
+    WitnessCamera(camera).v = CameraParams(mat4(0.0), vec4(0.0), vec4(0.0), vec4(0.0),
+        vec4(0.0), vec4(0.0), uvec4(0u), vec4(0.0), 0ul, 0ul, 0ul, 0ul);
+}
+"#;
+
 fn stage_of(path: &Path) -> Option<shaderc::ShaderKind> {
     match path.extension()?.to_str()? {
         "vert" => Some(shaderc::ShaderKind::Vertex),
@@ -106,6 +129,15 @@ fn main() {
         {
             failures.push(format!("glsl/{e}"));
         }
+    }
+    let kind = shaderc::ShaderKind::Compute;
+    let witness = LAYOUT_WITNESS_SOURCE;
+    match compiler.compile_into_spirv(witness, kind, LAYOUT_WITNESS, "main", Some(&options())) {
+        Ok(artifact) => {
+            let out = out_dir.join(format!("{LAYOUT_WITNESS}.spv"));
+            std::fs::write(out, artifact.as_binary_u8()).expect("write spv");
+        }
+        Err(e) => failures.push(format!("build.rs's {e}")),
     }
     if !failures.is_empty() {
         panic!("shader compilation failed:\n{}", failures.join("\n"));

@@ -36,8 +36,9 @@ struct ExactCorner {
 };
 
 // At most 6 edge roots and 3 light crossings (light_crossing.glsl) cut [0, 1] into 10
-// pieces, so at most 5 covered runs: 10 nodes.
-const int EXACT_MAX_RUNS = 5;
+// pieces, so at most EXACT_MAX_RUNS = 5 covered runs: 10 nodes. The bound is generated from
+// src/technique/gpu_constants.rs, where the host's room for the ranges is sized by it too.
+#include "gpu_constants.glsl"
 
 // The covered runs of a texel: run i from start[i] to end[i] (covered throughout), `inner`
 // a time inside it (where the triangle is not seen edge-on, for the depths at its ends).

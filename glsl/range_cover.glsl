@@ -13,12 +13,12 @@ bool static_cover = false;
 float static_cover_depth = 0.0;
 uint static_cover_id = NO_TRIANGLE;
 
-// The most steps of the cover sweep one texel may take (each a candidate visited or a step
-// closed). The sweep is one flat loop, so a CPU device's vector of texels runs it at most this
-// many times: with the sort's own loops, far below lavapipe's 65,535 loop iterations per
-// invocation, past which it silently leaves every loop (the writes after it included). A
-// texel that runs out keeps the ranges it has not decided (keeping is always sound).
-const uint PRUNE_BUDGET = 16384u;
+// PRUNE_BUDGET (generated from src/technique/gpu_constants.rs): the most steps of the cover
+// sweep one texel may take (each a candidate visited or a step closed). The sweep is one flat
+// loop, so a CPU device's vector of texels runs it at most this many times: with the sort's own
+// loops, far below lavapipe's 65,535 loop iterations per invocation, past which it silently
+// leaves every loop (the writes after it included). A texel that runs out keeps the ranges it
+// has not decided (keeping is always sound).
 
 // A range's depth at time `at` in its interval (its ends as stored; a zero-length range has
 // d_s, as the lookups take it). `precise`: the CPU model in the tests rounds the same.

@@ -21,10 +21,9 @@ layout(buffer_reference, std430, buffer_reference_align = 16) buffer SortScratch
 // counted up to it by the first tier as it appends), rows of them down (y). Its arguments
 // are the third of the header's `tiles` (uint DISPATCH_SORT_LONG on, gpu_constants.rs).
 const uint LONG_SORT_ROW = 65535u;
-// Pruning's margin, relative to the depths compared (the static layer's, range_sort_lists.glsl;
-// the larger of a range's and its cover's, range_cover.glsl): about 80 float ulps, far above
-// a lookup's rounding, far below the depth bias (1e-4 by default).
-const float PRUNE_MARGIN = 1e-5;
+// Pruning's margin PRUNE_MARGIN, relative to the depths compared (the static layer's,
+// range_sort_lists.glsl; the larger of a range's and its cover's, range_cover.glsl): generated
+// from src/technique/gpu_constants.rs, which the tests' CPU model of pruning reads too.
 
 MsShadowMap map;
 SortScratch scratch;

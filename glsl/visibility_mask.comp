@@ -53,23 +53,24 @@ layout(buffer_reference, std430, buffer_reference_align = 4) buffer Counter { ui
 // r - 1); then two queues of pc.capacity entries, round r reading queue r % 2 (written by
 // round r - 1); then two pools of carry_capacity() unions, read and written the same way.
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer MaskQueue { uint v[]; };
-const uint QUEUE_HEADER_WORDS = 5u;     // groups x, y, z (the indirect dispatch), count, carries
-// pixel, t, texel (or QUEUE_FROM_START), sum, limit, cursor, carry slot (where cursor is not
-// MS_EXACT_CURSOR_START: an exact walk that stopped within a texel's list)
-const uint QUEUE_ENTRY_WORDS = 7u;
+// QUEUE_HEADER_WORDS: groups x, y, z (the indirect dispatch), count, carries.
+// QUEUE_ENTRY_WORDS: pixel, t, texel (or QUEUE_FROM_START), sum, limit, cursor, carry slot
+// (where cursor is not MS_EXACT_CURSOR_START: an exact walk that stopped within a texel's
+// list). Both, CARRY_WORDS and CARRY_SHARE are generated from src/technique/gpu_constants.rs,
+// which mask_queue.rs sizes the buffer by.
 const uint QUEUE_FROM_START = 0xffffffffu;
 const uint GROUP_SIZE = 64u;            // local_size_x * local_size_y
-// A union of shadowed intervals: its vectors s0, s1, e0, e1 (ms_exact_Union).
-const uint CARRY_WORDS = 16u;
+// A union of shadowed intervals, CARRY_WORDS: its vectors s0, s1, e0, e1 (ms_exact_Union).
 // The fewest loop iterations a follow-up invocation of the exact walk is asked to stop at
 // after its group's loops were cut: enough for its texel and one triangle (ms_walk_exact
 // tests one before it stops), so every invocation gets on.
 const uint EXACT_MIN_LIMIT = 16u;
 
-// Unions per pool: an eighth of the queue's entries (mask_queue.rs's carry_capacity). An exact
-// walk that stops within a texel's list while its pool is full goes on from the texel's start.
+// Unions per pool: one per CARRY_SHARE of the queue's entries (mask_queue.rs's
+// carry_capacity). An exact walk that stops within a texel's list while its pool is full goes
+// on from the texel's start.
 uint carry_capacity() {
-    return (pc.capacity + 7u) / 8u;
+    return (pc.capacity + CARRY_SHARE - 1u) / CARRY_SHARE;
 }
 
 uint queue_entry(uint round, uint index) {

@@ -1,6 +1,6 @@
 //! Rust mirrors of the structs in `glsl/motion_shadows.glsl` (public) and `glsl/shared.glsl`
-//! (internal). Sizes and field offsets are checked against the shaders by
-//! `tests/gpu/layout.rs`. All are `repr(C)` with std430 layout: glam's `Vec4` and `Mat4` are
+//! (internal). Sizes and field offsets are checked against the compiled shaders without a
+//! device (`shaders/layout_check.rs`) and with one by `tests/gpu/layout.rs`. All are `repr(C)` with std430 layout: glam's `Vec4` and `Mat4` are
 //! 16-byte aligned like GLSL's `vec4` and `mat4`.
 
 use glam::{Mat4, UVec4, Vec4};

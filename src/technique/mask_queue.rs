@@ -19,6 +19,9 @@
 //! two pools of [`carry_capacity`] unions of 16 words; round r reads queue and pool r % 2,
 //! which round r - 1 wrote.
 
+use super::gpu_constants::{
+    CARRY_SHARE, CARRY_WORDS as GLSL_CARRY_WORDS, QUEUE_ENTRY_WORDS, QUEUE_HEADER_WORDS,
+};
 use crate::error::Result;
 use crate::gpu::{Buffer, BufferUsage, Context};
 use ash::vk;
@@ -28,9 +31,10 @@ use ash::vk;
 /// no groups (nothing measurable on lavapipe).
 pub const DEFAULT_MASK_FOLLOW_UP_ROUNDS: u32 = 32;
 
-const HEADER_WORDS: u64 = 5;
-const ENTRY_WORDS: u64 = 7;
-const CARRY_WORDS: u64 = 16;
+// The queues' layout, shared with glsl/visibility_mask.comp through the generated constants.
+const HEADER_WORDS: u64 = QUEUE_HEADER_WORDS as u64;
+const ENTRY_WORDS: u64 = QUEUE_ENTRY_WORDS as u64;
+const CARRY_WORDS: u64 = GLSL_CARRY_WORDS as u64;
 /// Word of a header holding the count of entries (after the three group counts).
 const COUNT_WORD: usize = 3;
 
@@ -94,7 +98,7 @@ impl MaskQueue {
 /// walks that stopped within a texel's list carry one; one that finds its pool full goes on
 /// from the texel's start instead). `carry_capacity()` in `glsl/visibility_mask.comp`.
 pub(super) fn carry_capacity(capacity: u32) -> u32 {
-    capacity.div_ceil(8)
+    capacity.div_ceil(CARRY_SHARE)
 }
 
 /// Every round's header before the first dispatch.

@@ -1,7 +1,8 @@
 //! The push constants of each pass: one block per pass, mirrors of the GLSL structs of the
 //! same names in `glsl/shared.glsl` (the passes over the technique's own buffers) and
 //! `glsl/image_push.glsl` (the passes over a host's images).
-//! `tests/gpu/layout.rs` probes every one of them against the shaders' layout.
+//! `tests/gpu/layout.rs` probes every one of them against the shaders' layout, and
+//! `shaders/layout_check.rs` compares them with the compiled SPIR-V without a device.
 //!
 //! The passes that draw the host's draw table begin with [`DrawPush`]: `scene.vert`, the
 //! vertex shader those pipelines share, reads it, and [`DrawnPush::with_draw`] sets it per draw.

@@ -66,3 +66,10 @@ pub const RADIANCE_TO_IMAGE_COMP: Spirv<'static> = spirv!("radiance_to_image.com
 pub const GBUFFER_VERT: Spirv<'static> = spirv!("gbuffer.vert");
 /// SPIR-V of `glsl/gbuffer.frag`.
 pub const GBUFFER_FRAG: Spirv<'static> = spirv!("gbuffer.frag");
+
+#[cfg(test)]
+mod layout_check;
+#[cfg(test)]
+mod rust_structs;
+#[cfg(test)]
+mod spirv_structs;

@@ -6,14 +6,14 @@
 //! the same f32 operations in the same order as the shader's (`precise` there), so that the
 //! two agree bit for bit on which ranges a margin test keeps.
 
-use motion_shadows::technique::{Pruning, Range};
+use motion_shadows::technique::{Pruning, Range, gpu_constants};
 use std::collections::HashMap;
 
-/// PRUNE_MARGIN (glsl/range_sort_common.glsl).
-const MARGIN: f32 = 1e-5;
-/// PRUNE_BUDGET (glsl/range_cover.glsl): the sweep's loop iterations per texel (a range
-/// added to the candidates, a candidate visited, a step closed: one each; `Candidates`).
-pub const BUDGET: usize = 16384;
+/// The shaders' PRUNE_MARGIN (the generated constants).
+const MARGIN: f32 = gpu_constants::PRUNE_MARGIN;
+/// The shaders' PRUNE_BUDGET: the sweep's loop iterations per texel (a range added to the
+/// candidates, a candidate visited, a step closed: one each; `Candidates`).
+pub const BUDGET: usize = gpu_constants::PRUNE_BUDGET as usize;
 
 /// What the sort keeps of one texel's ranges.
 pub struct Pruned {

@@ -33,6 +33,7 @@ pub use host_draw::HostDraw;
 
 use glam::{DMat4, DVec2, DVec3, DVec4, Vec3};
 
+use super::gpu_constants::EXACT_MAX_RUNS as GLSL_EXACT_MAX_RUNS;
 use super::view::{LightView, Lookup, PrismConstruction};
 use crate::error::Result;
 use culling::faces_away_whole_frame;
@@ -41,9 +42,9 @@ use frustum::clip_to_frustum;
 use map::Map;
 use runs::{det_sign_changes, turning_edges};
 
-/// `EXACT_MAX_RUNS` of `glsl/exact_prism.glsl`: at most 6 edge roots and 3 light crossings
-/// cut the shutter into 10 pieces, at most 5 covered.
-const EXACT_MAX_RUNS: u64 = 5;
+/// The exact prism's most covered runs per texel ([`GLSL_EXACT_MAX_RUNS`], which the shaders'
+/// `ExactRuns` holds), as the ceiling's arithmetic takes it.
+const EXACT_MAX_RUNS: u64 = GLSL_EXACT_MAX_RUNS as u64;
 /// Corners imaged beyond this many map widths, or with w this close to 0 (relative to the
 /// largest |w|), count as near or behind the light: f32 no longer places them within the
 /// footprint's growth.
