@@ -10,8 +10,8 @@ use super::rust_structs::{Flatten, leaves};
 use super::spirv_structs::{Leaf, Module};
 use super::*;
 use crate::technique::gpu_types::{
-    CameraParams, Counters, DrawRecord, GpuLight, LongListHeader, Node, PlainMapHeader, Range,
-    ShadowMapHeader,
+    CameraParams, Counters, DrawRecord, GpuLight, GpuLightEnd, LongListHeader, Node,
+    PlainMapHeader, Range, ShadowMapHeader,
 };
 use crate::technique::push_constants::{
     DrawPush, GBufferPush, LightingRasterPush, MapDrawPush, MapPush, MaskPush, RadiancePush,
@@ -45,7 +45,16 @@ fn mirror<T: Flatten>(rust: &'static str) -> Mirror {
 fn shared_structs() -> Vec<(&'static str, Mirror)> {
     vec![
         ("MsLight", mirror::<GpuLight>("GpuLight")),
-        ("MsShadowMap", mirror::<ShadowMapHeader>("ShadowMapHeader")),
+        // MsShadowMap ends where the moving light's pose begins (`light_end`: MsLightEnd,
+        // read at MS_LIGHT_END_OFFSET, glsl/light_motion.glsl).
+        (
+            "MsShadowMap",
+            Mirror {
+                size: std::mem::offset_of!(ShadowMapHeader, light_end) as u32,
+                ..mirror::<ShadowMapHeader>("ShadowMapHeader")
+            },
+        ),
+        ("MsLightEnd", mirror::<GpuLightEnd>("GpuLightEnd")),
         ("PlainHeader", mirror::<PlainMapHeader>("PlainMapHeader")),
         ("Counters", mirror::<Counters>("Counters")),
         ("LongListHeader", mirror::<LongListHeader>("LongListHeader")),
@@ -292,4 +301,22 @@ fn the_check_covers_every_compiled_shader() {
             );
         }
     }
+}
+
+/// The moving light's pose sits where the shaders read it: MS_LIGHT_END_OFFSET, which
+/// glsl/light_motion.glsl writes itself (it is served to hosts beside the public header).
+#[test]
+fn the_light_end_sits_where_the_shaders_read_it() {
+    let source = include_str!("../../../glsl/light_motion.glsl");
+    let prefix = "const uint64_t MS_LIGHT_END_OFFSET = ";
+    let literal = source
+        .lines()
+        .find_map(|l| l.trim_start().strip_prefix(prefix))
+        .expect("light_motion.glsl defines MS_LIGHT_END_OFFSET");
+    let offset: usize = literal
+        .split(';')
+        .next()
+        .and_then(|v| v.trim().trim_end_matches("UL").parse().ok())
+        .expect("MS_LIGHT_END_OFFSET is a decimal literal");
+    assert_eq!(offset, std::mem::offset_of!(ShadowMapHeader, light_end));
 }

@@ -6,8 +6,8 @@
 
 use super::spirv_structs::{Leaf, Scalar};
 use crate::technique::gpu_types::{
-    CameraParams, Counters, DrawRecord, GpuLight, LongListHeader, Node, PlainMapHeader, Range,
-    ShadowMapHeader, TriangleRecord,
+    CameraParams, Counters, DrawRecord, GpuLight, GpuLightEnd, LongListHeader, Node,
+    PlainMapHeader, Range, ShadowMapHeader, TriangleRecord,
 };
 use crate::technique::push_constants::{
     DrawPush, GBufferPush, LightingRasterPush, MapDrawPush, MapPush, MaskPush, RadiancePush,
@@ -89,6 +89,23 @@ macro_rules! mirror {
             }
         }
     };
+    // A struct whose GLSL counterpart ends before `$tail`, which the shaders read as a struct
+    // of its own at that offset (checked on its own, and its offset by a test).
+    ($ty:ident { $($field:ident),* $(,)? } tail $tail:ident) => {
+        impl Flatten for $ty {
+            fn flatten(at: u32, _: &str, out: &mut Vec<Leaf>) {
+                let _every_field_listed = |v: &$ty| {
+                    let $ty { $($field: _,)* $tail: _ } = v;
+                };
+                $(field(
+                    |s: &$ty| &s.$field,
+                    at + std::mem::offset_of!($ty, $field) as u32,
+                    stringify!($field),
+                    out,
+                );)*
+            }
+        }
+    };
 }
 
 mirror!(GpuLight {
@@ -116,6 +133,12 @@ mirror!(ShadowMapHeader {
     list_ranges,
     triangles,
     static_names,
+} tail light_end);
+mirror!(GpuLightEnd {
+    view,
+    frame,
+    position,
+    direction
 });
 mirror!(PlainMapHeader {
     light,
