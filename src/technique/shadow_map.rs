@@ -113,7 +113,6 @@ pub struct TemporalShadowMap {
     pub(super) built_for: AtomicU8,
 }
 
-
 use super::gpu_constants::{
     DISPATCH_PAIRING, DISPATCH_SORT, DISPATCH_SORT_LONG, DISPATCH_WORDS, TILE_TEXELS,
 };
@@ -520,5 +519,4 @@ impl TemporalShadowMap {
             .map(|b| (b.name(), b.allocated_bytes()))
             .collect()
     }
-
 }
