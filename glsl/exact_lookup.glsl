@@ -161,11 +161,8 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
             if (range.id == own || !(w1 > w0)) continue;
             vec3 at0[3], at1[3];
             ms_exact_triangle(map.triangles, range.id, at0, at1);
-            int decided = ms_exact_classify(p0, p1, spot, light, s_min, at0, at1, w0, w1);
-            if (decided == MS_EXACT_ALL) {
-                ms_exact_union_add(shadowed, vec2(w0, w1));
-                if (ms_exact_union_covers(shadowed, w.x, w.y)) return true;
-            } else if (decided == MS_EXACT_ASK) {
+            if (ms_exact_classify(p0, p1, spot, light, s_min, at0, at1, w0, w1)
+                == MS_EXACT_ASK) {
                 bvec4 slot = equal(ivec4(0, 1, 2, 3), ivec4(asked));
                 asked_id = mix(asked_id, uvec4(range.id), slot);
                 asked_at = mix(asked_at, uvec4(here), slot);

@@ -435,28 +435,28 @@ int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s
     return ms_exact_general_intervals(corner, u, edges, plane, spot, s_min, w0, w1, intervals);
 }
 
-// What ms_exact_shadowed_intervals answers, as far as it is known without root finding:
-// MS_EXACT_NONE (the triangle blocks the ray at no time of [w0, w1]), MS_EXACT_ALL (at every
-// time: only where nothing moves relative to the receiver) or MS_EXACT_ASK (it may block part
-// of the window: ask ms_exact_shadowed_intervals). The cheap half of the test, for callers
-// that gather the triangles left to ask and ask them together: on a device that runs a
-// branch's code whether or not a lane takes it (llvmpipe), a loop whose body holds the whole
-// test pays for its root finding on every triangle, where most are decided here.
+// Whether ms_exact_shadowed_intervals can find anything in [w0, w1], as far as the edge
+// functions' certain signs tell without root finding: MS_EXACT_NONE (two of them have
+// opposite signs all window long: the ray passes outside the triangle) or MS_EXACT_ASK (ask
+// the whole test). The cheap half of the test, for callers that gather the triangles left to
+// ask and ask them together: on a device that runs a branch's code whether or not a lane
+// takes it (llvmpipe), a loop whose body holds the whole test pays for its root finding on
+// every triangle, where most are decided here. (A triangle that stands still relative to the
+// receiver is asked too: the whole test answers it on its constants.)
 const int MS_EXACT_NONE = 0;
-const int MS_EXACT_ALL = 1;
-const int MS_EXACT_ASK = 2;
+const int MS_EXACT_ASK = 1;
 
 int ms_exact_classify(vec3 p0, vec3 p1, bool spot, vec3 light, float s_min,
                       vec3 t0_corners[3], vec3 t1_corners[3], float w0, float w1) {
     if (!(w1 > w0)) return MS_EXACT_NONE;
     ms_exact_Linear u, corner[3];
     ms_exact_relative(p0, p1, spot, light, t0_corners, t1_corners, u, corner);
-    if (ms_exact_relatively_still(u, corner)) {
-        return ms_exact_blocks_still(u, corner, spot, s_min) ? MS_EXACT_ALL : MS_EXACT_NONE;
-    }
-    vec4 edges[3] = vec4[3](ms_exact_edge(corner[0], corner[1], u),
-                            ms_exact_edge(corner[1], corner[2], u),
-                            ms_exact_edge(corner[2], corner[0], u));
+    // Each edge as the triangle walks it, not in the edges' canonical order: only a sign
+    // certain by the margin (far above the orders' rounding difference) rejects, so a ray
+    // on or near a shared edge is always asked the whole test, which takes that order.
+    vec4 edges[3] = vec4[3](ms_exact_triple(corner[0], corner[1], u),
+                            ms_exact_triple(corner[1], corner[2], u),
+                            ms_exact_triple(corner[2], corner[0], u));
     float r, ray;
     ms_exact_sizes(corner, u, r, ray);
     int edge_sign[3];

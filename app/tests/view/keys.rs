@@ -21,7 +21,9 @@ fn view_keys_switch_the_method_and_take_a_screenshot_of_what_is_shown() {
         .stderr(Stdio::piped())
         .spawn()
         .expect("run the binary");
-    let limit = Duration::from_secs(120);
+    // Generous: at 120 s this wait gave up twice in nine runs on a loaded machine (cause not
+    // found); a bound for a hung viewer, not a timing assertion.
+    let limit = Duration::from_secs(300);
     let window = wait_for("the viewer's window", limit, || {
         if let Ok(Some(status)) = viewer.try_wait() {
             // Ended before its window was found: its own words say why.
