@@ -54,7 +54,19 @@ fn depth_range(what: &str, near: f32, far: f32) -> Result<(), SceneError> {
 }
 
 fn check_camera(c: &Camera) -> Result<(), SceneError> {
-    let what = "camera";
+    check_camera_pose("camera", c)?;
+    if let Some(end) = c.t1 {
+        finite3("camera t1", "up", end.up)?;
+        // Every time between sees the blend of both poses: each end, and the middle (where
+        // a target swung through the eye or an up turned through the view would show).
+        for (what, t) in [("camera t1", 1.0), ("camera at t = 0.5", 0.5)] {
+            check_camera_pose(what, &c.at(t))?;
+        }
+    }
+    Ok(())
+}
+
+fn check_camera_pose(what: &str, c: &Camera) -> Result<(), SceneError> {
     finite3(what, "position", c.position)?;
     finite3(what, "target", c.target)?;
     nonzero(what, "up", c.up)?;
@@ -243,6 +255,7 @@ mod tests {
                 fov_y_deg: 45.0,
                 near: 0.1,
                 far: 100.0,
+                t1: None,
             },
             light: Light::Spot(SpotLight {
                 position: Vec3::Y * 5.0,
