@@ -133,6 +133,7 @@ pub fn render(
         static_layer_bytes: 0,
         static_layer_kept: false,
         light_moves: scene.light.moves(),
+        camera_moves: scene.camera.moves(),
         shadow_map_bytes_eq2_without_coverage: 0,
         coverage_map_bytes: 0,
         shadow_map_bytes_allocated: 0,
