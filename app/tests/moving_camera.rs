@@ -58,10 +58,16 @@ fn what_does_not_take_a_moving_camera_refuses_it_by_name() {
         args
     };
     for (args, named) in [
-        (forward("temporal"), "--method temporal (the GPU's forward frame)"),
+        (
+            forward("temporal"),
+            "--method temporal (the GPU's forward frame)",
+        ),
         (forward("tsm"), "--method tsm (the GPU's forward frame)"),
         (deferred("temporal"), "(the deferred frame)"),
-        (deferred("raytrace"), "--method raytrace in the deferred frame"),
+        (
+            deferred("raytrace"),
+            "--method raytrace in the deferred frame",
+        ),
     ] {
         let out = motion_shadows(&args, &dir);
         let stderr = String::from_utf8_lossy(&out.stderr);
