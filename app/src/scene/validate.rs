@@ -57,10 +57,18 @@ fn check_camera(c: &Camera) -> Result<(), SceneError> {
     check_camera_pose("camera", c)?;
     if let Some(end) = c.t1 {
         finite3("camera t1", "up", end.up)?;
-        // Every time between sees the blend of both poses: each end, and the middle (where
-        // a target swung through the eye or an up turned through the view would show).
         for (what, t) in [("camera t1", 1.0), ("camera at t = 0.5", 0.5)] {
             check_camera_pose(what, &c.at(t))?;
+        }
+        // The view direction blends linearly; under 90 degrees of turn it can never pass
+        // through zero between the ends (its dot with the t = 0 direction stays positive).
+        let (d0, d1) = (c.target - c.position, end.target - end.position);
+        if d0.dot(d1) <= 0.0 {
+            return Err(invalid(
+                "camera t1",
+                "the view direction (target - position) turns 90 degrees or more from t = 0's"
+                    .into(),
+            ));
         }
     }
     Ok(())

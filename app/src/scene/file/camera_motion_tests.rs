@@ -66,11 +66,20 @@ fn unknown_fields_and_degenerate_camera_poses_are_refused_by_name() {
     ));
     let message = onto.unwrap_err().to_string();
     assert!(message.contains("camera t1"), "{message}");
-    // Fine at both ends, but the target passes through the eye half way.
+    // Fine at both ends, but the target passes through the eye a third of the way along.
     let through = scene(&format!(
-        "{{{CAMERA}, \"t1\": {{\"position\": [0, 4, 6], \"target\": [0, 8, 12]}}}}"
+        "{{{CAMERA}, \"t1\": {{\"position\": [0, 4, 6], \"target\": [0, 12, 18]}}}}"
     ));
     let message = through.unwrap_err().to_string();
+    assert!(
+        message.contains("camera t1") && message.contains("90 degrees"),
+        "{message}"
+    );
+    // Up turned through the view direction half way (valid at both ends).
+    let up_through = scene(&format!(
+        "{{{CAMERA}, \"up\": [1, -2, -3], \"t1\": {{\"up\": [-1, -2, -3]}}}}"
+    ));
+    let message = up_through.unwrap_err().to_string();
     assert!(message.contains("camera at t = 0.5"), "{message}");
     let nan_up = scene(&format!("{{{CAMERA}, \"t1\": {{\"up\": [0, 0, 0]}}}}"));
     let message = nan_up.unwrap_err().to_string();
