@@ -88,6 +88,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     };
     let viewer = format!("the viewer (view --method {})", method_name(args));
     crate::render::upload::refuse_moving_light(&scene, &viewer)?;
+    crate::render::camera_motion::refuse_moving_camera(&scene, &viewer)?;
     // Only scenes with an animation can play (the others are refused by AnimatedScene with
     // the reason, which the overlay shows as "still scene").
     let animation = match &args.scene_file {

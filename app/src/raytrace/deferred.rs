@@ -134,6 +134,10 @@ pub fn deferred_truth_with(
         )));
     }
     scene.validate()?;
+    crate::render::camera_motion::refuse_moving_camera(
+        scene,
+        "--method raytrace in the deferred frame (its truth)",
+    )?;
     check_truth_memory(width, height)?;
 
     progress(&format!(

@@ -66,7 +66,8 @@ pub fn render(
         estimator: settings.shadow_estimator,
         filter: Default::default(),
     };
-    let rays = CameraRays::new(&CameraParams::new(&view, (width, height), settings.spp));
+    let params = CameraParams::new(&view, (width, height), settings.spp);
+    let rays = CameraRays::over_shutter(&params, &scene.camera);
     let (lo, hi) = scene.bounds();
     let scale = f64::from((hi - lo).length().max(lo.abs().max(hi.abs()).max_element()));
     let ambient = f64::from(scene.ambient);
@@ -132,6 +133,7 @@ pub fn render(
         static_layer_bytes: 0,
         static_layer_kept: false,
         light_moves: scene.light.moves(),
+        camera_moves: scene.camera.moves(),
         shadow_map_bytes_eq2_without_coverage: 0,
         coverage_map_bytes: 0,
         shadow_map_bytes_allocated: 0,

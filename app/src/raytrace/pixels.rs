@@ -4,14 +4,16 @@
 use super::bvh::Bvh;
 use super::intersect::Ray;
 use super::shade::Shading;
+use crate::render::upload::camera_view_of;
+use crate::scene::Camera;
 use glam::{DVec3, Vec2, Vec3};
-use motion_shadows::technique::CameraParams;
 use motion_shadows::technique::sampling::{pixel_key, pixel_sample};
+use motion_shadows::technique::{CameraParams, LightingView, ShadowEstimator};
 use rayon::prelude::*;
 
 /// The camera rays of the GPU's lighting pass (`camera_ray` in shared.glsl), from the same
 /// [`CameraParams`] the renderer gives it.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct CameraRays {
     origin: Vec3,
     ray00: Vec3,
@@ -21,6 +23,9 @@ pub struct CameraRays {
     far: f64,
     spp: u32,
     seed: u32,
+    /// A camera that moves during the shutter: its path and the image size, each sample's
+    /// ray shot from where the camera is at that sample's time. `None`: a still camera.
+    path: Option<(Camera, (u32, u32))>,
 }
 
 impl CameraRays {
@@ -34,7 +39,35 @@ impl CameraRays {
             far: f64::from(params.forward.w),
             spp: params.image.z,
             seed: params.image.w,
+            path: None,
         }
+    }
+
+    /// The rays of `camera` over the shutter: a still camera's are [`CameraRays::new`]'s,
+    /// bit for bit; a moving one's are those of [`Camera::at`] each sample's time.
+    pub fn over_shutter(params: &CameraParams, camera: &Camera) -> Self {
+        let size = (params.image.x, params.image.y);
+        Self {
+            path: camera.moves().then(|| (camera.clone(), size)),
+            ..Self::new(params)
+        }
+    }
+
+    /// The ray through image position `at` at shutter time `t`: [`CameraRays::ray`] of the
+    /// camera where it is at `t`.
+    pub fn ray_at(&self, at: Vec2, t: f32) -> Ray {
+        let Some((camera, size)) = &self.path else {
+            return self.ray(at);
+        };
+        // The same arithmetic as the still camera's rays, for the pose at `t`.
+        let view = LightingView {
+            camera: camera_view_of(&camera.at(t), *size),
+            seed: self.seed,
+            ambient: 0.0,
+            estimator: ShadowEstimator::Sampled,
+            filter: Default::default(),
+        };
+        Self::new(&CameraParams::new(&view, *size, self.spp)).ray(at)
     }
 
     /// The ray through image position `at` (pixels from the top-left corner), in f32 as the
@@ -54,8 +87,8 @@ pub fn trace_pixel(x: u32, y: u32, rays: &CameraRays, shading: &Shading) -> (DVe
     let (mut sum, mut moving) = (DVec3::ZERO, 0u32);
     for k in 0..rays.spp {
         let (t, offset) = pixel_sample(key, k, rays.spp);
+        let ray = rays.ray_at(Vec2::new(x as f32, y as f32) + offset, t);
         let t = f64::from(t);
-        let ray = rays.ray(Vec2::new(x as f32, y as f32) + offset);
         // The GPU keeps hits with view depth in [near, far].
         let Some(hit) = bvh.closest(&ray, t, rays.near, rays.far) else {
             continue;

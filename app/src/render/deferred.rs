@@ -65,6 +65,10 @@ impl Renderer<'_> {
             ));
         }
         upload::check_moving_light_deferred(scene, deferred)?;
+        super::camera_motion::refuse_moving_camera(
+            scene,
+            &format!("--method {} (the deferred frame)", deferred.name()),
+        )?;
         let ctx = self.ctx;
         progress("uploading the scene");
         let geometry = upload::SceneGeometry::upload(ctx, scene)?;

@@ -335,6 +335,7 @@ pub(super) fn stats(
         static_layer_bytes: outcome.static_layer_bytes(&frame.light, shadow_pixels),
         static_layer_kept: outcome.static_layer_kept(&frame.light),
         light_moves: scene.light.moves(),
+        camera_moves: scene.camera.moves(),
         shadow_map_bytes_eq2_without_coverage: eq2(counts.ranges_without_coverage as u64),
         coverage_map_bytes: outcome.coverage_bytes(),
         shadow_map_bytes_allocated: outcome.allocated_bytes(),

@@ -6,6 +6,7 @@
 //! pass (for the temporal method: collection and generation, counters read back, grown and
 //! re-run if needed) -> lighting -> radiance read back -> [`RadianceImage`].
 
+pub mod camera_motion;
 pub mod deferred;
 pub mod deferred_settings;
 mod empty_map;
@@ -317,6 +318,13 @@ impl<'a> Renderer<'a> {
         settings.validate()?;
         scene.validate()?;
         upload::check_moving_light_forward(scene, settings)?;
+        camera_motion::refuse_moving_camera(
+            scene,
+            &format!(
+                "--method {} (the GPU's forward frame)",
+                settings.method.name()
+            ),
+        )?;
         let frame = self.prepare_frame(scene, settings, progress)?;
         let mut passes = Vec::new();
         let target = frame.lighting_target(self.ctx, settings)?;

@@ -141,6 +141,9 @@ pub struct FrameStats {
     /// Whether the scene's light moves during the shutter (its `t1` pose; only the ray
     /// tracer takes such a scene so far).
     pub light_moves: bool,
+    /// Whether the scene's camera moves during the shutter (its `t1` pose, issue 38): only
+    /// the ray tracer's forward frame takes it so far.
+    pub camera_moves: bool,
     /// Equation (2) with the ranges stored without the coverage map.
     pub shadow_map_bytes_eq2_without_coverage: u64,
     /// The nearest, coverage and cover-depth maps (coverage method; 0 otherwise).

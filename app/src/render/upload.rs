@@ -6,7 +6,7 @@
 use crate::error::Result;
 use crate::render::deferred::{DeferredMethod, DeferredSettings};
 use crate::render::{Method, RenderSettings};
-use crate::scene::{Light, Scene};
+use crate::scene::{Camera, Light, Scene};
 use motion_shadows::gpu::{Buffer, BufferUsage, Context};
 use motion_shadows::technique::{CameraView, Draw, Indices, LightView, PositionStream};
 
@@ -115,7 +115,11 @@ pub fn scene_draws(scene: &Scene, buffer: &Buffer) -> Result<Vec<Draw>> {
 }
 
 pub fn camera_view(scene: &Scene, image_size: (u32, u32)) -> CameraView {
-    let c = &scene.camera;
+    camera_view_of(&scene.camera, image_size)
+}
+
+/// The view of `c` at t = 0 (a moving camera's other poses: [`Camera::at`]).
+pub fn camera_view_of(c: &Camera, image_size: (u32, u32)) -> CameraView {
     CameraView::perspective(
         c.position,
         c.target,

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use super::camera_pan::camera_pan;
 use super::file::{
     BoxSpec, CameraFile, LightFile, MeshSpec, SCENE_FORMAT, SceneFile, TransformFile,
 };
@@ -28,6 +29,7 @@ pub const BUILTIN_NAMES: &[&str] = &[
     "fox-run",
     "game-level",
     "moving-light",
+    "camera-pan",
     "hard-rotating-triangle",
     "hard-hinged-limb",
     "hard-propeller",
@@ -101,6 +103,7 @@ pub fn builtin_file(name: &str, opts: &BuiltinOptions) -> Result<SceneFile, Scen
         "fox-run" => fox_run(frame_time(opts, FOX_TIME) as f32, opts.subdivide),
         "game-level" => game_level(frame_time(opts, GAME_TIME), opts.subdivide),
         "moving-light" => Ok(moving_light()),
+        "camera-pan" => Ok(camera_pan()),
         _ => hard_scene(name).ok_or_else(|| SceneError::UnknownBuiltin {
             name: name.to_owned(),
             available: BUILTIN_NAMES.iter().map(|s| s.to_string()).collect(),
@@ -116,7 +119,7 @@ fn frame_time(opts: &BuiltinOptions, own: f32) -> f64 {
 /// Hong & Oh 2018, Fig. 9: two finely tessellated cubes fly toward a spot light, so their
 /// shadows grow and blur, next to a static pillar whose shadow must stay sharp. The cubes
 /// hang well away from the light axis so the camera sees their shadows beside them.
-fn cubes_toward_light() -> SceneFile {
+pub(super) fn cubes_toward_light() -> SceneFile {
     let light = Vec3::new(0.0, 12.0, 2.0);
     // 22 x 22 quads per face: 2 cubes * 12 * 22^2 = 11,616 of the ~12,140 triangles.
     let cube = MeshSpec::Box(BoxSpec {
@@ -147,6 +150,7 @@ fn cubes_toward_light() -> SceneFile {
             fov_y_deg: 45.0,
             near: 0.1,
             far: 100.0,
+            t1: None,
         },
         // Ground below the light: 0.8/pi * 250 * cos / 12.2^2 ~ 0.42 radiance.
         light: LightFile::Spot {
@@ -281,6 +285,7 @@ fn random_cubes(opts: &BuiltinOptions) -> Result<SceneFile, SceneError> {
             fov_y_deg: 45.0,
             near: (0.01 * distance).max(0.1),
             far: 2.0 * (distance + ground_half),
+            t1: None,
         },
         // Ground right below the light at radiance ~0.5: I = 0.5 * pi / 0.8 * d^2.
         light: LightFile::Spot {

@@ -40,10 +40,12 @@ impl CullingException {
 }
 
 /// The closed meshes that contain (or touch) the spot light's position or the camera's
-/// position at some time of the shutter (a moving light where it is at that time). A
+/// position at some time of the shutter (a moving light or camera where it is at that time). A
 /// directional light has no position.
 pub fn culling_exceptions(scene: &Scene) -> Vec<CullingException> {
-    let mut viewpoints = vec![("the camera", scene.camera.position, Vec3::ZERO)];
+    let c = &scene.camera;
+    let camera_moved = c.t1.map_or(Vec3::ZERO, |end| end.position - c.position);
+    let mut viewpoints = vec![("the camera", c.position, camera_moved)];
     if let Light::Spot(s) = &scene.light {
         let moved = s.t1.map_or(Vec3::ZERO, |end| end.position - s.position);
         viewpoints.insert(0, ("the spot light", s.position, moved));

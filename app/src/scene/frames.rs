@@ -22,7 +22,8 @@ enum Source {
         options: BuiltinOptions,
         time: f64,
     },
-    File(SceneSource),
+    /// Boxed: a scene file is far larger than a built-in's name and options.
+    File(Box<SceneSource>),
 }
 
 impl AnimatedScene {
@@ -67,7 +68,7 @@ impl AnimatedScene {
             )));
         }
         Ok(Self {
-            source: Source::File(source),
+            source: Source::File(Box::new(source)),
         })
     }
 
@@ -90,7 +91,7 @@ impl AnimatedScene {
                 builtin(name, &options)
             }
             Source::File(source) => {
-                let mut source = source.clone();
+                let mut source = SceneSource::clone(source);
                 for object in &mut source.file.objects {
                     if let MeshSpec::Gltf(g) = &mut object.mesh
                         && g.animation.is_some()

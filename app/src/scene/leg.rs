@@ -235,6 +235,7 @@ pub(super) fn side_camera() -> CameraFile {
         fov_y_deg: 45.0,
         near: 0.1,
         far: 30.0,
+        t1: None,
     }
 }
 

@@ -7,6 +7,7 @@
 //! converts it exactly like a loaded file, so there is a single path to a `Scene`.
 
 mod builtin;
+mod camera_pan;
 mod character;
 mod clip;
 mod culling;
@@ -41,8 +42,8 @@ pub use culling::{
 };
 pub use error::SceneError;
 pub use file::{
-    BoxSpec, CameraFile, DirectionalPoseFile, LightFile, MeshSpec, ObjectFile, PlaneSpec,
-    SCENE_FORMAT, SceneFile, SceneSource, SpotPoseFile, TransformFile, TrianglesSpec,
+    BoxSpec, CameraFile, CameraPoseFile, DirectionalPoseFile, LightFile, MeshSpec, ObjectFile,
+    PlaneSpec, SCENE_FORMAT, SceneFile, SceneSource, SpotPoseFile, TransformFile, TrianglesSpec,
     load_scene_file, parse_scene_json, read_scene_file, scene_to_json,
 };
 pub use frames::AnimatedScene;
@@ -51,5 +52,5 @@ pub use name::{name_from_file_stem, scene_name_problem};
 pub use primitives::{RigidTransform, box_mesh, plane_mesh};
 pub use subdivide::subdivide;
 pub use types::{
-    Camera, DirectionalLight, DirectionalPose, Light, Mesh, Scene, SpotLight, SpotPose,
+    Camera, CameraPose, DirectionalLight, DirectionalPose, Light, Mesh, Scene, SpotLight, SpotPose,
 };

@@ -54,6 +54,7 @@ pub(super) fn moving_light() -> SceneFile {
             fov_y_deg: 45.0,
             near: 0.1,
             far: 40.0,
+            t1: None,
         },
         light: LightFile::Spot {
             position: LIGHT_START,

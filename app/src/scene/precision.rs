@@ -27,6 +27,9 @@ pub(super) fn check_precision(scene: &Scene) -> Result<(), SceneError> {
         ))
     };
     let mut points = vec![("camera position", scene.camera.position)];
+    if let Some(end) = scene.camera.t1 {
+        points.push(("camera t1 position", end.position));
+    }
     match &scene.light {
         Light::Spot(s) => points.push(("light (spot) position", s.position)),
         Light::Directional(d) => {

@@ -38,6 +38,42 @@ pub struct Camera {
     pub fov_y_deg: f32,
     pub near: f32,
     pub far: f32,
+    /// The pose at t = 1 of a camera that moves during the shutter; `None`: still.
+    pub t1: Option<CameraPose>,
+}
+
+/// A moving camera's pose at t = 1. Between the two ends its position, target and up each
+/// move linearly and the camera looks from the position at the target ([`Camera::at`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraPose {
+    pub position: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+}
+
+impl Camera {
+    /// Whether the camera moves during the shutter (the scene file gave it a `t1`).
+    pub fn moves(&self) -> bool {
+        self.t1.is_some()
+    }
+
+    /// The still camera where this one is at shutter time `t`: position, target and up
+    /// blended linearly (a pan, position and target carried together, keeps its orientation
+    /// exactly). A still camera is returned as it is, so its arithmetic is untouched.
+    pub fn at(&self, t: f32) -> Camera {
+        let Some(end) = self.t1 else {
+            return self.clone();
+        };
+        // a + (b - a) t rather than glam's lerp: an end equal to t = 0's stays bit for bit.
+        let blend = |a: Vec3, b: Vec3| a + (b - a) * t;
+        Camera {
+            position: blend(self.position, end.position),
+            target: blend(self.target, end.target),
+            up: blend(self.up, end.up),
+            t1: None,
+            ..*self
+        }
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]

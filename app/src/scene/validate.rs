@@ -54,7 +54,27 @@ fn depth_range(what: &str, near: f32, far: f32) -> Result<(), SceneError> {
 }
 
 fn check_camera(c: &Camera) -> Result<(), SceneError> {
-    let what = "camera";
+    check_camera_pose("camera", c)?;
+    if let Some(end) = c.t1 {
+        finite3("camera t1", "up", end.up)?;
+        for (what, t) in [("camera t1", 1.0), ("camera at t = 0.5", 0.5)] {
+            check_camera_pose(what, &c.at(t))?;
+        }
+        // The view direction blends linearly; under 90 degrees of turn it can never pass
+        // through zero between the ends (its dot with the t = 0 direction stays positive).
+        let (d0, d1) = (c.target - c.position, end.target - end.position);
+        if d0.dot(d1) <= 0.0 {
+            return Err(invalid(
+                "camera t1",
+                "the view direction (target - position) turns 90 degrees or more from t = 0's"
+                    .into(),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn check_camera_pose(what: &str, c: &Camera) -> Result<(), SceneError> {
     finite3(what, "position", c.position)?;
     finite3(what, "target", c.target)?;
     nonzero(what, "up", c.up)?;
@@ -243,6 +263,7 @@ mod tests {
                 fov_y_deg: 45.0,
                 near: 0.1,
                 far: 100.0,
+                t1: None,
             },
             light: Light::Spot(SpotLight {
                 position: Vec3::Y * 5.0,

@@ -104,6 +104,7 @@ mod tests {
             fov_y_deg: 45.0,
             near: 0.1,
             far: 100.0,
+            t1: None,
         }
     }
 

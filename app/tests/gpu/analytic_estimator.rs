@@ -48,6 +48,7 @@ fn ground_view_scene() -> Scene {
         fov_y_deg: 60.0,
         near: 0.1,
         far: 50.0,
+        t1: None,
     };
     s
 }

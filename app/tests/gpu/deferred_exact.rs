@@ -63,6 +63,7 @@ fn block_and_flying_casters() -> Scene {
             fov_y_deg: 40.0,
             near: 0.1,
             far: 50.0,
+            t1: None,
         },
         light: Light::Directional(DirectionalLight {
             direction: Vec3::new(2.0, -1.0, 1.2),

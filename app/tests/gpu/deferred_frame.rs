@@ -56,6 +56,7 @@ fn sliding_platform() -> Scene {
             fov_y_deg: 45.0,
             near: 0.1,
             far: 100.0,
+            t1: None,
         },
         light: Light::Directional(DirectionalLight {
             direction: Vec3::new(0.3, -1.0, 0.2),
@@ -184,6 +185,7 @@ fn tumbling_cube() -> Scene {
             fov_y_deg: 40.0,
             near: 0.1,
             far: 50.0,
+            t1: None,
         },
         light: Light::Directional(DirectionalLight {
             direction: Vec3::new(-0.4, -1.0, -0.3),
@@ -264,6 +266,7 @@ fn grazing_ground() -> Scene {
             fov_y_deg: 50.0,
             near: 0.1,
             far: 50.0,
+            t1: None,
         },
         light: Light::Directional(DirectionalLight {
             direction: Vec3::new(cos, -sin, 0.0),
@@ -350,6 +353,7 @@ fn block_and_flying_cube() -> Scene {
             fov_y_deg: 40.0,
             near: 0.1,
             far: 50.0,
+            t1: None,
         },
         light: Light::Directional(DirectionalLight {
             direction: Vec3::new(2.0, -1.0, 1.2),

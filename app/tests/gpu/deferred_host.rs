@@ -37,6 +37,7 @@ fn app_scene(world: &World, frame: u32, light: usize) -> app::Scene {
             fov_y_deg: c.fov_y_deg,
             near: c.near,
             far: c.far,
+            t1: None,
         },
         light: match world.lights[light] {
             Light::Spot {

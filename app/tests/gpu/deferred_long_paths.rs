@@ -74,6 +74,7 @@ fn long_paths(setup: Setup) -> Scene {
             fov_y_deg: setup.fov_y_deg,
             near: 0.1,
             far: 50.0,
+            t1: None,
         },
         light: Light::Directional(DirectionalLight {
             direction: Vec3::new(0.0, -1.0, 0.0),

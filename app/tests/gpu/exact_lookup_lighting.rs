@@ -75,6 +75,7 @@ fn block_and_flying_casters(light: Light) -> Scene {
             fov_y_deg: 40.0,
             near: 0.1,
             far: 50.0,
+            t1: None,
         },
         light,
         ambient: 0.05,

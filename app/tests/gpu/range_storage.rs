@@ -107,11 +107,12 @@ fn sorted_ranges_render_what_the_lists_render() {
         ..options.clone()
     };
     // Not moving-light: its light moves (no static layer, none of the pruning rules' cases;
-    // its map is checked against the ray tracer in moving_light.rs).
+    // its map is checked against the ray tracer in moving_light.rs). Not camera-pan: the
+    // GPU frames refuse its moving camera, and its map is the default scene's.
     let scenes = (BUILTIN_NAMES
         .iter()
         .map(|&name| (name, builtin(name, &options).unwrap()))
-        .filter(|(_, scene)| !scene.light.moves()))
+        .filter(|(_, scene)| !scene.light.moves() && !scene.camera.moves()))
     .chain(files.iter().map(|&name| {
         let path = examples.join(format!("{name}.json"));
         (name, load_scene_file(&path).unwrap())
@@ -208,7 +209,7 @@ fn sorted_ranges_render_what_the_lists_render() {
             }
         }
     }
-    assert!(compared >= 2 * (BUILTIN_NAMES.len() + 32));
+    assert!(compared >= 2 * (BUILTIN_NAMES.len() - 1 + 32));
     println!("ranges pruned in all (static, cover, coverage rule): {pruned:?}");
     assert!(pruned[1] > 2 * pruned[0], "{pruned:?}");
 

@@ -37,6 +37,7 @@ fn camera() -> Camera {
         fov_y_deg: 50.0,
         near: 0.1,
         far: 100.0,
+        t1: None,
     }
 }
 

@@ -49,6 +49,7 @@ fn grazing_scene() -> Scene {
             fov_y_deg: 30.0,
             near: 1.0,
             far: 30.0,
+            t1: None,
         },
         light: Light::Directional(DirectionalLight {
             direction: Vec3::new(0.0, -e.sin(), -e.cos()),

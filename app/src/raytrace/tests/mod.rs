@@ -3,6 +3,7 @@
 //! triangle.
 
 mod bvh;
+mod moving_camera;
 mod moving_light;
 mod shutter;
 mod timing;

@@ -285,6 +285,7 @@ fn deferred_truth_of_a_crossing_square() {
             fov_y_deg: 60.0,
             near: 0.1,
             far: 100.0,
+            t1: None,
         },
         light: Light::Directional(DirectionalLight {
             direction: Vec3::NEG_Y,

@@ -16,7 +16,8 @@ use crate::scene::name::scene_name_problem;
 use crate::scene::obj::load_obj_triangles;
 use crate::scene::primitives::{RigidTransform, box_mesh, plane_mesh};
 use crate::scene::{
-    Camera, DirectionalLight, DirectionalPose, Light, Mesh, Scene, SceneError, SpotLight, SpotPose,
+    Camera, CameraPose, DirectionalLight, DirectionalPose, Light, Mesh, Scene, SceneError,
+    SpotLight, SpotPose,
 };
 
 impl SceneFile {
@@ -45,6 +46,11 @@ impl SceneFile {
             fov_y_deg: c.fov_y_deg,
             near: c.near,
             far: c.far,
+            t1: c.t1.map(|end| CameraPose {
+                position: end.position.unwrap_or(c.position),
+                target: end.target.unwrap_or(c.target),
+                up: end.up.unwrap_or(c.up),
+            }),
         };
         // OBJ and glTF models are counted as they load: each may use what the others left.
         let mut budget = MAX_SCENE_TRIANGLES - self.known_triangles().unwrap_or(0);

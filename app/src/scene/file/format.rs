@@ -34,6 +34,22 @@ pub struct CameraFile {
     pub fov_y_deg: f32,
     pub near: f32,
     pub far: f32,
+    /// The camera's pose at t = 1 (docs/scene-format.md, "A moving camera"); fields left
+    /// out keep their t = 0 value, no `t1` at all: a still camera.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub t1: Option<CameraPoseFile>,
+}
+
+/// The camera's `t1`: its position, target and up at t = 1, each defaulting to t = 0's.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraPoseFile {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub position: Option<Vec3>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub target: Option<Vec3>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub up: Option<Vec3>,
 }
 
 fn up_y() -> Vec3 {

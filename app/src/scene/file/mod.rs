@@ -5,6 +5,8 @@
 //! so the file format can stay stable while the renderer's data changes.
 
 mod budget;
+#[cfg(test)]
+mod camera_motion_tests;
 mod convert;
 mod format;
 #[cfg(test)]
@@ -14,7 +16,7 @@ mod load;
 mod tests;
 
 pub use format::{
-    BoxSpec, CameraFile, DirectionalPoseFile, LightFile, MeshSpec, ObjectFile, PlaneSpec,
-    SCENE_FORMAT, SceneFile, SpotPoseFile, TransformFile, TrianglesSpec,
+    BoxSpec, CameraFile, CameraPoseFile, DirectionalPoseFile, LightFile, MeshSpec, ObjectFile,
+    PlaneSpec, SCENE_FORMAT, SceneFile, SpotPoseFile, TransformFile, TrianglesSpec,
 };
 pub use load::{SceneSource, load_scene_file, parse_scene_json, read_scene_file, scene_to_json};

@@ -48,6 +48,7 @@ pub(super) fn game_level(time: f64, subdivide: u32) -> Result<SceneFile, SceneEr
             fov_y_deg: 60.0,
             near: 0.1,
             far: 60.0,
+            t1: None,
         },
         light: LightFile::Spot {
             position: LIGHT,

@@ -84,6 +84,7 @@ fn camera(position: Vec3, target: Vec3) -> CameraFile {
         fov_y_deg: 45.0,
         near: 0.1,
         far: 100.0,
+        t1: None,
     }
 }
 

@@ -1,0 +1,93 @@
+//! A moving camera on the command line: the ray tracer's forward frame takes it (its test
+//! against still renders along the path: `raytrace::tests::moving_camera`), `--json` says the
+//! camera moves, and everything else refuses it by name rather than render the camera at
+//! t = 0 only.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn motion_shadows(args: &[&str], out: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .env("MOTION_SHADOWS_VALIDATION", "1")
+        .output()
+        .expect("run the binary")
+}
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("motion-shadows-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+const SMALL: [&str; 6] = ["--width", "32", "--height", "24", "--spp", "2"];
+
+#[test]
+fn json_says_whether_the_camera_moves() {
+    let dir = temp_dir("camera-moves");
+    for (scene, moves) in [("camera-pan", true), ("cubes-toward-light", false)] {
+        let mut args = vec!["render", "--scene", scene, "--method", "raytrace", "--json"];
+        args.extend(SMALL);
+        let out = motion_shadows(&args, &dir);
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(json["camera_moves"], moves, "{scene}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn what_does_not_take_a_moving_camera_refuses_it_by_name() {
+    let dir = temp_dir("camera-refused");
+    let forward = |method: &'static str| {
+        let mut args = vec!["render", "--scene", "camera-pan", "--method", method];
+        args.extend(SMALL);
+        args
+    };
+    // `--spp` is the forward frame's only.
+    let deferred = |method: &'static str| {
+        let mut args = vec!["render", "--frame", "deferred", "--scene", "camera-pan"];
+        args.extend(["--method", method]);
+        args.extend(&SMALL[..4]);
+        args
+    };
+    for (args, named) in [
+        (
+            forward("temporal"),
+            "--method temporal (the GPU's forward frame)",
+        ),
+        (forward("tsm"), "--method tsm (the GPU's forward frame)"),
+        (deferred("temporal"), "(the deferred frame)"),
+        (
+            deferred("raytrace"),
+            "--method raytrace in the deferred frame",
+        ),
+    ] {
+        let out = motion_shadows(&args, &dir);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} ran");
+        assert!(
+            stderr.contains("camera moves") && stderr.contains("\"t1\"") && stderr.contains(named),
+            "{args:?}: {stderr}"
+        );
+    }
+    // The viewer, before it opens a window.
+    let out = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args(["view", "--scene", "camera-pan"])
+        .env("MOTION_SHADOWS_VALIDATION", "1")
+        .output()
+        .expect("run the binary");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "view ran");
+    assert!(
+        stderr.contains("camera moves") && stderr.contains("the viewer"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
