@@ -46,6 +46,9 @@ pub struct PlainShadowMap {
     pub(crate) depths: Buffer,
     /// [`DepthFormat::DepthAndId`]: the layers' triangle ids, copied out of their attachment.
     pub ids: Option<Buffer>,
+    /// Whether the last recorded pass drew the layers for a moving light (the shading then
+    /// reads each layer with the light at its time).
+    recorded_moving: std::sync::atomic::AtomicBool,
 }
 
 impl PlainShadowMap {
@@ -115,7 +118,13 @@ impl PlainShadowMap {
             ids: with_ids
                 .then(|| planes("ordinary shadow maps' ids"))
                 .transpose()?,
+            recorded_moving: std::sync::atomic::AtomicBool::new(false),
         })
+    }
+    /// Whether the last recorded pass drew the layers for a moving light ([`LightView::end`]).
+    pub(crate) fn recorded_for_moving_light(&self) -> bool {
+        self.recorded_moving
+            .load(std::sync::atomic::Ordering::Relaxed)
     }
     /// Maps in the buffer.
     pub fn layers(&self) -> u32 {
@@ -262,6 +271,8 @@ impl PlainShadowPass {
         let mut bytes = header_bytes(map.layers);
         bytes[..HEADER].copy_from_slice(bytemuck::bytes_of(&header));
         bytes[HEADER..TIMES].copy_from_slice(bytemuck::bytes_of(&light.gpu_end()));
+        map.recorded_moving
+            .store(light.is_moving(), std::sync::atomic::Ordering::Relaxed);
         for (k, t) in times.iter().take(map.layers as usize).enumerate() {
             bytes[TIMES + 4 * k..TIMES + 4 * k + 4].copy_from_slice(&t.to_le_bytes());
         }

@@ -52,6 +52,17 @@ impl ShadowSource<'_> {
         matches!(self, Self::Temporal(map) if map.recorded_lookup() == Lookup::Exact)
     }
 
+    /// Whether the source's last recording was for a moving light (its header then holds
+    /// the pose at t = 1).
+    fn recorded_for_moving_light(&self) -> bool {
+        match self {
+            Self::Temporal(map) => map.recorded_for_moving_light(),
+            Self::Plain(map) | Self::TimeDependent(map) | Self::Unshadowed(map) => {
+                map.recorded_for_moving_light()
+            }
+        }
+    }
+
     fn mode_and_header(&self) -> (ShadowMode, u64) {
         match self {
             Self::Temporal(map) => (ShadowMode::Temporal, map.header_address()),
@@ -83,13 +94,22 @@ struct ShadeVariant {
     filter: ShadowFilter,
     /// Temporal: the exact lookup's test (`SHADE_EXACT`).
     exact: bool,
+    /// The source was recorded for a moving light (`SHADE_LIGHT_MOVES`).
+    light_moves: bool,
 }
 
 impl ShadeVariant {
     /// The variant that renders `mode` with `estimator` and `filter` (choices a test does
     /// not have are dropped, so that they do not make pipelines that differ for nothing).
-    fn of(mode: ShadowMode, estimator: ShadowEstimator, filter: ShadowFilter, exact: bool) -> Self {
+    fn of(
+        mode: ShadowMode,
+        estimator: ShadowEstimator,
+        filter: ShadowFilter,
+        exact: bool,
+        light_moves: bool,
+    ) -> Self {
         Self {
+            light_moves,
             exact: mode == ShadowMode::Temporal && exact,
             mode,
             analytic: mode == ShadowMode::Temporal && estimator == ShadowEstimator::Analytic,
@@ -103,7 +123,7 @@ impl ShadeVariant {
 
     /// The values of `resolve.comp`'s specialization constants for a chunk of `samples`
     /// samples per pixel on a device with `loop_budget`.
-    fn constants(self, loop_budget: u32, samples: u32) -> [u32; 6] {
+    fn constants(self, loop_budget: u32, samples: u32) -> [u32; 7] {
         let filter = match self.filter {
             ShadowFilter::None => 0,
             ShadowFilter::Bilinear => 1,
@@ -116,6 +136,7 @@ impl ShadeVariant {
             loop_budget,
             samples,
             self.exact as u32,
+            self.light_moves as u32,
         ]
     }
 }
@@ -187,6 +208,7 @@ impl LightingPass {
             view.estimator,
             view.filter,
             shadow.reads_exact_lookup(),
+            shadow.recorded_for_moving_light(),
         );
         self.resolve
             .get(&variant.constants(self.loop_budget, samples))
