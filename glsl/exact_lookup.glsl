@@ -67,6 +67,19 @@ const uint MS_EXACT_CURSOR_STATIC = 0x80000000u;
 // How many undecided triangles a texel walk gathers before it asks them (ms_exact_texel_walk).
 #define MS_EXACT_ASKED_TOGETHER 4
 
+// Puts triangle `id` (at cursor `here` in the lists, over window w) into slot `asked` of the
+// gathered ones (held in vectors with constant indices rather than arrays, which lavapipe
+// keeps in memory).
+void ms_exact_gather(inout int asked, inout uvec4 ids, inout uvec4 at, inout vec4 w0s,
+                     inout vec4 w1s, uint id, uint here, vec2 w) {
+    bvec4 slot = equal(ivec4(0, 1, 2, 3), ivec4(asked));
+    ids = mix(ids, uvec4(id), slot);
+    at = mix(at, uvec4(here), slot);
+    w0s = mix(w0s, vec4(w.x), slot);
+    w1s = mix(w1s, vec4(w.y), slot);
+    ++asked;
+}
+
 // Adds to `shadowed` the times of the window w during which the triangles named in `texel`
 // (other than `own`), from `cursor` on, block the shadow ray of the receiver moving from p0
 // (t = 0) to p1 (t = 1): the union of their shadowed intervals. Each range's own times narrow
@@ -101,8 +114,7 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
     bool stopped = false;
     bool listed = true;
     while (listed && !stopped) {
-        // The undecided triangles (their ids and windows), held in vectors with constant
-        // indices rather than arrays (which lavapipe keeps in memory).
+        // The undecided triangles: their ids and windows (ms_exact_gather).
         uvec4 asked_id = uvec4(0u);
         // Where each is in the lists (a cursor): a walk stopped before asking it goes on there.
         uvec4 asked_at = uvec4(0u);
@@ -134,12 +146,7 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
                     if (ms_exact_union_covers(shadowed, w.x, w.y)) return true;
                 }
             } else {
-                bvec4 slot = equal(ivec4(0, 1, 2, 3), ivec4(asked));
-                asked_id = mix(asked_id, uvec4(id), slot);
-                asked_at = mix(asked_at, uvec4(here), slot);
-                asked_w0 = mix(asked_w0, vec4(w.x), slot);
-                asked_w1 = mix(asked_w1, vec4(w.y), slot);
-                ++asked;
+                ms_exact_gather(asked, asked_id, asked_at, asked_w0, asked_w1, id, here, w);
             }
         }
         while (!in_static && !stopped && asked < MS_EXACT_ASKED_TOGETHER) {
@@ -163,12 +170,8 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
             ms_exact_triangle(map.triangles, range.id, at0, at1);
             if (ms_exact_classify(p0, p1, spot, light, s_min, at0, at1, w0, w1)
                 == MS_EXACT_ASK) {
-                bvec4 slot = equal(ivec4(0, 1, 2, 3), ivec4(asked));
-                asked_id = mix(asked_id, uvec4(range.id), slot);
-                asked_at = mix(asked_at, uvec4(here), slot);
-                asked_w0 = mix(asked_w0, vec4(w0), slot);
-                asked_w1 = mix(asked_w1, vec4(w1), slot);
-                ++asked;
+                ms_exact_gather(asked, asked_id, asked_at, asked_w0, asked_w1, range.id, here,
+                                vec2(w0, w1));
             }
         }
         for (int i = 0; i < asked; ++i) {

@@ -5,7 +5,8 @@
 //! `compare --frame deferred --lookup exact` at the same settings: a separate run through
 //! the command users compare masks with. Validation layer on.
 
-use std::path::{Path, PathBuf};
+use crate::common::temp_dir;
+use std::path::Path;
 use std::process::Command;
 
 /// The quick preset's sizes (docs/src/cli.md): 480x270 images, maps 512x512 and 1024x1024,
@@ -33,12 +34,6 @@ fn run(args: &[&str], out: &Path) -> std::process::Output {
         String::from_utf8_lossy(&output.stderr)
     );
     output
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("motion-shadows-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// One row of the engine table, the cells the test reads.

@@ -7,6 +7,7 @@
 
 mod animate_options;
 mod bench_engine;
+mod common;
 mod frame_options;
 mod hostile_inputs;
 mod moving_camera;

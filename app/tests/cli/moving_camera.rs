@@ -3,24 +3,8 @@
 //! camera moves, and everything else refuses it by name rather than render the camera at
 //! t = 0 only.
 
-use std::path::Path;
-use std::process::{Command, Output};
-
-fn motion_shadows(args: &[&str], out: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
-        .args(args)
-        .arg("--out")
-        .arg(out)
-        .env("MOTION_SHADOWS_VALIDATION", "1")
-        .output()
-        .expect("run the binary")
-}
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("motion-shadows-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use crate::common::{run_with_out as motion_shadows, temp_dir};
+use std::process::Command;
 
 const SMALL: [&str; 6] = ["--width", "32", "--height", "24", "--spp", "2"];
 

@@ -4,29 +4,13 @@
 //! the light moves, what does not take it yet refuses it by name, and a light whose t = 1
 //! pose is its t = 0 pose renders bit for bit as the still light in the tracer.
 
+use crate::common::{run_with_out as motion_shadows, temp_dir};
 use motion_shadows_app::raytrace::deferred::deferred_truth;
 use motion_shadows_app::render::{Method, RenderSettings};
 use motion_shadows_app::scene::{
     BuiltinOptions, Light, LightFile, Scene, SpotPose, builtin, builtin_file, scene_to_json,
 };
-use std::path::Path;
-use std::process::{Command, Output};
-
-fn motion_shadows(args: &[&str], out: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
-        .args(args)
-        .arg("--out")
-        .arg(out)
-        .env("MOTION_SHADOWS_VALIDATION", "1")
-        .output()
-        .expect("run the binary")
-}
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("motion-shadows-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use std::process::Command;
 
 const SMALL: [&str; 6] = ["--width", "32", "--height", "24", "--spp", "2"];
 

@@ -9,30 +9,19 @@ mod raytrace_method;
 mod render_report;
 mod scene_export;
 
+use crate::common::temp_dir;
 use motion_shadows_app::scene::{BuiltinOptions, builtin};
 use std::path::Path;
 use std::process::Command;
 
 fn motion_shadows(args: &[&str], out: &Path) -> std::process::Output {
-    let output = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
-        .args(args)
-        .arg("--out")
-        .arg(out)
-        .env("MOTION_SHADOWS_VALIDATION", "1")
-        .output()
-        .expect("run the binary");
+    let output = crate::common::run_with_out(args, out);
     assert!(
         output.status.success(),
         "{args:?} failed: {}",
         String::from_utf8_lossy(&output.stderr)
     );
     output
-}
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("motion-shadows-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// Whether a figure a bench wrote (six significant digits) agrees with `expected`, worked
