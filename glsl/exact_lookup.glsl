@@ -93,7 +93,8 @@ void ms_exact_gather(inout int asked, inout uvec4 ids, inout uvec4 at, inout vec
 // The static names first (most of a level's casters: one that shadows the whole window, a
 // wall, spares the walk of the moving ones), then the ranges. Their loops decide each
 // triangle with the cheap half of the test (a still receiver's static names: the test on
-// constants; the ranges: ms_exact_classify) and gather those they cannot decide, up to
+// constants; a moving receiver's, and the ranges: ms_exact_classify) and gather those they
+// cannot decide, up to
 // MS_EXACT_ASKED_TOGETHER, for a third loop that asks them the whole test: on llvmpipe a
 // loop's body costs its whole code per iteration of the SIMD group, taken or not, and the
 // root finding is most of it while most triangles are decided without it.
@@ -102,6 +103,7 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
     bool spot = map.light.position.w != 0.0;
     vec3 light = spot ? map.light.position.xyz : map.light.direction.xyz;
     float s_min = ms_exact_s_min(spot, ms_exact_scene_size(map));
+    bool still = p0 == p1;
     bool from_start = cursor == MS_EXACT_CURSOR_START;
     bool in_static =
         map.static_names != 0UL && (from_start || (cursor & MS_EXACT_CURSOR_STATIC) != 0u);
@@ -121,9 +123,33 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
         vec4 asked_w0 = vec4(0.0);
         vec4 asked_w1 = vec4(0.0);
         int asked = 0;
-        // The static names: against a still receiver they are decided on the constants, so
-        // this loop holds that test alone; a moving receiver's are asked the whole test.
-        while (in_static && asked < MS_EXACT_ASKED_TOGETHER) {
+        // The static names against a still receiver: decided on the constants, so this loop
+        // holds that test alone.
+        while (in_static && still && asked < MS_EXACT_ASKED_TOGETHER) {
+            if (r == 0u) {
+                in_static = false;
+                r = MsUints(map.range_heads).v[texel];
+                break;
+            }
+            if (ms_loop_iterations > stop) {
+                cursor = r | MS_EXACT_CURSOR_STATIC;
+                stopped = true;
+                break;
+            }
+            ++ms_loop_iterations;
+            uint id = ms_static_name(map, r);
+            if (id == own) continue;
+            vec3 at[3];
+            ms_exact_still_triangle(map.triangles, id, at);
+            if (ms_exact_blocks_still_at(p0, spot, light, s_min, at)) {
+                ms_exact_union_add(shadowed, w);
+                if (ms_exact_union_covers(shadowed, w.x, w.y)) return true;
+            }
+        }
+        // Against a moving receiver, the cheap half first (ms_exact_classify): counted on
+        // game-level, 99% of the static names a moving receiver asked found nothing. A loop of
+        // its own, so that a group of still receivers runs none of its code.
+        while (in_static && !still && asked < MS_EXACT_ASKED_TOGETHER) {
             if (r == 0u) {
                 in_static = false;
                 r = MsUints(map.range_heads).v[texel];
@@ -138,14 +164,10 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
             uint here = r | MS_EXACT_CURSOR_STATIC;
             uint id = ms_static_name(map, r);
             if (id == own) continue;
-            if (p0 == p1) {
-                vec3 at[3];
-                ms_exact_still_triangle(map.triangles, id, at);
-                if (ms_exact_blocks_still_at(p0, spot, light, s_min, at)) {
-                    ms_exact_union_add(shadowed, w);
-                    if (ms_exact_union_covers(shadowed, w.x, w.y)) return true;
-                }
-            } else {
+            vec3 at[3];
+            ms_exact_still_triangle(map.triangles, id, at);
+            if (ms_exact_classify(p0, p1, spot, light, s_min, at, at, w.x, w.y, true)
+                == MS_EXACT_ASK) {
                 ms_exact_gather(asked, asked_id, asked_at, asked_w0, asked_w1, id, here, w);
             }
         }
@@ -168,7 +190,7 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
             if (range.id == own || !(w1 > w0)) continue;
             vec3 at0[3], at1[3];
             ms_exact_triangle(map.triangles, range.id, at0, at1);
-            if (ms_exact_classify(p0, p1, spot, light, s_min, at0, at1, w0, w1)
+            if (ms_exact_classify(p0, p1, spot, light, s_min, at0, at1, w0, w1, false)
                 == MS_EXACT_ASK) {
                 ms_exact_gather(asked, asked_id, asked_at, asked_w0, asked_w1, range.id, here,
                                 vec2(w0, w1));

@@ -447,7 +447,8 @@ const int MS_EXACT_NONE = 0;
 const int MS_EXACT_ASK = 1;
 
 int ms_exact_classify(vec3 p0, vec3 p1, bool spot, vec3 light, float s_min,
-                      vec3 t0_corners[3], vec3 t1_corners[3], float w0, float w1) {
+                      vec3 t0_corners[3], vec3 t1_corners[3], float w0, float w1,
+                      bool with_plane) {
     if (!(w1 > w0)) return MS_EXACT_NONE;
     ms_exact_Linear u, corner[3];
     ms_exact_relative(p0, p1, spot, light, t0_corners, t1_corners, u, corner);
@@ -460,8 +461,27 @@ int ms_exact_classify(vec3 p0, vec3 p1, bool spot, vec3 light, float s_min,
     float r, ray;
     ms_exact_sizes(corner, u, r, ray);
     int edge_sign[3];
-    return ms_exact_edges_disagree(edges, r, ray, w0, w1, edge_sign) ? MS_EXACT_NONE
-                                                                     : MS_EXACT_ASK;
+    if (ms_exact_edges_disagree(edges, r, ray, w0, w1, edge_sign)) return MS_EXACT_NONE;
+    if (with_plane) {
+        // The edges alone test the shadow ray's whole line: a triangle the line meets behind
+        // the receiver (s < s_min: the surface it stands on) or, for a spot light, beyond the
+        // light (s > 1) blocks nothing. s = det(A', B', C') / E: where E has a certain sign
+        // all window long and so has det - s0 E at a bound s0, s stays on one side of s0
+        // (the margins: the general test's).
+        vec4 sum = edges[0] + edges[1] + edges[2];
+        int e = ms_exact_certain_sign(sum, w0, w1, 3.0 * MS_EXACT_CERTAIN * r * r * ray);
+        if (e != 0) {
+            vec4 plane = ms_exact_triple(corner[0], corner[1], corner[2]);
+            float margin = MS_EXACT_CERTAIN * r * r * (r + 3.0 * ray * max(s_min, 1.0));
+            if (e * ms_exact_certain_sign(plane - s_min * sum, w0, w1, margin) < 0) {
+                return MS_EXACT_NONE;
+            }
+            if (spot && e * ms_exact_certain_sign(plane - sum, w0, w1, margin) > 0) {
+                return MS_EXACT_NONE;
+            }
+        }
+    }
+    return MS_EXACT_ASK;
 }
 
 // The union of several triangles' shadowed intervals: up to MS_EXACT_UNION_CAPACITY disjoint
