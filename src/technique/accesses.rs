@@ -91,7 +91,7 @@ pub struct PassAccesses {
 }
 
 impl PassAccesses {
-    fn add(&mut self, resource: Resource, first: Access, last: Access, writes: bool) {
+    pub(crate) fn add(&mut self, resource: Resource, first: Access, last: Access, writes: bool) {
         self.uses.push(ResourceUse {
             resource,
             first: first.into(),
@@ -100,7 +100,7 @@ impl PassAccesses {
         });
     }
 
-    fn buffer(
+    pub(crate) fn buffer(
         &mut self,
         map_buffer: (&crate::gpu::Buffer, &'static str),
         first: Access,
@@ -168,106 +168,117 @@ impl CollectionPass {
         map: &TemporalShadowMap,
         coverage: Option<&CoverageMap>,
     ) -> PassAccesses {
-        let mut a = PassAccesses::default();
-        let transfer_then_draws = |last: Access| (Access::TRANSFER_WRITE, last);
-        a.add(
-            Resource::DrawStreams,
-            DRAW_STAGES_READ,
-            DRAW_STAGES_READ,
-            false,
-        );
-        a.buffer(
-            (draws.buffer(), "draw list"),
-            DRAW_STAGES_READ,
-            DRAW_STAGES_READ,
-            false,
-        );
-        let (first, last) = transfer_then_draws(DRAW_STAGES_READ);
-        a.buffer((&map.header, "shadow map header"), first, last, true);
-        for (buffer, name) in [
-            (&map.heads, "node heads"),
-            (&map.range_heads, "range heads"),
-        ] {
-            let (first, last) = transfer_then_draws(DRAW_STAGES_RW);
-            a.buffer((buffer, name), first, last, true);
-        }
-        // Counters: written by transfer, counted by the geometry and fragment shaders, and
-        // (when the collection stores the ranges) copied within the buffer at the end.
-        a.buffer(
-            (&map.counters, "counters"),
-            Access::TRANSFER_WRITE,
-            DRAW_STAGES_RW.and(Access::TRANSFER_WRITE),
-            true,
-        );
-        // The generation's dispatch arguments.
-        a.buffer(
-            (&map.tiles, "generation dispatch"),
-            Access::TRANSFER_WRITE,
-            Access::TRANSFER_WRITE,
-            true,
-        );
-        a.buffer(
-            (&map.nodes, "nodes"),
-            Access::FRAGMENT_RW,
-            Access::FRAGMENT_RW,
-            true,
-        );
-        a.buffer(
-            (&map.ranges, "ranges"),
-            Access::FRAGMENT_RW,
-            Access::FRAGMENT_RW,
-            true,
-        );
-        // With sorted storage the collection links its ranges here; the generation sorts
-        // them into `ranges`.
-        a.buffer(
-            (&map.range_lists, "range lists"),
-            Access::FRAGMENT_RW,
-            Access::FRAGMENT_RW,
-            true,
-        );
-        if light.lookup == super::Lookup::Exact {
-            // Written once per drawn triangle by the geometry shader.
-            if let Some(records) = &map.triangle_records {
-                a.buffer(
-                    (records, "triangle records"),
-                    DRAW_STAGES_RW,
-                    DRAW_STAGES_RW,
-                    true,
-                );
-            }
-        }
-        if let Some(names) = map
-            .static_names
-            .as_ref()
-            .filter(|_| map.uses_static_names(light, coverage))
-        {
-            // Cleared by transfer when redrawn, linked by the fragment shader, its count
-            // copied into the counters at the end.
-            a.buffer(
-                (names, "static names"),
-                Access::TRANSFER_WRITE.and(DRAW_STAGES_RW),
-                DRAW_STAGES_RW.and(Access::TRANSFER_READ),
-                true,
-            );
-        } else if map.uses_static_layer(light, coverage) {
-            a.buffer(
-                (&map.static_nearest, "static layer"),
-                Access::TRANSFER_WRITE.and(DRAW_STAGES_RW),
-                DRAW_STAGES_RW,
-                true,
-            );
-        }
-        if let Some(c) = coverage {
-            a.buffer(
-                (&c.nearest, "coverage nearest"),
-                Access::TRANSFER_WRITE,
-                DRAW_STAGES_RW,
-                true,
-            );
-        }
-        a
+        collection_uses(draws, light, map, coverage)
     }
+}
+
+/// [`CollectionPass::accesses`]: the collection's declarations, the one source of its own
+/// barriers and of the host's.
+pub(crate) fn collection_uses(
+    draws: &super::DrawList,
+    light: &LightView,
+    map: &TemporalShadowMap,
+    coverage: Option<&CoverageMap>,
+) -> PassAccesses {
+    let mut a = PassAccesses::default();
+    let transfer_then_draws = |last: Access| (Access::TRANSFER_WRITE, last);
+    a.add(
+        Resource::DrawStreams,
+        DRAW_STAGES_READ,
+        DRAW_STAGES_READ,
+        false,
+    );
+    a.buffer(
+        (draws.buffer(), "draw list"),
+        DRAW_STAGES_READ,
+        DRAW_STAGES_READ,
+        false,
+    );
+    let (first, last) = transfer_then_draws(DRAW_STAGES_READ);
+    a.buffer((&map.header, "shadow map header"), first, last, true);
+    for (buffer, name) in [
+        (&map.heads, "node heads"),
+        (&map.range_heads, "range heads"),
+    ] {
+        let (first, last) = transfer_then_draws(DRAW_STAGES_RW);
+        a.buffer((buffer, name), first, last, true);
+    }
+    // Counters: written by transfer, counted by the geometry and fragment shaders, and
+    // (when the collection stores the ranges) copied within the buffer at the end.
+    a.buffer(
+        (&map.counters, "counters"),
+        Access::TRANSFER_WRITE,
+        DRAW_STAGES_RW.and(Access::TRANSFER_WRITE),
+        true,
+    );
+    // The generation's dispatch arguments.
+    a.buffer(
+        (&map.tiles, "generation dispatch"),
+        Access::TRANSFER_WRITE,
+        Access::TRANSFER_WRITE,
+        true,
+    );
+    a.buffer(
+        (&map.nodes, "nodes"),
+        Access::FRAGMENT_RW,
+        Access::FRAGMENT_RW,
+        true,
+    );
+    a.buffer(
+        (&map.ranges, "ranges"),
+        Access::FRAGMENT_RW,
+        Access::FRAGMENT_RW,
+        true,
+    );
+    // With sorted storage the collection links its ranges here; the generation sorts
+    // them into `ranges`.
+    a.buffer(
+        (&map.range_lists, "range lists"),
+        Access::FRAGMENT_RW,
+        Access::FRAGMENT_RW,
+        true,
+    );
+    if light.lookup == super::Lookup::Exact {
+        // Written once per drawn triangle by the geometry shader.
+        if let Some(records) = &map.triangle_records {
+            a.buffer(
+                (records, "triangle records"),
+                DRAW_STAGES_RW,
+                DRAW_STAGES_RW,
+                true,
+            );
+        }
+    }
+    if let Some(names) = map
+        .static_names
+        .as_ref()
+        .filter(|_| map.uses_static_names(light, coverage))
+    {
+        // Cleared by transfer when redrawn, linked by the fragment shader, its count
+        // copied into the counters at the end.
+        a.buffer(
+            (names, "static names"),
+            Access::TRANSFER_WRITE.and(DRAW_STAGES_RW),
+            DRAW_STAGES_RW.and(Access::TRANSFER_READ),
+            true,
+        );
+    } else if map.uses_static_layer(light, coverage) {
+        a.buffer(
+            (&map.static_nearest, "static layer"),
+            Access::TRANSFER_WRITE.and(DRAW_STAGES_RW),
+            DRAW_STAGES_RW,
+            true,
+        );
+    }
+    if let Some(c) = coverage {
+        a.buffer(
+            (&c.nearest, "coverage nearest"),
+            Access::TRANSFER_WRITE,
+            DRAW_STAGES_RW,
+            true,
+        );
+    }
+    a
 }
 
 impl GenerationPass {
@@ -280,46 +291,51 @@ impl GenerationPass {
 
     /// What [`Self::record`] of `map` reads and writes.
     pub fn accesses(&self, map: &TemporalShadowMap) -> PassAccesses {
-        let mut a = PassAccesses::default();
-        let rw = Access::COMPUTE_RW;
-        a.buffer(
-            (&map.header, "shadow map header"),
-            COMPUTE_READ,
-            COMPUTE_READ,
-            false,
-        );
-        a.buffer((&map.heads, "node heads"), rw, rw, true);
-        a.buffer((&map.nodes, "nodes"), rw, rw, true);
-        a.buffer((&map.range_heads, "range heads"), rw, rw, true);
-        a.buffer((&map.ranges, "ranges"), rw, rw, true);
-        a.buffer((&map.counters, "counters"), rw, rw, true);
-        a.buffer(
-            (&map.static_nearest, "static layer"),
-            COMPUTE_READ,
-            COMPUTE_READ,
-            false,
-        );
-        a.buffer(
-            (&map.range_lists, "range lists"),
-            COMPUTE_READ,
-            COMPUTE_READ,
-            false,
-        );
-        // The dispatches' arguments: the sorting's short lists count the long ones' groups.
-        a.buffer(
-            (&map.tiles, "generation dispatch"),
-            Access::INDIRECT_READ,
-            rw.and(Access::INDIRECT_READ),
-            true,
-        );
-        a.buffer(
-            (&map.long_pixels, "long-list pixels"),
-            Access::TRANSFER_WRITE,
-            rw.and(Access::INDIRECT_READ),
-            true,
-        );
-        a
+        generation_uses(map)
     }
+}
+
+/// [`GenerationPass::accesses`]: the generation's declarations.
+pub(crate) fn generation_uses(map: &TemporalShadowMap) -> PassAccesses {
+    let mut a = PassAccesses::default();
+    let rw = Access::COMPUTE_RW;
+    a.buffer(
+        (&map.header, "shadow map header"),
+        COMPUTE_READ,
+        COMPUTE_READ,
+        false,
+    );
+    a.buffer((&map.heads, "node heads"), rw, rw, true);
+    a.buffer((&map.nodes, "nodes"), rw, rw, true);
+    a.buffer((&map.range_heads, "range heads"), rw, rw, true);
+    a.buffer((&map.ranges, "ranges"), rw, rw, true);
+    a.buffer((&map.counters, "counters"), rw, rw, true);
+    a.buffer(
+        (&map.static_nearest, "static layer"),
+        COMPUTE_READ,
+        COMPUTE_READ,
+        false,
+    );
+    a.buffer(
+        (&map.range_lists, "range lists"),
+        COMPUTE_READ,
+        COMPUTE_READ,
+        false,
+    );
+    // The dispatches' arguments: the sorting's short lists count the long ones' groups.
+    a.buffer(
+        (&map.tiles, "generation dispatch"),
+        Access::INDIRECT_READ,
+        rw.and(Access::INDIRECT_READ),
+        true,
+    );
+    a.buffer(
+        (&map.long_pixels, "long-list pixels"),
+        Access::TRANSFER_WRITE,
+        rw.and(Access::INDIRECT_READ),
+        true,
+    );
+    a
 }
 
 impl super::VisibilityMaskPass {

@@ -20,6 +20,7 @@ mod layout;
 mod map_bytes;
 mod mask_ids;
 mod minimal_host;
+mod own_barriers;
 mod pass_accesses;
 mod prism;
 mod pruning_model;
