@@ -5,6 +5,7 @@
 
 use motion_shadows_test_support as support;
 
+mod access_check;
 mod analytic;
 mod conservative_collection;
 mod crossing_prism;
