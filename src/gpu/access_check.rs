@@ -221,3 +221,121 @@ impl AccessCheck {
         std::mem::take(&mut self.state().log)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ash::vk::Handle;
+
+    fn used(first: Access, last: Access, writes: bool) -> TrackedUse {
+        TrackedUse {
+            buffer: vk::Buffer::from_raw(7),
+            name: "ranges",
+            first,
+            last,
+            writes,
+        }
+    }
+
+    fn check() -> AccessCheck {
+        let c = AccessCheck::default();
+        c.enable();
+        c
+    }
+
+    #[test]
+    fn a_write_then_a_read_needs_a_barrier_naming_both_sides() {
+        let c = check();
+        c.pass_runs(
+            "generation",
+            &[used(Access::COMPUTE_RW, Access::COMPUTE_RW, true)],
+        );
+        c.pass_runs(
+            "lighting",
+            &[used(Access::HOST_READ, Access::HOST_READ, false)],
+        );
+        match c.end_frame() {
+            Err(Error::MissingBarrier {
+                resource,
+                previous,
+                next,
+            }) => {
+                assert_eq!(resource, "ranges");
+                assert!(
+                    previous.starts_with("generation (COMPUTE_SHADER"),
+                    "{previous}"
+                );
+                assert!(next.starts_with("lighting (HOST"), "{next}");
+            }
+            other => panic!("{other:?}"),
+        }
+        c.end_frame().expect("reported once");
+    }
+
+    #[test]
+    fn a_chain_of_barriers_orders_a_write_before_a_read() {
+        let c = check();
+        let fragment_read = Access {
+            stages: vk::PipelineStageFlags2::FRAGMENT_SHADER,
+            access: vk::AccessFlags2::SHADER_STORAGE_READ,
+        };
+        c.pass_runs(
+            "generation",
+            &[used(Access::COMPUTE_RW, Access::COMPUTE_RW, true)],
+        );
+        // Compute to transfer, then transfer to fragment: a chain through the transfer stage.
+        c.report_barrier("one", Access::COMPUTE_RW, Access::TRANSFER_WRITE);
+        c.report_barrier("two", Access::TRANSFER_WRITE, fragment_read);
+        c.pass_runs("lighting", &[used(fragment_read, fragment_read, false)]);
+        c.end_frame().expect("the chain orders them");
+        // Without the first, nothing starts at the compute write: no chain.
+        let c = check();
+        c.pass_runs(
+            "generation",
+            &[used(Access::COMPUTE_RW, Access::COMPUTE_RW, true)],
+        );
+        c.report_barrier("two", Access::TRANSFER_WRITE, fragment_read);
+        c.report_barrier("unrelated", Access::HOST_READ, fragment_read);
+        c.pass_runs("lighting", &[used(fragment_read, fragment_read, false)]);
+        let report = c
+            .end_frame()
+            .expect_err("no barrier starts at the compute write");
+        assert!(report.to_string().contains("lighting"), "{report}");
+    }
+
+    #[test]
+    fn a_barrier_without_the_write_access_does_not_order_a_write() {
+        let c = check();
+        c.pass_runs(
+            "generation",
+            &[used(Access::COMPUTE_RW, Access::COMPUTE_RW, true)],
+        );
+        let compute_read = Access {
+            stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
+            access: vk::AccessFlags2::SHADER_STORAGE_READ,
+        };
+        c.report_barrier("execution only", compute_read, Access::TRANSFER_READ);
+        c.pass_runs(
+            "readback",
+            &[used(Access::TRANSFER_READ, Access::TRANSFER_READ, false)],
+        );
+        let report = c.end_frame().expect_err("the write was not made available");
+        assert!(report.to_string().contains("readback"), "{report}");
+    }
+
+    #[test]
+    fn off_it_records_nothing() {
+        let c = AccessCheck::default();
+        c.pass_runs(
+            "generation",
+            &[used(Access::COMPUTE_RW, Access::COMPUTE_RW, true)],
+        );
+        c.pass_runs(
+            "lighting",
+            &[used(Access::HOST_READ, Access::HOST_READ, false)],
+        );
+        c.report_barrier("x", Access::COMPUTE_RW, Access::HOST_READ);
+        c.end_frame().expect("off");
+        assert!(c.take_barrier_log().is_empty());
+    }
+}

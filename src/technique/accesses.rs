@@ -1,16 +1,31 @@
-//! The passes' accesses as data, for a host with its own barrier system (a render graph):
-//! what each record function reads and writes, in which stages, with which accesses, and
-//! (for images) in which layouts. A host that issues the barriers itself turns the passes'
-//! own entry and exit barriers off ([`CollectionPass::with_host_barriers`],
-//! [`GenerationPass::with_host_barriers`]) and, between passes, makes each pass's
-//! [`PassAccesses::last`] visible to the next one's [`PassAccesses::first`] (or, per
-//! resource, from [`PassAccesses::uses`]). The barriers inside a pass (between its own
-//! steps) stay its own.
+//! The passes' accesses as data, the one source of their barriers: what each record
+//! function reads and writes, in which stages, with which accesses, and (for images) in
+//! which layouts. Each pass records its own entry and exit barriers from these
+//! declarations ([`super::Barrier::between`]; `own_barriers.rs` says what each orders
+//! against); a host with its own barrier system (a render graph) turns them off
+//! (`with_host_barriers` on [`CollectionPass`], [`GenerationPass`], [`super::DrawList`],
+//! [`TemporalShadowMap`] for its counter readback, [`super::VisibilityMaskPass`]) and
+//! records [`super::Barrier::between`] the declarations of every two passes it runs in turn.
+//! The barriers inside a pass (between its own steps) stay its own.
 //!
-//! The temporal shadow map's buffers are reached by device address in the shaders, so most
-//! uses name a buffer a host cannot see; a host that tracks buffers by handle gets the
-//! handles here ([`Resource::Buffer`]), and the host's own vertex and index buffers, read by
-//! address through the draw list, as [`Resource::DrawStreams`].
+//! The rule between frames: one frame's lookups of the map (a host shader,
+//! [`TemporalShadowMap::lookup_accesses`]; the mask, [`super::VisibilityMaskPass::accesses`])
+//! read what the next frame's collection clears and rewrites, so that collection must be
+//! ordered after them: its own entry barrier waits for every use the map can have had since
+//! (the generation, lookups from any shader stage, the counter readback, an earlier
+//! collection); a host recording it itself issues the barrier between what it ran on the
+//! map since the last collection (or that same join) and [`CollectionPass::accesses`]. With
+//! frames in flight each frame has its own maps (the record functions' contracts: a map is
+//! not in use by a command buffer running at the same time), so the rule holds within one
+//! map's frames: barriers order work submitted earlier on the same queue; on another queue,
+//! a semaphore (and a queue-family transfer) are the host's.
+//!
+//! The temporal shadow map's buffers are reached by device address in the shaders, which
+//! synchronization validation cannot see: [`crate::gpu::AccessCheck`] (a debug check,
+//! off unless enabled) follows these declarations instead and reports a barrier a host
+//! left out. A host that tracks buffers by handle gets the handles here
+//! ([`Resource::Buffer`]), and the host's own vertex and index buffers, read by address
+//! through the draw list, as [`Resource::DrawStreams`].
 
 use super::collection::CollectionPass;
 use super::coverage::CoverageMap;
@@ -340,11 +355,10 @@ pub(crate) fn generation_uses(map: &TemporalShadowMap) -> PassAccesses {
 
 impl super::VisibilityMaskPass {
     /// What [`Self::record`] with these inputs reads and writes of the host's images and of
-    /// `map` (its own counter and overflow queues it orders itself). The images' barriers and
-    /// layout transitions are always the host's (the record function's contract); the map's
-    /// ranges must be
-    /// visible to compute reads, which the generation pass's exit barrier (or the host's,
-    /// from [`GenerationPass::accesses`]) does.
+    /// `map` (its own counter and overflow queues: [`super::MaskBindings::accesses`]). The
+    /// images' barriers and layout transitions are always the host's (the record function's
+    /// contract); the map's ranges must be visible to compute reads, which the generation
+    /// pass's exit barrier (or the host's, from [`GenerationPass::accesses`]) does.
     pub fn accesses(&self, inputs: &super::MaskInputs, map: &TemporalShadowMap) -> PassAccesses {
         let sampled = Access::COMPUTE_SAMPLED_READ;
         let mut a = map.lookup_accesses(vk::PipelineStageFlags2::COMPUTE_SHADER);

@@ -276,10 +276,12 @@ impl CollectionPass {
     ///   time; the barriers recorded here order this use after earlier uses in the same
     ///   queue.
     ///
-    /// Synchronization: waits, with a global barrier, for earlier shader reads and writes and
-    /// transfers of any buffer of the map; leaves the lists (or the ranges) and the counters
-    /// written by the fragment and transfer stages and made visible to later fragment and
-    /// compute shader reads and writes. A pass made [`Self::with_host_barriers`] records
+    /// Synchronization: waits, with a global barrier, for every earlier use of the map's
+    /// buffers (an earlier collection, the generation, lookups from any shader stage, the
+    /// counter readback); leaves the lists (or the ranges) and the counters written by the
+    /// fragment and transfer stages and made visible to the generation's compute shaders and
+    /// indirect reads. Both barriers are derived from [`Self::accesses`] and those passes'
+    /// declarations (see `accesses.rs`). A pass made [`Self::with_host_barriers`] records
     /// neither of those two barriers: the caller orders [`Self::accesses`] itself. State
     /// changed: the bound graphics pipeline, its push constants, viewport and scissor.
     pub unsafe fn record(

@@ -138,3 +138,73 @@ impl PassAccesses {
         check.pass_runs(pass, &uses);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::technique::accesses::ResourceUse;
+    use ash::vk::Handle;
+
+    fn buffer(n: u64) -> Resource {
+        Resource::Buffer {
+            buffer: vk::Buffer::from_raw(n),
+            name: "b",
+        }
+    }
+
+    fn pass(uses: &[(Resource, Access, Access, bool)]) -> PassAccesses {
+        PassAccesses {
+            uses: uses
+                .iter()
+                .map(|&(resource, first, last, writes)| ResourceUse {
+                    resource,
+                    first: first.into(),
+                    last: last.into(),
+                    writes,
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn the_barrier_joins_only_the_resources_that_conflict() {
+        let read = Access::ANY_SHADER_READ;
+        let earlier = pass(&[
+            (buffer(1), Access::TRANSFER_WRITE, Access::FRAGMENT_RW, true),
+            (buffer(2), read, read, false),
+            (
+                buffer(3),
+                Access::TRANSFER_READ,
+                Access::TRANSFER_READ,
+                false,
+            ),
+        ]);
+        let later = pass(&[
+            (buffer(1), Access::COMPUTE_RW, Access::COMPUTE_RW, true),
+            // Read after read: nothing to order.
+            (
+                buffer(2),
+                Access::INDIRECT_READ,
+                Access::INDIRECT_READ,
+                false,
+            ),
+            // Write after read: the read's stages, before the write.
+            (
+                buffer(3),
+                Access::TRANSFER_WRITE,
+                Access::TRANSFER_WRITE,
+                true,
+            ),
+            (buffer(4), Access::HOST_READ, Access::HOST_READ, false),
+        ]);
+        let b = Barrier::between(&earlier, &later).expect("conflicts");
+        let before: Access = b.before.into();
+        let after: Access = b.after.into();
+        assert_eq!(before, Access::FRAGMENT_RW.and(Access::TRANSFER_READ));
+        assert_eq!(after, Access::COMPUTE_RW.and(Access::TRANSFER_WRITE));
+        assert_eq!(
+            Barrier::between(&earlier, &pass(&[(buffer(2), read, read, false)])),
+            None
+        );
+    }
+}

@@ -380,7 +380,9 @@ impl DrawList {
     /// Checks `draws` (strides, alignment, the bytes they need against the buffers the library
     /// knows, disjoint triangle ids, affine transforms) and records their upload into this
     /// list, with the barriers that order it after earlier passes that read the list and
-    /// before later ones. On error nothing is recorded and the list is unchanged.
+    /// before later ones (from [`Self::update_accesses`] and [`Self::read_accesses`]; none
+    /// on a list made [`Self::with_host_barriers`]: the caller's then). On error nothing is
+    /// recorded and the list is unchanged.
     ///
     /// # Safety
     /// `cmd` is in the recording state, outside a render pass (or dynamic rendering), on a

@@ -103,11 +103,12 @@ impl GenerationPass {
     /// - As [`super::CollectionPass::record`] for `cmd`; and [`super::CollectionPass::record`]
     ///   was recorded for `map` earlier in `cmd` (the ranges are made from its lists).
     ///
-    /// Synchronization: waits for the collection's fragment-stage writes (its own closing
-    /// barrier) and earlier compute and indirect reads of the map; leaves the ranges written
-    /// by the compute stage and made visible to shader reads in every stage (vertex, geometry,
-    /// fragment, compute: a host's own passes may read the map with no barrier of their own)
-    /// and to later compute writes. A pass made [`Self::with_host_barriers`] records neither
+    /// Synchronization: waits for the previous generation's compute and indirect reads of
+    /// the map (the collection's writes are its own closing barrier's); leaves the ranges
+    /// written by the compute stage and made visible to storage reads in every shader stage
+    /// (vertex, geometry, fragment, compute: a host's own passes may read the map with no
+    /// barrier of their own, [`TemporalShadowMap::lookup_accesses`]). Both barriers are
+    /// derived from [`Self::accesses`] (see `accesses.rs`). A pass made [`Self::with_host_barriers`] records neither
     /// the entry nor the exit barrier: the caller orders [`Self::accesses`] itself. State
     /// changed: the bound compute pipeline and its push constants.
     pub unsafe fn record(

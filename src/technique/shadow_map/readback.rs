@@ -19,7 +19,9 @@ impl TemporalShadowMap {
     /// other command buffer reads back this map's counters at the same time.
     ///
     /// Synchronization: waits for the compute stage's counter writes (the generation pass);
-    /// leaves the copy visible to host reads once the submission's fence has signalled.
+    /// leaves the copy visible to host reads once the submission's fence has signalled. Both
+    /// barriers come from [`Self::counter_readback_accesses`]; a map made
+    /// [`Self::with_host_barriers`] records neither (the caller's then).
     pub unsafe fn record_counter_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
         let own = own_barriers::counter_readback(self);
         let check = self.counters.access_check();
