@@ -19,7 +19,16 @@ use std::collections::HashMap;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-/// The check (one per [`super::Context`], [`super::Context::access_check`]).
+/// The debug check of declared accesses (one per [`super::Context`],
+/// [`super::Context::access_check`]), off until [`Self::enable`]. It remembers each library
+/// buffer's last declared use (the passes declare theirs as they record; a host's shaders
+/// with `PassAccesses::declare_run`) and the barriers reported since (the passes' own;
+/// a host's through `Barrier::record` or [`Self::report_barrier`]), follows chains of
+/// barriers, and [`Self::end_frame`] reports a use after a conflicting one (a write on either
+/// side) with no barrier between as [`Error::MissingBarrier`]. It follows the order of
+/// recording (one queue, command buffers submitted in the order recorded); a host read
+/// ends a buffer's chain (the host waited for a fence). Cheap: a lock and a walk over the
+/// tracked buffers per pass and barrier, nothing on the device.
 #[derive(Default)]
 pub struct AccessCheck {
     enabled: AtomicBool,

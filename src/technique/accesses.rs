@@ -98,7 +98,21 @@ impl From<AccessData> for Access {
     }
 }
 
-/// Every resource one recorded pass uses.
+/// Every resource one recorded pass uses: the pass's declaration, from which both its own
+/// entry and exit barriers and a host's ([`super::Barrier::between`]) are derived.
+///
+/// The rule between frames: one frame's lookups of the map (a host shader,
+/// [`TemporalShadowMap::lookup_accesses`]; the mask) read what the next frame's collection
+/// clears and rewrites, so that collection is ordered after them. Its own entry barrier
+/// waits for every use the map can have had (the generation, lookups from any shader
+/// stage, the counter readback, an earlier collection); a host recording the barriers
+/// itself records `Barrier::between(earlier, collection)` with `earlier` the join
+/// ([`Self::and`]) of what it ran on the map since the last collection. With frames in
+/// flight each frame has its own maps (a map is not used by two command buffers running at
+/// the same time), so the rule holds within one map's frames: a barrier orders work
+/// submitted earlier on the same queue; across queues a semaphore is the host's. The map is
+/// read by device address, which synchronization validation cannot see:
+/// [`crate::gpu::AccessCheck`] checks a host's barriers against these declarations.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct PassAccesses {
     /// One entry per resource.
