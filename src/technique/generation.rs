@@ -108,9 +108,10 @@ impl GenerationPass {
     /// written by the compute stage and made visible to storage reads in every shader stage
     /// (vertex, geometry, fragment, compute: a host's own passes may read the map with no
     /// barrier of their own, [`TemporalShadowMap::lookup_accesses`]). Both barriers are
-    /// derived from [`Self::accesses`] (see `accesses.rs`). A pass made [`Self::with_host_barriers`] records neither
-    /// the entry nor the exit barrier: the caller orders [`Self::accesses`] itself. State
-    /// changed: the bound compute pipeline and its push constants.
+    /// derived from [`Self::accesses`] (see `accesses.rs`). A pass made
+    /// [`Self::with_host_barriers`] records neither the entry nor the exit barrier: the
+    /// caller orders [`Self::accesses`] itself. State changed: the bound compute pipeline
+    /// and its push constants.
     pub unsafe fn record(
         &self,
         device: &ash::Device,

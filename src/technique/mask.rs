@@ -225,9 +225,8 @@ impl VisibilityMaskPass {
     /// before each follow-up round, a compute-to-host barrier after the last: after `cmd`
     /// completes, [`MaskBindings::read_over_budget_pixels`] reads the counter; that last one
     /// comes from [`MaskBindings::accesses`] and is the caller's on a pass made
-    /// [`Self::with_host_barriers`]). State
-    /// changed: the bound compute pipeline, descriptor set 0 of the compute bind point, push
-    /// constants.
+    /// [`Self::with_host_barriers`]). State changed: the bound compute pipeline, descriptor
+    /// set 0 of the compute bind point, push constants.
     pub unsafe fn record(
         &self,
         device: &ash::Device,
