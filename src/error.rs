@@ -116,6 +116,21 @@ pub enum Error {
     )]
     FragmentCountOverflow,
 
+    /// The debug check of declared accesses ([`crate::gpu::AccessCheck`]) found a pass
+    /// whose declared use of a buffer came after a conflicting one (a write on either side)
+    /// with no reported barrier ordering the two.
+    #[error(
+        "no barrier orders {resource}'s use by {next} after its use by {previous}: record the barrier the passes' declared accesses give (technique::Barrier::between) and report it (gpu::AccessCheck::report_barrier)"
+    )]
+    MissingBarrier {
+        /// The buffer (as the declarations name it, e.g. `"ranges"`).
+        resource: String,
+        /// The earlier use: the pass and its last access (stages: accesses).
+        previous: String,
+        /// The later use: the pass and its first access.
+        next: String,
+    },
+
     /// A caller-supplied value is out of range.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),

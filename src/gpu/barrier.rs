@@ -5,7 +5,7 @@
 use ash::vk;
 
 /// One side of a barrier: pipeline stages and the memory accesses made there.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Access {
     /// Pipeline stages.
     pub stages: vk::PipelineStageFlags2,

@@ -254,6 +254,11 @@ impl Buffer {
         }
     }
 
+    /// The debug check of declared accesses of the buffer's context.
+    pub(crate) fn access_check(&self) -> &super::AccessCheck {
+        &self.shared.access_check
+    }
+
     /// The whole buffer as a descriptor range.
     pub fn descriptor(&self) -> vk::DescriptorBufferInfo {
         vk::DescriptorBufferInfo {
@@ -268,6 +273,7 @@ impl Drop for Buffer {
     /// Retires the buffer: destroyed once no pending frame can use it (see
     /// [`Context::begin_frame`]).
     fn drop(&mut self) {
+        self.shared.access_check.forget(self.raw);
         self.shared.retire(Doomed {
             handles: vec![Handle::Buffer(self.raw)],
             allocation: self.allocation.take(),

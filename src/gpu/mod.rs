@@ -4,6 +4,7 @@
 //! and a gpu-allocator; [`DeviceRequirements`] is what a host enables on its device for it. [`Buffer`]s free themselves. [`OneShot`] records and submits a
 //! command buffer and waits for it. [`TimestampQueries`] times passes.
 
+mod access_check;
 mod barrier;
 mod buffer;
 mod commands;
@@ -18,6 +19,8 @@ mod retire;
 mod timestamps;
 mod variants;
 
+pub(crate) use access_check::TrackedUse;
+pub use access_check::{AccessCheck, ReportedBarrier};
 pub use barrier::{Access, image_barrier, memory_barrier};
 pub use buffer::{Buffer, BufferUsage};
 pub use commands::OneShot;

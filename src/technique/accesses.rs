@@ -1,16 +1,31 @@
-//! The passes' accesses as data, for a host with its own barrier system (a render graph):
-//! what each record function reads and writes, in which stages, with which accesses, and
-//! (for images) in which layouts. A host that issues the barriers itself turns the passes'
-//! own entry and exit barriers off ([`CollectionPass::with_host_barriers`],
-//! [`GenerationPass::with_host_barriers`]) and, between passes, makes each pass's
-//! [`PassAccesses::last`] visible to the next one's [`PassAccesses::first`] (or, per
-//! resource, from [`PassAccesses::uses`]). The barriers inside a pass (between its own
-//! steps) stay its own.
+//! The passes' accesses as data, the one source of their barriers: what each record
+//! function reads and writes, in which stages, with which accesses, and (for images) in
+//! which layouts. Each pass records its own entry and exit barriers from these
+//! declarations ([`super::Barrier::between`]; `own_barriers.rs` says what each orders
+//! against); a host with its own barrier system (a render graph) turns them off
+//! (`with_host_barriers` on [`CollectionPass`], [`GenerationPass`], [`super::DrawList`],
+//! [`TemporalShadowMap`] for its counter readback, [`super::VisibilityMaskPass`]) and
+//! records [`super::Barrier::between`] the declarations of every two passes it runs in turn.
+//! The barriers inside a pass (between its own steps) stay its own.
 //!
-//! The temporal shadow map's buffers are reached by device address in the shaders, so most
-//! uses name a buffer a host cannot see; a host that tracks buffers by handle gets the
-//! handles here ([`Resource::Buffer`]), and the host's own vertex and index buffers, read by
-//! address through the draw list, as [`Resource::DrawStreams`].
+//! The rule between frames: one frame's lookups of the map (a host shader,
+//! [`TemporalShadowMap::lookup_accesses`]; the mask, [`super::VisibilityMaskPass::accesses`])
+//! read what the next frame's collection clears and rewrites, so that collection must be
+//! ordered after them: its own entry barrier waits for every use the map can have had since
+//! (the generation, lookups from any shader stage, the counter readback, an earlier
+//! collection); a host recording it itself issues the barrier between what it ran on the
+//! map since the last collection (or that same join) and [`CollectionPass::accesses`]. With
+//! frames in flight each frame has its own maps (the record functions' contracts: a map is
+//! not in use by a command buffer running at the same time), so the rule holds within one
+//! map's frames: barriers order work submitted earlier on the same queue; on another queue,
+//! a semaphore (and a queue-family transfer) are the host's.
+//!
+//! The temporal shadow map's buffers are reached by device address in the shaders, which
+//! synchronization validation cannot see: [`crate::gpu::AccessCheck`] (a debug check,
+//! off unless enabled) follows these declarations instead and reports a barrier a host
+//! left out. A host that tracks buffers by handle gets the handles here
+//! ([`Resource::Buffer`]), and the host's own vertex and index buffers, read by address
+//! through the draw list, as [`Resource::DrawStreams`].
 
 use super::collection::CollectionPass;
 use super::coverage::CoverageMap;
@@ -83,7 +98,21 @@ impl From<AccessData> for Access {
     }
 }
 
-/// Every resource one recorded pass uses.
+/// Every resource one recorded pass uses: the pass's declaration, from which both its own
+/// entry and exit barriers and a host's ([`super::Barrier::between`]) are derived.
+///
+/// The rule between frames: one frame's lookups of the map (a host shader,
+/// [`TemporalShadowMap::lookup_accesses`]; the mask) read what the next frame's collection
+/// clears and rewrites, so that collection is ordered after them. Its own entry barrier
+/// waits for every use the map can have had (the generation, lookups from any shader
+/// stage, the counter readback, an earlier collection); a host recording the barriers
+/// itself records `Barrier::between(earlier, collection)` with `earlier` the join
+/// ([`Self::and`]) of what it ran on the map since the last collection. With frames in
+/// flight each frame has its own maps (a map is not used by two command buffers running at
+/// the same time), so the rule holds within one map's frames: a barrier orders work
+/// submitted earlier on the same queue; across queues a semaphore is the host's. The map is
+/// read by device address, which synchronization validation cannot see:
+/// [`crate::gpu::AccessCheck`] checks a host's barriers against these declarations.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct PassAccesses {
     /// One entry per resource.
@@ -91,7 +120,7 @@ pub struct PassAccesses {
 }
 
 impl PassAccesses {
-    fn add(&mut self, resource: Resource, first: Access, last: Access, writes: bool) {
+    pub(crate) fn add(&mut self, resource: Resource, first: Access, last: Access, writes: bool) {
         self.uses.push(ResourceUse {
             resource,
             first: first.into(),
@@ -100,7 +129,7 @@ impl PassAccesses {
         });
     }
 
-    fn buffer(
+    pub(crate) fn buffer(
         &mut self,
         map_buffer: (&crate::gpu::Buffer, &'static str),
         first: Access,
@@ -168,106 +197,117 @@ impl CollectionPass {
         map: &TemporalShadowMap,
         coverage: Option<&CoverageMap>,
     ) -> PassAccesses {
-        let mut a = PassAccesses::default();
-        let transfer_then_draws = |last: Access| (Access::TRANSFER_WRITE, last);
-        a.add(
-            Resource::DrawStreams,
-            DRAW_STAGES_READ,
-            DRAW_STAGES_READ,
-            false,
-        );
-        a.buffer(
-            (draws.buffer(), "draw list"),
-            DRAW_STAGES_READ,
-            DRAW_STAGES_READ,
-            false,
-        );
-        let (first, last) = transfer_then_draws(DRAW_STAGES_READ);
-        a.buffer((&map.header, "shadow map header"), first, last, true);
-        for (buffer, name) in [
-            (&map.heads, "node heads"),
-            (&map.range_heads, "range heads"),
-        ] {
-            let (first, last) = transfer_then_draws(DRAW_STAGES_RW);
-            a.buffer((buffer, name), first, last, true);
-        }
-        // Counters: written by transfer, counted by the geometry and fragment shaders, and
-        // (when the collection stores the ranges) copied within the buffer at the end.
-        a.buffer(
-            (&map.counters, "counters"),
-            Access::TRANSFER_WRITE,
-            DRAW_STAGES_RW.and(Access::TRANSFER_WRITE),
-            true,
-        );
-        // The generation's dispatch arguments.
-        a.buffer(
-            (&map.tiles, "generation dispatch"),
-            Access::TRANSFER_WRITE,
-            Access::TRANSFER_WRITE,
-            true,
-        );
-        a.buffer(
-            (&map.nodes, "nodes"),
-            Access::FRAGMENT_RW,
-            Access::FRAGMENT_RW,
-            true,
-        );
-        a.buffer(
-            (&map.ranges, "ranges"),
-            Access::FRAGMENT_RW,
-            Access::FRAGMENT_RW,
-            true,
-        );
-        // With sorted storage the collection links its ranges here; the generation sorts
-        // them into `ranges`.
-        a.buffer(
-            (&map.range_lists, "range lists"),
-            Access::FRAGMENT_RW,
-            Access::FRAGMENT_RW,
-            true,
-        );
-        if light.lookup == super::Lookup::Exact {
-            // Written once per drawn triangle by the geometry shader.
-            if let Some(records) = &map.triangle_records {
-                a.buffer(
-                    (records, "triangle records"),
-                    DRAW_STAGES_RW,
-                    DRAW_STAGES_RW,
-                    true,
-                );
-            }
-        }
-        if let Some(names) = map
-            .static_names
-            .as_ref()
-            .filter(|_| map.uses_static_names(light, coverage))
-        {
-            // Cleared by transfer when redrawn, linked by the fragment shader, its count
-            // copied into the counters at the end.
-            a.buffer(
-                (names, "static names"),
-                Access::TRANSFER_WRITE.and(DRAW_STAGES_RW),
-                DRAW_STAGES_RW.and(Access::TRANSFER_READ),
-                true,
-            );
-        } else if map.uses_static_layer(light, coverage) {
-            a.buffer(
-                (&map.static_nearest, "static layer"),
-                Access::TRANSFER_WRITE.and(DRAW_STAGES_RW),
-                DRAW_STAGES_RW,
-                true,
-            );
-        }
-        if let Some(c) = coverage {
-            a.buffer(
-                (&c.nearest, "coverage nearest"),
-                Access::TRANSFER_WRITE,
-                DRAW_STAGES_RW,
-                true,
-            );
-        }
-        a
+        collection_uses(draws, light, map, coverage)
     }
+}
+
+/// [`CollectionPass::accesses`]: the collection's declarations, the one source of its own
+/// barriers and of the host's.
+pub(crate) fn collection_uses(
+    draws: &super::DrawList,
+    light: &LightView,
+    map: &TemporalShadowMap,
+    coverage: Option<&CoverageMap>,
+) -> PassAccesses {
+    let mut a = PassAccesses::default();
+    let transfer_then_draws = |last: Access| (Access::TRANSFER_WRITE, last);
+    a.add(
+        Resource::DrawStreams,
+        DRAW_STAGES_READ,
+        DRAW_STAGES_READ,
+        false,
+    );
+    a.buffer(
+        (draws.buffer(), "draw list"),
+        DRAW_STAGES_READ,
+        DRAW_STAGES_READ,
+        false,
+    );
+    let (first, last) = transfer_then_draws(DRAW_STAGES_READ);
+    a.buffer((&map.header, "shadow map header"), first, last, true);
+    for (buffer, name) in [
+        (&map.heads, "node heads"),
+        (&map.range_heads, "range heads"),
+    ] {
+        let (first, last) = transfer_then_draws(DRAW_STAGES_RW);
+        a.buffer((buffer, name), first, last, true);
+    }
+    // Counters: written by transfer, counted by the geometry and fragment shaders, and
+    // (when the collection stores the ranges) copied within the buffer at the end.
+    a.buffer(
+        (&map.counters, "counters"),
+        Access::TRANSFER_WRITE,
+        DRAW_STAGES_RW.and(Access::TRANSFER_WRITE),
+        true,
+    );
+    // The generation's dispatch arguments.
+    a.buffer(
+        (&map.tiles, "generation dispatch"),
+        Access::TRANSFER_WRITE,
+        Access::TRANSFER_WRITE,
+        true,
+    );
+    a.buffer(
+        (&map.nodes, "nodes"),
+        Access::FRAGMENT_RW,
+        Access::FRAGMENT_RW,
+        true,
+    );
+    a.buffer(
+        (&map.ranges, "ranges"),
+        Access::FRAGMENT_RW,
+        Access::FRAGMENT_RW,
+        true,
+    );
+    // With sorted storage the collection links its ranges here; the generation sorts
+    // them into `ranges`.
+    a.buffer(
+        (&map.range_lists, "range lists"),
+        Access::FRAGMENT_RW,
+        Access::FRAGMENT_RW,
+        true,
+    );
+    if light.lookup == super::Lookup::Exact {
+        // Written once per drawn triangle by the geometry shader.
+        if let Some(records) = &map.triangle_records {
+            a.buffer(
+                (records, "triangle records"),
+                DRAW_STAGES_RW,
+                DRAW_STAGES_RW,
+                true,
+            );
+        }
+    }
+    if let Some(names) = map
+        .static_names
+        .as_ref()
+        .filter(|_| map.uses_static_names(light, coverage))
+    {
+        // Cleared by transfer when redrawn, linked by the fragment shader, its count
+        // copied into the counters at the end.
+        a.buffer(
+            (names, "static names"),
+            Access::TRANSFER_WRITE.and(DRAW_STAGES_RW),
+            DRAW_STAGES_RW.and(Access::TRANSFER_READ),
+            true,
+        );
+    } else if map.uses_static_layer(light, coverage) {
+        a.buffer(
+            (&map.static_nearest, "static layer"),
+            Access::TRANSFER_WRITE.and(DRAW_STAGES_RW),
+            DRAW_STAGES_RW,
+            true,
+        );
+    }
+    if let Some(c) = coverage {
+        a.buffer(
+            (&c.nearest, "coverage nearest"),
+            Access::TRANSFER_WRITE,
+            DRAW_STAGES_RW,
+            true,
+        );
+    }
+    a
 }
 
 impl GenerationPass {
@@ -280,55 +320,59 @@ impl GenerationPass {
 
     /// What [`Self::record`] of `map` reads and writes.
     pub fn accesses(&self, map: &TemporalShadowMap) -> PassAccesses {
-        let mut a = PassAccesses::default();
-        let rw = Access::COMPUTE_RW;
-        a.buffer(
-            (&map.header, "shadow map header"),
-            COMPUTE_READ,
-            COMPUTE_READ,
-            false,
-        );
-        a.buffer((&map.heads, "node heads"), rw, rw, true);
-        a.buffer((&map.nodes, "nodes"), rw, rw, true);
-        a.buffer((&map.range_heads, "range heads"), rw, rw, true);
-        a.buffer((&map.ranges, "ranges"), rw, rw, true);
-        a.buffer((&map.counters, "counters"), rw, rw, true);
-        a.buffer(
-            (&map.static_nearest, "static layer"),
-            COMPUTE_READ,
-            COMPUTE_READ,
-            false,
-        );
-        a.buffer(
-            (&map.range_lists, "range lists"),
-            COMPUTE_READ,
-            COMPUTE_READ,
-            false,
-        );
-        // The dispatches' arguments: the sorting's short lists count the long ones' groups.
-        a.buffer(
-            (&map.tiles, "generation dispatch"),
-            Access::INDIRECT_READ,
-            rw.and(Access::INDIRECT_READ),
-            true,
-        );
-        a.buffer(
-            (&map.long_pixels, "long-list pixels"),
-            Access::TRANSFER_WRITE,
-            rw.and(Access::INDIRECT_READ),
-            true,
-        );
-        a
+        generation_uses(map)
     }
+}
+
+/// [`GenerationPass::accesses`]: the generation's declarations.
+pub(crate) fn generation_uses(map: &TemporalShadowMap) -> PassAccesses {
+    let mut a = PassAccesses::default();
+    let rw = Access::COMPUTE_RW;
+    a.buffer(
+        (&map.header, "shadow map header"),
+        COMPUTE_READ,
+        COMPUTE_READ,
+        false,
+    );
+    a.buffer((&map.heads, "node heads"), rw, rw, true);
+    a.buffer((&map.nodes, "nodes"), rw, rw, true);
+    a.buffer((&map.range_heads, "range heads"), rw, rw, true);
+    a.buffer((&map.ranges, "ranges"), rw, rw, true);
+    a.buffer((&map.counters, "counters"), rw, rw, true);
+    a.buffer(
+        (&map.static_nearest, "static layer"),
+        COMPUTE_READ,
+        COMPUTE_READ,
+        false,
+    );
+    a.buffer(
+        (&map.range_lists, "range lists"),
+        COMPUTE_READ,
+        COMPUTE_READ,
+        false,
+    );
+    // The dispatches' arguments: the sorting's short lists count the long ones' groups.
+    a.buffer(
+        (&map.tiles, "generation dispatch"),
+        Access::INDIRECT_READ,
+        rw.and(Access::INDIRECT_READ),
+        true,
+    );
+    a.buffer(
+        (&map.long_pixels, "long-list pixels"),
+        Access::TRANSFER_WRITE,
+        rw.and(Access::INDIRECT_READ),
+        true,
+    );
+    a
 }
 
 impl super::VisibilityMaskPass {
     /// What [`Self::record`] with these inputs reads and writes of the host's images and of
-    /// `map` (its own counter and overflow queues it orders itself). The images' barriers and
-    /// layout transitions are always the host's (the record function's contract); the map's
-    /// ranges must be
-    /// visible to compute reads, which the generation pass's exit barrier (or the host's,
-    /// from [`GenerationPass::accesses`]) does.
+    /// `map` (its own counter and overflow queues: [`super::MaskBindings::accesses`]). The
+    /// images' barriers and layout transitions are always the host's (the record function's
+    /// contract); the map's ranges must be visible to compute reads, which the generation
+    /// pass's exit barrier (or the host's, from [`GenerationPass::accesses`]) does.
     pub fn accesses(&self, inputs: &super::MaskInputs, map: &TemporalShadowMap) -> PassAccesses {
         let sampled = Access::COMPUTE_SAMPLED_READ;
         let mut a = map.lookup_accesses(vk::PipelineStageFlags2::COMPUTE_SHADER);

@@ -5,6 +5,7 @@
 //! pair from its two fragments, so that pass has nothing left to do and no node is stored.
 
 use super::coverage::{CoverageMap, MAX_COVERAGE_TRIANGLES};
+use super::declared_barriers::record_own;
 use super::draws::DrawList;
 use super::gpu_constants::STATIC_NAMES;
 use super::gpu_types::{COUNT_INVALID, Counters, DRAW_STATIC, DrawRecord};
@@ -275,10 +276,12 @@ impl CollectionPass {
     ///   time; the barriers recorded here order this use after earlier uses in the same
     ///   queue.
     ///
-    /// Synchronization: waits, with a global barrier, for earlier shader reads and writes and
-    /// transfers of any buffer of the map; leaves the lists (or the ranges) and the counters
-    /// written by the fragment and transfer stages and made visible to later fragment and
-    /// compute shader reads and writes. A pass made [`Self::with_host_barriers`] records
+    /// Synchronization: waits, with a global barrier, for every earlier use of the map's
+    /// buffers (an earlier collection, the generation, lookups from any shader stage, the
+    /// counter readback); leaves the lists (or the ranges) and the counters written by the
+    /// fragment and transfer stages and made visible to the generation's compute shaders and
+    /// indirect reads. Both barriers are derived from [`Self::accesses`] and those passes'
+    /// declarations (see `accesses.rs`). A pass made [`Self::with_host_barriers`] records
     /// neither of those two barriers: the caller orders [`Self::accesses`] itself. State
     /// changed: the bound graphics pipeline, its push constants, viewport and scissor.
     pub unsafe fn record(
@@ -327,23 +330,16 @@ impl CollectionPass {
         let static_names = map.uses_static_names(light, coverage);
         let collects_ranges = map.collects_ranges(light, coverage);
         // Earlier frames may still read these lists.
+        let own = super::own_barriers::collection(draws, light, map, coverage);
+        let check = map.header.access_check();
         if self.outer_barriers {
             // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue
             // (this function's contract), so every stage named is supported.
-            unsafe {
-                memory_barrier(
-                    device,
-                    cmd,
-                    Access::ANY_SHADER_READ
-                        .and(Access::COMPUTE_RW)
-                        .and(Access::FRAGMENT_RW)
-                        .and(Access::TRANSFER_READ)
-                        .and(Access::INDIRECT_READ),
-                    Access::TRANSFER_WRITE,
-                )
-            };
+            unsafe { record_own(device, cmd, check, "collection entry", own.entry) };
         }
-        map.record_header(device, cmd, light, coverage, self.outer_barriers);
+        self.accesses(draws, light, map, coverage)
+            .declare_run(check, "collection");
+        map.record_header(device, cmd, light, coverage);
         let counters = Counters {
             node_capacity: map.node_capacity(),
             range_capacity: map.range_capacity(),
@@ -458,16 +454,7 @@ impl CollectionPass {
         }
         if self.outer_barriers {
             // SAFETY: outside rendering, on the graphics and compute queue of the contract.
-            unsafe {
-                memory_barrier(
-                    device,
-                    cmd,
-                    Access::FRAGMENT_RW
-                        .and(Access::GEOMETRY_RW)
-                        .and(Access::TRANSFER_WRITE),
-                    Access::COMPUTE_RW.and(Access::FRAGMENT_RW),
-                )
-            };
+            unsafe { record_own(device, cmd, check, "collection exit", own.exit) };
         }
         Ok(())
     }

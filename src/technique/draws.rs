@@ -4,11 +4,12 @@
 //! the CPU: a [`DrawList`] holds the draws' descriptions (160 bytes each) in a small GPU
 //! buffer that every pass reads by address.
 
+use super::declared_barriers::record_own;
 use super::gpu_types::{
     DRAW_CLOSED, DRAW_STATIC, DRAW_UNTRANSFORMED, DrawRecord, INDEX_NONE, INDEX_U16, INDEX_U32,
 };
 use crate::error::{Error, Result};
-use crate::gpu::{Access, Buffer, BufferUsage, Context, memory_barrier};
+use crate::gpu::{Buffer, BufferUsage, Context};
 use ash::vk;
 use glam::{Mat4, Vec3, Vec4};
 
@@ -359,6 +360,8 @@ pub struct DrawList {
     capacity: u32,
     /// Sorted by first id (the lighting pass finds a triangle's draw by binary search).
     records: Vec<DrawRecord>,
+    /// Records its entry and exit barriers (off: the host's, [`Self::with_host_barriers`]).
+    pub(crate) outer_barriers: bool,
 }
 
 impl DrawList {
@@ -370,13 +373,16 @@ impl DrawList {
             buffer: Buffer::new(ctx, "draw list", bytes, BufferUsage::Storage)?,
             capacity,
             records: Vec::new(),
+            outer_barriers: true,
         })
     }
 
     /// Checks `draws` (strides, alignment, the bytes they need against the buffers the library
     /// knows, disjoint triangle ids, affine transforms) and records their upload into this
     /// list, with the barriers that order it after earlier passes that read the list and
-    /// before later ones. On error nothing is recorded and the list is unchanged.
+    /// before later ones (from [`Self::update_accesses`] and [`Self::read_accesses`]; none
+    /// on a list made [`Self::with_host_barriers`]: the caller's then). On error nothing is
+    /// recorded and the list is unchanged.
     ///
     /// # Safety
     /// `cmd` is in the recording state, outside a render pass (or dynamic rendering), on a
@@ -410,14 +416,21 @@ impl DrawList {
             }
         }
         // Earlier passes of this or an earlier frame may still read the list.
-        // SAFETY: `cmd` is recording outside a render pass on a graphics and compute queue (the
-        // contract), which supports every shader stage and the transfer stage this barrier names.
-        unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
+        let own = super::own_barriers::draw_list_update(self);
+        let check = self.buffer.access_check();
+        if self.outer_barriers {
+            // SAFETY: `cmd` is recording outside a render pass on a graphics and compute queue
+            // (the contract), which supports every shader stage and the transfer stage.
+            unsafe { record_own(device, cmd, check, "draw list update entry", own.entry) };
+        }
+        self.update_accesses()
+            .declare_run(check, "draw list update");
         // SAFETY: the caller's contract; the buffer holds `capacity` records.
         unsafe { self.buffer.record_write(device, cmd, &records) };
-        // SAFETY: as the barrier before: the same command buffer, outside a render pass, stages its
-        // queue supports.
-        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ) };
+        if self.outer_barriers {
+            // SAFETY: as the barrier before: the same command buffer, outside a render pass.
+            unsafe { record_own(device, cmd, check, "draw list update exit", own.exit) };
+        }
         self.records = records;
         Ok(())
     }

@@ -9,6 +9,7 @@
 //! takes its places; ranges that can decide no test are pruned by the map's
 //! [`super::Pruning`] rule; two tiers again), and otherwise costs its barriers only.
 
+use super::declared_barriers::record_own;
 use super::gpu_constants::{DISPATCH_PAIRING, DISPATCH_SORT, DISPATCH_SORT_LONG};
 use super::gpu_types::LongListHeader;
 use super::pruning::Pruning;
@@ -102,13 +103,15 @@ impl GenerationPass {
     /// - As [`super::CollectionPass::record`] for `cmd`; and [`super::CollectionPass::record`]
     ///   was recorded for `map` earlier in `cmd` (the ranges are made from its lists).
     ///
-    /// Synchronization: waits for the collection's fragment-stage writes (its own closing
-    /// barrier) and earlier compute and indirect reads of the map; leaves the ranges written
-    /// by the compute stage and made visible to shader reads in every stage (vertex, geometry,
-    /// fragment, compute: a host's own passes may read the map with no barrier of their own)
-    /// and to later compute writes. A pass made [`Self::with_host_barriers`] records neither
-    /// the entry nor the exit barrier: the caller orders [`Self::accesses`] itself. State
-    /// changed: the bound compute pipeline and its push constants.
+    /// Synchronization: waits for the previous generation's compute and indirect reads of
+    /// the map (the collection's writes are its own closing barrier's); leaves the ranges
+    /// written by the compute stage and made visible to storage reads in every shader stage
+    /// (vertex, geometry, fragment, compute: a host's own passes may read the map with no
+    /// barrier of their own, [`TemporalShadowMap::lookup_accesses`]). Both barriers are
+    /// derived from [`Self::accesses`] (see `accesses.rs`). A pass made
+    /// [`Self::with_host_barriers`] records neither the entry nor the exit barrier: the
+    /// caller orders [`Self::accesses`] itself. State changed: the bound compute pipeline
+    /// and its push constants.
     pub unsafe fn record(
         &self,
         device: &ash::Device,
@@ -116,21 +119,17 @@ impl GenerationPass {
         map: &TemporalShadowMap,
     ) {
         let header = LongListHeader::EMPTY;
-        // Entry: earlier generations' reads of the long-pixel list, and (below) the
-        // collection's writes; the host's when `outer_barriers` is off.
+        // Entry: earlier generations' reads of the long-pixel list and the dispatches (the
+        // collection's writes: its exit barrier); the host's when `outer_barriers` is off.
+        let own = super::own_barriers::generation(map);
+        let check = map.header.access_check();
         if self.outer_barriers {
             // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue
             // (CollectionPass::record's contract, which this function takes), so compute, indirect
             // and transfer stages are supported.
-            unsafe {
-                memory_barrier(
-                    device,
-                    cmd,
-                    Access::COMPUTE_RW.and(Access::INDIRECT_READ),
-                    Access::TRANSFER_WRITE,
-                )
-            };
+            unsafe { record_own(device, cmd, check, "generation entry", own.entry) };
         }
+        self.accesses(map).declare_run(check, "generation");
         // SAFETY: one LongListHeader into the map's long-pixel buffer, which starts with it;
         // outside rendering, and the buffer's earlier readers were waited for (above, or by the
         // host's barrier when outer_barriers is off).
@@ -141,11 +140,7 @@ impl GenerationPass {
             memory_barrier(
                 device,
                 cmd,
-                if self.outer_barriers {
-                    Access::TRANSFER_WRITE.and(Access::FRAGMENT_RW)
-                } else {
-                    Access::TRANSFER_WRITE
-                },
+                Access::TRANSFER_WRITE,
                 Access::COMPUTE_RW.and(Access::INDIRECT_READ),
             )
         };
@@ -225,14 +220,7 @@ impl GenerationPass {
         if self.outer_barriers {
             // SAFETY: outside rendering; compute and every shader stage are on the graphics and
             // compute queue.
-            unsafe {
-                memory_barrier(
-                    device,
-                    cmd,
-                    Access::COMPUTE_RW,
-                    Access::ANY_SHADER_READ.and(Access::COMPUTE_RW),
-                )
-            };
+            unsafe { record_own(device, cmd, check, "generation exit", own.exit) };
         }
     }
 }

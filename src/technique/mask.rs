@@ -7,6 +7,7 @@
 //! Host images cannot be reached by device address, so this pass, unlike the others, binds a
 //! descriptor set: one [`MaskBindings`] per use in flight (per frame in flight and light).
 
+use super::declared_barriers::record_own;
 use super::image_pass::ImagePass;
 use super::mask_ids::ids_required_by;
 use super::mask_queue::{DEFAULT_MASK_FOLLOW_UP_ROUNDS, MaskQueue};
@@ -47,6 +48,16 @@ pub struct MaskBindings {
 }
 
 impl MaskBindings {
+    /// The over-budget counter.
+    pub(crate) fn over_budget_buffer(&self) -> &Buffer {
+        &self.over_budget
+    }
+
+    /// The follow-up rounds' queues.
+    pub(crate) fn queue_buffer(&self) -> &Buffer {
+        self.queue.buffer()
+    }
+
     /// The bindings' allocations, by name, with their bytes (see
     /// [`super::TemporalShadowMap::allocations`]); the descriptor pool is not memory of the
     /// allocator.
@@ -72,6 +83,8 @@ impl MaskBindings {
     /// hundreds of ranges), a path needed more rounds than recorded, or the mask had more
     /// pixels than the bindings were made for, and the host should not trust the mask.
     pub fn read_over_budget_pixels(&self) -> Result<u32> {
+        self.read_accesses()
+            .declare_run(self.over_budget.access_check(), "read_over_budget_pixels");
         Ok(self.over_budget.read::<u32>(1)?[0])
     }
 }
@@ -104,6 +117,8 @@ pub struct VisibilityMaskPass {
     pass: ImagePass,
     loop_budget: u32,
     follow_up_rounds: u32,
+    /// Records its exit barrier (off: the host's, [`Self::with_host_barriers`]).
+    pub(crate) outer_barriers: bool,
 }
 
 impl VisibilityMaskPass {
@@ -145,6 +160,7 @@ impl VisibilityMaskPass {
             pass,
             loop_budget: ctx.info().shader_loop_budget(),
             follow_up_rounds: DEFAULT_MASK_FOLLOW_UP_ROUNDS,
+            outer_barriers: true,
         })
     }
 
@@ -207,9 +223,10 @@ impl VisibilityMaskPass {
     /// its lighting. Records its own barriers around the bindings' counter and queues (a
     /// transfer fill before the first dispatch, a compute-to-compute-and-indirect barrier
     /// before each follow-up round, a compute-to-host barrier after the last: after `cmd`
-    /// completes, [`MaskBindings::read_over_budget_pixels`] reads the counter). State
-    /// changed: the bound compute pipeline, descriptor set 0 of the compute bind point, push
-    /// constants.
+    /// completes, [`MaskBindings::read_over_budget_pixels`] reads the counter; that last one
+    /// comes from [`MaskBindings::accesses`] and is the caller's on a pass made
+    /// [`Self::with_host_barriers`]). State changed: the bound compute pipeline, descriptor
+    /// set 0 of the compute bind point, push constants.
     pub unsafe fn record(
         &self,
         device: &ash::Device,
@@ -292,6 +309,14 @@ impl VisibilityMaskPass {
             ..constants
         };
         let counter = bindings.over_budget.raw();
+        let check = bindings.over_budget.access_check();
+        // No pending command buffer uses the bindings (the contract): whatever used them
+        // before was waited for.
+        check.forget(counter);
+        check.forget(bindings.queue.buffer().raw());
+        self.accesses(inputs, map)
+            .and(&bindings.accesses())
+            .declare_run(check, "visibility mask");
         // SAFETY: the caller's contract; the set was just written; the counter is the
         // bindings' own, not in use by a pending command buffer (the caller's contract).
         unsafe {
@@ -346,7 +371,10 @@ impl VisibilityMaskPass {
                     (queue, MaskQueue::groups_offset(round)),
                 );
             }
-            memory_barrier(device, cmd, Access::COMPUTE_RW, Access::HOST_READ);
+            if self.outer_barriers {
+                let exit = super::own_barriers::mask(bindings).exit;
+                record_own(device, cmd, check, "visibility mask exit", exit);
+            }
         }
         Ok(())
     }

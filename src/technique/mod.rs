@@ -28,6 +28,7 @@ mod collection;
 mod coverage;
 #[cfg(feature = "research")]
 mod coverage_pass;
+mod declared_barriers;
 mod draws;
 #[cfg(feature = "research")]
 mod engine_tsm;
@@ -44,6 +45,7 @@ mod lighting;
 mod mask;
 mod mask_ids;
 mod mask_queue;
+mod own_barriers;
 mod path_buffers;
 #[cfg(feature = "research")]
 mod plain_shadow;
@@ -60,6 +62,7 @@ pub use collection::CollectionPass;
 pub use coverage::{CoverageMap, MAX_COVERAGE_TRIANGLES};
 #[cfg(feature = "research")]
 pub use coverage_pass::CoveragePass;
+pub use declared_barriers::Barrier;
 pub use draws::{Draw, DrawList, IndexStream, Indices, PositionStream};
 #[cfg(feature = "research")]
 pub use engine_tsm::{

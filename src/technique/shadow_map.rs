@@ -97,6 +97,9 @@ pub struct TemporalShadowMap {
     /// ranges).
     pub(crate) tiles: Buffer,
     counters_readback: Buffer,
+    /// The counter readback records its entry and exit barriers (off: the host's,
+    /// [`Self::with_host_barriers`]).
+    pub(crate) outer_barriers: bool,
     /// What the static layer holds, as far as the host has said it submitted
     /// ([`Self::static_layer_submitted`]).
     static_layer_source: Mutex<StaticLayerState>,
@@ -313,6 +316,7 @@ impl TemporalShadowMap {
             triangle_records: None,
             static_names: None,
             built_for: AtomicU8::new(0),
+            outer_barriers: true,
         })
     }
 

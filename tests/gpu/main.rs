@@ -5,6 +5,7 @@
 
 use motion_shadows_test_support as support;
 
+mod access_check;
 mod analytic;
 mod conservative_collection;
 mod crossing_prism;
@@ -20,6 +21,7 @@ mod layout;
 mod map_bytes;
 mod mask_ids;
 mod minimal_host;
+mod own_barriers;
 mod pass_accesses;
 mod prism;
 mod pruning_model;

@@ -20,7 +20,7 @@ use motion_shadows::technique::{
 const SIZE: u32 = 48;
 
 /// A moving triangle and a static one under a spot light looking down.
-fn triangles(ctx: &Context) -> (Buffer, Vec<Draw>) {
+pub(crate) fn triangles(ctx: &Context) -> (Buffer, Vec<Draw>) {
     let moving = [[-2.0f32, 2.0, -2.0], [1.0, 2.0, -2.0], [0.0, 2.0, 1.0]];
     let ground = [[-4.0f32, 0.0, -4.0], [4.0, 0.0, -4.0], [0.0, 0.0, 4.0]];
     let mut data: Vec<f32> = Vec::new();
@@ -45,7 +45,7 @@ fn triangles(ctx: &Context) -> (Buffer, Vec<Draw>) {
     (buffer, vec![moving, ground])
 }
 
-fn light(prisms: PrismConstruction) -> LightView {
+pub(crate) fn light(prisms: PrismConstruction) -> LightView {
     LightView {
         prisms,
         ..LightView::spot(

@@ -82,6 +82,7 @@ impl Context {
             max_push_constants_size: info.max_push_constants_size,
             allocator: ManuallyDrop::new(allocator),
             retirement: Retirement::new(host),
+            access_check: Default::default(),
             owned,
         });
         Ok(Self {
@@ -94,6 +95,12 @@ impl Context {
             info,
             messages,
         })
+    }
+
+    /// The debug check of declared accesses ([`super::AccessCheck`]): off until enabled;
+    /// a host that records the passes' barriers itself reports them here.
+    pub fn access_check(&self) -> &super::AccessCheck {
+        &self.shared.access_check
     }
 
     /// The device.

@@ -18,6 +18,8 @@ pub(crate) struct Shared {
     /// ([`crate::gpu::Context::from_raw_with_allocator`]).
     pub allocator: ManuallyDrop<Arc<Mutex<Allocator>>>,
     pub(super) retirement: Retirement,
+    /// The debug check of declared accesses (off unless enabled).
+    pub access_check: crate::gpu::AccessCheck,
     pub(super) owned: Option<Owned>,
 }
 

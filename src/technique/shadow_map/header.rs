@@ -4,14 +4,14 @@ use super::*;
 
 impl TemporalShadowMap {
     /// Records the header's update for a frame lit by `light` (with or without a coverage
-    /// map), between the barriers that order it after earlier readers and before later ones.
+    /// map): a transfer write, which the caller's barriers order after earlier readers (the
+    /// collection's entry barrier, or the host's) and before later ones.
     pub(crate) fn record_header(
         &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
         light: &LightView,
         coverage: Option<&CoverageMap>,
-        outer_barriers: bool,
     ) {
         let sorted = self.sorts_ranges(light, coverage);
         self.built_for
@@ -51,12 +51,6 @@ impl TemporalShadowMap {
             },
             light_end: light.gpu_end(),
         };
-        if outer_barriers {
-            // SAFETY: `cmd` is recording outside a render pass on a graphics and compute queue (the
-            // collection pass's contract, which calls this), so the shader and transfer stages
-            // named are supported.
-            unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
-        }
         // SAFETY: plain data of the header's size; recording outside a render pass (the
         // collection pass's contract).
         unsafe { self.header.record_write(device, cmd, &[header]) };

@@ -2,8 +2,15 @@
 //! debugging.
 
 use super::*;
+use crate::technique::declared_barriers::record_own;
+use crate::technique::own_barriers;
 
 impl TemporalShadowMap {
+    /// The host-visible copy of the counters.
+    pub(crate) fn counters_readback(&self) -> &Buffer {
+        &self.counters_readback
+    }
+
     /// Records a copy of the counters for [`Self::read_counters`] (after the submission
     /// completes). Call after the generation pass.
     ///
@@ -12,12 +19,20 @@ impl TemporalShadowMap {
     /// other command buffer reads back this map's counters at the same time.
     ///
     /// Synchronization: waits for the compute stage's counter writes (the generation pass);
-    /// leaves the copy visible to host reads once the submission's fence has signalled.
+    /// leaves the copy visible to host reads once the submission's fence has signalled. Both
+    /// barriers come from [`Self::counter_readback_accesses`]; a map made
+    /// [`Self::with_host_barriers`] records neither (the caller's then).
     pub unsafe fn record_counter_readback(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
-        // SAFETY: `cmd` is of the map's device, recording outside any render pass (the contract);
-        // its queue runs the generation pass's compute work, so it supports the compute and
-        // transfer stages.
-        unsafe { memory_barrier(device, cmd, Access::COMPUTE_RW, Access::TRANSFER_READ) };
+        let own = own_barriers::counter_readback(self);
+        let check = self.counters.access_check();
+        if self.outer_barriers {
+            // SAFETY: `cmd` is of the map's device, recording outside any render pass (the
+            // contract); its queue runs the generation pass's compute work, so it supports the
+            // compute and transfer stages.
+            unsafe { record_own(device, cmd, check, "counter readback entry", own.entry) };
+        }
+        self.counter_readback_accesses()
+            .declare_run(check, "counter readback");
         let region = [vk::BufferCopy {
             src_offset: 0,
             dst_offset: 0,
@@ -35,14 +50,18 @@ impl TemporalShadowMap {
                 &region,
             )
         };
-        // SAFETY: the same command buffer, outside a render pass; host reads are a valid
-        // destination once the fence signals.
-        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::HOST_READ) };
+        if self.outer_barriers {
+            // SAFETY: the same command buffer, outside a render pass; host reads are a valid
+            // destination once the fence signals.
+            unsafe { record_own(device, cmd, check, "counter readback exit", own.exit) };
+        }
     }
 
     /// The counters copied by [`Self::record_counter_readback`], once that submission has
     /// completed.
     pub fn read_counters(&self) -> Result<Counters> {
+        self.counter_read_accesses()
+            .declare_run(self.counters.access_check(), "read_counters");
         Ok(self.counters_readback.read::<Counters>(1)?[0])
     }
 

@@ -77,9 +77,12 @@ impl TemporalShadowMap {
         .with_pruning(self.pruning);
         let records = self.triangle_records.take();
         let names = self.static_names.take();
+        // Who records the readback's barriers is the host's choice, kept with the buffers.
+        let outer_barriers = self.outer_barriers;
         *self = fresh;
         self.triangle_records = records;
         self.static_names = names;
+        self.outer_barriers = outer_barriers;
         Ok(())
     }
 
