@@ -96,6 +96,9 @@ struct State {
     one_shots: u32,
     /// Objects waiting for their frame, with that frame.
     waiting: Vec<(u64, Doomed)>,
+    /// The latest frame the host said completed ([`super::Context::collect`]): its commands
+    /// were submitted and ran, which is what keeping a static layer drawn then waits for.
+    completed: Option<u64>,
 }
 
 /// The queue of objects waiting for their frame to complete.
@@ -168,6 +171,14 @@ impl Retirement {
         device: &ash::Device,
         allocator: &Mutex<Allocator>,
     ) -> usize {
+        {
+            // Nothing pending at all (None): every frame begun so far has completed.
+            let mut state = self.state();
+            let frame = completed.or(state.frames.then_some(state.frame));
+            if let Some(frame) = frame {
+                state.completed = Some(state.completed.map_or(frame, |c| c.max(frame)));
+            }
+        }
         let done = self.take(completed);
         let count = done.len();
         for doomed in done {
@@ -175,6 +186,12 @@ impl Retirement {
             unsafe { doomed.destroy(device, allocator) };
         }
         count
+    }
+
+    /// The latest frame the host said completed (None before the first
+    /// [`super::Context::collect`]).
+    pub fn completed(&self) -> Option<u64> {
+        self.state().completed
     }
 
     /// Objects waiting for their frame.

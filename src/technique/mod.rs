@@ -33,6 +33,7 @@ mod draws;
 mod engine_tsm;
 mod gbuffer;
 mod generation;
+#[doc(hidden)]
 pub mod gpu_constants;
 pub mod gpu_types;
 #[cfg(feature = "research")]
@@ -48,9 +49,11 @@ mod path_buffers;
 #[cfg(feature = "research")]
 mod plain_shadow;
 mod pruning;
+#[doc(hidden)]
 pub mod push_constants;
 mod range_ceiling;
 pub mod sampling;
+#[doc(hidden)]
 pub mod shaders;
 mod shadow_map;
 mod view;
@@ -91,6 +94,7 @@ pub use pruning::Pruning;
 pub use range_ceiling::{HostDraw, RangeCeiling};
 pub use sampling::{pixel_key, pixel_sample};
 pub use shadow_map::{RangeStorage, ShadowMapContents, TemporalShadowMap};
+pub(crate) use shadow_map::Bounded;
 pub use view::{
     CameraView, DEFAULT_DEPTH_BIAS, DEFAULT_NORMAL_OFFSET_TEXELS, LightKind, LightView,
     LightingView, Lookup, PrismConstruction, ShadowEstimator, ShadowFilter,
