@@ -16,3 +16,5 @@ pub use light::Light;
 pub use mesh::{CpuGeometry, Mesh, MeshBound};
 pub use settings::{ShadowSettings, StaticLayer};
 pub use shadow::LightShadow;
+#[cfg(test)]
+mod tests;
