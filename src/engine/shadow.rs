@@ -200,15 +200,24 @@ impl LightShadow {
             slot.draws.record_update(device, cmd, &draws)?;
             self.collection
                 .record(device, cmd, &slot.draws, &light, &slot.map, None)?;
-            self.generation.record(device, cmd, &slot.map);
-            if let (Some((pass, inputs)), Some((bindings, _))) = (mask_pass, slot.mask.as_mut()) {
-                pass.record(device, cmd, bindings, inputs, &slot.map)?;
-            }
-            slot.map.record_counter_readback(device, cmd);
         }
         if slot.map.static_layer_builds() != builds {
             slot.layer_drawn_at = Some(frame);
         }
+        // SAFETY: as above, later in the same command buffer.
+        unsafe { self.generation.record(device, cmd, &slot.map) };
+        if let (Some((pass, inputs)), Some((bindings, _))) = (mask_pass, slot.mask.as_mut()) {
+            // SAFETY: as above; the mask's views are the caller's contract.
+            let masked = unsafe { pass.record(device, cmd, bindings, inputs, &slot.map) };
+            if let Err(e) = masked {
+                // A command buffer the host will not submit must not leave a layer to keep.
+                slot.map.forget_static_layer();
+                slot.layer_drawn_at = None;
+                return Err(e);
+            }
+        }
+        // SAFETY: as above.
+        unsafe { slot.map.record_counter_readback(device, cmd) };
         slot.recorded = Some((frame, reserved));
         Ok(ShadowFrame::new(
             &self.collection,

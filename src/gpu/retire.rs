@@ -171,13 +171,11 @@ impl Retirement {
         device: &ash::Device,
         allocator: &Mutex<Allocator>,
     ) -> usize {
-        {
-            // Nothing pending at all (None): every frame begun so far has completed.
+        // Only the host's word counts: `None` (nothing pending) says nothing of whether a
+        // frame's commands were ever submitted.
+        if let Some(frame) = completed {
             let mut state = self.state();
-            let frame = completed.or(state.frames.then_some(state.frame));
-            if let Some(frame) = frame {
-                state.completed = Some(state.completed.map_or(frame, |c| c.max(frame)));
-            }
+            state.completed = Some(state.completed.map_or(frame, |c| c.max(frame)));
         }
         let done = self.take(completed);
         let count = done.len();

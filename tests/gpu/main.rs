@@ -10,6 +10,7 @@ mod conservative_collection;
 mod crossing_prism;
 mod deferred_host;
 mod device_setup;
+mod engine_api;
 mod engine_tsm;
 mod exact_lookup;
 mod exact_prisms;
