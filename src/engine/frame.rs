@@ -27,7 +27,9 @@ pub struct ShadowFrame {
     pub generation: PassAccesses,
     /// What the mask read and wrote (with [`super::ShadowSettings::mask`]).
     pub mask: Option<PassAccesses>,
-    /// What the host's own shaders read when they test visibility against the map.
+    /// What the host's own shaders read when they test visibility against the map, declared
+    /// for every stage (`TemporalShadowMap::lookup_accesses` narrows it to the stages a host
+    /// reads from).
     pub lookups: PassAccesses,
 }
 
@@ -40,13 +42,13 @@ impl ShadowFrame {
         light: &LightView,
         map: &TemporalShadowMap,
     ) -> Self {
-        let all_shaders = vk::PipelineStageFlags2::ALL_COMMANDS;
+        let every_stage = vk::PipelineStageFlags2::ALL_COMMANDS;
         Self {
             map_header: map.header_address(),
             collection: collection.accesses(draws, light, map, None),
             generation: generation.accesses(map),
             mask: mask.map(|(pass, inputs)| pass.accesses(inputs, map)),
-            lookups: map.lookup_accesses(all_shaders),
+            lookups: map.lookup_accesses(every_stage),
         }
     }
 }

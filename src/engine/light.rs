@@ -9,8 +9,14 @@ use crate::technique::{DEFAULT_DEPTH_BIAS, DEFAULT_NORMAL_OFFSET_TEXELS, LightVi
 /// Spot or directional, with what only that kind has.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Kind {
-    Spot { cone_half_angle_deg: f32 },
-    Directional { center: Vec3, half_extent: f32, distance: f32 },
+    Spot {
+        cone_half_angle_deg: f32,
+    },
+    Directional {
+        center: Vec3,
+        half_extent: f32,
+        distance: f32,
+    },
 }
 
 /// A light, described by name instead of by position in an argument list:
@@ -41,7 +47,15 @@ impl Light {
     /// A spot light at `position` shining along `direction`: a 45-degree cone half angle,
     /// depths 0.1 to 100 from it, intensity 1 (change them with the methods below).
     pub fn spot(position: Vec3, direction: Vec3) -> Self {
-        Self::new(Kind::Spot { cone_half_angle_deg: 45.0 }, position, direction, 0.1, 100.0)
+        Self::new(
+            Kind::Spot {
+                cone_half_angle_deg: 45.0,
+            },
+            position,
+            direction,
+            0.1,
+            100.0,
+        )
     }
 
     /// A directional light along `direction` whose map covers a square of half-width
@@ -49,7 +63,11 @@ impl Light {
     /// depths 0 to `4 * half_extent` from there ([`Self::depth_range`] and
     /// [`Self::distance`] change them).
     pub fn directional(direction: Vec3, center: Vec3, half_extent: f32) -> Self {
-        let kind = Kind::Directional { center, half_extent, distance: 2.0 * half_extent };
+        let kind = Kind::Directional {
+            center,
+            half_extent,
+            distance: 2.0 * half_extent,
+        };
         Self::new(kind, center, direction, 0.0, 4.0 * half_extent)
     }
 
@@ -71,11 +89,16 @@ impl Light {
     /// A spot light's cone half angle in degrees (ignored by nothing: refused for a
     /// directional light when the view is made).
     pub fn cone_half_angle(mut self, degrees: f32) -> Self {
-        if let Kind::Spot { cone_half_angle_deg } = &mut self.kind {
+        if let Kind::Spot {
+            cone_half_angle_deg,
+        } = &mut self.kind
+        {
             *cone_half_angle_deg = degrees;
         } else {
             // Kept to be refused by `view`: a setting that does not apply is an error.
-            self.kind = Kind::Spot { cone_half_angle_deg: f32::NAN };
+            self.kind = Kind::Spot {
+                cone_half_angle_deg: f32::NAN,
+            };
         }
         self
     }
@@ -85,7 +108,11 @@ impl Light {
         if let Kind::Directional { distance: d, .. } = &mut self.kind {
             *d = distance;
         } else {
-            self.kind = Kind::Directional { center: Vec3::NAN, half_extent: f32::NAN, distance };
+            self.kind = Kind::Directional {
+                center: Vec3::NAN,
+                half_extent: f32::NAN,
+                distance,
+            };
         }
         self
     }
@@ -104,23 +131,35 @@ impl Light {
 
     /// Receivers are tested this many shadow texels along their normal (default 1).
     pub fn normal_offset_texels(self, texels: f32) -> Self {
-        Self { normal_offset_texels: texels, ..self }
+        Self {
+            normal_offset_texels: texels,
+            ..self
+        }
     }
 
     /// Relative depth bias (default 1e-4).
     pub fn depth_bias(self, bias: f32) -> Self {
-        Self { depth_bias: bias, ..self }
+        Self {
+            depth_bias: bias,
+            ..self
+        }
     }
 
     /// Test receivers at their tangent plane's depth (see [`LightView::receiver_plane`]).
     pub fn receiver_plane(self) -> Self {
-        Self { receiver_plane: true, ..self }
+        Self {
+            receiver_plane: true,
+            ..self
+        }
     }
 
     /// The light moves during the shutter to `position` and `direction` at shutter close
     /// (see [`LightView::moving_to`]).
     pub fn moving_to(self, position: Vec3, direction: Vec3) -> Self {
-        Self { end: Some((position, direction)), ..self }
+        Self {
+            end: Some((position, direction)),
+            ..self
+        }
     }
 
     /// The passes' view of this light for a map of `size` texels; errors name the setting
@@ -128,13 +167,21 @@ impl Light {
     pub fn view(&self, size: (u32, u32)) -> Result<LightView> {
         let bad = |what: String| Err(Error::InvalidArgument(format!("Light: {what}")));
         if self.direction.length() == 0.0 || !self.direction.is_finite() {
-            return bad(format!("direction {} must be finite and non-zero", self.direction));
+            return bad(format!(
+                "direction {} must be finite and non-zero",
+                self.direction
+            ));
         }
         if !(self.near >= 0.0 && self.far > self.near && self.far.is_finite()) {
-            return bad(format!("depth range {} to {}: want 0 <= near < far", self.near, self.far));
+            return bad(format!(
+                "depth range {} to {}: want 0 <= near < far",
+                self.near, self.far
+            ));
         }
         let mut view = match self.kind {
-            Kind::Spot { cone_half_angle_deg } => {
+            Kind::Spot {
+                cone_half_angle_deg,
+            } => {
                 if !(cone_half_angle_deg > 0.0 && cone_half_angle_deg < 90.0) {
                     return bad(format!(
                         "cone half angle {cone_half_angle_deg} (a spot light's, in (0, 90) \
@@ -154,7 +201,11 @@ impl Light {
                     size,
                 )
             }
-            Kind::Directional { center, half_extent, distance } => {
+            Kind::Directional {
+                center,
+                half_extent,
+                distance,
+            } => {
                 if !(half_extent > 0.0 && center.is_finite() && distance.is_finite()) {
                     return bad(format!(
                         "half extent {half_extent}, center {center}, distance {distance} (a \

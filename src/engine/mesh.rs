@@ -375,9 +375,8 @@ impl<'a> Mesh<'a> {
         let (t0, t1) = self.transforms;
         let (open, close) = (cpu.at_open, cpu.at_close.unwrap_or(cpu.at_open));
         Ok((0..self.triangle_count as usize).map(move |tri| {
-            let at = |p: &[Vec3], m: Mat4| {
-                [0, 1, 2].map(|c| m.transform_point3(p[index(3 * tri + c)]))
-            };
+            let at =
+                |p: &[Vec3], m: Mat4| [0, 1, 2].map(|c| m.transform_point3(p[index(3 * tri + c)]));
             (at(open, t0), at(close, t1))
         }))
     }

@@ -13,10 +13,15 @@ use crate::technique::{
     TemporalShadowMap, VisibilityMaskPass,
 };
 
+/// Draws a frame's list has room for until a frame needs more.
+const INITIAL_DRAWS: usize = 16;
+
 /// What one frame in flight holds.
 struct Slot {
     map: TemporalShadowMap,
     draws: DrawList,
+    /// Draws the list has room for.
+    draw_capacity: usize,
     /// The mask's bindings and the pixels they were made for.
     mask: Option<(MaskBindings, (u32, u32))>,
     /// The frame last recorded into this slot, and the ranges reserved for it (None: not
@@ -55,13 +60,20 @@ impl LightShadow {
         light.lookup = settings.lookup;
         let slots = (0..settings.frames_in_flight)
             .map(|_| -> Result<Slot> {
-                let mut map =
-                    TemporalShadowMap::with_storage(ctx, width, height, 1, 1, settings.range_storage)?
-                        .with_pruning(settings.pruning);
+                let mut map = TemporalShadowMap::with_storage(
+                    ctx,
+                    width,
+                    height,
+                    1,
+                    1,
+                    settings.range_storage,
+                )?
+                .with_pruning(settings.pruning);
                 map.prepare_for(ctx, &light, None)?;
                 Ok(Slot {
                     map,
-                    draws: DrawList::new(ctx, 16)?,
+                    draws: DrawList::new(ctx, INITIAL_DRAWS as u32)?,
+                    draw_capacity: INITIAL_DRAWS,
                     mask: None,
                     recorded: None,
                     layer_drawn_at: None,
@@ -74,7 +86,10 @@ impl LightShadow {
             light,
             collection: CollectionPass::new(ctx)?,
             generation,
-            mask: settings.mask.then(|| VisibilityMaskPass::new(ctx)).transpose()?,
+            mask: settings
+                .mask
+                .then(|| VisibilityMaskPass::new(ctx))
+                .transpose()?,
             slots,
             settings,
         })
@@ -155,7 +170,12 @@ impl LightShadow {
             .map(|(i, m)| m.draw(i))
             .collect::<Result<Vec<_>>>()?;
         let at = self.slot(frame);
-        if let Some((last, _)) = self.slots.iter().filter_map(|s| s.recorded).max_by_key(|r| r.0) {
+        if let Some((last, _)) = self
+            .slots
+            .iter()
+            .filter_map(|s| s.recorded)
+            .max_by_key(|r| r.0)
+        {
             if frame <= last {
                 return Err(Error::InvalidArgument(format!(
                     "frame {frame} recorded after frame {last}: frame numbers must increase"
@@ -172,8 +192,11 @@ impl LightShadow {
                 slot.layer_drawn_at = None;
             }
         }
-        if draws.len() > slot.draws.records().len().max(16) {
-            slot.draws = DrawList::new(ctx, draws.len().next_power_of_two() as u32)?;
+        if draws.len() > slot.draw_capacity {
+            // The old list is retired until this frame completes (begin_frame above).
+            let capacity = draws.len().next_power_of_two();
+            slot.draws = DrawList::new(ctx, u32::try_from(capacity).unwrap_or(u32::MAX))?;
+            slot.draw_capacity = capacity;
         }
         if light.lookup == Lookup::Exact {
             let ids = meshes.iter().map(Mesh::id_end).max().unwrap_or(0);
@@ -181,9 +204,10 @@ impl LightShadow {
         }
         let reserved = slot.map.reserve_bounded(ctx, &light, None, meshes)?;
         if let Some((_, inputs)) = mask_pass {
-            let fits = slot.mask.as_ref().is_some_and(|(_, size)| {
-                size.0 >= inputs.size.0 && size.1 >= inputs.size.1
-            });
+            let fits = slot
+                .mask
+                .as_ref()
+                .is_some_and(|(_, size)| size.0 >= inputs.size.0 && size.1 >= inputs.size.1);
             if !fits {
                 let pass = self.mask.as_ref().ok_or_else(|| {
                     Error::InvalidArgument("no mask pass for the mask's inputs".into())
@@ -222,7 +246,7 @@ impl LightShadow {
         Ok(ShadowFrame::new(
             &self.collection,
             &self.generation,
-            mask_pass.map(|(pass, inputs)| (pass, inputs)),
+            mask_pass,
             &slot.draws,
             &light,
             &slot.map,

@@ -117,7 +117,9 @@ fn a_box_bound_is_never_below_the_cpu_bound_of_triangles_inside_it() {
     let ceiling = RangeCeiling::new(&light, 48, 48).expect("bounded");
     let mut seed = 0x5eed_u64;
     let mut unit = move || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         ((seed >> 33) as f32) / (1u64 << 31) as f32
     };
     for case in 0..200 {
@@ -131,15 +133,21 @@ fn a_box_bound_is_never_below_the_cpu_bound_of_triangles_inside_it() {
         let (at_open, at_close) = (bounds(&open), bounds(&close));
         let (t0, t1) = ([open[0], open[1], open[2]], [close[0], close[1], close[2]]);
         let exact = ceiling.triangle(&t0, &t1, false);
-        let gpu_only = Mesh::moving(stream(0x1000), stream(0x2000), 3)
-            .bound(MeshBound { at_open, at_close });
+        let gpu_only =
+            Mesh::moving(stream(0x1000), stream(0x2000), 3).bound(MeshBound { at_open, at_close });
         let bound = gpu_only.ranges_at_most(&ceiling).expect("bounded");
-        assert!(bound >= exact, "case {case}: box bound {bound} < triangle's {exact}");
+        assert!(
+            bound >= exact,
+            "case {case}: box bound {bound} < triangle's {exact}"
+        );
         let still = ceiling.triangle(&t0, &t0, false);
-        let still_mesh = Mesh::still(stream(0x1000), 3)
-            .bound(MeshBound::box_all_shutter(at_open.0, at_open.1));
+        let still_mesh =
+            Mesh::still(stream(0x1000), 3).bound(MeshBound::box_all_shutter(at_open.0, at_open.1));
         let still_bound = still_mesh.ranges_at_most(&ceiling).expect("bounded");
-        assert!(still_bound >= still, "case {case}: still box bound {still_bound} < {still}");
+        assert!(
+            still_bound >= still,
+            "case {case}: still box bound {still_bound} < {still}"
+        );
     }
 }
 

@@ -93,8 +93,8 @@ pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
 pub use pruning::Pruning;
 pub use range_ceiling::{HostDraw, RangeCeiling};
 pub use sampling::{pixel_key, pixel_sample};
-pub use shadow_map::{RangeStorage, ShadowMapContents, TemporalShadowMap};
 pub(crate) use shadow_map::Bounded;
+pub use shadow_map::{RangeStorage, ShadowMapContents, TemporalShadowMap};
 pub use view::{
     CameraView, DEFAULT_DEPTH_BIAS, DEFAULT_NORMAL_OFFSET_TEXELS, LightKind, LightView,
     LightingView, Lookup, PrismConstruction, ShadowEstimator, ShadowFilter,

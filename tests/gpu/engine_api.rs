@@ -65,7 +65,10 @@ impl Scene {
         let pose = |angle: f32, at: Vec3| {
             Mat4::from_rotation_translation(Quat::from_rotation_y(angle), at)
         };
-        let (m0, m1) = (pose(0.2, Vec3::new(-0.8, 1.5, 0.0)), pose(0.9, Vec3::new(0.8, 1.8, 0.3)));
+        let (m0, m1) = (
+            pose(0.2, Vec3::new(-0.8, 1.5, 0.0)),
+            pose(0.9, Vec3::new(0.8, 1.8, 0.3)),
+        );
         let open: Vec<Vec3> = corners.iter().map(|&p| m0.transform_point3(p)).collect();
         let close: Vec<Vec3> = corners.iter().map(|&p| m1.transform_point3(p)).collect();
         let padded = |v: &[Vec3]| -> Vec<Vec4> { v.iter().map(|p| p.extend(1.0)).collect() };
@@ -73,8 +76,13 @@ impl Scene {
         let mut words = indices.clone();
         words.resize(indices.len().next_multiple_of(2), 0);
         Self {
-            ground_buffer: Buffer::with_data(ctx, "ground", BufferUsage::HostToDevice, &padded(&ground))
-                .expect("ground"),
+            ground_buffer: Buffer::with_data(
+                ctx,
+                "ground",
+                BufferUsage::HostToDevice,
+                &padded(&ground),
+            )
+            .expect("ground"),
             skinned: Buffer::with_data(ctx, "skinned", BufferUsage::HostToDevice, &skinned)
                 .expect("skinned positions"),
             index_buffer: Buffer::with_data(ctx, "indices", BufferUsage::HostToDevice, &words)
@@ -94,9 +102,8 @@ impl Scene {
     /// The cube as the GPU holds it (no CPU geometry yet).
     fn cube(&self) -> Mesh<'_> {
         let n = self.open.len() as u32;
-        let at = |offset: u64| {
-            PositionStream::from_buffer(&self.skinned, offset, 16).expect("stream")
-        };
+        let at =
+            |offset: u64| PositionStream::from_buffer(&self.skinned, offset, 16).expect("stream");
         let indices = IndexStream::from_buffer(&self.index_buffer, 0).expect("indices");
         Mesh::moving(at(0), at(16 * u64::from(n)), n)
             .indexed(Indices::U16(indices), self.indices.len() as u32 / 3)
@@ -128,7 +135,12 @@ fn settings() -> ShadowSettings {
 }
 
 /// Records frame `frame` of `meshes` in a OneShot and tells the context it completed.
-fn frame(ctx: &Context, shadow: &mut LightShadow, frame: u64, meshes: &[Mesh]) -> motion_shadows::Result<()> {
+fn frame(
+    ctx: &Context,
+    shadow: &mut LightShadow,
+    frame: u64,
+    meshes: &[Mesh],
+) -> motion_shadows::Result<()> {
     OneShot::new(ctx).expect("command buffer").run(|cmd| {
         // SAFETY: a OneShot command buffer of `ctx`, recording outside rendering on its
         // graphics and compute queue; the buffers outlive the run, which waits.
@@ -161,11 +173,21 @@ fn a_skinned_mesh_is_reserved_a_sound_bound_from_its_box() {
         let stored = u64::from(map.read_counters().expect("counters").range_count);
         let room = u64::from(map.range_capacity());
         eprintln!("reserved {room}, stored {stored}, host ceiling {expected}");
-        assert!(stored > 100 && stored <= room, "stored {stored}, room {room}");
+        assert!(
+            stored > 100 && stored <= room,
+            "stored {stored}, room {room}"
+        );
         reserved.push(room);
     }
-    assert_eq!(reserved[0], expected, "CPU geometry: the ceiling over its triangles");
-    assert!(reserved[1] >= expected, "box bound {} below {expected}", reserved[1]);
+    assert_eq!(
+        reserved[0], expected,
+        "CPU geometry: the ceiling over its triangles"
+    );
+    assert!(
+        reserved[1] >= expected,
+        "box bound {} below {expected}",
+        reserved[1]
+    );
     assert_no_validation_messages(&ctx);
 }
 
@@ -180,13 +202,19 @@ fn a_bound_too_small_is_reported_after_the_frame() {
     let mut shadow = LightShadow::new(&ctx, settings()).expect("shadow");
     frame(&ctx, &mut shadow, 1, &meshes).expect("frame 1");
     match shadow.finish_frame(&ctx, 1) {
-        Err(Error::RoomExceeded { frame: 1, stored, reserved }) => {
+        Err(Error::RoomExceeded {
+            frame: 1,
+            stored,
+            reserved,
+        }) => {
             assert!(stored > reserved, "stored {stored}, reserved {reserved}")
         }
         other => panic!("a box holding none of the cube was not reported: {other:?}"),
     }
     frame(&ctx, &mut shadow, 2, &meshes).expect("frame 2");
-    shadow.finish_frame(&ctx, 2).expect("the grown map holds frame 2");
+    shadow
+        .finish_frame(&ctx, 2)
+        .expect("the grown map holds frame 2");
     assert_no_validation_messages(&ctx);
 }
 
@@ -227,7 +255,10 @@ fn mask_inputs_without_the_mask_setting_are_refused() {
         Mat4::IDENTITY,
     );
     let mut shadow = LightShadow::new(&ctx, settings()).expect("shadow");
-    let with_mask = ShadowSettings { mask: true, ..settings() };
+    let with_mask = ShadowSettings {
+        mask: true,
+        ..settings()
+    };
     let mut masked = LightShadow::new(&ctx, with_mask).expect("shadow with mask");
     OneShot::new(&ctx)
         .expect("command buffer")
