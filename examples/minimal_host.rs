@@ -10,15 +10,14 @@
 
 use ash::vk;
 use glam::{Vec3, Vec4};
-use motion_shadows::gpu::{
-    Access, Buffer, BufferUsage, Context, DeviceRequirements, Spirv, compute_pipeline,
-    memory_barrier,
+// The host's own probe runs on the library's small Vulkan helpers (any pipeline code would do).
+use motion_shadows::research::gpu::{
+    Access, Buffer, BufferUsage, Spirv, compute_pipeline, memory_barrier,
 };
-use motion_shadows::technique::{
-    CollectionPass, Draw, DrawList, GLSL_INCLUDE, GenerationPass, HostDraw, Indices, LightView,
-    PositionStream, TemporalShadowMap,
+use motion_shadows::{
+    Context, CpuGeometry, DeviceRequirements, GLSL_INCLUDE, Light, LightShadow, Mesh,
+    PositionStream, ShadowSettings, ash, glam,
 };
-use motion_shadows::{ash, glam};
 use std::ffi::c_void;
 use std::sync::Mutex;
 // Links shaderc (used to compile the host's shader) where the distribution's libshaderc.so
@@ -297,7 +296,6 @@ pub fn run() -> Result<Outcome> {
 }
 
 fn frame(host: &Host, ctx: &Context) -> Result<Outcome> {
-    let (collection, generation) = (CollectionPass::new(ctx)?, GenerationPass::new(ctx)?);
     // The caster's corners at t = 0 (w = 1) and t = 1, interleaved (stride 32). An engine
     // passes its own buffers' device addresses (`PositionStream::from_device_address`).
     let (xs, zs) = (
@@ -315,24 +313,25 @@ fn frame(host: &Host, ctx: &Context) -> Result<Outcome> {
         .map(|(p, q)| [p.extend(1.0), q.extend(1.0)])
         .collect();
     let positions = Buffer::with_data(ctx, "square", BufferUsage::HostToDevice, &vertices)?;
-    let draw = Draw::new(
+    // The mesh, described once: its GPU streams at both ends of the shutter and the host's
+    // CPU copy, from which the shadow's room is reserved (a mesh only the GPU holds gives a
+    // `MeshBound` instead).
+    let square = Mesh::moving(
         PositionStream::from_buffer(&positions, 0, 32)?,
         PositionStream::from_buffer(&positions, 16, 32)?,
         6,
-        Indices::None,
-        2,
-        0,
-    );
-    let light = LightView::directional(
-        Vec3::NEG_Y,
-        1.0,
-        Vec3::ZERO,
-        4.0,
-        10.0,
-        0.1,
-        20.0,
-        (SHADOW, SHADOW),
-    );
+    )
+    .cpu(CpuGeometry::moving(&at0, &at1));
+    // Straight down, a map covering 8 x 8 units around the origin.
+    let light = Light::directional(Vec3::NEG_Y, Vec3::ZERO, 4.0)
+        .distance(10.0)
+        .depth_range(0.1, 20.0);
+    let settings = ShadowSettings {
+        map_size: (SHADOW, SHADOW),
+        frames_in_flight: 1,
+        ..ShadowSettings::new(light)
+    };
+    let mut shadow = LightShadow::new(ctx, settings)?;
     // Ground points y = 0, x in [-2, 2), z in {0.5}: 64 of them; and their lit fractions.
     let points: Vec<[f32; 4]> = (0..64)
         .map(|i| [-2.0 + i as f32 / 16.0, 0.0, 0.5, 1.0])
@@ -349,22 +348,15 @@ fn frame(host: &Host, ctx: &Context) -> Result<Outcome> {
     // SAFETY: shaderc's SPIR-V for Vulkan 1.2 of PROBE: int64 and buffer references (which
     // the library requires), `Push` as push constants, no descriptor sets.
     let probe = compute_pipeline(ctx, push_bytes, "probe.comp", unsafe { Spirv::new(&spirv) })?;
-    let mut draws = DrawList::new(ctx, 1)?;
-    // Room for all this frame can store, from the host's copy of the corners, so it never
-    // runs out (with positions only the GPU holds: grow after an overflow, `grow_to_fit`).
-    let mut map = TemporalShadowMap::new(ctx, SHADOW, SHADOW, 1, 1)?;
-    map.reserve_for(ctx, &light, None, &[HostDraw::new(&at0, &at1, None)])?;
     let device = &host.device;
-    ctx.begin_frame(1);
     host.submit_and_wait(|cmd| unsafe {
         // SAFETY: the host's command buffer, recording, outside a render pass, on a
         // graphics+compute queue; every object outlives the wait.
-        draws.record_update(device, cmd, &[draw])?;
-        collection.record(device, cmd, &draws, &light, &map, None)?;
-        generation.record(device, cmd, &map); // leaves the map readable by shaders
+        let frame = shadow.record_frame(ctx, cmd, 1, &[square], None)?;
+        // The shadow leaves its map readable by every shader stage: no barrier needed here.
         probe.bind(device, cmd);
         let push = Push {
-            map: map.header_address(),
+            map: frame.map_header,
             points: queries.device_address(),
             lit: lit.device_address(),
             count: points.len() as u32,
@@ -373,16 +365,12 @@ fn frame(host: &Host, ctx: &Context) -> Result<Outcome> {
         probe.push(device, cmd, &push); // the layout has 32 bytes: `Push`'s size
         device.cmd_dispatch(cmd, points.len().div_ceil(64) as u32, 1, 1);
         memory_barrier(device, cmd, Access::COMPUTE_RW, Access::HOST_READ);
-        map.record_counter_readback(device, cmd);
         Ok(())
     })?;
     // SAFETY: the frame's fence has signalled.
     unsafe { ctx.collect(1) };
-    let counts = map.read_counters()?;
-    if map.needs_more_room(&counts) {
-        return Err(format!("a map reserved for the frame ran out of room: {counts:?}").into());
-    }
-    map.check_complete(&counts)?;
+    // The frame's shadow is complete (room reserved from the mesh never runs out).
+    shadow.finish_frame(ctx, 1)?;
     let row: Vec<f32> = lit.read(points.len())?;
     // Within a shadow-map texel (8 / 256 units, 1/64 of the shutter) of the square's edges
     // sweeping by, the texel decides; elsewhere the lit fraction is exact.

@@ -131,6 +131,23 @@ pub enum Error {
         next: String,
     },
 
+    /// A frame stored more ranges than the room reserved for it from its meshes' CPU
+    /// geometry and bounds: a [`crate::MeshBound`] did not hold its mesh's GPU positions (or,
+    /// for a moving light, whose room is not bounded, the map was too small). The
+    /// ranges past the room were dropped, so the frame's shadow is incomplete; the map has
+    /// been grown to what the frame needed.
+    #[error(
+        "frame {frame} stored {stored} shadow ranges, more than the {reserved} it had room for: a mesh's bound (MeshBound) does not hold its GPU positions, or the room could not be bounded (a moving light); the frame's shadow is incomplete, the map was grown to fit"
+    )]
+    RoomExceeded {
+        /// The frame.
+        frame: u64,
+        /// Ranges the frame stored (counted past the room too).
+        stored: u32,
+        /// Ranges reserved.
+        reserved: u32,
+    },
+
     /// A caller-supplied value is out of range.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),

@@ -96,6 +96,9 @@ struct State {
     one_shots: u32,
     /// Objects waiting for their frame, with that frame.
     waiting: Vec<(u64, Doomed)>,
+    /// The latest frame the host said completed ([`super::Context::collect`]): its commands
+    /// were submitted and ran, which is what keeping a static layer drawn then waits for.
+    completed: Option<u64>,
 }
 
 /// The queue of objects waiting for their frame to complete.
@@ -168,6 +171,12 @@ impl Retirement {
         device: &ash::Device,
         allocator: &Mutex<Allocator>,
     ) -> usize {
+        // Only the host's word counts: `None` (nothing pending) says nothing of whether a
+        // frame's commands were ever submitted.
+        if let Some(frame) = completed {
+            let mut state = self.state();
+            state.completed = Some(state.completed.map_or(frame, |c| c.max(frame)));
+        }
         let done = self.take(completed);
         let count = done.len();
         for doomed in done {
@@ -175,6 +184,12 @@ impl Retirement {
             unsafe { doomed.destroy(device, allocator) };
         }
         count
+    }
+
+    /// The latest frame the host said completed (None before the first
+    /// [`super::Context::collect`]).
+    pub fn completed(&self) -> Option<u64> {
+        self.state().completed
     }
 
     /// Objects waiting for their frame.

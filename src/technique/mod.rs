@@ -34,6 +34,7 @@ mod draws;
 mod engine_tsm;
 mod gbuffer;
 mod generation;
+#[doc(hidden)]
 pub mod gpu_constants;
 pub mod gpu_types;
 #[cfg(feature = "research")]
@@ -50,9 +51,11 @@ mod path_buffers;
 #[cfg(feature = "research")]
 mod plain_shadow;
 mod pruning;
+#[doc(hidden)]
 pub mod push_constants;
 mod range_ceiling;
 pub mod sampling;
+#[doc(hidden)]
 pub mod shaders;
 mod shadow_map;
 mod view;
@@ -93,6 +96,7 @@ pub use plain_shadow::{PlainShadowMap, PlainShadowPass};
 pub use pruning::Pruning;
 pub use range_ceiling::{HostDraw, RangeCeiling};
 pub use sampling::{pixel_key, pixel_sample};
+pub(crate) use shadow_map::Bounded;
 pub use shadow_map::{RangeStorage, ShadowMapContents, TemporalShadowMap};
 pub use view::{
     CameraView, DEFAULT_DEPTH_BIAS, DEFAULT_NORMAL_OFFSET_TEXELS, LightKind, LightView,

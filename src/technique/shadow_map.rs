@@ -27,6 +27,7 @@ pub use contents::ShadowMapContents;
 mod header;
 mod readback;
 mod room;
+pub(crate) use room::Bounded;
 mod static_layer;
 pub(crate) use static_layer::StaticLayerSource;
 use static_layer::StaticLayerState;

@@ -11,6 +11,8 @@ mod conservative_collection;
 mod crossing_prism;
 mod deferred_host;
 mod device_setup;
+mod engine_api;
+mod engine_api_mask;
 mod engine_tsm;
 mod exact_lookup;
 mod exact_prisms;

@@ -201,6 +201,11 @@ impl Context {
         unsafe { self.shared.collect(Some(completed)) }
     }
 
+    /// The latest frame [`Self::collect`] was told completed (None before the first call).
+    pub(crate) fn completed_frame(&self) -> Option<u64> {
+        self.shared.retirement().completed()
+    }
+
     /// Objects dropped whose frame has not been collected yet ([`Self::collect`]).
     pub fn retired_objects(&self) -> usize {
         self.shared.retirement().waiting()

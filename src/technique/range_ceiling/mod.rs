@@ -20,6 +20,7 @@
 //! `tests/gpu/range_ceiling.rs` that an engine's map reserved with it never overflows.
 
 mod beyond_light;
+mod boxes;
 mod conservative;
 mod culling;
 mod footprint;

@@ -3,6 +3,24 @@
 
 use super::*;
 
+/// A draw as the room reservation sees it: whether it stands still all shutter (the static
+/// layer then holds it), and at most how many ranges its triangles store.
+pub(crate) trait Bounded {
+    /// Nothing of it moves during the shutter.
+    fn is_still(&self) -> bool;
+    /// The ceiling's bound over its triangles, or why it cannot be bounded.
+    fn ranges_at_most(&self, ceiling: &RangeCeiling) -> Result<u64>;
+}
+
+impl Bounded for HostDraw<'_> {
+    fn is_still(&self) -> bool {
+        self.is_static()
+    }
+    fn ranges_at_most(&self, ceiling: &RangeCeiling) -> Result<u64> {
+        ceiling.draw(self)
+    }
+}
+
 impl TemporalShadowMap {
     /// Whether a frame with these counts overflowed this map (its output is then incomplete
     /// and the frame must be recorded again after [`Self::grow_to_fit`]).
@@ -102,6 +120,18 @@ impl TemporalShadowMap {
         coverage: Option<&CoverageMap>,
         draws: &[HostDraw],
     ) -> Result<Option<u64>> {
+        self.reserve_bounded(ctx, light, coverage, draws)
+    }
+
+    /// [`Self::reserve_for`] for any draw description the ceiling bounds (the host's copies,
+    /// or the engine layer's meshes).
+    pub(crate) fn reserve_bounded<D: Bounded>(
+        &mut self,
+        ctx: &Context,
+        light: &LightView,
+        coverage: Option<&CoverageMap>,
+        draws: &[D],
+    ) -> Result<Option<u64>> {
         let needed = PathBuffers::of_light(light, coverage.is_some(), self.range_storage);
         if self.buffers.missing_from(needed).is_some() {
             let buffers = self.buffers.union(needed);
@@ -114,10 +144,10 @@ impl TemporalShadowMap {
         let static_names = self.uses_static_names(light, coverage);
         let (mut ranges, mut names) = (0u64, 0u64);
         for draw in draws {
-            if !(static_layer && draw.is_static()) {
-                ranges += ceiling.draw(draw)?;
+            if !(static_layer && draw.is_still()) {
+                ranges += draw.ranges_at_most(&ceiling)?;
             } else if static_names {
-                names += ceiling.draw(draw)?;
+                names += draw.ranges_at_most(&ceiling)?;
             }
         }
         // Where nodes are stored, a run's range pairs two of them.
