@@ -178,3 +178,80 @@ fn the_exact_mask_matches_the_truth_at_fine_and_coarse_maps() {
     let messages = ctx.validation_messages();
     assert!(messages.is_empty(), "validation: {}", messages.join("\n"));
 }
+
+/// A plate sliding 1 along x at height 1.4 under a still square 1 above it, nothing else:
+/// every shadowed pixel is a moving receiver shadowed, part of the shutter, by a still
+/// triangle (the static names a moving receiver walks).
+fn plate_under_a_still_square() -> Scene {
+    let square = |x0: f32, z0: f32, side: f32, y: f32| {
+        [
+            (0.0, 0.0),
+            (0.0, 1.0),
+            (1.0, 1.0),
+            (0.0, 0.0),
+            (1.0, 1.0),
+            (1.0, 0.0),
+        ]
+        .map(|(x, z)| Vec3::new(x0 + side * x, y, z0 + side * z))
+        .to_vec()
+    };
+    let plate = square(-2.5, -1.0, 0.8, 1.4);
+    // One unit above the plate along the light's travel (2, -1, 1.2): its shadow on the
+    // plate's plane is x in [-1.9, -1.3], where the plate passes during the shutter.
+    let roof = square(-3.9, -2.2, 0.6, 2.4);
+    let mut scene = block_and_flying_casters();
+    scene.name = "plate-under-a-still-square".into();
+    scene.camera.position = Vec3::new(0.5, 4.5, 1.5);
+    scene.camera.target = Vec3::new(-1.6, 1.4, -0.6);
+    if let Light::Directional(light) = &mut scene.light {
+        light.center = Vec3::new(-2.5, 1.8, -1.2);
+        light.half_extent = 2.5;
+    }
+    scene.meshes = vec![
+        mesh("roof", roof.clone(), roof, false),
+        mesh("plate", plate.clone(), moved(&plate, Vec3::X), false),
+    ];
+    scene
+}
+
+/// Moving receivers shadowed by a still caster for part of the shutter: each pixel's lit
+/// share within LARGEST_DIFFERENCE of the truth's, and enough of them partly shadowed (so
+/// the still caster's shadow does fall on the moving plate during the shutter).
+#[test]
+fn a_moving_receiver_under_a_still_caster_matches_the_truth() {
+    let ctx = Context::headless(&ContextOptions { validation: true })
+        .expect("GPU tests need a Vulkan device and the validation layer");
+    let scene = plate_under_a_still_square();
+    let truth = render_truth(
+        &scene,
+        &settings(256),
+        &deferred(DeferredMethod::Raytrace, Lookup::DepthLine),
+        &mut |_| {},
+    )
+    .expect("truth");
+    let partly = (0..truth.lit.len())
+        .filter(|&i| truth.facing[i] && truth.lit[i] > 0.05 && truth.lit[i] < 0.95)
+        .count();
+    assert!(partly > 300, "{partly} pixels of the plate partly shadowed");
+    let mut renderer = Renderer::new(&ctx).expect("renderer");
+    let r = renderer
+        .render_deferred(
+            &scene,
+            &settings(256),
+            &deferred(DeferredMethod::Temporal, Lookup::Exact),
+            &mut |_| {},
+        )
+        .expect("deferred frame");
+    let largest = largest_difference(&r, &truth);
+    println!(
+        "{partly} pixels partly shadowed; {:?}, largest {largest}",
+        error(&r, &truth)
+    );
+    assert!(
+        largest <= LARGEST_DIFFERENCE,
+        "a pixel {largest} off the truth"
+    );
+    drop(renderer);
+    let messages = ctx.validation_messages();
+    assert!(messages.is_empty(), "validation: {}", messages.join("\n"));
+}
