@@ -12,7 +12,7 @@ use motion_shadows_app::raytrace::deferred::render_truth;
 use motion_shadows_app::render::deferred::{DeferredMethod, DeferredResult, DeferredSettings};
 use motion_shadows_app::render::{RenderSettings, Renderer};
 use motion_shadows_app::scene::{
-    Camera, DirectionalLight, Light, Mesh, Scene, box_mesh, plane_mesh,
+    Camera, DirectionalLight, Light, Mesh, Scene, SpotLight, box_mesh, plane_mesh,
 };
 
 const SIZE: (u32, u32) = (160, 120);
@@ -214,43 +214,58 @@ fn plate_under_a_still_square() -> Scene {
     scene
 }
 
-/// Moving receivers shadowed by a still caster for part of the shutter: each pixel's lit
-/// share within LARGEST_DIFFERENCE of the truth's, and enough of them partly shadowed (so
-/// the still caster's shadow does fall on the moving plate during the shutter).
+/// Moving receivers shadowed by a still caster for part of the shutter, under the
+/// directional light and under a spot light behind the square (whose range of s ends at the
+/// light): each pixel's lit share within LARGEST_DIFFERENCE of the truth's, and enough of them
+/// partly shadowed (so the still caster's shadow does fall on the moving plate during the
+/// shutter).
 #[test]
 fn a_moving_receiver_under_a_still_caster_matches_the_truth() {
     let ctx = Context::headless(&ContextOptions { validation: true })
         .expect("GPU tests need a Vulkan device and the validation layer");
-    let scene = plate_under_a_still_square();
-    let truth = render_truth(
-        &scene,
-        &settings(256),
-        &deferred(DeferredMethod::Raytrace, Lookup::DepthLine),
-        &mut |_| {},
-    )
-    .expect("truth");
-    let partly = (0..truth.lit.len())
-        .filter(|&i| truth.facing[i] && truth.lit[i] > 0.05 && truth.lit[i] < 0.95)
-        .count();
-    assert!(partly > 300, "{partly} pixels of the plate partly shadowed");
+    let directional = plate_under_a_still_square();
+    let mut spot = directional.clone();
+    spot.light = Light::Spot(SpotLight {
+        position: Vec3::new(-6.6, 3.9, -3.7),
+        direction: Vec3::new(5.0, -2.5, 3.1),
+        cone_angle_deg: 30.0,
+        intensity: 40.0,
+        near: 0.5,
+        far: 20.0,
+        t1: None,
+    });
     let mut renderer = Renderer::new(&ctx).expect("renderer");
-    let r = renderer
-        .render_deferred(
+    for scene in [directional, spot] {
+        let truth = render_truth(
             &scene,
             &settings(256),
-            &deferred(DeferredMethod::Temporal, Lookup::Exact),
+            &deferred(DeferredMethod::Raytrace, Lookup::DepthLine),
             &mut |_| {},
         )
-        .expect("deferred frame");
-    let largest = largest_difference(&r, &truth);
-    println!(
-        "{partly} pixels partly shadowed; {:?}, largest {largest}",
-        error(&r, &truth)
-    );
-    assert!(
-        largest <= LARGEST_DIFFERENCE,
-        "a pixel {largest} off the truth"
-    );
+        .expect("truth");
+        let partly = (0..truth.lit.len())
+            .filter(|&i| truth.facing[i] && truth.lit[i] > 0.05 && truth.lit[i] < 0.95)
+            .count();
+        let r = renderer
+            .render_deferred(
+                &scene,
+                &settings(256),
+                &deferred(DeferredMethod::Temporal, Lookup::Exact),
+                &mut |_| {},
+            )
+            .expect("deferred frame");
+        let largest = largest_difference(&r, &truth);
+        println!(
+            "{:?}: {partly} pixels partly shadowed; {:?}, largest {largest}",
+            scene.light,
+            error(&r, &truth)
+        );
+        assert!(partly > 300, "{partly} pixels of the plate partly shadowed");
+        assert!(
+            largest <= LARGEST_DIFFERENCE,
+            "a pixel {largest} off the truth"
+        );
+    }
     drop(renderer);
     let messages = ctx.validation_messages();
     assert!(messages.is_empty(), "validation: {}", messages.join("\n"));
