@@ -24,6 +24,7 @@ mod generation;
 mod host_geometry;
 mod lighting;
 mod loop_limit;
+mod moving_camera;
 mod moving_light;
 mod range_bound;
 mod range_storage;
