@@ -133,11 +133,11 @@ fn a_moving_camera_over_a_still_scene_averages_the_still_renders_along_its_path(
 /// samples, next to the same method on the same scene with the camera held still
 /// (`cubes-toward-light`, camera-pan's meshes, light and t = 0 camera) against its own truth:
 /// a pan is exact in the linear blend of clip positions, so the moving camera must agree
-/// about as well as the still one (the method's own error: texels, time strata, slices); a
-/// frame that ignored the camera's motion (the still camera's image against the moving
-/// camera's truth) is far off (about 0.056 whatever the method, measured: more than 3 times
-/// each method's own error here, plain's frozen map the largest at 0.016), so the comparison
-/// can tell.
+/// about as well as the still one (the method's own error: texels, time strata, slices): its
+/// RMSE within 1.5 times the still one's. A frame that ignored the camera's motion (the still
+/// camera's image against the moving camera's truth) must fail that check by a factor of 2
+/// at least, so that the check can tell (measured: about 0.056 whatever the method, each
+/// method's own error at most 0.016).
 #[test]
 fn every_forward_method_renders_camera_pan_like_the_ray_tracer() {
     let ctx = context();
@@ -164,7 +164,7 @@ fn every_forward_method_renders_camera_pan_like_the_ray_tracer() {
         Method::Temporal,
         Method::Tsm,
         Method::Plain { time: 0.5 },
-        Method::Reference { slices: 8 },
+        Method::Reference { slices: 16 },
     ] {
         let moving_image = render_with(&mut renderer, &moving, &settings(method)).image;
         let still_image = render_with(&mut renderer, &still, &settings(method)).image;
@@ -176,13 +176,14 @@ fn every_forward_method_renders_camera_pan_like_the_ray_tracer() {
              {still_error:.5}, the camera's motion ignored {ignored:.5}",
             method.name()
         );
+        let agreement = 1.5 * still_error.max(1e-3);
         assert!(
-            moving_error < 1.5 * still_error.max(1e-3),
+            moving_error < agreement,
             "{}: {moving_error} vs {still_error}",
             method.name()
         );
         assert!(
-            ignored > 3.0 * moving_error,
+            ignored > 2.0 * agreement,
             "{}: {ignored} vs {moving_error}",
             method.name()
         );
@@ -230,5 +231,62 @@ fn the_settings_that_take_the_camera_as_still_are_refused_by_name() {
             "{error}"
         );
     }
+    assert_no_validation_messages(&ctx);
+}
+
+/// A host driving the library's lighting pass itself (no app checks in between) gets the
+/// same refusals from the pass, naming the setting and what to use, and nothing recorded.
+#[test]
+fn the_lighting_pass_refuses_the_still_camera_settings_for_a_moving_camera() {
+    use crate::support::frame::render_draws;
+    use motion_shadows::technique::{LightingView, ShadowEstimator, ShadowFilter};
+    use motion_shadows_app::render::upload::{SceneGeometry, camera_view, light_view};
+    let ctx = context();
+    let scene = builtin("camera-pan", &BuiltinOptions::default()).unwrap();
+    let geometry = SceneGeometry::upload(&ctx, &scene).expect("upload");
+    let size = (16, 12);
+    let end = scene.camera.t1.unwrap();
+    let camera = camera_view(&scene, size)
+        .moving_to(end.position, end.target, end.up)
+        .unwrap();
+    let view = |estimator, filter| LightingView {
+        camera,
+        seed: 1,
+        ambient: scene.ambient,
+        estimator,
+        filter,
+    };
+    let light = light_view(&scene, (64, 64));
+    let frame = |estimator, filter| {
+        render_draws(
+            &ctx,
+            &geometry.draws,
+            &light,
+            &view(estimator, filter),
+            size,
+            (64, 64),
+            1,
+        )
+    };
+    frame(ShadowEstimator::Sampled, ShadowFilter::Bilinear).expect("a moving camera is lit");
+    for (estimator, filter, named) in [
+        (
+            ShadowEstimator::Analytic,
+            ShadowFilter::None,
+            "ShadowEstimator::Analytic",
+        ),
+        (
+            ShadowEstimator::Sampled,
+            ShadowFilter::Footprint,
+            "ShadowFilter::Footprint",
+        ),
+    ] {
+        let refused = frame(estimator, filter).err().expect("refused").to_string();
+        assert!(
+            refused.contains(named) && refused.contains("CameraView::end"),
+            "{refused}"
+        );
+    }
+    drop(geometry);
     assert_no_validation_messages(&ctx);
 }
