@@ -1,8 +1,9 @@
 //! A moving camera on the command line: the forward frame takes it, the ray tracer's (its
 //! test against still renders along the path: `raytrace::tests::moving_camera`) and the
-//! GPU's (the gpu binary's `moving_camera`), `--json` says the camera moves, and everything
-//! else (the deferred frames, the viewer, the forward frame's settings that take the camera
-//! as still) refuses it by name rather than render the camera at t = 0 only.
+//! GPU's (the gpu binary's `moving_camera`), and so does the deferred frame (the camera at
+//! the camera time: `moving_camera_deferred`); `--json` says the camera moves, and what does
+//! not take it (the viewer, the forward frame's settings that take the camera as still)
+//! refuses it by name rather than render the camera at t = 0 only.
 
 use crate::common::{run_with_out as motion_shadows, temp_dir};
 use std::process::Command;
@@ -38,13 +39,6 @@ fn what_does_not_take_a_moving_camera_refuses_it_by_name() {
         args.extend(SMALL);
         args
     };
-    // `--spp` is the forward frame's only.
-    let deferred = |method: &'static str| {
-        let mut args = vec!["render", "--frame", "deferred", "--scene", "camera-pan"];
-        args.extend(["--method", method]);
-        args.extend(&SMALL[..4]);
-        args
-    };
     for (args, named) in [
         (
             forward("--shadow-estimator", "analytic"),
@@ -53,11 +47,6 @@ fn what_does_not_take_a_moving_camera_refuses_it_by_name() {
         (
             forward("--shadow-filter", "footprint"),
             "--shadow-filter footprint (use --shadow-filter none or bilinear)",
-        ),
-        (deferred("temporal"), "(the deferred frame)"),
-        (
-            deferred("raytrace"),
-            "--method raytrace in the deferred frame",
         ),
     ] {
         let out = motion_shadows(&args, &dir);
@@ -80,5 +69,23 @@ fn what_does_not_take_a_moving_camera_refuses_it_by_name() {
         stderr.contains("camera moves") && stderr.contains("the viewer"),
         "{stderr}"
     );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn the_deferred_frame_takes_a_moving_camera() {
+    let dir = temp_dir("camera-deferred");
+    for method in ["temporal", "raytrace"] {
+        // `--spp` is the forward frame's only.
+        let mut args = vec!["render", "--frame", "deferred", "--scene", "camera-pan"];
+        args.extend(["--method", method, "--json"]);
+        args.extend(&SMALL[..4]);
+        let out = motion_shadows(&args, &dir);
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -25,6 +25,7 @@ mod host_geometry;
 mod lighting;
 mod loop_limit;
 mod moving_camera;
+mod moving_camera_deferred;
 mod moving_light;
 mod range_bound;
 mod range_storage;
