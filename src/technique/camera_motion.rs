@@ -68,16 +68,4 @@ impl CameraView {
             position: end.position.extend(1.0),
         })
     }
-
-    /// Refused with [`crate::Error::InvalidArgument`] naming `what` (a pass or a setting that
-    /// does not take a moving camera) where this camera moves.
-    pub fn refuse_motion(&self, what: &str) -> crate::Result<()> {
-        if self.is_moving() {
-            return Err(crate::Error::InvalidArgument(format!(
-                "{what} does not take a moving camera (CameraView::end): it would see the \
-                 scene from the camera at t = 0 only"
-            )));
-        }
-        Ok(())
-    }
 }
