@@ -69,3 +69,63 @@ impl CameraView {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn camera() -> CameraView {
+        CameraView::perspective(
+            Vec3::new(0.0, 8.0, 16.0),
+            Vec3::new(0.0, 2.6, 0.0),
+            Vec3::Y,
+            45.0,
+            4.0 / 3.0,
+            0.1,
+            100.0,
+        )
+    }
+
+    /// The frame carries a point to where the t = 0 view sees it as the t = 1 view does:
+    /// view0 (frame p) = view1 p, for a camera that translates and turns.
+    #[test]
+    fn the_end_frame_shows_the_t0_view_what_the_t1_view_sees() {
+        let moving = camera()
+            .moving_to(
+                Vec3::new(3.0, 7.0, 15.0),
+                Vec3::new(-1.0, 2.0, 1.0),
+                Vec3::Y,
+            )
+            .unwrap();
+        let frame = moving.gpu_end().unwrap().frame;
+        let end = moving.end.unwrap();
+        for p in [Vec3::new(1.0, 2.0, 3.0), Vec3::new(-4.0, 0.5, -2.0)] {
+            let seen_at_start = moving.view.transform_point3(frame.transform_point3(p));
+            let seen_at_end = end.view.transform_point3(p);
+            assert!(
+                seen_at_start.distance(seen_at_end) < 1e-4,
+                "{seen_at_start} vs {seen_at_end}"
+            );
+        }
+        assert!(camera().gpu_end().is_none() && !camera().is_moving());
+    }
+
+    #[test]
+    fn a_pose_that_is_no_camera_is_refused_by_name() {
+        let at = Vec3::new(1.0, 2.0, 3.0);
+        for (position, target, up) in [
+            (at, at, Vec3::Y),
+            (at, at + Vec3::Y, Vec3::Y),
+            (Vec3::NAN, at, Vec3::Y),
+        ] {
+            let refused = camera()
+                .moving_to(position, target, up)
+                .err()
+                .expect("refused");
+            assert!(
+                refused.to_string().contains("CameraView::moving_to"),
+                "{refused}"
+            );
+        }
+    }
+}
