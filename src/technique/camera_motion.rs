@@ -120,8 +120,7 @@ mod tests {
         ] {
             let refused = camera()
                 .moving_to(position, target, up)
-                .err()
-                .expect("refused");
+                .expect_err("refused");
             assert!(
                 refused.to_string().contains("CameraView::moving_to"),
                 "{refused}"
