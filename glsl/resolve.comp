@@ -37,9 +37,14 @@ layout(constant_id = 5) const bool SHADE_EXACT = false;
 // device runs both sides of a branch on data (the light's flag in the header), which made
 // the still frame's shading 1.7x (TSM: 2.5x) slower.
 layout(constant_id = 6) const bool SHADE_LIGHT_MOVES = false;
+// The camera moves during the shutter (LightingView's CameraView::end): the visibility
+// buffer's hits are points of the t = 0 camera's frame, carried back to the world triangle at
+// the sample's time (camera_motion.glsl). Specialized for the same reason as the light's.
+layout(constant_id = 7) const bool SHADE_CAMERA_MOVES = false;
 
 #include "temporal_samples.glsl"
 #include "exact_lookup.glsl"
+#include "camera_motion.glsl"
 
 const uint SHADE_FILTER_NONE = 0u;        // the receiver's texel
 const uint SHADE_FILTER_BILINEAR = 1u;    // 2x2 texels, bilinear weights
@@ -260,6 +265,8 @@ void main() {
     // most distinct triangles.
     vec3 normal[SHADE_SAMPLES], albedo[SHADE_SAMPLES];
     uint moving = 0u;   // samples on a moving triangle
+    CameraEnd camera_end;
+    if (SHADE_CAMERA_MOVES) camera_end = CameraEndRef(camera.camera_end).end;
     [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
         normal[j] = vec3(0.0);
         albedo[j] = vec3(0.0);
@@ -273,6 +280,14 @@ void main() {
         HitTriangle hit = fetch_hit(hit_id);
         [[unroll]] for (uint j = 0u; j < SHADE_SAMPLES; ++j) {
             if ((pending & (1u << j)) == 0u || id[j] != hit_id) continue;
+            if (SHADE_CAMERA_MOVES) {
+                // The hit in the world, seen from the eye where it is at the sample's time.
+                point[j] = camera_end_world_point(camera_end, hit.tri, hit.moving, t[j],
+                                                  point[j]);
+                vec3 eye = camera.position.xyz
+                           + t[j] * (camera_end.position.xyz - camera.position.xyz);
+                dir[j] = point[j] - eye;
+            }
             normal[j] = surface_normal(hit, t[j], dir[j]);
             albedo[j] = hit.albedo;
             if (hit.moving) moving |= 1u << j;

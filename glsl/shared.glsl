@@ -228,7 +228,7 @@ struct CameraParams {
     uint64_t radiance;      // Vec4Array: per pixel, accumulated radiance and moving share
     uint64_t counters;      // UintArray: [0] = triangles dropped for an invalid index,
                             // [1] = pixels whose lookups ran past the loop budget
-    uint64_t reserved;
+    uint64_t camera_end;    // a moving camera's CameraEnd (camera_motion.glsl); 0: still
 };
 
 // The camera header at `address`, read as 64-bit words (26; see load_draw).

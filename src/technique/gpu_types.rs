@@ -148,6 +148,19 @@ pub struct GpuLightEnd {
     pub direction: Vec4,
 }
 
+/// A moving camera's pose at t = 1 as the lighting pass reads it (`CameraEnd` in
+/// glsl/shared.glsl, 80 bytes), right after [`CameraParams`] in a lighting target's header
+/// ([`CameraParams::camera_end`]).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GpuCameraEnd {
+    /// The t = 0 view's inverse times the t = 1 view: a world point at t = 1 as the t = 0
+    /// camera must see it to see it where the t = 1 camera does.
+    pub frame: Mat4,
+    /// xyz: the eye at t = 1; w = 1.
+    pub position: Vec4,
+}
+
 /// The header of a temporal shadow map (`MsShadowMap` in GLSL, then `MsLightEnd` at byte 320:
 /// 480 bytes): what a host
 /// shader reads through the address [`super::TemporalShadowMap::header_address`].
@@ -295,8 +308,9 @@ pub struct CameraParams {
     /// The target's counters (u32: triangles dropped for an invalid index; pixels whose
     /// lookups ran past the loop budget).
     pub counters: u64,
-    /// Unused (0).
-    pub reserved: u64,
+    /// A moving camera's [`super::camera_motion::GpuCameraEnd`], right after this header in
+    /// the target's header buffer; 0 for a still camera.
+    pub camera_end: u64,
 }
 
 /// What an ordinary shadow map stores per texel.
@@ -353,4 +367,5 @@ const _: () = {
     assert!(std::mem::size_of::<DrawRecord>() == 160);
     assert!(std::mem::size_of::<DrawRecord>() == 8 * DRAW_RECORD_WORDS as usize);
     assert!(std::mem::size_of::<CameraParams>() == 208);
+    assert!(std::mem::size_of::<GpuCameraEnd>() == 80);
 };

@@ -24,6 +24,7 @@
 //! `default-features = false`).
 
 mod accesses;
+mod camera_motion;
 mod collection;
 mod coverage;
 #[cfg(feature = "research")]
@@ -61,6 +62,7 @@ mod shadow_map;
 mod view;
 
 pub use accesses::{AccessData, PassAccesses, Resource, ResourceUse};
+pub use camera_motion::CameraEnd;
 pub use collection::CollectionPass;
 pub use coverage::{CoverageMap, MAX_COVERAGE_TRIANGLES};
 #[cfg(feature = "research")]
@@ -77,9 +79,9 @@ pub use gbuffer::{
 };
 pub use generation::GenerationPass;
 pub use gpu_types::{
-    CameraParams, Counters, DepthFormat, DrawRecord, FIXED_TIME, GpuLight, GpuLightEnd,
-    LongListHeader, MAX_LIST_NODES, NO_TRIANGLE, Node, PlainMapHeader, Range, ShadowMapHeader,
-    ShadowMode, TriangleRecord,
+    CameraParams, Counters, DepthFormat, DrawRecord, FIXED_TIME, GpuCameraEnd, GpuLight,
+    GpuLightEnd, LongListHeader, MAX_LIST_NODES, NO_TRIANGLE, Node, PlainMapHeader, Range,
+    ShadowMapHeader, ShadowMode, TriangleRecord,
 };
 #[cfg(feature = "research")]
 pub use image_output::LightingImageOutput;

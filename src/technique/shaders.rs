@@ -38,6 +38,8 @@ pub const RANGE_SORT_COMP: Spirv<'static> = spirv!("range_sort.comp");
 pub const RANGE_SORT_LONG_COMP: Spirv<'static> = spirv!("range_sort_long.comp");
 /// SPIR-V of `glsl/lighting.geom`.
 pub const LIGHTING_GEOM: Spirv<'static> = spirv!("lighting.geom");
+/// SPIR-V of `glsl/lighting_camera_moves.geom` (the lighting raster for a moving camera).
+pub const LIGHTING_CAMERA_MOVES_GEOM: Spirv<'static> = spirv!("lighting_camera_moves.geom");
 /// SPIR-V of `glsl/lighting.frag`.
 pub const LIGHTING_FRAG: Spirv<'static> = spirv!("lighting.frag");
 /// SPIR-V of `glsl/resolve.comp`.

@@ -21,6 +21,10 @@ pub struct CameraView {
     pub near: f32,
     /// Far plane distance.
     pub far: f32,
+    /// The camera's pose at shutter close when it moves during the shutter (default `None`:
+    /// still, the fields above are its pose all shutter). Set it with
+    /// [`CameraView::moving_to`], which documents the motion between the two poses.
+    pub end: Option<super::camera_motion::CameraEnd>,
 }
 
 impl CameraView {
@@ -41,6 +45,7 @@ impl CameraView {
             proj: vulkan::perspective(fov_y_deg.to_radians(), aspect, near, far),
             near,
             far,
+            end: None,
         }
     }
 }

@@ -91,7 +91,7 @@ void put(DrawRecord d) {
 void put(CameraParams c) {
     put(c.view_proj); put(c.position); put(c.forward); put(c.ray00); put(c.ray_dx);
     put(c.ray_dy); put(c.image); put(c.shading); put(c.visibility); put(c.radiance);
-    put(c.counters); put(c.reserved);
+    put(c.counters); put(c.camera_end);
 }
 
 void main() {

@@ -181,7 +181,7 @@ fn shared_structs_match_glsl() {
         visibility: val.a(),
         radiance: val.a(),
         counters: val.a(),
-        reserved: val.a(),
+        camera_end: val.a(),
     };
     let map_draw = MapDrawPush {
         draw: val.draw(),
@@ -404,7 +404,7 @@ fn shared_structs_match_glsl() {
             camera.visibility,
             camera.radiance,
             camera.counters,
-            camera.reserved,
+            camera.camera_end,
         ] {
             expected.a(a);
         }

@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 use crate::output::RadianceImage;
 use crate::render::MAX_IMAGE_SIDE;
 use crate::render::deferred::{DeferredResult, DeferredSettings, direct_factor};
-use crate::render::upload::{camera_view, light_at, moving_light_view};
+use crate::render::upload::{camera_view_of, light_at, moving_light_view};
 use crate::render::{PassTime, RenderSettings};
 use crate::scene::Scene;
 use glam::{DVec3, Vec2};
@@ -134,10 +134,6 @@ pub fn deferred_truth_with(
         )));
     }
     scene.validate()?;
-    crate::render::camera_motion::refuse_moving_camera(
-        scene,
-        "--method raytrace in the deferred frame (its truth)",
-    )?;
     check_truth_memory(width, height)?;
 
     progress(&format!(
@@ -147,7 +143,8 @@ pub fn deferred_truth_with(
     let bvh = Bvh::new(&scene_triangles(scene));
     // The same view, scale and albedos as the per-sample tracer (`raytrace::render`).
     let view = LightingView {
-        camera: camera_view(scene, (width, height)),
+        // The camera where it is at the camera time, as the G-buffer's.
+        camera: camera_view_of(&scene.camera.at(camera_time), (width, height)),
         seed: 0,
         ambient: scene.ambient,
         estimator: Default::default(),

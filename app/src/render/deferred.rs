@@ -65,10 +65,6 @@ impl Renderer<'_> {
             ));
         }
         upload::check_moving_light_deferred(scene, deferred)?;
-        super::camera_motion::refuse_moving_camera(
-            scene,
-            &format!("--method {} (the deferred frame)", deferred.name()),
-        )?;
         let ctx = self.ctx;
         progress("uploading the scene");
         let geometry = upload::SceneGeometry::upload(ctx, scene)?;
@@ -78,7 +74,9 @@ impl Renderer<'_> {
             unsafe { draws.record_update(this.ctx.device(), cmd, &geometry.draws) }
         })?;
         let light = upload::with_motion(scene, deferred_light(scene, settings, deferred))?;
-        let camera = upload::camera_view(scene, size);
+        // The G-buffer is a snapshot at the camera time, the camera's pose included (a moving
+        // camera's; a still one's as it is).
+        let camera = upload::camera_view_of(&scene.camera.at(deferred.camera_time), size);
         let view_proj = camera.proj * camera.view;
         let gbuffer = GBuffer::new(ctx, settings.width, settings.height)?;
         self.deferred_passes()?;

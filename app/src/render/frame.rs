@@ -100,7 +100,7 @@ impl Renderer<'_> {
         })?;
         let light = upload::with_motion(scene, forward_light(scene, settings))?;
         let view = LightingView {
-            camera: upload::camera_view(scene, (settings.width, settings.height)),
+            camera: super::camera_motion::camera_view(scene, (settings.width, settings.height))?,
             seed: settings.seed,
             ambient: scene.ambient,
             estimator: settings.shadow_estimator,

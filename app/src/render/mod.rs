@@ -318,13 +318,7 @@ impl<'a> Renderer<'a> {
         settings.validate()?;
         scene.validate()?;
         upload::check_moving_light_forward(scene, settings)?;
-        camera_motion::refuse_moving_camera(
-            scene,
-            &format!(
-                "--method {} (the GPU's forward frame)",
-                settings.method.name()
-            ),
-        )?;
+        camera_motion::check_moving_camera_forward(scene, settings)?;
         let frame = self.prepare_frame(scene, settings, progress)?;
         let mut passes = Vec::new();
         let target = frame.lighting_target(self.ctx, settings)?;

@@ -1,7 +1,9 @@
-//! A moving camera on the command line: the ray tracer's forward frame takes it (its test
-//! against still renders along the path: `raytrace::tests::moving_camera`), `--json` says the
-//! camera moves, and everything else refuses it by name rather than render the camera at
-//! t = 0 only.
+//! A moving camera on the command line: the forward frame takes it, the ray tracer's (its
+//! test against still renders along the path: `raytrace::tests::moving_camera`) and the
+//! GPU's (the gpu binary's `moving_camera`), and so does the deferred frame (the camera at
+//! the camera time: `moving_camera_deferred`); `--json` says the camera moves, and what does
+//! not take it (the viewer, the forward frame's settings that take the camera as still)
+//! refuses it by name rather than render the camera at t = 0 only.
 
 use crate::common::{run_with_out as motion_shadows, temp_dir};
 use std::process::Command;
@@ -11,17 +13,19 @@ const SMALL: [&str; 6] = ["--width", "32", "--height", "24", "--spp", "2"];
 #[test]
 fn json_says_whether_the_camera_moves() {
     let dir = temp_dir("camera-moves");
-    for (scene, moves) in [("camera-pan", true), ("cubes-toward-light", false)] {
-        let mut args = vec!["render", "--scene", scene, "--method", "raytrace", "--json"];
-        args.extend(SMALL);
-        let out = motion_shadows(&args, &dir);
-        assert!(
-            out.status.success(),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-        assert_eq!(json["camera_moves"], moves, "{scene}");
+    for method in ["raytrace", "temporal"] {
+        for (scene, moves) in [("camera-pan", true), ("cubes-toward-light", false)] {
+            let mut args = vec!["render", "--scene", scene, "--method", method, "--json"];
+            args.extend(SMALL);
+            let out = motion_shadows(&args, &dir);
+            assert!(
+                out.status.success(),
+                "{args:?}: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+            assert_eq!(json["camera_moves"], moves, "{scene} {method}");
+        }
     }
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -29,28 +33,20 @@ fn json_says_whether_the_camera_moves() {
 #[test]
 fn what_does_not_take_a_moving_camera_refuses_it_by_name() {
     let dir = temp_dir("camera-refused");
-    let forward = |method: &'static str| {
-        let mut args = vec!["render", "--scene", "camera-pan", "--method", method];
+    let forward = |option: &'static str, value: &'static str| {
+        let mut args = vec!["render", "--scene", "camera-pan", "--method", "temporal"];
+        args.extend([option, value]);
         args.extend(SMALL);
-        args
-    };
-    // `--spp` is the forward frame's only.
-    let deferred = |method: &'static str| {
-        let mut args = vec!["render", "--frame", "deferred", "--scene", "camera-pan"];
-        args.extend(["--method", method]);
-        args.extend(&SMALL[..4]);
         args
     };
     for (args, named) in [
         (
-            forward("temporal"),
-            "--method temporal (the GPU's forward frame)",
+            forward("--shadow-estimator", "analytic"),
+            "--shadow-estimator analytic (use --shadow-estimator sampled)",
         ),
-        (forward("tsm"), "--method tsm (the GPU's forward frame)"),
-        (deferred("temporal"), "(the deferred frame)"),
         (
-            deferred("raytrace"),
-            "--method raytrace in the deferred frame",
+            forward("--shadow-filter", "footprint"),
+            "--shadow-filter footprint (use --shadow-filter none or bilinear)",
         ),
     ] {
         let out = motion_shadows(&args, &dir);
@@ -73,5 +69,23 @@ fn what_does_not_take_a_moving_camera_refuses_it_by_name() {
         stderr.contains("camera moves") && stderr.contains("the viewer"),
         "{stderr}"
     );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn the_deferred_frame_takes_a_moving_camera() {
+    let dir = temp_dir("camera-deferred");
+    for method in ["temporal", "raytrace"] {
+        // `--spp` is the forward frame's only.
+        let mut args = vec!["render", "--frame", "deferred", "--scene", "camera-pan"];
+        args.extend(["--method", method, "--json"]);
+        args.extend(&SMALL[..4]);
+        let out = motion_shadows(&args, &dir);
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -24,6 +24,8 @@ mod generation;
 mod host_geometry;
 mod lighting;
 mod loop_limit;
+mod moving_camera;
+mod moving_camera_deferred;
 mod moving_light;
 mod range_bound;
 mod range_storage;

@@ -38,8 +38,8 @@ fn the_bound_never_exceeds_the_ranges_stored() {
     for &name in BUILTIN_NAMES {
         let scene = builtin(name, &BuiltinOptions::default()).unwrap();
         if scene.light.moves() || scene.camera.moves() {
-            // No bound is claimed for a moving light (moving-light); the GPU frames refuse
-            // a moving camera (camera-pan, whose map is the default scene's).
+            // No bound is claimed for a moving light (moving-light); camera-pan's map is
+            // the default scene's (the camera does not change the map).
             continue;
         }
         for static_layer in [true, false] {
@@ -77,7 +77,7 @@ fn the_upper_bound_is_never_below_the_ranges_stored_and_one_attempt_does() {
             continue;
         }
         if scene.camera.moves() {
-            continue; // the GPU frames refuse it; its map is the default scene's
+            continue; // its map is the default scene's (the camera does not change the map)
         }
         for (method, static_layer) in [
             (Method::Temporal, true),

@@ -107,8 +107,8 @@ fn sorted_ranges_render_what_the_lists_render() {
         ..options.clone()
     };
     // Not moving-light: its light moves (no static layer, none of the pruning rules' cases;
-    // its map is checked against the ray tracer in moving_light.rs). Not camera-pan: the
-    // GPU frames refuse its moving camera, and its map is the default scene's.
+    // its map is checked against the ray tracer in moving_light.rs). Not camera-pan: its map
+    // is the default scene's (the camera does not change the map).
     let scenes = (BUILTIN_NAMES
         .iter()
         .map(|&name| (name, builtin(name, &options).unwrap()))

@@ -8,7 +8,7 @@
 
 use super::collection::draw_each;
 use super::draws::DrawList;
-use super::gpu_types::{COUNT_INVALID, CameraParams, FIXED_TIME, ShadowMode};
+use super::gpu_types::{COUNT_INVALID, CameraParams, FIXED_TIME, GpuCameraEnd, ShadowMode};
 use super::plain_shadow::PlainShadowMap;
 use super::push_constants::{LightingRasterPush, PushBlock, RasterCamera, RasterPush, ShadePush};
 use super::shaders;
@@ -76,6 +76,9 @@ impl ShadowSource<'_> {
 /// The papers' lighting pass. Immutable after creation: one serves every frame in flight.
 pub struct LightingPass {
     raster: Pipeline,
+    /// The raster for a moving camera (`lighting_camera_moves.geom`): a still camera's keeps
+    /// none of its code.
+    raster_camera_moves: Pipeline,
     /// The shading pipelines, one per [`ShadeVariant`] and chunk size, made on first use.
     resolve: ComputeVariants,
     /// The most loop iterations one pixel's shadow lookups may report before the pass
@@ -96,6 +99,8 @@ struct ShadeVariant {
     exact: bool,
     /// The source was recorded for a moving light (`SHADE_LIGHT_MOVES`).
     light_moves: bool,
+    /// The camera moves during the shutter (`SHADE_CAMERA_MOVES`).
+    camera_moves: bool,
 }
 
 impl ShadeVariant {
@@ -107,9 +112,11 @@ impl ShadeVariant {
         filter: ShadowFilter,
         exact: bool,
         light_moves: bool,
+        camera_moves: bool,
     ) -> Self {
         Self {
             light_moves,
+            camera_moves,
             exact: mode == ShadowMode::Temporal && exact,
             mode,
             analytic: mode == ShadowMode::Temporal && estimator == ShadowEstimator::Analytic,
@@ -123,7 +130,7 @@ impl ShadeVariant {
 
     /// The values of `resolve.comp`'s specialization constants for a chunk of `samples`
     /// samples per pixel on a device with `loop_budget`.
-    fn constants(self, loop_budget: u32, samples: u32) -> [u32; 7] {
+    fn constants(self, loop_budget: u32, samples: u32) -> [u32; 8] {
         let filter = match self.filter {
             ShadowFilter::None => 0,
             ShadowFilter::Bilinear => 1,
@@ -137,6 +144,7 @@ impl ShadeVariant {
             samples,
             self.exact as u32,
             self.light_moves as u32,
+            self.camera_moves as u32,
         ]
     }
 }
@@ -146,29 +154,31 @@ impl LightingPass {
     /// pipelines (one per shadow test, estimator, filter and chunk size) are made when a
     /// record first needs them.
     pub fn new(ctx: &Context) -> Result<Self> {
-        let raster = attachmentless_pipeline(
-            ctx,
-            RasterPush::BYTES,
-            &[
-                (
-                    vk::ShaderStageFlags::VERTEX,
-                    "scene.vert",
-                    shaders::SCENE_VERT,
-                ),
-                (
-                    vk::ShaderStageFlags::GEOMETRY,
-                    "lighting.geom",
-                    shaders::LIGHTING_GEOM,
-                ),
-                (
-                    vk::ShaderStageFlags::FRAGMENT,
-                    "lighting.frag",
-                    shaders::LIGHTING_FRAG,
-                ),
-            ],
-        )?;
+        let raster = |name, geometry| {
+            attachmentless_pipeline(
+                ctx,
+                RasterPush::BYTES,
+                &[
+                    (
+                        vk::ShaderStageFlags::VERTEX,
+                        "scene.vert",
+                        shaders::SCENE_VERT,
+                    ),
+                    (vk::ShaderStageFlags::GEOMETRY, name, geometry),
+                    (
+                        vk::ShaderStageFlags::FRAGMENT,
+                        "lighting.frag",
+                        shaders::LIGHTING_FRAG,
+                    ),
+                ],
+            )
+        };
         Ok(Self {
-            raster,
+            raster: raster("lighting.geom", shaders::LIGHTING_GEOM)?,
+            raster_camera_moves: raster(
+                "lighting_camera_moves.geom",
+                shaders::LIGHTING_CAMERA_MOVES_GEOM,
+            )?,
             resolve: ComputeVariants::new(
                 ctx,
                 ShadePush::BYTES,
@@ -202,6 +212,9 @@ impl LightingPass {
                 ));
             }
         }
+        if view.camera.is_moving() {
+            check_moving_camera(view)?;
+        }
         let (mode, _) = shadow.mode_and_header();
         let variant = ShadeVariant::of(
             mode,
@@ -209,6 +222,7 @@ impl LightingPass {
             view.filter,
             shadow.reads_exact_lookup(),
             shadow.recorded_for_moving_light(),
+            view.camera.is_moving(),
         );
         self.resolve
             .get(&variant.constants(self.loop_budget, samples))
@@ -302,8 +316,16 @@ impl LightingPass {
             visibility: target.visibility.device_address(),
             radiance: target.radiance.device_address(),
             counters: target.counters.device_address(),
+            camera_end: match view.camera.end {
+                Some(_) => target.header.device_address() + CAMERA_END_OFFSET,
+                None => 0,
+            },
             ..CameraParams::new(view, (target.width, target.height), target.spp)
         };
+        let moving_header = view.camera.gpu_end().map(|end| MovingCameraHeader {
+            camera: header,
+            end,
+        });
         // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue
         // (CollectionPass::record's contract, taken by record), so every stage named is supported.
         unsafe {
@@ -321,7 +343,10 @@ impl LightingPass {
         // radiance and counter buffers (WHOLE_SIZE), outside rendering, after their earlier readers
         // (the barrier above); no other command buffer uses the target meanwhile (the contract).
         unsafe {
-            target.header.record_write(device, cmd, &[header]);
+            match moving_header {
+                Some(moving) => target.header.record_write(device, cmd, &[moving]),
+                None => target.header.record_write(device, cmd, &[header]),
+            }
             device.cmd_fill_buffer(cmd, target.radiance.raw(), 0, vk::WHOLE_SIZE, 0);
             device.cmd_fill_buffer(cmd, target.counters.raw(), 0, vk::WHOLE_SIZE, 0);
         }
@@ -399,8 +424,13 @@ impl LightingPass {
         // SAFETY: outside rendering, and the target's size is the extent the raster pipeline's
         // dynamic viewport takes.
         unsafe { begin_attachmentless(device, cmd, target.width, target.height) };
+        let raster_pipeline = if view.camera.is_moving() {
+            &self.raster_camera_moves
+        } else {
+            &self.raster
+        };
         // SAFETY: rendering has begun; the raster pipeline is this pass's, alive as long as `self`.
-        unsafe { self.raster.bind(device, cmd) };
+        unsafe { raster_pipeline.bind(device, cmd) };
         let raster = RasterPush {
             pass: LightingRasterPush {
                 visibility: target.visibility.device_address(),
@@ -422,8 +452,8 @@ impl LightingPass {
         // bytes.
         // SAFETY: the raster pipeline's layout was made with RasterPush's size (its push range),
         // and it is bound just above.
-        unsafe { self.raster.push(device, cmd, &raster) };
-        draw_each(device, cmd, &self.raster, draws, raster.pass);
+        unsafe { raster_pipeline.push(device, cmd, &raster) };
+        draw_each(device, cmd, raster_pipeline, draws, raster.pass);
         // SAFETY: the rendering began above and every draw is recorded into it.
         unsafe { device.cmd_end_rendering(cmd) };
         if let Some(ts) = timestamps.as_deref_mut() {
@@ -466,6 +496,40 @@ impl LightingPass {
         };
         Ok(())
     }
+}
+
+/// Where a moving camera's [`GpuCameraEnd`] sits in a lighting target's header: right after
+/// its [`CameraParams`].
+const CAMERA_END_OFFSET: u64 = std::mem::size_of::<CameraParams>() as u64;
+
+/// A lighting target's header for a moving camera: a still camera's header writes only the
+/// [`CameraParams`], as it always did.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct MovingCameraHeader {
+    camera: CameraParams,
+    end: GpuCameraEnd,
+}
+
+/// Refuses the settings whose shading takes the camera as still (named, with what to use).
+fn check_moving_camera(view: &LightingView) -> Result<()> {
+    if view.estimator == ShadowEstimator::Analytic {
+        return Err(Error::InvalidArgument(
+            "ShadowEstimator::Analytic takes a still receiver's lit share of the shutter at \
+             one point of a pixel, which a moving camera (CameraView::end) does not keep on one \
+             point: use ShadowEstimator::Sampled"
+                .to_owned(),
+        ));
+    }
+    if view.filter == ShadowFilter::Footprint {
+        return Err(Error::InvalidArgument(
+            "ShadowFilter::Footprint measures the pixel's footprint from the camera at t = 0, \
+             which a moving camera (CameraView::end) leaves: use ShadowFilter::None or \
+             ShadowFilter::Bilinear"
+                .to_owned(),
+        ));
+    }
+    Ok(())
 }
 
 /// Which samples [`LightingPass::record_samples`] renders.

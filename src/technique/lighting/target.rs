@@ -4,7 +4,7 @@
 use super::MAX_SAMPLES_PER_CHUNK;
 use crate::error::{Error, Result};
 use crate::gpu::{Access, Buffer, BufferUsage, Context, memory_barrier};
-use crate::technique::gpu_types::CameraParams;
+use crate::technique::gpu_types::{CameraParams, GpuCameraEnd};
 use ash::vk;
 
 /// The visibility buffer's size above which a frame's samples are split into more chunks
@@ -76,7 +76,8 @@ impl LightingTarget {
             header: Buffer::new(
                 ctx,
                 "lighting target header",
-                std::mem::size_of::<CameraParams>() as u64,
+                // Room for a moving camera's pose at t = 1 after the header.
+                (std::mem::size_of::<CameraParams>() + std::mem::size_of::<GpuCameraEnd>()) as u64,
                 BufferUsage::Storage,
             )?,
             counters: Buffer::new(ctx, "lighting counters", 8, BufferUsage::Storage)?,

@@ -10,7 +10,7 @@ use super::rust_structs::{Flatten, leaves};
 use super::spirv_structs::{Leaf, Module};
 use super::*;
 use crate::technique::gpu_types::{
-    CameraParams, Counters, DrawRecord, GpuLight, GpuLightEnd, LongListHeader, Node,
+    CameraParams, Counters, DrawRecord, GpuCameraEnd, GpuLight, GpuLightEnd, LongListHeader, Node,
     PlainMapHeader, Range, ShadowMapHeader,
 };
 use crate::technique::push_constants::{
@@ -76,6 +76,7 @@ fn shared_structs() -> Vec<(&'static str, Mirror)> {
         ("Node", mirror::<Node>("Node")),
         ("MsRange", mirror::<Range>("Range")),
         ("CameraParams", mirror::<CameraParams>("CameraParams")),
+        ("CameraEnd", mirror::<GpuCameraEnd>("GpuCameraEnd")),
     ]
 }
 
@@ -114,6 +115,11 @@ fn shaders() -> Vec<(&'static str, Spirv<'static>, Option<Mirror>)> {
         (
             "lighting.geom",
             LIGHTING_GEOM,
+            Some(mirror::<LightingRasterPush>("LightingRasterPush")),
+        ),
+        (
+            "lighting_camera_moves.geom",
+            LIGHTING_CAMERA_MOVES_GEOM,
             Some(mirror::<LightingRasterPush>("LightingRasterPush")),
         ),
         (

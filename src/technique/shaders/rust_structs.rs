@@ -6,7 +6,7 @@
 
 use super::spirv_structs::{Leaf, Scalar};
 use crate::technique::gpu_types::{
-    CameraParams, Counters, DrawRecord, GpuLight, GpuLightEnd, LongListHeader, Node,
+    CameraParams, Counters, DrawRecord, GpuCameraEnd, GpuLight, GpuLightEnd, LongListHeader, Node,
     PlainMapHeader, Range, ShadowMapHeader, TriangleRecord,
 };
 use crate::technique::push_constants::{
@@ -201,8 +201,9 @@ mirror!(CameraParams {
     visibility,
     radiance,
     counters,
-    reserved,
+    camera_end,
 });
+mirror!(GpuCameraEnd { frame, position });
 mirror!(TriangleRecord { at0, at1 });
 mirror!(DrawPush {
     draws,
