@@ -308,7 +308,7 @@ pub struct CameraParams {
     /// The target's counters (u32: triangles dropped for an invalid index; pixels whose
     /// lookups ran past the loop budget).
     pub counters: u64,
-    /// A moving camera's [`super::camera_motion::GpuCameraEnd`], right after this header in
+    /// A moving camera's [`GpuCameraEnd`], right after this header in
     /// the target's header buffer; 0 for a still camera.
     pub camera_end: u64,
 }

@@ -56,13 +56,13 @@ pub struct PositionImage {
 
 /// The host's triangle-id image: which triangle each pixel shows, so that a receiver's own
 /// triangle never shadows it. Required on a depth-line map with moving receivers
-/// ([`MaskInputs::motion`]): [`VisibilityMaskPass::record`] refuses those dispatches without
+/// ([`MaskInputs::motion`]): [`VisibilityMaskPass::record`](crate::technique::VisibilityMaskPass::record) refuses those dispatches without
 /// it; recommended everywhere (the plane test, `LightView::receiver_plane`, was written to
 /// rely on it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TriangleIdImage {
     /// A view of a sampled R32_UINT image, the size of the depth image: the triangle's
-    /// global id in the [`DrawList`](super::DrawList) the map was built from (the draw's
+    /// global id in the [`DrawList`](crate::technique::DrawList) the map was built from (the draw's
     /// first id plus the primitive's index), `u32::MAX` for none.
     pub view: vk::ImageView,
     /// Its layout while the pass runs (e.g. `SHADER_READ_ONLY_OPTIMAL`).
@@ -128,7 +128,7 @@ pub struct MaskInputs {
     /// frame at shutter close: 1. Read only with `motion`.
     pub time: f32,
     /// The host's triangle-id image, or `None`: no receiver is known to lie on a triangle.
-    /// Required on a depth-line map with `motion` (see [`VisibilityMaskPass::record`]).
+    /// Required on a depth-line map with `motion` (see [`VisibilityMaskPass::record`](crate::technique::VisibilityMaskPass::record)).
     pub ids: Option<TriangleIdImage>,
     /// The host's world-position image, or `None`: positions rebuilt from the depth.
     pub positions: Option<PositionImage>,
