@@ -38,6 +38,8 @@ cargo clippy --workspace --all-targets -- -D warnings
 # The engine core alone (no research passes), as an engine with default-features = false
 # builds it.
 cargo clippy -p motion-shadows --lib --no-default-features -- -D warnings
+# The library's API docs build without a warning (a broken intra-doc link fails here).
+RUSTDOCFLAGS="-D warnings" cargo doc -p motion-shadows --no-deps --quiet
 if [[ $quick == 1 ]]; then
     skips=()
     while read -r name; do
