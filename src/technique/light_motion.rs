@@ -136,6 +136,27 @@ impl LightView {
             }
     }
 
+    /// Whether the light turns during the shutter (its direction at t = 1 is not t = 0's).
+    pub fn is_turning(&self) -> bool {
+        self.end.is_some_and(|end| end.direction != self.direction)
+    }
+
+    /// Refused with [`crate::Error::InvalidArgument`] naming `what` where this light turns:
+    /// the exact lookup takes a translating light only. Its conservative collection bounds a
+    /// triangle's swept shadow by the hull of its corners' two projections, which holds where
+    /// each point's position in the light's view moves linearly (a translating light: the
+    /// view's rotation stays, X(t) - L(t) is linear); the blend of two turned views is not a
+    /// view, and a point's image under it leaves that hull.
+    pub(crate) fn refuse_turning(&self, what: &str) -> crate::Result<()> {
+        if self.is_turning() {
+            return Err(crate::Error::InvalidArgument(format!(
+                "{what} does not take a turning light (LightView::end with another \
+                 direction) yet: only a translating one, or use the depth-line lookup"
+            )));
+        }
+        Ok(())
+    }
+
     /// Refused with [`crate::Error::InvalidArgument`] naming `what` (a pass or a setting that
     /// does not take a moving light yet) where this light moves.
     pub(crate) fn refuse_moving(&self, what: &str) -> crate::Result<()> {
