@@ -185,6 +185,22 @@ mod tests {
     }
 
     #[test]
+    fn only_a_light_whose_direction_changes_turns() {
+        let d = Vec3::new(0.2, -1.0, 0.1);
+        let light = spot(Vec3::new(0.0, 5.0, 0.0), d);
+        assert!(!light.is_turning());
+        let carried = light.clone().moving_to(Vec3::new(3.0, 5.0, 0.0), d).unwrap();
+        assert!(carried.is_moving() && !carried.is_turning());
+        assert!(carried.refuse_turning("the exact lookup").is_ok());
+        let turned = light
+            .moving_to(Vec3::new(0.0, 5.0, 0.0), Vec3::new(0.5, -1.0, 0.1))
+            .unwrap();
+        assert!(turned.is_turning());
+        let refused = turned.refuse_turning("the exact lookup").unwrap_err();
+        assert!(refused.to_string().contains("the exact lookup"), "{refused}");
+    }
+
+    #[test]
     fn a_translating_light_ends_with_the_view_of_a_light_built_there() {
         let d = Vec3::new(0.2, -1.0, 0.1);
         let moved = spot(Vec3::new(0.0, 5.0, 0.0), d)
