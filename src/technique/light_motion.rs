@@ -189,7 +189,10 @@ mod tests {
         let d = Vec3::new(0.2, -1.0, 0.1);
         let light = spot(Vec3::new(0.0, 5.0, 0.0), d);
         assert!(!light.is_turning());
-        let carried = light.clone().moving_to(Vec3::new(3.0, 5.0, 0.0), d).unwrap();
+        let carried = light
+            .clone()
+            .moving_to(Vec3::new(3.0, 5.0, 0.0), d)
+            .unwrap();
         assert!(carried.is_moving() && !carried.is_turning());
         assert!(carried.refuse_turning("the exact lookup").is_ok());
         let turned = light
@@ -197,7 +200,10 @@ mod tests {
             .unwrap();
         assert!(turned.is_turning());
         let refused = turned.refuse_turning("the exact lookup").unwrap_err();
-        assert!(refused.to_string().contains("the exact lookup"), "{refused}");
+        assert!(
+            refused.to_string().contains("the exact lookup"),
+            "{refused}"
+        );
     }
 
     #[test]

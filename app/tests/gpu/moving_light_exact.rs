@@ -152,7 +152,10 @@ fn the_exact_mask_under_a_moving_light_matches_the_truth() {
              ({shadowed} shadowed pixels); from the still light's truth {ignored:.3}"
         );
         assert!(shadowed > 150, "{shadowed}");
-        assert!(largest <= LARGEST_DIFFERENCE, "{largest} at {shadow}x{shadow}");
+        assert!(
+            largest <= LARGEST_DIFFERENCE,
+            "{largest} at {shadow}x{shadow}"
+        );
         assert!(ignored > 0.2, "{ignored}");
     }
     drop(renderer);
