@@ -189,10 +189,7 @@ mod tests {
         let d = Vec3::new(0.2, -1.0, 0.1);
         let light = spot(Vec3::new(0.0, 5.0, 0.0), d);
         assert!(!light.is_turning());
-        let carried = light
-            .clone()
-            .moving_to(Vec3::new(3.0, 5.0, 0.0), d)
-            .unwrap();
+        let carried = light.moving_to(Vec3::new(3.0, 5.0, 0.0), d).unwrap();
         assert!(carried.is_moving() && !carried.is_turning());
         assert!(carried.refuse_turning("the exact lookup").is_ok());
         let turned = light
