@@ -234,10 +234,16 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
 // intervals so far, which the caller hands to the walk's next invocation (as `texel_union`,
 // with walk.cursor; it is read only where walk.cursor is not MS_EXACT_CURSOR_START). Its
 // count of loop iterations (the exact test's included) ends in walk.walked.
+//
+// A translating light (ms_exact_light_motion set): the path is walked in the light's moving
+// frame, its t = 1 end moved by the light's motion the other way (the t = 0 view then sees
+// the receiver at each time where the light at that time does: ms_light_frame_end's frame
+// for a translation); the shadow rays are tested in the world, toward the light at each time.
 void ms_walk_exact(MsMap map, vec3 p0, vec3 p1, uint own, uint budget, inout MsWalk walk,
                    inout ms_exact_Union texel_union) {
     MsLightPath path;
-    if (map.triangles == 0UL || !ms_path_start(map.light, map.size, p0, p1, path)) {
+    vec3 p1_in_frame = ms_exact_light_motion == vec3(0.0) ? p1 : p1 - ms_exact_light_motion;
+    if (map.triangles == 0UL || !ms_path_start(map.light, map.size, p0, p1_in_frame, path)) {
         walk.state = MS_WALK_DONE;
         walk.sum = 1.0;
         return;

@@ -68,6 +68,14 @@
 // first, so a caller that must stop in time counts them (exact_lookup.glsl's walk).
 uint ms_exact_iterations = 0u;
 
+// A light that moves during the shutter (issue 38; a translating one: the exact lookup refuses
+// a turning light): how far it moves, L(1) - L(0), a spot's position or a directional light's
+// eye (whose motion only moves the map's frame). The caller sets it before asking (the mask:
+// from the map's MsLightEnd, light_motion.glsl); 0, a still light's, leaves every value and
+// cost as it was. A spot's shadow ray L(t) - P(t) = (L0 - P0) + t ((L1 - L0) - (P1 - P0))
+// stays linear in t, so every polynomial keeps its degree (edges and plane: cubics).
+vec3 ms_exact_light_motion = vec3(0.0);
+
 // A vector linear in t: a + t b.
 struct ms_exact_Linear {
     vec3 a;
@@ -373,7 +381,10 @@ void ms_exact_relative(vec3 p0, vec3 p1, bool spot, vec3 light, vec3 t0_corners[
                        out ms_exact_Linear corner[3]) {
     vec3 m = p1 - p0;
     if (spot) {
-        u = ms_exact_Linear(light - p0, -m);
+        // A moving light: the ray's end moves with it (a uniform branch; a still light's ray
+        // as it was, bit for bit).
+        vec3 ray_motion = ms_exact_light_motion == vec3(0.0) ? -m : ms_exact_light_motion - m;
+        u = ms_exact_Linear(light - p0, ray_motion);
     } else {
         u = ms_exact_Linear(-normalize(light), vec3(0.0));
     }

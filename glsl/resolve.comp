@@ -192,8 +192,11 @@ float sample_lit(uvec2 pixel, uint rotation, uint k, vec2 offset, vec3 p, vec3 n
     if (SHADE_SHADOW == SHADOW_TEMPORAL && SHADE_EXACT) {
         // The exact lookup has no texels to filter (the host refuses a filter with it); the
         // analytic estimator's standing receivers take their exact lit share of the shutter.
+        // A moving (translating) light: projected and tested with the light where it is at t
+        // (ms_map_at; the analytic estimator is refused with a moving light).
+        MsMap at = SHADE_LIGHT_MOVES ? ms_map_at(temporal, pc.shadow, t) : temporal;
         lit = SHADE_ANALYTIC && !moving ? ms_lit_fraction_exact(temporal, p, id)
-                                        : (ms_visible_exact(temporal, p, t, id) ? 1.0 : 0.0);
+                                        : (ms_visible_exact(at, p, t, id) ? 1.0 : 0.0);
     } else if (SHADE_SHADOW == SHADOW_TEMPORAL && SHADE_ANALYTIC && !moving) {
         // The analytic estimator: a receiver that stays put all frame is lit for exactly
         // ms_lit_fraction of the shutter, whatever the sample's time.

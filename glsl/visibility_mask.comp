@@ -201,7 +201,11 @@ void main() {
         // A map built for the exact lookup (Lookup::Exact): the receiver's own shadow ray
         // against the triangles named along its path; no normal, offset or bias.
         // The same per-lane budget as the depth lines': ms_loop_iterations counts the exact
-        // test's own loops too (its roots, its sort).
+        // test's own loops too (its roots, its sort). A moving (translating) light: its
+        // motion, for the rays toward it and the walk in its frame (exact_shadow.glsl).
+        if (ms_light_moves(tested.light)) {
+            ms_exact_light_motion = ms_light_end(pc.map).position.xyz - tested.light.position.xyz;
+        }
         ms_walk_exact(tested, p0, p0 + motion, own, FOLLOW_UP ? pc.loop_budget : 0u, walk,
                       carried);
     } else if (MOVING) {

@@ -136,6 +136,27 @@ impl LightView {
             }
     }
 
+    /// Whether the light turns during the shutter (its direction at t = 1 is not t = 0's).
+    pub fn is_turning(&self) -> bool {
+        self.end.is_some_and(|end| end.direction != self.direction)
+    }
+
+    /// Refused with [`crate::Error::InvalidArgument`] naming `what` where this light turns:
+    /// the exact lookup takes a translating light only. Its conservative collection bounds a
+    /// triangle's swept shadow by the hull of its corners' two projections, which holds where
+    /// each point's position in the light's view moves linearly (a translating light: the
+    /// view's rotation stays, X(t) - L(t) is linear); the blend of two turned views is not a
+    /// view, and a point's image under it leaves that hull.
+    pub(crate) fn refuse_turning(&self, what: &str) -> crate::Result<()> {
+        if self.is_turning() {
+            return Err(crate::Error::InvalidArgument(format!(
+                "{what} does not take a turning light (LightView::end with another \
+                 direction) yet: only a translating one, or use the depth-line lookup"
+            )));
+        }
+        Ok(())
+    }
+
     /// Refused with [`crate::Error::InvalidArgument`] naming `what` (a pass or a setting that
     /// does not take a moving light yet) where this light moves.
     pub(crate) fn refuse_moving(&self, what: &str) -> crate::Result<()> {
@@ -161,6 +182,25 @@ mod tests {
 
     fn spot(position: Vec3, direction: Vec3) -> LightView {
         LightView::spot(position, direction, 30.0, 1.0, 0.5, 20.0, (64, 64))
+    }
+
+    #[test]
+    fn only_a_light_whose_direction_changes_turns() {
+        let d = Vec3::new(0.2, -1.0, 0.1);
+        let light = spot(Vec3::new(0.0, 5.0, 0.0), d);
+        assert!(!light.is_turning());
+        let carried = light.moving_to(Vec3::new(3.0, 5.0, 0.0), d).unwrap();
+        assert!(carried.is_moving() && !carried.is_turning());
+        assert!(carried.refuse_turning("the exact lookup").is_ok());
+        let turned = light
+            .moving_to(Vec3::new(0.0, 5.0, 0.0), Vec3::new(0.5, -1.0, 0.1))
+            .unwrap();
+        assert!(turned.is_turning());
+        let refused = turned.refuse_turning("the exact lookup").unwrap_err();
+        assert!(
+            refused.to_string().contains("the exact lookup"),
+            "{refused}"
+        );
     }
 
     #[test]

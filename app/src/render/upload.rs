@@ -178,9 +178,10 @@ pub fn with_motion(scene: &Scene, light: LightView) -> Result<LightView> {
 }
 
 /// Refuses a moving light for the forward frame's settings that do not take one yet: the
-/// coverage map (`--method coverage`), and the temporal map's exact lookup (`--lookup exact`)
-/// and analytic estimator (`--shadow-estimator analytic`), named. The ordinary maps (TSM,
-/// plain, the reference) draw and read each layer with the light at its time.
+/// coverage map (`--method coverage`), the temporal map's analytic estimator
+/// (`--shadow-estimator analytic`), and its exact lookup (`--lookup exact`) under a turning
+/// light, named. The ordinary maps (TSM, plain, the reference) draw and read each layer with
+/// the light at its time.
 pub fn check_moving_light_forward(scene: &Scene, settings: &RenderSettings) -> Result<()> {
     use motion_shadows::technique::{Lookup, ShadowEstimator};
     if settings.method == Method::Coverage {
@@ -189,8 +190,11 @@ pub fn check_moving_light_forward(scene: &Scene, settings: &RenderSettings) -> R
     if settings.method != Method::Temporal {
         return Ok(());
     }
-    if settings.lookup == Lookup::Exact {
-        return refuse_moving_light(scene, "--method temporal --lookup exact");
+    if settings.lookup == Lookup::Exact && light_turns(scene) {
+        return refuse_moving_light(
+            scene,
+            "a turning light (its t1 direction) with --method temporal --lookup exact",
+        );
     }
     if settings.shadow_estimator == ShadowEstimator::Analytic {
         return refuse_moving_light(scene, "--method temporal --shadow-estimator analytic");
@@ -199,13 +203,12 @@ pub fn check_moving_light_forward(scene: &Scene, settings: &RenderSettings) -> R
 }
 
 /// Refuses a moving light for the deferred frame's settings that do not take one yet: every
-/// method but the temporal map's mask (`--method temporal`), and with it the exact lookup
-/// (`--lookup exact`), standing receivers (`--static-receivers`: under a moving light no
+/// method but the temporal map's mask (`--method temporal`, either lookup), and with it
+/// standing receivers (`--static-receivers`: under a moving light no
 /// receiver stands still in the light's frame) and a light that turns (only a translating
 /// light's frame keeps the receivers' normals), named.
 pub fn check_moving_light_deferred(scene: &Scene, deferred: &DeferredSettings) -> Result<()> {
-    use motion_shadows::technique::Lookup;
-    if deferred.method != DeferredMethod::Temporal || deferred.lookup == Lookup::Exact {
+    if deferred.method != DeferredMethod::Temporal {
         return refuse_moving_light(
             scene,
             &format!("--method {} (the deferred frame)", deferred.name()),
@@ -217,11 +220,7 @@ pub fn check_moving_light_deferred(scene: &Scene, deferred: &DeferredSettings) -
             "--method temporal --static-receivers (the deferred frame)",
         );
     }
-    let turns = match &scene.light {
-        Light::Spot(s) => s.t1.is_some_and(|end| end.direction != s.direction),
-        Light::Directional(d) => d.t1.is_some_and(|end| end.direction != d.direction),
-    };
-    if turns {
+    if light_turns(scene) {
         // Its receivers' normals (offset, plane test) are not turned with the light's frame:
         // mask RMSE 0.05 on moving-light turned 20 degrees, against 0.001 carried.
         return refuse_moving_light(
@@ -230,6 +229,14 @@ pub fn check_moving_light_deferred(scene: &Scene, deferred: &DeferredSettings) -
         );
     }
     Ok(())
+}
+
+/// Whether the scene's light turns during the shutter (its t1 direction differs from t0's).
+fn light_turns(scene: &Scene) -> bool {
+    match &scene.light {
+        Light::Spot(s) => s.t1.is_some_and(|end| end.direction != s.direction),
+        Light::Directional(d) => d.t1.is_some_and(|end| end.direction != d.direction),
+    }
 }
 
 /// Refuses a scene whose light moves for `what` (a method, a setting, the viewer) that does

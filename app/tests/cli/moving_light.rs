@@ -38,9 +38,14 @@ fn json_says_whether_the_light_moves() {
             assert_eq!(json["static_layer_bytes"], 0, "{scene}");
         }
     }
-    // The deferred frame's mask and its exact truth take the moving light too.
-    for method in ["temporal", "raytrace"] {
-        let args = [
+    // The deferred frame's mask (either lookup) and its exact truth take the moving light
+    // too.
+    for (method, lookup) in [
+        ("temporal", &["--lookup", "depth"][..]),
+        ("temporal", &["--lookup", "exact"]),
+        ("raytrace", &[]),
+    ] {
+        let mut args = vec![
             "render",
             "--frame",
             "deferred",
@@ -53,6 +58,7 @@ fn json_says_whether_the_light_moves() {
             "--height",
             "24",
         ];
+        args.extend(lookup);
         let out = motion_shadows(&args, &dir);
         assert!(
             out.status.success(),
@@ -81,7 +87,6 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
     };
     for (args, named) in [
         (forward(&["--method", "coverage"]), "--method coverage"),
-        (forward(&["--lookup", "exact"]), "--lookup exact"),
         (
             forward(&["--shadow-estimator", "analytic"]),
             "--shadow-estimator analytic",
@@ -111,6 +116,17 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{args:?} ran");
     assert!(stderr.contains("a turning light"), "{stderr}");
+    // The forward frame's exact lookup with a light that turns (a translating one it takes).
+    let mut args = vec!["render", "--lookup", "exact", "--scene-file"];
+    args.push(path.to_str().unwrap());
+    args.extend(SMALL);
+    let out = motion_shadows(&args, &dir);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} ran");
+    assert!(
+        stderr.contains("a turning light") && stderr.contains("--lookup exact"),
+        "{stderr}"
+    );
     // The viewer, before it opens a window.
     let out = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
         .args(["view", "--scene", "moving-light"])
