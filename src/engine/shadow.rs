@@ -95,6 +95,19 @@ impl LightShadow {
         })
     }
 
+    /// With the mask's walks stopping after about `budget` loop iterations and `rounds`
+    /// follow-up rounds ([`VisibilityMaskPass::with_loop_budget`],
+    /// [`VisibilityMaskPass::with_follow_up_rounds`]): for tests of what a device's loop
+    /// limit does, with small scenes. Call it before the first frame.
+    #[doc(hidden)]
+    pub fn with_mask_loop_budget(mut self, ctx: &Context, budget: u32, rounds: u32) -> Self {
+        self.mask = self.mask.map(|pass| {
+            pass.with_loop_budget(ctx, budget)
+                .with_follow_up_rounds(rounds)
+        });
+        self
+    }
+
     /// The settings it was made with.
     pub fn settings(&self) -> &ShadowSettings {
         &self.settings
@@ -256,7 +269,9 @@ impl LightShadow {
     /// After frame `frame`'s fence (and [`Context::collect`]): checks that its shadow is
     /// complete. Errors with [`Error::RoomExceeded`] where it stored more than was reserved
     /// from its meshes (a bound too small; the map is grown to fit), and as
-    /// [`TemporalShadowMap::check_complete`] otherwise. A frame whose room could not be
+    /// [`TemporalShadowMap::check_complete`] otherwise; with the mask on, errors with
+    /// [`Error::MaskCutShort`] where the device's loop limit may have cut some mask pixels'
+    /// lookups short ([`MaskBindings::read_over_budget_pixels`]). A frame whose room could not be
     /// bounded (a moving light) that overflowed grows its map and errors likewise.
     pub fn finish_frame(&mut self, ctx: &Context, frame: u64) -> Result<()> {
         let at = self.slot(frame);
@@ -276,6 +291,18 @@ impl LightShadow {
                 reserved: reserved.map_or(capacity, |r| r.min(u64::from(u32::MAX)) as u32),
             });
         }
-        slot.map.check_complete(&counts)
+        slot.map.check_complete(&counts)?;
+        // A device with a loop limit (lavapipe) may have cut some mask pixels' lookups short:
+        // the pass counted them, and a host that is not told would trust those values.
+        if let Some((bindings, _)) = &slot.mask {
+            let pixels = bindings.read_over_budget_pixels()?;
+            if pixels > 0 {
+                return Err(Error::MaskCutShort {
+                    frame: recorded,
+                    pixels,
+                });
+            }
+        }
+        Ok(())
     }
 }
