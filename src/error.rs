@@ -155,7 +155,7 @@ pub enum Error {
     /// goes very often in the shutter) or a receiver's path longer than the follow-up rounds
     /// cover.
     #[error(
-        "frame {frame}: {pixels} visibility-mask pixel(s) needed more shader loop iterations than this device runs (lavapipe's loop limiter): their mask values may be cut short. Use a coarser map, shorter motion, or a device without the limit"
+        "frame {frame}: {pixels} mask pixel(s) need more loop iterations than this device runs (lavapipe's loop limiter): their visibility-mask values may be cut short. Use a coarser map, shorter motion, or a device without the limit"
     )]
     MaskCutShort {
         /// The frame.
