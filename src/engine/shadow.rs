@@ -15,6 +15,10 @@ use crate::technique::{
 
 /// Draws a frame's list has room for until a frame needs more.
 const INITIAL_DRAWS: usize = 16;
+/// A map that must grow for a frame's meshes grows half again what they need: moving
+/// meshes' room changes a little every frame, and each reallocation also forgets a kept
+/// static layer (found by the deferred example: a kept layer redrawn two frames later).
+const ROOM_HEADROOM_QUARTERS: u64 = 2;
 
 /// What one frame in flight holds.
 struct Slot {
@@ -140,7 +144,9 @@ impl LightShadow {
     /// the generation, the mask when [`ShadowSettings::mask`] is on (`mask` its inputs, given
     /// exactly then), and the counters' readback. Before recording it tells `ctx` the frame
     /// ([`Context::begin_frame`]) and reserves the room the meshes' shadow can need, from the
-    /// same descriptions the draws come from. A static layer kept ([`StaticLayer::Kept`]) is
+    /// same descriptions the draws come from (a map that must grow grows half again what
+    /// they need, so that room that varies a little between frames does not reallocate, and
+    /// forget a kept static layer, every frame). A static layer kept ([`StaticLayer::Kept`]) is
     /// kept once the frame that drew it has completed ([`Context::collect`]). Returns what
     /// the host's shaders and render graph need ([`ShadowFrame`]). On error nothing is
     /// recorded.
@@ -215,7 +221,9 @@ impl LightShadow {
             let ids = meshes.iter().map(Mesh::id_end).max().unwrap_or(0);
             slot.map.reserve_triangle_records(ctx, ids)?;
         }
-        let reserved = slot.map.reserve_bounded(ctx, &light, None, meshes)?;
+        let reserved =
+            slot.map
+                .reserve_bounded(ctx, &light, None, meshes, ROOM_HEADROOM_QUARTERS)?;
         if let Some((_, inputs)) = mask_pass {
             let fits = slot
                 .mask
@@ -238,7 +246,8 @@ impl LightShadow {
             self.collection
                 .record(device, cmd, &slot.draws, &light, &slot.map, None)?;
         }
-        if slot.map.static_layer_builds() != builds {
+        let static_layer_drawn = slot.map.static_layer_builds() != builds;
+        if static_layer_drawn {
             slot.layer_drawn_at = Some(frame);
         }
         // SAFETY: as above, later in the same command buffer.
@@ -263,6 +272,7 @@ impl LightShadow {
             &slot.draws,
             &light,
             &slot.map,
+            static_layer_drawn,
         ))
     }
 

@@ -46,6 +46,8 @@ pub struct FrameOutput {
     pub radiance: Vec<[f32; 4]>,
     /// Per light: the visibility mask (lit fraction of the shutter) per pixel.
     pub masks: Vec<Vec<f32>>,
+    /// Per light: whether the frame drew the static layer of its map (`ShadowFrame`).
+    pub static_layer_drawn: Vec<bool>,
 }
 
 pub(super) const NORMAL_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
@@ -113,6 +115,8 @@ pub(super) struct Slot {
     pub(super) mask_readback: Vec<HostBuffer>,
     pub(super) frame_set: vk::DescriptorSet,
     pub(super) image_set: vk::DescriptorSet,
+    /// Per light: whether its frame drew the map's static layer.
+    pub(super) static_layer_drawn: Vec<bool>,
 }
 
 impl<'h> Engine<'h> {
@@ -369,6 +373,7 @@ impl<'h> Engine<'h> {
                     .collect::<Result<_>>()?,
                 frame_set: sets[0],
                 image_set: sets[1],
+                static_layer_drawn: Vec::new(),
             };
             self.write_descriptors(&slot);
             Ok(slot)

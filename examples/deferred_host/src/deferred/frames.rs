@@ -97,6 +97,7 @@ impl<'h> Engine<'h> {
             counters,
             radiance: s.radiance_readback.read(pixels)?,
             masks,
+            static_layer_drawn: s.static_layer_drawn.clone(),
         }))
     }
 

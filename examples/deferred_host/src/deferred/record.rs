@@ -81,6 +81,7 @@ impl Recorder<'_> {
         pipeline_barrier(device, cmd, &barriers, &[]);
         let inv_view_proj = constants.inv_view_proj;
         let mut maps = [0u64; MAX_LIGHTS];
+        s.static_layer_drawn.clear();
         for ((address, shadow), mask) in maps.iter_mut().zip(shadows).zip(&s.masks) {
             let inputs = MaskInputs {
                 depth: s.depth.view,
@@ -119,6 +120,7 @@ impl Recorder<'_> {
                 unsafe { shadow.record_frame(self.ctx, cmd, frame, meshes, Some(&inputs)) }?;
             // Changes when a map grows: pushed every frame.
             *address = recorded.map_header;
+            s.static_layer_drawn.push(recorded.static_layer_drawn);
         }
 
         // 3. The engine's shading: masks written by the mask pass become sampled reads.
