@@ -148,6 +148,22 @@ pub enum Error {
         reserved: u32,
     },
 
+    /// The visibility mask of a frame ([`crate::LightShadow::finish_frame`]) has pixels whose
+    /// lookups ran past the device's loop budget (lavapipe's loop limiter): their values may
+    /// have been cut short, so the mask cannot be trusted at those pixels. The map and its
+    /// shadow are complete; what ran too long is one texel's list (a shadow that comes and
+    /// goes very often in the shutter) or a receiver's path longer than the follow-up rounds
+    /// cover.
+    #[error(
+        "frame {frame}: {pixels} mask pixel(s) need more loop iterations than this device runs (lavapipe's loop limiter): their visibility-mask values may be cut short. Use a coarser map, shorter motion, or a device without the limit"
+    )]
+    MaskCutShort {
+        /// The frame.
+        frame: u64,
+        /// Pixels counted past the budget.
+        pixels: u32,
+    },
+
     /// A caller-supplied value is out of range.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),

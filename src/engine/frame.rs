@@ -27,6 +27,10 @@ pub struct ShadowFrame {
     pub generation: PassAccesses,
     /// What the mask read and wrote (with [`super::ShadowSettings::mask`]).
     pub mask: Option<PassAccesses>,
+    /// Whether this frame's collection drew the still meshes' static layer (with
+    /// [`super::StaticLayer::Kept`], only when the layer could not be kept: the first frame
+    /// in a map, or after the light, the still meshes or the map's buffers changed).
+    pub static_layer_drawn: bool,
     /// What the host's own shaders read when they test visibility against the map, declared
     /// for every stage (`TemporalShadowMap::lookup_accesses` narrows it to the stages a host
     /// reads from).
@@ -41,6 +45,7 @@ impl ShadowFrame {
         draws: &DrawList,
         light: &LightView,
         map: &TemporalShadowMap,
+        static_layer_drawn: bool,
     ) -> Self {
         let every_stage = vk::PipelineStageFlags2::ALL_COMMANDS;
         Self {
@@ -48,6 +53,7 @@ impl ShadowFrame {
             collection: collection.accesses(draws, light, map, None),
             generation: generation.accesses(map),
             mask: mask.map(|(pass, inputs)| pass.accesses(inputs, map)),
+            static_layer_drawn,
             lookups: map.lookup_accesses(every_stage),
         }
     }

@@ -15,6 +15,10 @@ use crate::technique::{
 
 /// Draws a frame's list has room for until a frame needs more.
 const INITIAL_DRAWS: usize = 16;
+/// A map that must grow for a frame's meshes grows half again what they need: moving
+/// meshes' room changes a little every frame, and each reallocation also forgets a kept
+/// static layer (found by the deferred example: a kept layer redrawn two frames later).
+const ROOM_HEADROOM_QUARTERS: u64 = 2;
 
 /// What one frame in flight holds.
 struct Slot {
@@ -95,6 +99,19 @@ impl LightShadow {
         })
     }
 
+    /// With the mask's walks stopping after about `budget` loop iterations and `rounds`
+    /// follow-up rounds ([`VisibilityMaskPass::with_loop_budget`],
+    /// [`VisibilityMaskPass::with_follow_up_rounds`]): for tests of what a device's loop
+    /// limit does, with small scenes. Call it before the first frame.
+    #[doc(hidden)]
+    pub fn with_mask_loop_budget(mut self, ctx: &Context, budget: u32, rounds: u32) -> Self {
+        self.mask = self.mask.map(|pass| {
+            pass.with_loop_budget(ctx, budget)
+                .with_follow_up_rounds(rounds)
+        });
+        self
+    }
+
     /// The settings it was made with.
     pub fn settings(&self) -> &ShadowSettings {
         &self.settings
@@ -127,7 +144,9 @@ impl LightShadow {
     /// the generation, the mask when [`ShadowSettings::mask`] is on (`mask` its inputs, given
     /// exactly then), and the counters' readback. Before recording it tells `ctx` the frame
     /// ([`Context::begin_frame`]) and reserves the room the meshes' shadow can need, from the
-    /// same descriptions the draws come from. A static layer kept ([`StaticLayer::Kept`]) is
+    /// same descriptions the draws come from (a map that must grow grows half again what
+    /// they need, so that room that varies a little between frames does not reallocate, and
+    /// forget a kept static layer, every frame). A static layer kept ([`StaticLayer::Kept`]) is
     /// kept once the frame that drew it has completed ([`Context::collect`]). Returns what
     /// the host's shaders and render graph need ([`ShadowFrame`]). On error nothing is
     /// recorded.
@@ -202,7 +221,9 @@ impl LightShadow {
             let ids = meshes.iter().map(Mesh::id_end).max().unwrap_or(0);
             slot.map.reserve_triangle_records(ctx, ids)?;
         }
-        let reserved = slot.map.reserve_bounded(ctx, &light, None, meshes)?;
+        let reserved =
+            slot.map
+                .reserve_bounded(ctx, &light, None, meshes, ROOM_HEADROOM_QUARTERS)?;
         if let Some((_, inputs)) = mask_pass {
             let fits = slot
                 .mask
@@ -225,7 +246,8 @@ impl LightShadow {
             self.collection
                 .record(device, cmd, &slot.draws, &light, &slot.map, None)?;
         }
-        if slot.map.static_layer_builds() != builds {
+        let static_layer_drawn = slot.map.static_layer_builds() != builds;
+        if static_layer_drawn {
             slot.layer_drawn_at = Some(frame);
         }
         // SAFETY: as above, later in the same command buffer.
@@ -250,13 +272,16 @@ impl LightShadow {
             &slot.draws,
             &light,
             &slot.map,
+            static_layer_drawn,
         ))
     }
 
     /// After frame `frame`'s fence (and [`Context::collect`]): checks that its shadow is
     /// complete. Errors with [`Error::RoomExceeded`] where it stored more than was reserved
     /// from its meshes (a bound too small; the map is grown to fit), and as
-    /// [`TemporalShadowMap::check_complete`] otherwise. A frame whose room could not be
+    /// [`TemporalShadowMap::check_complete`] otherwise; with the mask on, errors with
+    /// [`Error::MaskCutShort`] where the device's loop limit may have cut some mask pixels'
+    /// lookups short ([`MaskBindings::read_over_budget_pixels`]). A frame whose room could not be
     /// bounded (a moving light) that overflowed grows its map and errors likewise.
     pub fn finish_frame(&mut self, ctx: &Context, frame: u64) -> Result<()> {
         let at = self.slot(frame);
@@ -276,6 +301,18 @@ impl LightShadow {
                 reserved: reserved.map_or(capacity, |r| r.min(u64::from(u32::MAX)) as u32),
             });
         }
-        slot.map.check_complete(&counts)
+        slot.map.check_complete(&counts)?;
+        // A device with a loop limit (lavapipe) may have cut some mask pixels' lookups short:
+        // the pass counted them, and a host that is not told would trust those values.
+        if let Some((bindings, _)) = &slot.mask {
+            let pixels = bindings.read_over_budget_pixels()?;
+            if pixels > 0 {
+                return Err(Error::MaskCutShort {
+                    frame: recorded,
+                    pixels,
+                });
+            }
+        }
+        Ok(())
     }
 }

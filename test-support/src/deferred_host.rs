@@ -23,12 +23,11 @@ pub fn new_host() -> Host {
         .unwrap_or_else(|e| panic!("GPU tests need a Vulkan device and the validation layer: {e}"))
 }
 
-pub fn settings(initial_capacity: (u32, u32)) -> Settings {
+pub fn settings() -> Settings {
     Settings {
         width: SIZE.0,
         height: SIZE.1,
         shadow_size: SHADOW,
-        initial_capacity,
         lookup: ShadowLookup::MaskImages,
         keep_static_layer: false,
         receivers_move: true,
@@ -68,7 +67,7 @@ pub fn ground_point(rays: &CameraRays, x: f32, y: f32, half: f64) -> Option<DVec
 /// edge (grazing light, the spot's cone within `cone_margin` in cosine), where a pixel's
 /// area or a float ulp decides.
 pub fn ground_direct(light: &Light, p: DVec3, albedo: f64, cone_margin: f64) -> Option<f64> {
-    let view = light.view(SHADOW);
+    let view = light.view(SHADOW).expect("light view");
     let (to_light, dist2, emission) = match *light {
         Light::Spot { intensity, .. } => {
             let d = view.position.as_dvec3() - p;
@@ -168,7 +167,7 @@ pub struct ProbePush {
 /// Lit-fraction queries (time -1, own id none, normal up) at the centres of the shadow-map
 /// texels of the row through ground depth `z`, on the ground, for the probe shader.
 pub fn lit_fraction_queries_along_texel_row(world: &World, z: f64) -> Vec<Query> {
-    let light = world.lights[0].view(SHADOW);
+    let light = world.lights[0].view(SHADOW).expect("light view");
     let view_proj = (light.proj * light.view).as_dmat4();
     let to_world = view_proj.inverse();
     let row = {

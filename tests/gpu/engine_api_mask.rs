@@ -24,9 +24,17 @@ fn closed_form(x: f32) -> f32 {
     1.0 - (leaves - enters)
 }
 
-#[test]
-fn the_shadow_records_the_mask_in_the_same_call() {
-    let ctx = context();
+/// What one masked frame gave: `finish_frame`'s answer, the mask and the G-buffer's depth.
+struct MaskedFrame {
+    finished: motion_shadows::Result<()>,
+    mask: Vec<f32>,
+    depth: Vec<f32>,
+    view_proj: glam::Mat4,
+}
+
+/// Records and runs one frame of the sliding square with the mask on; `loop_budget` (0: the
+/// device's) is the mask's walk budget, with no follow-up rounds when it is not 0.
+fn masked_frame(ctx: &motion_shadows::Context, loop_budget: u32) -> MaskedFrame {
     let device = ctx.device();
     let ground: Vec<Vec3> = [
         (-3.0, -1.0),
@@ -55,8 +63,8 @@ fn the_shadow_records_the_mask_in_the_same_call() {
     let padded: Vec<Vec4> = (ground.iter().chain(&open).chain(&close))
         .map(|p| p.extend(1.0))
         .collect();
-    let buffer = Buffer::with_data(&ctx, "positions", BufferUsage::HostToDevice, &padded)
-        .expect("positions");
+    let buffer =
+        Buffer::with_data(ctx, "positions", BufferUsage::HostToDevice, &padded).expect("positions");
     let at = |vertex: u64| PositionStream::from_buffer(&buffer, 16 * vertex, 16).expect("stream");
     let meshes = [
         Mesh::still(at(0), 6).cpu(CpuGeometry::still(&ground)),
@@ -73,7 +81,10 @@ fn the_shadow_records_the_mask_in_the_same_call() {
         frames_in_flight: 1,
         ..ShadowSettings::new(light)
     };
-    let mut shadow = LightShadow::new(&ctx, settings).expect("shadow with the mask");
+    let mut shadow = LightShadow::new(ctx, settings).expect("shadow with the mask");
+    if loop_budget > 0 {
+        shadow = shadow.with_mask_loop_budget(ctx, loop_budget, 0);
+    }
     // The G-buffer (the host's, here the library's own pass) at shutter close.
     let camera = CameraView::perspective(
         Vec3::new(0.0, 7.0, 4.0),
@@ -88,11 +99,11 @@ fn the_shadow_records_the_mask_in_the_same_call() {
     let draws: Vec<_> = (meshes.iter().enumerate())
         .map(|(i, m)| m.draw(i).expect("draw"))
         .collect();
-    let mut list = DrawList::new(&ctx, 2).expect("draw list");
-    let gbuffer = GBuffer::new(&ctx, SIZE.0, SIZE.1).expect("G-buffer");
-    let gbuffer_pass = GBufferPass::new(&ctx).expect("G-buffer pass");
+    let mut list = DrawList::new(ctx, 2).expect("draw list");
+    let gbuffer = GBuffer::new(ctx, SIZE.0, SIZE.1).expect("G-buffer");
+    let gbuffer_pass = GBufferPass::new(ctx).expect("G-buffer pass");
     let output = Image::new(
-        &ctx,
+        ctx,
         "mask",
         (SIZE.0, SIZE.1, 1),
         vk::Format::R32_SFLOAT,
@@ -101,7 +112,7 @@ fn the_shadow_records_the_mask_in_the_same_call() {
     .expect("mask image");
     let pixels = (SIZE.0 * SIZE.1) as usize;
     let readback = Buffer::new(
-        &ctx,
+        ctx,
         "mask readback",
         4 * pixels as u64,
         BufferUsage::Readback,
@@ -109,7 +120,7 @@ fn the_shadow_records_the_mask_in_the_same_call() {
     .expect("readback");
     let inputs = gbuffer.mask_inputs(output.layer_view(0), view_proj.inverse(), 1.0, false);
     let range = output.layers_range(0, 1);
-    OneShot::new(&ctx)
+    OneShot::new(ctx)
         .expect("command buffer")
         .run(|cmd| {
             // SAFETY: the OneShot's command buffer, recording outside rendering on the
@@ -137,7 +148,7 @@ fn the_shadow_records_the_mask_in_the_same_call() {
                     Access::TRANSFER_READ,
                     Access::COMPUTE_RW,
                 );
-                shadow.record_frame(&ctx, cmd, 1, &meshes, Some(&inputs))?;
+                shadow.record_frame(ctx, cmd, 1, &meshes, Some(&inputs))?;
                 let to_copy = (
                     vk::ImageLayout::GENERAL,
                     vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
@@ -160,9 +171,27 @@ fn the_shadow_records_the_mask_in_the_same_call() {
         .expect("frame");
     // SAFETY: the OneShot waited for the frame.
     unsafe { ctx.collect(1) };
-    shadow.finish_frame(&ctx, 1).expect("complete frame");
+    let finished = shadow.finish_frame(ctx, 1);
     let mask: Vec<f32> = readback.read(pixels).expect("mask");
     let depth = gbuffer.read().expect("G-buffer").depth;
+    MaskedFrame {
+        finished,
+        mask,
+        depth,
+        view_proj,
+    }
+}
+
+#[test]
+fn the_shadow_records_the_mask_in_the_same_call() {
+    let ctx = context();
+    let MaskedFrame {
+        finished,
+        mask,
+        depth,
+        view_proj,
+    } = masked_frame(&ctx, 0);
+    finished.expect("complete frame");
     let inverse = view_proj.inverse();
     let (mut checked, mut worst) = (0, 0.0f32);
     for (i, (&d, &got)) in depth.iter().zip(&mask).enumerate() {
@@ -183,5 +212,23 @@ fn the_shadow_records_the_mask_in_the_same_call() {
     eprintln!("{checked} ground pixels, worst {worst}");
     assert!(checked > 100, "{checked} ground pixels checked");
     assert!(worst <= 0.05, "the mask is off the closed form by {worst}");
+    assert_no_validation_messages(&ctx);
+}
+
+/// A device that leaves long loops (lavapipe) may cut some pixels' lookups short: the mask
+/// pass counts them, and `finish_frame` must report them rather than leave the host a mask it
+/// cannot trust. A walk budget of 2 iterations with no follow-up round cuts the shadowed
+/// pixels' lookups short on any device.
+#[test]
+fn finish_frame_reports_mask_pixels_cut_short_by_the_loop_limit() {
+    let ctx = context();
+    let frame = masked_frame(&ctx, 2);
+    match frame.finished {
+        Err(motion_shadows::Error::MaskCutShort { frame, pixels }) => {
+            assert_eq!(frame, 1);
+            assert!(pixels > 0, "{pixels} pixels reported");
+        }
+        other => panic!("finish_frame did not report the cut-short pixels: {other:?}"),
+    }
     assert_no_validation_messages(&ctx);
 }

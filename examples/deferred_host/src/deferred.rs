@@ -3,21 +3,23 @@
 //! The engine owns everything a renderer owns: the device (`Host`, created without the
 //! library), its vertex and index buffers, its images, its pipelines and shaders, its frame
 //! loop with two frames in flight, and its lighting. The library is handed the device
-//! (`Context::from_raw`) and records three passes into the engine's command buffers:
+//! (`Context::from_raw`); per light one `LightShadow` (one map per frame in flight) records
+//! the shadow into the engine's command buffers from the meshes described once
+//! (`motion_shadows::Mesh`, with their CPU copy for the room each frame reserves):
 //!
 //! ```text
 //! per frame (slot = frame % 2, with its own command buffer, fence and resources):
-//!   DrawList::record_update          the engine's draws: its own buffers, read in place
-//!   per light: CollectionPass        prism fragments of every moving triangle, from the light
-//!              GenerationPass        fragments -> depth-time ranges (the temporal shadow map)
 //!   G-buffer (the engine's own)      depth, world normal, albedo at shutter time t = 1,
 //!                                    world motion over the shutter (this frame's position
 //!                                    minus last frame's, as engines keep for motion vectors)
 //!                                    and each pixel's triangle id
-//!   per light: VisibilityMaskPass    G-buffer depth + normals + motion + ids -> lit fraction
-//!                                    of the shutter, each receiver followed along its path
-//!                                    (the ids keep its own triangle from shadowing it)
+//!   per light: record_frame          the map's collection and generation from the meshes,
+//!                                    then the visibility mask: G-buffer depth + normals +
+//!                                    motion + ids -> lit fraction of the shutter, each
+//!                                    receiver followed along its path (the ids keep its own
+//!                                    triangle from shadowing it)
 //!   shading (the engine's own)       radiance = albedo / pi * sum(E cos falloff mask) + ambient
+//! after the frame's fence: per light finish_frame (room held, mask not cut short)
 //! ```
 //!
 //! The shutter of frame f runs from frame f - 1 (t = 0) to frame f (t = 1): an engine keeps
@@ -35,11 +37,11 @@ use crate::host::Host;
 // distribution's libshaderc.so cannot be linked as it is; see build-support/shaderc-link.
 use ash::vk;
 use glam::{DMat4, Mat4, UVec4, Vec3, Vec4};
-use motion_shadows::gpu::Context;
-use motion_shadows::technique::{
-    CollectionPass, Counters, Draw, DrawList, GLSL_INCLUDE, GenerationPass, IndexStream, Indices,
-    LightKind, LightView, MaskBindings, MaskInputs, MotionImage, NormalEncoding, NormalImage,
-    PositionStream, TemporalShadowMap, TriangleIdImage, VisibilityMaskPass,
+use motion_shadows::research::passes::{Counters, LightKind};
+use motion_shadows::{
+    Context, CpuGeometry, GLSL_INCLUDE, IndexStream, Indices, LightShadow, LightView, MaskInputs,
+    Mesh as ShadowMesh, MotionImage, NormalEncoding, NormalImage, PositionStream, ShadowSettings,
+    StaticLayer, TemporalShadowMap, TriangleIdImage,
 };
 use motion_shadows_shaderc_link as _;
 

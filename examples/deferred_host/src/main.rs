@@ -37,9 +37,6 @@ fn main() -> Result<(), deferred::Error> {
         width: WIDTH,
         height: HEIGHT,
         shadow_size: (512, 512),
-        // Generous: 2 fragments and 1 range per shadow texel (this scene needs about 1.5 and
-        // 0.75). Too small would only cost a re-render of the kept frame.
-        initial_capacity: (2 * 512 * 512, 512 * 512),
         lookup: ShadowLookup::MaskImages,
         // The static meshes never change in place and the lights stay put.
         keep_static_layer: true,
@@ -72,8 +69,8 @@ fn main() -> Result<(), deferred::Error> {
 
     println!("device:  {}", host.device_name);
     println!(
-        "frames:  {FRAMES} at {WIDTH}x{HEIGHT}, 2 in flight; the last took {} submission(s)",
-        last.attempts
+        "frames:  {FRAMES} at {WIDTH}x{HEIGHT}, {} in flight",
+        deferred::FRAMES_IN_FLIGHT
     );
     for (i, (counts, mask)) in last.counters.iter().zip(&last.masks).enumerate() {
         // The mean lit fraction over the pixels that show a surface.

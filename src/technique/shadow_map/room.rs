@@ -120,17 +120,20 @@ impl TemporalShadowMap {
         coverage: Option<&CoverageMap>,
         draws: &[HostDraw],
     ) -> Result<Option<u64>> {
-        self.reserve_bounded(ctx, light, coverage, draws)
+        self.reserve_bounded(ctx, light, coverage, draws, 0)
     }
 
     /// [`Self::reserve_for`] for any draw description the ceiling bounds (the host's copies,
-    /// or the engine layer's meshes).
+    /// or the engine layer's meshes). Where the map must grow, it grows `headroom_quarters`
+    /// quarters more than the frame needs, so that frames whose room varies a little do not
+    /// each reallocate (which also forgets a kept static layer).
     pub(crate) fn reserve_bounded<D: Bounded>(
         &mut self,
         ctx: &Context,
         light: &LightView,
         coverage: Option<&CoverageMap>,
         draws: &[D],
+        headroom_quarters: u64,
     ) -> Result<Option<u64>> {
         let needed = PathBuffers::of_light(light, coverage.is_some(), self.range_storage);
         if self.buffers.missing_from(needed).is_some() {
@@ -164,7 +167,20 @@ impl TemporalShadowMap {
                 ))
             })
         };
-        self.reserve(ctx, counted(nodes, "nodes")?, counted(ranges, "ranges")?)?;
+        let with_headroom = |n: u64, capacity: u32| {
+            if n > u64::from(capacity) {
+                (n + n / 4 * headroom_quarters)
+                    .min(u64::from(u32::MAX))
+                    .max(n)
+            } else {
+                n
+            }
+        };
+        self.reserve(
+            ctx,
+            counted(with_headroom(nodes, self.node_capacity), "nodes")?,
+            counted(with_headroom(ranges, self.range_capacity), "ranges")?,
+        )?;
         if names > u64::from(self.static_name_capacity()) {
             self.reserve_static_names(ctx, counted(names, "static names")?)?;
         }

@@ -54,8 +54,7 @@ fn spot_over_ground() -> Light {
 
 /// The world's map of frame 1, whose shutter runs from frame 0 (t = 0) to frame 1.
 fn frame_map<'h>(host: &'h Host, world: &World) -> (deferred::Engine<'h>, usize) {
-    let mut engine =
-        deferred::Engine::new(host, world, settings((300_000, 200_000))).expect("engine");
+    let mut engine = deferred::Engine::new(host, world, settings()).expect("engine");
     let frame = engine
         .render(world, 0..2, &|f| f == 1)
         .expect("frames")

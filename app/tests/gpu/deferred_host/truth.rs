@@ -89,7 +89,7 @@ fn host_masks_with_moving_receivers_match_the_exact_truth() {
     let host = new_host();
     let world = sliding_platform();
     let frame = {
-        let mut engine = Engine::new(&host, &world, settings((1 << 20, 1 << 19))).expect("engine");
+        let mut engine = Engine::new(&host, &world, settings()).expect("engine");
         let mut frames = engine
             .render(&world, 0..FRAME + 1, &|f| f == FRAME)
             .expect("frames");
@@ -181,7 +181,7 @@ fn host_masks_of_a_tumbling_box_match_the_exact_truth() {
     let host = new_host();
     let world = tumbling_box();
     let frame = {
-        let mut engine = Engine::new(&host, &world, settings((1 << 18, 1 << 17))).expect("engine");
+        let mut engine = Engine::new(&host, &world, settings()).expect("engine");
         let mut frames = engine
             .render(&world, 0..FRAME + 1, &|f| f == FRAME)
             .expect("frames");

@@ -24,9 +24,6 @@ pub struct Settings {
     pub height: u32,
     /// Texels of every shadow map.
     pub shadow_size: (u32, u32),
-    /// Fragments and ranges every shadow map has room for at first. Too small only costs a
-    /// re-render of a kept frame (see `Engine::render`).
-    pub initial_capacity: (u32, u32),
     pub lookup: ShadowLookup,
     /// Keep each shadow map's static layer across frames (`LightView::keep_static_layer`):
     /// the world's static meshes never change in place, and its lights do not move.
@@ -43,14 +40,14 @@ pub struct FrameOutput {
     pub frame: u32,
     /// The frame-in-flight slot that rendered it.
     pub slot: usize,
-    /// Submissions it took (more than 1 when a shadow map overflowed and was grown).
-    pub attempts: u32,
     /// Per light: the shadow map's counters (N_f = node_count, N_r = range_count).
     pub counters: Vec<Counters>,
     /// Linear radiance per pixel (rgb; a = 1 where a surface is, 0 for the background).
     pub radiance: Vec<[f32; 4]>,
     /// Per light: the visibility mask (lit fraction of the shutter) per pixel.
     pub masks: Vec<Vec<f32>>,
+    /// Per light: whether the frame drew the static layer of its map (`ShadowFrame`).
+    pub static_layer_drawn: Vec<bool>,
 }
 
 pub(super) const NORMAL_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
@@ -70,26 +67,20 @@ pub struct Engine<'h> {
     pub(super) pipelines: Pipelines,
     pub(super) geometry: Geometry,
     pub(super) slots: Vec<Slot>,
-    pub(super) passes: Passes,
-    /// Submissions so far: the frame number the library is told (`Context::begin_frame`),
-    /// counting re-rendered frames again, so that it only grows.
+    /// Per light: the world's light its shadow was made for (a light that moved gets a new
+    /// shadow), and the library's shadow (one map per frame in flight, its passes, the mask).
+    pub(super) shadows: Vec<(Light, LightShadow)>,
+    /// Frames submitted so far: the frame number the library is told (`record_frame`).
     pub(super) submissions: u64,
     // Last: every library object above must go before the context.
     pub(super) ctx: Context,
 }
 
-/// The library's passes: immutable, one set for every frame in flight and every light.
-pub(super) struct Passes {
-    pub(super) collection: CollectionPass,
-    pub(super) generation: GenerationPass,
-    pub(super) mask: VisibilityMaskPass,
-}
-
-/// What recording a frame reads: everything of the engine but the slots.
+/// What recording a frame reads: everything of the engine but the slots and shadows.
 pub(super) struct Recorder<'a> {
     pub(super) device: &'a ash::Device,
+    pub(super) ctx: &'a Context,
     pub(super) settings: &'a Settings,
-    pub(super) passes: &'a Passes,
     pub(super) pipelines: &'a Pipelines,
     pub(super) geometry: &'a Geometry,
 }
@@ -103,10 +94,9 @@ pub(super) struct Slot {
     pub(super) fence: vk::Fence,
     /// The frame submitted with this slot and not yet retired.
     pub(super) pending: Option<u32>,
-    /// Its submission's number (`Engine::submissions`): what `Context::collect` is told once
-    /// the slot's fence has signalled.
+    /// Its submission's number (`Engine::submissions`): the library's frame number, what
+    /// `Context::collect` and `LightShadow::finish_frame` are told once its fence signalled.
     pub(super) submission: u64,
-    pub(super) attempts: u32,
     pub(super) frame_constants: HostBuffer,
     /// Last frame's and this frame's positions of the deformed meshes.
     pub(super) deformed: HostBuffer,
@@ -125,10 +115,8 @@ pub(super) struct Slot {
     pub(super) mask_readback: Vec<HostBuffer>,
     pub(super) frame_set: vk::DescriptorSet,
     pub(super) image_set: vk::DescriptorSet,
-    // The library's per-frame objects.
-    pub(super) draws: DrawList,
-    pub(super) maps: Vec<TemporalShadowMap>,
-    pub(super) mask_bindings: Vec<MaskBindings>,
+    /// Per light: whether its frame drew the map's static layer.
+    pub(super) static_layer_drawn: Vec<bool>,
 }
 
 impl<'h> Engine<'h> {
@@ -187,12 +175,8 @@ impl<'h> Engine<'h> {
             pipelines,
             geometry,
             slots: Vec::new(),
+            shadows: Vec::new(),
             submissions: 0,
-            passes: Passes {
-                collection: CollectionPass::new(&ctx)?,
-                generation: GenerationPass::new(&ctx)?,
-                mask: VisibilityMaskPass::new(&ctx)?,
-            },
             ctx,
         };
         for _ in 0..FRAMES_IN_FLIGHT {
@@ -250,7 +234,23 @@ impl<'h> Engine<'h> {
     /// Light `light`'s shadow map in frame slot `slot`: holds the last frame that slot
     /// rendered until the slot renders again.
     pub fn shadow_map(&self, slot: usize, light: usize) -> &TemporalShadowMap {
-        &self.slots[slot].maps[light]
+        self.shadows[light].1.map(self.slots[slot].submission)
+    }
+
+    /// The library's shadow settings for `light`: the mask on, with the G-buffer's ids and
+    /// (with `receivers_move`) motion, the engine's frames in flight.
+    pub(super) fn shadow_settings(&self, light: &Light) -> ShadowSettings {
+        ShadowSettings {
+            map_size: self.settings.shadow_size,
+            static_layer: if self.settings.keep_static_layer {
+                StaticLayer::Kept
+            } else {
+                StaticLayer::Redrawn
+            },
+            mask: true,
+            frames_in_flight: FRAMES_IN_FLIGHT as u32,
+            ..ShadowSettings::new(light.engine_light())
+        }
     }
 
     pub(super) fn new_slot(&self, world: &World) -> Result<Slot> {
@@ -285,14 +285,11 @@ impl<'h> Engine<'h> {
             // every binding of both layouts), and at most that many slots are made.
             let sets = unsafe { device.allocate_descriptor_sets(&alloc) }
                 .vk("vkAllocateDescriptorSets")?;
-            let (sw, sh) = self.settings.shadow_size;
-            let (nodes, ranges) = self.settings.initial_capacity;
             let slot = Slot {
                 cmd,
                 fence,
                 pending: None,
                 submission: 0,
-                attempts: 0,
                 frame_constants: HostBuffer::new(
                     host,
                     std::mem::size_of::<FrameConstants>() as u64,
@@ -376,13 +373,7 @@ impl<'h> Engine<'h> {
                     .collect::<Result<_>>()?,
                 frame_set: sets[0],
                 image_set: sets[1],
-                draws: DrawList::new(&self.ctx, world.meshes.len() as u32)?,
-                maps: (0..lights)
-                    .map(|_| TemporalShadowMap::new(&self.ctx, sw, sh, nodes, ranges))
-                    .collect::<motion_shadows::Result<_>>()?,
-                mask_bindings: (0..lights)
-                    .map(|_| self.passes.mask.bindings(&self.ctx, size))
-                    .collect::<motion_shadows::Result<_>>()?,
+                static_layer_drawn: Vec::new(),
             };
             self.write_descriptors(&slot);
             Ok(slot)

@@ -7,12 +7,10 @@ impl<'h> Engine<'h> {
     /// f % 2 after waiting for that slot's previous frame (two frames earlier), so the CPU
     /// prepares one frame while the GPU runs the other.
     ///
-    /// Shadow-map overflow, the engine way: each frame copies its maps' counters out; when a
-    /// slot's fence has signalled, the counters say whether its maps had room. If not, the
-    /// maps grow to fit (`grow_to_fit`, safe then: nothing pending uses them) and the next
-    /// frame in that slot has room. A frame whose shadows were incomplete is re-rendered only
-    /// if `keep(frame)` says it is kept (written to disk, compared); a real-time engine would
-    /// have shown it and moved on. Returns the kept frames, in order.
+    /// The library reserves each frame's room from the meshes' descriptions (their CPU
+    /// geometry here), so no frame's shadow overflows; one that did (a bound too small) or
+    /// whose mask the device's loop limit cut short is an error once its fence signalled.
+    /// Returns the frames `keep(frame)` asked for, in order.
     pub fn render(
         &mut self,
         world: &World,
@@ -26,7 +24,6 @@ impl<'h> Engine<'h> {
                 if let Some(output) = self.retire(world, slot, keep)? {
                     kept.push(output);
                 }
-                self.slots[slot].attempts = 0;
                 self.submit(world, slot, frame)?;
             }
             // Retire what is still in flight, oldest first.
@@ -62,122 +59,81 @@ impl<'h> Engine<'h> {
         }
     }
 
-    /// Waits for the slot's frame (if any), grows its overflowing maps, re-renders it if it is
-    /// kept and was incomplete, and reads it back if kept.
+    /// Waits for the slot's frame (if any), checks its shadows, and reads it back if kept.
     pub(super) fn retire(
         &mut self,
         world: &World,
         slot: usize,
         keep: &dyn Fn(u32) -> bool,
     ) -> Result<Option<FrameOutput>> {
-        let Some(frame) = self.slots[slot].pending else {
+        let Some(frame) = self.slots[slot].pending.take() else {
             return Ok(None);
         };
-        let device = &self.host.device;
-        loop {
-            // SAFETY: the slot's fence was submitted with its pending frame.
-            unsafe { device.wait_for_fences(&[self.slots[slot].fence], true, u64::MAX) }
-                .vk("vkWaitForFences")?;
-            self.slots[slot].pending = None;
-            // SAFETY: this slot's submission has completed, and with it every earlier one on
-            // the queue: what was dropped while recording them can go.
-            unsafe { self.ctx.collect(self.slots[slot].submission) };
-            let (s, ctx) = (&mut self.slots[slot], &self.ctx);
-            let mut complete = true;
-            for map in &mut s.maps {
-                let counts = map.read_counters()?;
-                if map.needs_more_room(&counts) {
-                    // Nothing pending uses this slot's maps now (its fence has signalled).
-                    // `grow_to_fit` makes room for exactly these counts; the scene changes a
-                    // little every frame, so ask for a quarter more than this frame needed,
-                    // or the next frame in this slot would likely overflow again.
-                    let headroom = Counters {
-                        node_count: counts.node_count.saturating_add(counts.node_count / 4),
-                        range_count: counts.range_count.saturating_add(counts.range_count / 4),
-                        ..counts
-                    };
-                    map.grow_to_fit(ctx, &headroom)?;
-                    complete = false;
-                } else {
-                    // Errors that growing cannot fix: invalid indices, or a texel with more
-                    // fragments than the generation pass can pair.
-                    map.check_complete(&counts)?;
-                }
-            }
-            // As the mask pass asks: a device that leaves long loops may have cut some
-            // pixels' lookups short; their mask values cannot be trusted.
-            for (light, bindings) in s.mask_bindings.iter().enumerate() {
-                let over = bindings.read_over_budget_pixels()?;
-                if complete && over > 0 {
-                    return Err(format!(
-                        "frame {frame}, light {light}: {over} mask pixel(s) need more loop \
-                         iterations than this device runs"
-                    )
-                    .into());
-                }
-            }
-            if !keep(frame) {
-                return Ok(None);
-            }
-            if complete {
-                break;
-            }
-            if s.attempts >= 3 {
-                return Err(format!(
-                    "frame {frame}: the shadow maps still overflow after growing twice"
-                )
-                .into());
-            }
-            // Kept and incomplete: render it again in the same slot, with the grown maps.
-            self.submit(world, slot, frame)?;
-        }
         let s = &self.slots[slot];
+        // SAFETY: the slot's fence was submitted with its pending frame.
+        unsafe { (self.host.device).wait_for_fences(&[s.fence], true, u64::MAX) }
+            .vk("vkWaitForFences")?;
+        // SAFETY: this slot's submission has completed, and with it every earlier one on
+        // the queue: what was dropped while recording them can go.
+        unsafe { self.ctx.collect(s.submission) };
+        for (light, (_, shadow)) in self.shadows.iter_mut().enumerate() {
+            shadow
+                .finish_frame(&self.ctx, s.submission)
+                .map_err(|e| format!("frame {frame}, light {light}: {e}"))?;
+        }
+        if !keep(frame) || world.lights.is_empty() {
+            return Ok(None);
+        }
         let pixels = (self.settings.width * self.settings.height) as usize;
-        let counters = s
-            .maps
-            .iter()
-            .map(|m| m.read_counters())
+        let counters = (self.shadows.iter())
+            .map(|(_, shadow)| shadow.map(s.submission).read_counters())
             .collect::<motion_shadows::Result<_>>()?;
-        let masks = s
-            .mask_readback
-            .iter()
+        let masks = (s.mask_readback.iter())
             .map(|b| read_mask(b, self.mask_format, pixels))
             .collect::<Result<_>>()?;
         Ok(Some(FrameOutput {
             frame,
             slot,
-            attempts: s.attempts,
             counters,
             radiance: s.radiance_readback.read(pixels)?,
             masks,
+            static_layer_drawn: s.static_layer_drawn.clone(),
         }))
     }
 
     /// Writes the slot's per-frame buffers, records frame `frame` into its command buffer and
     /// submits it with its fence. The slot must be idle (retired).
     pub(super) fn submit(&mut self, world: &World, slot: usize, frame: u32) -> Result<()> {
-        // Library objects dropped from here on (a map that grows) wait for this submission.
+        // Library objects dropped from here on (a light's old shadow) wait for this frame.
         self.submissions += 1;
         self.ctx.begin_frame(self.submissions);
         self.slots[slot].submission = self.submissions;
+        // A light that moved between frames gets a new shadow (its maps follow the light).
+        for (at, light) in world.lights.iter().enumerate() {
+            if self
+                .shadows
+                .get(at)
+                .is_none_or(|(made_for, _)| made_for != light)
+            {
+                let shadow = LightShadow::new(&self.ctx, self.shadow_settings(light))?;
+                self.shadows.truncate(at);
+                self.shadows.push((*light, shadow));
+            }
+        }
         let host = self.host;
         let device = &host.device;
         let f = frame as f64;
         let size = (self.settings.width, self.settings.height);
         let view_proj = world.camera.view_proj(size.0 as f32 / size.1 as f32);
-        let lights: Vec<LightView> = world
-            .lights
-            .iter()
-            .map(|l| LightView {
-                keep_static_layer: self.settings.keep_static_layer,
-                ..l.view(self.settings.shadow_size)
-            })
+        let lights: Vec<LightView> = (self.shadows.iter())
+            .map(|(_, shadow)| *shadow.light_view())
             .collect();
-        let draws = self.shadow_draws(world, slot, f)?;
+        let cpu = cpu_positions(world, f);
+        let meshes = self.shadow_meshes(world, slot, f, &cpu);
         let recorder = Recorder {
             device,
+            ctx: &self.ctx,
             settings: &self.settings,
-            passes: &self.passes,
             pipelines: &self.pipelines,
             geometry: &self.geometry,
         };
@@ -208,24 +164,21 @@ impl<'h> Engine<'h> {
         }
         s.frame_constants
             .write(0, std::slice::from_ref(&constants))?;
-        for (mesh, m) in world.meshes.iter().zip(&recorder.geometry.meshes) {
-            if let Motion::Deformed(deform) = &mesh.motion {
+        for ((mesh, m), (prev, cur)) in world.meshes.iter().zip(&recorder.geometry.meshes).zip(&cpu)
+        {
+            if let (Motion::Deformed(deform), Some(cur)) = (&mesh.motion, cur) {
                 // Last frame's positions next to this frame's: what the engine keeps for its
                 // motion vectors, and the shutter's two ends for the shadow pass.
-                let (prev, cur) = (deform(f - 1.0), deform(f));
+                let normals = deform(f);
                 if prev.len() != m.vertex_count as usize || cur.len() != prev.len() {
                     return Err(
                         format!("{}: the deformation changed the vertex count", mesh.name).into(),
                     );
                 }
-                let packed: Vec<[f32; 12]> = prev
-                    .iter()
-                    .zip(&cur)
-                    .map(|(p, c)| {
-                        let [a, b, d] = p.position;
-                        let [e, g, h] = c.position;
-                        let [i, j, k] = c.normal;
-                        [a, b, d, 1.0, e, g, h, 1.0, i, j, k, 0.0]
+                let packed: Vec<[f32; 12]> = (prev.iter().zip(cur).zip(&normals))
+                    .map(|((p, c), v)| {
+                        let [i, j, k] = v.normal;
+                        [p.x, p.y, p.z, 1.0, c.x, c.y, c.z, 1.0, i, j, k, 0.0]
                     })
                     .collect();
                 s.deformed.write(m.vertex_offset, &packed)?;
@@ -241,7 +194,8 @@ impl<'h> Engine<'h> {
                 .begin_command_buffer(s.cmd, &begin)
                 .vk("vkBeginCommandBuffer")?;
         }
-        let recorded = recorder.record(s, world, f, &draws, &lights, &constants);
+        let shadows = (self.shadows.iter_mut()).map(|(_, shadow)| shadow);
+        let recorded = recorder.record(s, world, f, self.submissions, &meshes, shadows, &constants);
         // SAFETY: the recorder received only the handle; the command buffer is still recording.
         unsafe { device.end_command_buffer(s.cmd) }.vk("vkEndCommandBuffer")?;
         recorded?;
@@ -251,82 +205,100 @@ impl<'h> Engine<'h> {
         // by this thread only, and every object the frame uses belongs to the slot or the engine,
         // kept until its fence has signalled.
         unsafe { device.queue_submit2(host.queue, &submit, s.fence) }.vk("vkQueueSubmit2")?;
-        // The maps' static layers drawn by this frame may be kept by the slot's next one.
-        for map in &s.maps {
-            map.static_layer_submitted();
-        }
         s.pending = Some(frame);
-        s.attempts += 1;
         Ok(())
     }
 
-    /// The frame's draws for the shadow pass: the engine's buffers by device address, with
-    /// last frame's and this frame's transforms (rigid meshes) or positions (deformed ones).
-    pub(super) fn shadow_draws(&self, world: &World, slot: usize, f: f64) -> Result<Vec<Draw>> {
+    /// The frame's meshes for the shadow pass, each described once: the engine's buffers by
+    /// device address, with last frame's and this frame's transforms (rigid meshes) or
+    /// positions (deformed ones), and the CPU copy the library reserves the room from.
+    pub(super) fn shadow_meshes<'c>(
+        &self,
+        world: &'c World,
+        slot: usize,
+        f: f64,
+        cpu: &'c [CpuPositions],
+    ) -> Vec<ShadowMesh<'c>> {
         let g = &self.geometry;
         let (statics, deformed) = (
             g.static_vertices.address(),
             self.slots[slot].deformed.address(),
         );
-        let index_base = g.indices.address();
-        let mut draws = Vec::new();
-        for (mesh, m) in world.meshes.iter().zip(&g.meshes) {
-            let at = IndexStream::from_device_address;
+        let stream = PositionStream::from_device_address;
+        let mut meshes = Vec::new();
+        for ((mesh, m), (prev, cur)) in world.meshes.iter().zip(&g.meshes).zip(cpu) {
             // The streams' contract (every unsafe below): the engine's buffers were made with
-            // STORAGE_BUFFER and SHADER_DEVICE_ADDRESS usage on the context's device; each mesh's
-            // vertices and indices lie inside them (offsets from the upload, the 16-bit indices
-            // padded to a whole word); the static buffers never change and the deformed one is this
-            // slot's, written only when the slot is idle; host writes before the submission are
-            // visible to it without a barrier.
-            let indices = match m.index_type {
-                // SAFETY: the streams' contract, as stated above, for this mesh's 16-bit indices.
-                vk::IndexType::UINT16 => Indices::U16(unsafe { at(index_base + m.index_offset) }),
-                // SAFETY: the streams' contract, as stated above, for this mesh's 32-bit indices.
-                _ => Indices::U32(unsafe { at(index_base + m.index_offset) }),
+            // STORAGE_BUFFER and SHADER_DEVICE_ADDRESS usage on the context's device; each
+            // mesh's vertices and indices lie inside them (offsets from the upload, 16-bit
+            // indices padded to a whole word); the static buffers never change and the
+            // deformed one is this slot's, written only when the slot is idle, before the
+            // submission (visible to it without a barrier).
+            // SAFETY: the streams' contract, for this mesh's indices.
+            let index =
+                unsafe { IndexStream::from_device_address(g.indices.address() + m.index_offset) };
+            let indices = match &mesh.indices {
+                MeshIndices::U16(_) => Indices::U16(index),
+                MeshIndices::U32(_) => Indices::U32(index),
             };
-            let mut draw = match &mesh.motion {
+            let n = m.vertex_count;
+            let (described, geometry) = match &mesh.motion {
                 Motion::Rigid(transform) => {
-                    // SAFETY: the streams' contract, as stated above, for this rigid mesh's static
-                    // vertices.
-                    let stream = unsafe {
-                        PositionStream::from_device_address(statics + m.vertex_offset, 24)
-                    };
-                    let mut draw = Draw::new(
-                        stream,
-                        stream,
-                        m.vertex_count,
-                        indices,
-                        mesh.triangle_count(),
-                        m.first_triangle_id,
-                    );
-                    draw.transform_t0 = transform(f - 1.0).as_mat4();
-                    draw.transform_t1 = transform(f).as_mat4();
-                    draw
+                    let (t0, t1) = (transform(f - 1.0).as_mat4(), transform(f).as_mat4());
+                    // SAFETY: the streams' contract, for this rigid mesh's static vertices.
+                    let at = unsafe { stream(statics + m.vertex_offset, 24) };
+                    if t0 == t1 {
+                        let still = ShadowMesh::still(at, n).transform(t1);
+                        (still, CpuGeometry::still(prev))
+                    } else {
+                        let moving = ShadowMesh::moving(at, at, n).transforms(t0, t1);
+                        (moving, CpuGeometry::moving(prev, prev))
+                    }
                 }
                 Motion::Deformed(_) => {
                     let base = deformed + m.vertex_offset;
-                    // SAFETY: the streams' contract, as stated above, for this deformed mesh's two
-                    // position sets in the slot's buffer.
-                    let (prev, cur) = unsafe {
+                    // SAFETY: the streams' contract, for this deformed mesh's two position
+                    // sets in the slot's buffer.
+                    let (open, close) = unsafe {
                         (
-                            PositionStream::from_device_address(base, DEFORMED_STRIDE),
-                            PositionStream::from_device_address(base + 16, DEFORMED_STRIDE),
+                            stream(base, DEFORMED_STRIDE),
+                            stream(base + 16, DEFORMED_STRIDE),
                         )
                     };
-                    Draw::new(
-                        prev,
-                        cur,
-                        m.vertex_count,
-                        indices,
-                        mesh.triangle_count(),
-                        m.first_triangle_id,
+                    let moving = ShadowMesh::moving(open, close, n);
+                    (
+                        moving,
+                        CpuGeometry::moving(prev, cur.as_deref().unwrap_or(prev)),
                     )
                 }
             };
-            // `albedo` is for the library's own lighting pass; this engine shades itself.
-            draw.closed = mesh.closed;
-            draws.push(draw);
+            let geometry = match &mesh.indices {
+                MeshIndices::U16(i) => geometry.indices_u16(i),
+                MeshIndices::U32(i) => geometry.indices_u32(i),
+            };
+            let described = described
+                .indexed(indices, mesh.triangle_count())
+                .first_triangle_id(m.first_triangle_id)
+                .cpu(geometry);
+            meshes.push(if mesh.closed {
+                described.closed()
+            } else {
+                described
+            });
         }
-        Ok(draws)
+        meshes
     }
+}
+
+/// Per mesh, the CPU positions the room is reserved from: object space for a rigid mesh;
+/// last frame's and this frame's world positions for a deformed one.
+pub(super) type CpuPositions = (Vec<Vec3>, Option<Vec<Vec3>>);
+
+pub(super) fn cpu_positions(world: &World, f: f64) -> Vec<CpuPositions> {
+    let positions = |vertices: &[Vertex]| vertices.iter().map(|v| Vec3::from(v.position)).collect();
+    (world.meshes.iter())
+        .map(|mesh| match &mesh.motion {
+            Motion::Rigid(_) => (positions(&mesh.vertices), None),
+            Motion::Deformed(deform) => (positions(&deform(f - 1.0)), Some(positions(&deform(f)))),
+        })
+        .collect()
 }

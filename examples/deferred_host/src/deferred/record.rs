@@ -4,38 +4,22 @@ use super::*;
 
 impl Recorder<'_> {
     /// Records the whole frame into the slot's command buffer (recording, outside rendering).
-    pub(super) fn record(
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn record<'m>(
         &self,
         s: &mut Slot,
         world: &World,
         f: f64,
-        draws: &[Draw],
-        lights: &[LightView],
+        frame: u64,
+        meshes: &[ShadowMesh],
+        shadows: impl Iterator<Item = &'m mut LightShadow>,
         constants: &FrameConstants,
     ) -> Result<()> {
         let device = self.device;
         let cmd = s.cmd;
         let (width, height) = (self.settings.width, self.settings.height);
 
-        // 1. The temporal shadow maps, one per light. Each records its own barriers (its
-        //    contract): nothing of ours to synchronize here.
-        // SAFETY: `cmd` is recording, outside rendering, on the graphics+compute queue; the
-        // draw list, maps and passes are this slot's or shared immutable ones, not used by the
-        // other slot's pending frame; the streams' contracts are kept by `shadow_draws`.
-        unsafe {
-            // Errors (a bad draw) come before anything is recorded.
-            s.draws.record_update(device, cmd, draws)?;
-            for (light, map) in lights.iter().zip(&s.maps) {
-                self.passes
-                    .collection
-                    .record(device, cmd, &s.draws, light, map, None)?;
-                self.passes.generation.record(device, cmd, map);
-                // The counters, for the overflow check once the fence has signalled.
-                map.record_counter_readback(device, cmd);
-            }
-        }
-
-        // 2. The G-buffer at t = 1. Its images' previous contents (two frames ago) were read
+        // 1. The G-buffer at t = 1. Its images' previous contents (two frames ago) were read
         //    by the compute passes: wait for those, discard the contents (UNDEFINED).
         let none = vk::AccessFlags2::NONE;
         let earlier_reads = vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::COPY;
@@ -67,8 +51,9 @@ impl Recorder<'_> {
         );
         self.record_gbuffer(world, s, f)?;
 
-        // 3. The visibility masks: the G-buffer becomes read-only for compute shaders, the
-        //    mask images writable (GENERAL), as the mask pass's contract asks.
+        // 2. Per light, the library's shadow: the collection and generation of its map, then
+        //    the visibility mask. The G-buffer becomes read-only for compute shaders, the mask
+        //    images writable (GENERAL), as the mask's inputs contract asks.
         let sampled = vk::AccessFlags2::SHADER_SAMPLED_READ;
         let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
         let storage_write = (
@@ -95,7 +80,9 @@ impl Recorder<'_> {
         barriers.extend(s.masks.iter().map(|m| m.barrier(discard, storage_write)));
         pipeline_barrier(device, cmd, &barriers, &[]);
         let inv_view_proj = constants.inv_view_proj;
-        for ((map, mask), bindings) in s.maps.iter().zip(&s.masks).zip(&mut s.mask_bindings) {
+        let mut maps = [0u64; MAX_LIGHTS];
+        s.static_layer_drawn.clear();
+        for ((address, shadow), mask) in maps.iter_mut().zip(shadows).zip(&s.masks) {
             let inputs = MaskInputs {
                 depth: s.depth.view,
                 depth_layout: vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
@@ -124,15 +111,19 @@ impl Recorder<'_> {
                 positions: None,
                 plane_test_where_still: false,
             };
-            // SAFETY: recording outside rendering; the bindings are this slot's and this
-            // light's (used once in this command buffer, not by the other slot's frame); the
+            // SAFETY: recording outside rendering on the graphics+compute queue, after this
+            // shadow's earlier frames; the streams' contract is kept by `shadow_meshes`; the
             // views have the usages and layouts stated above, and the barrier before made the
             // G-buffer visible to compute reads and ordered the masks' earlier reads before
-            // these writes; the map's collection and generation were recorded above.
-            unsafe { self.passes.mask.record(device, cmd, bindings, &inputs, map) }?;
+            // these writes.
+            let recorded =
+                unsafe { shadow.record_frame(self.ctx, cmd, frame, meshes, Some(&inputs)) }?;
+            // Changes when a map grows: pushed every frame.
+            *address = recorded.map_header;
+            s.static_layer_drawn.push(recorded.static_layer_drawn);
         }
 
-        // 4. The engine's shading: masks written by the mask pass become sampled reads.
+        // 3. The engine's shading: masks written by the mask pass become sampled reads.
         let barriers: Vec<_> = s
             .masks
             .iter()
@@ -144,11 +135,6 @@ impl Recorder<'_> {
             ShadowLookup::LitFractionInShader => (LOOKUP_LIT_FRACTION, 0.0),
             ShadowLookup::VisibilityAt(t) => (LOOKUP_AT_TIME, t),
         };
-        let mut maps = [0u64; MAX_LIGHTS];
-        for (address, map) in maps.iter_mut().zip(&s.maps) {
-            // Changes when a map grows: pushed every frame.
-            *address = map.header_address();
-        }
         let push = ShadeConstants { maps, lookup, time };
         let p = &self.pipelines;
         // SAFETY: the shade pipeline's layout holds both sets (frame constants, images) and a
@@ -176,7 +162,7 @@ impl Recorder<'_> {
             device.cmd_dispatch(cmd, width.div_ceil(8), height.div_ceil(8), 1);
         }
 
-        // 5. Read back the radiance and the masks (an engine would present or post-process;
+        // 4. Read back the radiance and the masks (an engine would present or post-process;
         //    this one writes files and tests).
         let transfer_src: State = (
             vk::ImageLayout::TRANSFER_SRC_OPTIMAL,

@@ -148,8 +148,8 @@ pub enum Light {
 }
 
 impl Light {
-    /// The library's view of the light for a shadow map of `size` texels.
-    pub fn view(&self, size: (u32, u32)) -> LightView {
+    /// The library's description of the light (what its shadow is made for).
+    pub fn engine_light(&self) -> motion_shadows::Light {
         match *self {
             Light::Spot {
                 position,
@@ -158,15 +158,10 @@ impl Light {
                 intensity,
                 near,
                 far,
-            } => LightView::spot(
-                position,
-                direction,
-                cone_half_angle_deg,
-                intensity,
-                near,
-                far,
-                size,
-            ),
+            } => motion_shadows::Light::spot(position, direction)
+                .cone_half_angle(cone_half_angle_deg)
+                .intensity(intensity)
+                .depth_range(near, far),
             Light::Directional {
                 direction,
                 irradiance,
@@ -175,17 +170,16 @@ impl Light {
                 distance,
                 near,
                 far,
-            } => LightView::directional(
-                direction,
-                irradiance,
-                center,
-                half_extent,
-                distance,
-                near,
-                far,
-                size,
-            ),
+            } => motion_shadows::Light::directional(direction, center, half_extent)
+                .distance(distance)
+                .intensity(irradiance)
+                .depth_range(near, far),
         }
+    }
+
+    /// The library's view of the light for a shadow map of `size` texels.
+    pub fn view(&self, size: (u32, u32)) -> motion_shadows::Result<LightView> {
+        self.engine_light().view(size)
     }
 }
 
