@@ -52,6 +52,24 @@ def check_shape(mutants):
         sys.exit("scripts/mutants.toml is malformed:\n" + "\n".join(problems))
 
 
+def check_edits_apply(mutants):
+    """Refuses a list whose edits no longer apply: each `from` must occur exactly once in its
+    file, or the break would be skipped as unappliable (or hit the wrong place) when it runs.
+    Merges and renames drift them silently; `scripts/test.sh` runs this (`--check`)."""
+    problems = []
+    for m in mutants:
+        for e in m["edit"]:
+            path = ROOT / e["file"]
+            if not path.is_file():
+                problems.append(f"{m['name']}: {e['file']} does not exist")
+                continue
+            count = path.read_text().count(e["from"])
+            if count != 1:
+                problems.append(f"{m['name']}: its edit's text occurs {count} times in {e['file']}")
+    if problems:
+        sys.exit("scripts/mutants.toml has edits that do not apply:\n" + "\n".join(problems))
+
+
 def restore_backup():
     """Puts back the files a killed run left mutated."""
     if not BACKUP.exists():
@@ -140,16 +158,24 @@ def main():
     parser.add_argument("--only", nargs="*", help="names of the breaks to run")
     parser.add_argument("--report", help="write the result as Markdown here")
     parser.add_argument("--timeout", type=int, default=900, help="seconds per test run")
+    parser.add_argument("--check", action="store_true",
+                        help="only check that the list is well formed and every edit applies once")
     parser.add_argument("--no-baseline", action="store_true",
                         help="skip checking that the unbroken tree passes each test command")
     opts = parser.parse_args()
 
     # SIGTERM unwinds like Ctrl-C, so the files are restored.
     signal.signal(signal.SIGTERM, lambda *_: (_ for _ in ()).throw(KeyboardInterrupt()))
-    restore_backup()
+    if not opts.check:
+        # (--check only reads.)
+        restore_backup()
 
     mutants = tomllib.loads(Path(opts.list).read_text())["mutant"]
     check_shape(mutants)
+    if opts.check:
+        check_edits_apply(mutants)
+        print(f"scripts/mutants.toml: {len(mutants)} breaks, each edit applies once")
+        return
     if opts.only:
         unknown = set(opts.only) - {m["name"] for m in mutants}
         if unknown:

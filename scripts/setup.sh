@@ -70,6 +70,8 @@ motion_shadows_setup() (
         libxkbcommon-x11-0
         # The viewer's key test types into its window (XTEST).
         xdotool
+        # scripts/test.sh checks the mutation list (scripts/mutants.py --check; tomllib: 3.11).
+        python3
     )
 
     local missing=()

@@ -40,6 +40,8 @@ cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy -p motion-shadows --lib --no-default-features -- -D warnings
 # The library's API docs build without a warning (a broken intra-doc link fails here).
 RUSTDOCFLAGS="-D warnings" cargo doc -p motion-shadows --no-deps --quiet
+# The mutation list still applies to the tree (merges and renames drift its edits silently).
+python3 scripts/mutants.py --check
 if [[ $quick == 1 ]]; then
     skips=()
     while read -r name; do
