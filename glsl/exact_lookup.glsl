@@ -80,6 +80,30 @@ void ms_exact_gather(inout int asked, inout uvec4 ids, inout uvec4 at, inout vec
     ++asked;
 }
 
+// One step of a texel walk through its static names, from r (index + 1 of the next): false
+// at their end (in_static is then false and r the texel's first range) or when the
+// invocation's loop iterations are past `stop` (stopped; cursor says where to go on); true
+// with the next name's triangle `id` and its cursor `here`, r moved past it.
+bool ms_exact_static_next(MsMap map, uint texel, uint stop, inout uint r, inout bool in_static,
+                          inout uint cursor, inout bool stopped, out uint here, out uint id) {
+    here = 0u;
+    id = 0u;
+    if (r == 0u) {
+        in_static = false;
+        r = MsUints(map.range_heads).v[texel];
+        return false;
+    }
+    if (ms_loop_iterations > stop) {
+        cursor = r | MS_EXACT_CURSOR_STATIC;
+        stopped = true;
+        return false;
+    }
+    ++ms_loop_iterations;
+    here = r | MS_EXACT_CURSOR_STATIC;
+    id = ms_static_name(map, r);
+    return true;
+}
+
 // Adds to `shadowed` the times of the window w during which the triangles named in `texel`
 // (other than `own`), from `cursor` on, block the shadow ray of the receiver moving from p0
 // (t = 0) to p1 (t = 1): the union of their shadowed intervals. Each range's own times narrow
@@ -126,18 +150,10 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
         // The static names against a still receiver: decided on the constants, so this loop
         // holds that test alone.
         while (in_static && still && asked < MS_EXACT_ASKED_TOGETHER) {
-            if (r == 0u) {
-                in_static = false;
-                r = MsUints(map.range_heads).v[texel];
+            uint here, id;
+            if (!ms_exact_static_next(map, texel, stop, r, in_static, cursor, stopped, here, id)) {
                 break;
             }
-            if (ms_loop_iterations > stop) {
-                cursor = r | MS_EXACT_CURSOR_STATIC;
-                stopped = true;
-                break;
-            }
-            ++ms_loop_iterations;
-            uint id = ms_static_name(map, r);
             if (id == own) continue;
             vec3 at[3];
             ms_exact_still_triangle(map.triangles, id, at);
@@ -150,19 +166,10 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
         // game-level, 99% of the static names a moving receiver asked found nothing. A loop of
         // its own, so that a group of still receivers runs none of its code.
         while (in_static && !still && asked < MS_EXACT_ASKED_TOGETHER) {
-            if (r == 0u) {
-                in_static = false;
-                r = MsUints(map.range_heads).v[texel];
+            uint here, id;
+            if (!ms_exact_static_next(map, texel, stop, r, in_static, cursor, stopped, here, id)) {
                 break;
             }
-            if (ms_loop_iterations > stop) {
-                cursor = r | MS_EXACT_CURSOR_STATIC;
-                stopped = true;
-                break;
-            }
-            ++ms_loop_iterations;
-            uint here = r | MS_EXACT_CURSOR_STATIC;
-            uint id = ms_static_name(map, r);
             if (id == own) continue;
             vec3 at[3];
             ms_exact_still_triangle(map.triangles, id, at);

@@ -323,6 +323,27 @@ pub fn light_setup(s: &Scene, size: (u32, u32)) -> super::prism_model::LightSetu
     }
 }
 
+/// A unit cube centred on the origin: its 8 corners and its 12 triangles as indices,
+/// counter-clockwise seen from outside.
+pub fn indexed_unit_cube() -> (Vec<Vec3>, Vec<u32>) {
+    let corners = (0..8)
+        .map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32) - 0.5)
+        .collect();
+    let quads: [[u32; 4]; 6] = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let indices = quads
+        .iter()
+        .flat_map(|q| [q[0], q[1], q[2], q[0], q[2], q[3]])
+        .collect();
+    (corners, indices)
+}
+
 // The app's `scene::box_mesh` (app/src/scene/primitives.rs), copied: a box's triangles.
 
 /// Box of the given full size centred at the origin; each face is a `subdivisions` x

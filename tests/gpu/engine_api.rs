@@ -17,24 +17,11 @@ use motion_shadows::{
 
 const SIZE: (u32, u32) = (96, 96);
 
-/// A unit cube's corners and its 12 triangles (16-bit indices), counter-clockwise outside.
+/// The shared unit cube with 16-bit indices.
 fn cube() -> (Vec<Vec3>, Vec<u16>) {
-    let corners = (0..8)
-        .map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32) - 0.5)
-        .collect();
-    let quads: [[u16; 4]; 6] = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
-    let indices = quads
-        .iter()
-        .flat_map(|q| [q[0], q[1], q[2], q[0], q[2], q[3]])
-        .collect();
-    (corners, indices)
+    let (corners, indices) = crate::support::scene::indexed_unit_cube();
+    let narrow = indices.into_iter().map(|i| i as u16).collect();
+    (corners, narrow)
 }
 
 /// The scene's host data and GPU buffers: a still ground (two triangles, not indexed) and a

@@ -45,26 +45,6 @@ impl Mesh {
     }
 }
 
-/// A unit cube's corners and its 12 triangles, counter-clockwise seen from outside.
-fn cube() -> (Vec<Vec3>, Vec<u32>) {
-    let corners = (0..8)
-        .map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32) - 0.5)
-        .collect();
-    let quads: [[u32; 4]; 6] = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
-    let indices = quads
-        .iter()
-        .flat_map(|q| [q[0], q[1], q[2], q[0], q[2], q[3]])
-        .collect();
-    (corners, indices)
-}
-
 /// A random scene: the ground, `cubes` cubes turning and sliding, a waving grid.
 fn meshes(rng: &mut Rng, cubes: usize) -> Vec<Mesh> {
     let mut signed = || 2.0 * rng.unit() - 1.0;
@@ -83,7 +63,7 @@ fn meshes(rng: &mut Rng, cubes: usize) -> Vec<Mesh> {
         closed: false,
     }];
     for _ in 0..cubes {
-        let (t0, indices) = cube();
+        let (t0, indices) = crate::support::scene::indexed_unit_cube();
         let at = |position: Vec3, axis: Vec3, angle: f32, size: f32| {
             Mat4::from_scale_rotation_translation(
                 Vec3::splat(size),

@@ -6,12 +6,12 @@
 //! Where a corner is at or behind the light it stores at every texel; where one is imaged far
 //! out it draws the whole map and stores where the corners' box meets the texel.
 
-use glam::{DVec2, DVec3, DVec4, Vec3};
+use glam::{DVec2, DVec3, Vec3};
 
-use super::Setup;
 use super::culling::faces_away_whole_frame;
 use super::footprint::{Footprint, GROWTH_TEXELS};
 use super::{FAR_MAP_WIDTHS, NEAR_W};
+use super::{LightSpace, Setup};
 
 /// `HALF_DIAGONAL_TEXELS` of `collection_exact_geom.glsl`, rounded up: every point of a
 /// texel lies within it of the texel's centre.
@@ -31,16 +31,8 @@ impl Setup {
         t1: &[Vec3; 3],
         closed: bool,
     ) -> u64 {
-        let view = |p: Vec3| -> DVec3 { self.to_view.transform_point3(p.as_dvec3()) };
-        let (e0, e1): ([DVec3; 3], [DVec3; 3]) = (
-            [0, 1, 2].map(|k| view(t0[k])),
-            [0, 1, 2].map(|k| view(t1[k])),
-        );
-        let clip = |p: DVec3| -> DVec3 {
-            let c: DVec4 = self.proj * p.extend(1.0);
-            DVec3::new(c.x, c.y, c.w)
-        };
-        let corners: Vec<DVec3> = e0.iter().chain(&e1).map(|&p| clip(p)).collect();
+        let LightSpace { e0, e1, v0, v1 } = self.light_space(t0, t1);
+        let corners: Vec<DVec3> = v0.iter().chain(&v1).copied().collect();
         let map = &self.map;
         if corners.iter().all(|c| c.z <= 0.0) {
             // Wholly behind the light: the geometry shader emits nothing.

@@ -117,19 +117,33 @@ struct Setup {
     map: Map,
 }
 
+/// A triangle at both ends in the light's view space (e0, e1) and as clip (x, y, w) (v0,
+/// v1), in f64.
+struct LightSpace {
+    e0: [DVec3; 3],
+    e1: [DVec3; 3],
+    v0: [DVec3; 3],
+    v1: [DVec3; 3],
+}
+
 impl Setup {
-    fn triangle_ranges_at_most(&self, t0: &[Vec3; 3], t1: &[Vec3; 3], closed: bool) -> u64 {
+    fn light_space(&self, t0: &[Vec3; 3], t1: &[Vec3; 3]) -> LightSpace {
         let view = |p: Vec3| -> DVec3 { self.to_view.transform_point3(p.as_dvec3()) };
-        let (e0, e1): ([DVec3; 3], [DVec3; 3]) = (
-            [0, 1, 2].map(|k| view(t0[k])),
-            [0, 1, 2].map(|k| view(t1[k])),
-        );
         let clip = |p: DVec3| -> DVec3 {
             let c: DVec4 = self.proj * p.extend(1.0);
             DVec3::new(c.x, c.y, c.w)
         };
-        let v0: [DVec3; 3] = e0.map(clip);
-        let v1: [DVec3; 3] = e1.map(clip);
+        let (e0, e1) = (t0.map(view), t1.map(view));
+        LightSpace {
+            e0,
+            e1,
+            v0: e0.map(clip),
+            v1: e1.map(clip),
+        }
+    }
+
+    fn triangle_ranges_at_most(&self, t0: &[Vec3; 3], t1: &[Vec3; 3], closed: bool) -> u64 {
+        let LightSpace { e0, e1, v0, v1 } = self.light_space(t0, t1);
         let map = &self.map;
         let moving = t0 != t1;
         let max_runs = if moving { EXACT_MAX_RUNS } else { 1 };
