@@ -13,10 +13,18 @@ use motion_shadows::technique::{
 /// Reference slices recorded per submission: bounds the command buffer, paces progress.
 const SLICES_PER_SUBMISSION: u32 = 32;
 
-/// What the scene says, before any pass, about the ranges a temporal frame stores: the room
-/// its first attempt gets.
+/// What the scene says, before any pass, about the ranges a temporal frame stores (and the
+/// exact lookup's static names): the room its first attempt gets.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct RangeBounds {
+    ranges: RangeRoom,
+    /// At most this many static names (`range_ceiling::RoomAtMost`), where bounded.
+    static_names: Option<u64>,
+}
+
+/// The ranges' part of [`RangeBounds`].
 #[derive(Debug, Clone, Copy)]
-pub(super) enum RangeBounds {
+enum RangeRoom {
     /// At most this many (`motion_shadows::technique::RangeCeiling`), and the device holds
     /// two buffers of them (the lists and the sorted copy): one attempt.
     AtMost(u64),
@@ -26,7 +34,7 @@ pub(super) enum RangeBounds {
     AtLeast { at_least: u64, at_most: Option<u64> },
 }
 
-impl Default for RangeBounds {
+impl Default for RangeRoom {
     fn default() -> Self {
         Self::AtLeast {
             at_least: 0,
@@ -45,18 +53,19 @@ impl RangeBounds {
         with_coverage: bool,
         device_bytes: u64,
     ) -> Self {
-        let at_most = super::range_ceiling::ranges_at_most(
+        let room = super::range_ceiling::room_at_most(
             scene,
             light,
             size,
             light.uses_static_layer(with_coverage),
         );
+        let at_most = room.map(|room| room.ranges);
         let range_bytes = std::mem::size_of::<motion_shadows::technique::Range>() as u64;
-        match at_most {
+        let ranges = match at_most {
             Some(most) if most.saturating_mul(2 * range_bytes) <= device_bytes => {
-                Self::AtMost(most)
+                RangeRoom::AtMost(most)
             }
-            _ => Self::AtLeast {
+            _ => RangeRoom::AtLeast {
                 // The coverage map stores fewer ranges than the pairs the lower bound counts.
                 at_least: if with_coverage {
                     0
@@ -65,14 +74,18 @@ impl RangeBounds {
                 },
                 at_most,
             },
+        };
+        Self {
+            ranges,
+            static_names: room.map(|room| room.static_names),
         }
     }
 
     /// The upper bound on the ranges, where one is known (the JSON's `ranges_at_most`).
     pub(super) fn at_most(&self) -> Option<u64> {
-        match *self {
-            Self::AtMost(most) => Some(most),
-            Self::AtLeast { at_most, .. } => at_most,
+        match self.ranges {
+            RangeRoom::AtMost(most) => Some(most),
+            RangeRoom::AtLeast { at_most, .. } => at_most,
         }
     }
 }
@@ -202,6 +215,11 @@ fn counted(
 }
 
 /// [`counted`] for the range buffer.
+/// `names` static names as a count the map takes (8 bytes each).
+fn counted_names(names: u64, ctx: &motion_shadows::gpu::Context) -> Result<u32> {
+    counted(names, "the static name lists", 8, ctx)
+}
+
 fn counted_ranges(ranges: u64, ctx: &motion_shadows::gpu::Context) -> Result<u32> {
     let range_bytes = std::mem::size_of::<motion_shadows::technique::Range>() as u64;
     counted(ranges, "the range buffer", range_bytes, ctx)
@@ -210,7 +228,7 @@ fn counted_ranges(ranges: u64, ctx: &motion_shadows::gpu::Context) -> Result<u32
 impl Renderer<'_> {
     /// Collection and generation (with the coverage passes between them when `with_coverage`).
     /// The first attempt has room for the upper bound where the device can hold it
-    /// ([`RangeBounds::AtMost`]), so it never overflows; otherwise for the lower bound (a map
+    /// ([`RangeRoom::AtMost`]), so it never overflows; otherwise for the lower bound (a map
     /// that cannot hold that is refused before any pass runs), grown and re-run until nothing
     /// overflowed.
     pub(super) fn temporal_shadow(
@@ -224,15 +242,15 @@ impl Renderer<'_> {
     ) -> Result<ShadowOutcome> {
         let (width, height) = settings.shadow_size();
         let pixels = width * height;
-        let ranges = match bounds {
-            RangeBounds::AtMost(most) => {
+        let ranges = match bounds.ranges {
+            RangeRoom::AtMost(most) => {
                 progress(&format!(
                     "shadow pass: the scene's triangles store at most {most} ranges: room for \
                      them, so one attempt"
                 ));
                 counted_ranges(most, self.ctx)?.max(1)
             }
-            RangeBounds::AtLeast { at_least, at_most } => {
+            RangeRoom::AtLeast { at_least, at_most } => {
                 if let Some(most) = at_most {
                     progress(&format!(
                         "shadow pass: the scene's triangles store at most {most} ranges, more \
@@ -273,6 +291,11 @@ impl Renderer<'_> {
         .with_pruning(settings.pruning);
         if inputs.light.lookup == motion_shadows::technique::Lookup::Exact {
             map.reserve_triangle_records(self.ctx, inputs.draws.id_end())?;
+            // Room for every static name the scene may store (none where the still draws
+            // are not in the static layer), so that the first attempt does not overflow.
+            if let Some(names) = bounds.static_names.filter(|&names| names > 0) {
+                map.reserve_static_names(self.ctx, counted_names(names, self.ctx)?)?;
+            }
         }
         // The cover rule's pipelines compiled here, not in the timed pass.
         self.generation.prepare(settings.pruning)?;
