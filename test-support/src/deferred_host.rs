@@ -6,10 +6,19 @@ use crate::sampling::CameraRays;
 use ash::vk;
 use glam::DVec3;
 use motion_shadows::technique::{CameraView, TemporalShadowMap};
+use crate::host::Host;
+use crate::test_shader::compile_compute;
 use motion_shadows_deferred_host::deferred::{
     self, HostBuffer, Light, Settings, ShadowLookup, World,
 };
-use motion_shadows_deferred_host::host::Host;
+
+/// The host's debugging probes (`tests/glsl/`): compute shaders a host would write, calling
+/// the library's public include on a map by device address.
+pub const PROBE_COMP: &str = include_str!("../../tests/glsl/host_probe.comp");
+/// Eight samples of one pixel per invocation against `ms_texel_shadowed`.
+pub const SAMPLES_PROBE_COMP: &str = include_str!("../../tests/glsl/host_samples_probe.comp");
+/// A receiver moving between two points (two queries per invocation).
+pub const MOVING_PROBE_COMP: &str = include_str!("../../tests/glsl/host_moving_probe.comp");
 
 pub const SIZE: (u32, u32) = (160, 120);
 pub const SHADOW: (u32, u32) = (256, 256);
@@ -144,9 +153,9 @@ pub fn near_mask_edge(mask: &[f32], x: u32, y: u32, step: f32) -> bool {
     })
 }
 
-/// A query of the host's probe shader (`Query` in examples/deferred_host/glsl/probe.comp).
+/// A query of the host's probe shader (`Query` in tests/glsl/host_probe.comp).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Query {
     pub position: [f32; 3],
     pub time: f32,
@@ -155,7 +164,7 @@ pub struct Query {
 }
 
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ProbePush {
     pub map: u64,
     pub queries: u64,
@@ -196,7 +205,7 @@ pub fn probe(host: &Host, map: &TemporalShadowMap, queries: &[Query]) -> Vec<f32
         host,
         map,
         queries,
-        deferred::sources::PROBE_COMP,
+        PROBE_COMP,
         Shape {
             per_invocation: 1,
             workgroup: 64,
@@ -237,11 +246,30 @@ pub fn run_probe(
         )
     }
     .expect("probe layout");
-    let pipeline = deferred::compute_pipeline(device, "probe", source, layout).expect("probe");
+    let spirv = compile_compute("probe", source);
+    let code = ash::util::read_spv(&mut std::io::Cursor::new(&spirv)).expect("SPIR-V words");
+    let module = deferred::shader_module(device, &code).expect("probe module");
+    let stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(module)
+        .name(c"main");
+    let info = [vk::ComputePipelineCreateInfo::default()
+        .stage(stage)
+        .layout(layout)];
+    // SAFETY: the module holds the probe's SPIR-V, whose push constants `layout` was made for;
+    // the module goes once the pipeline is made.
+    let pipeline = unsafe {
+        let pipeline = device.create_compute_pipelines(vk::PipelineCache::null(), &info, None);
+        device.destroy_shader_module(module, None);
+        pipeline.expect("probe pipeline")[0]
+    };
+    // Dropped after the buffers (declared before them).
+    let allocator = deferred::new_allocator(host).expect("allocator");
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
-    let query_buffer = HostBuffer::with_data(host, queries, usage).expect("queries");
+    let query_buffer = HostBuffer::with_data(host, &allocator, queries, usage).expect("queries");
     let result_count = shape.results_per_query * queries.len();
-    let results = HostBuffer::new(host, 4 * result_count as u64, usage).expect("results");
+    let mut results =
+        HostBuffer::new(host, &allocator, 4 * result_count as u64, usage).expect("results");
     let invocations = queries.len().div_ceil(shape.per_invocation);
     let constants = ProbePush {
         map: map.header_address(),
@@ -257,10 +285,7 @@ pub fn run_probe(
     // every buffer outlives the wait.
     host.record_and_wait(|cmd| unsafe {
         device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
-        let bytes = std::slice::from_raw_parts(
-            &constants as *const ProbePush as *const u8,
-            std::mem::size_of::<ProbePush>(),
-        );
+        let bytes = bytemuck::bytes_of(&constants);
         device.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::COMPUTE, 0, bytes);
         device.cmd_dispatch(cmd, (invocations as u32).div_ceil(shape.workgroup), 1, 1);
         let to_host = [vk::MemoryBarrier2::default()

@@ -1,9 +1,9 @@
 //! A small deferred engine that uses motion-shadows the way a real renderer would.
 //!
-//! The engine owns everything a renderer owns: the device (`Host`, created without the
-//! library), its vertex and index buffers, its images, its pipelines and shaders, its frame
-//! loop with two frames in flight, and its lighting. The library is handed the device
-//! (`Context::from_raw`); per light one `LightShadow` (one map per frame in flight) records
+//! The engine owns everything a renderer owns: the device (`Gpu`, created with what the
+//! library asks for), its allocator, its vertex and index buffers, its images, its pipelines
+//! and shaders, its frame loop with two frames in flight, and its lighting. The library is
+//! handed the device and the allocator (`Context::from_raw_with_allocator`); per light one `LightShadow` (one map per frame in flight) records
 //! the shadow into the engine's command buffers from the meshes described once
 //! (`motion_shadows::Mesh`, with their CPU copy for the room each frame reserves):
 //!
@@ -28,11 +28,12 @@
 //!
 //! The `deferred_host` example's engine (`main.rs` runs it), a module of its crate so that
 //! the tests (`tests/gpu/deferred_host.rs`, `app/tests/gpu/deferred_host.rs`) drive the same
-//! code; `host` is the engine's device. Its parts, in reading order: `world` (what it draws),
+//! code; `gpu` is the engine's device. Its parts, in reading order: `world` (what it draws),
 //! `engine` (settings, slots, setup), `frames` (the frame loop), `record` (one frame's
 //! commands), `frame_data` (what its shaders read), `shaders`, `pipelines`, `resources`.
 
-use crate::host::Host;
+use crate::gpu::Gpu;
+use bytemuck::{Pod, Zeroable};
 // Links shaderc (compiled into this program to build the host's own shaders) where the
 // distribution's libshaderc.so cannot be linked as it is; see build-support/shaderc-link.
 use ash::vk;

@@ -50,11 +50,7 @@ impl<'h> Engine<'h> {
             if slot.pending.take().is_some() {
                 // SAFETY: the fence belongs to this slot and was submitted with its frame
                 // (`pending`).
-                let _ = unsafe {
-                    self.host
-                        .device
-                        .wait_for_fences(&[slot.fence], true, u64::MAX)
-                };
+                let _ = unsafe { (self.gpu.device).wait_for_fences(&[slot.fence], true, u64::MAX) };
             }
         }
     }
@@ -69,9 +65,9 @@ impl<'h> Engine<'h> {
         let Some(frame) = self.slots[slot].pending.take() else {
             return Ok(None);
         };
-        let s = &self.slots[slot];
+        let s = &mut self.slots[slot];
         // SAFETY: the slot's fence was submitted with its pending frame.
-        unsafe { (self.host.device).wait_for_fences(&[s.fence], true, u64::MAX) }
+        unsafe { (self.gpu.device).wait_for_fences(&[s.fence], true, u64::MAX) }
             .vk("vkWaitForFences")?;
         // SAFETY: this slot's submission has completed, and with it every earlier one on
         // the queue: what was dropped while recording them can go.
@@ -88,8 +84,8 @@ impl<'h> Engine<'h> {
         let counters = (self.shadows.iter())
             .map(|(_, shadow)| shadow.map(s.submission).read_counters())
             .collect::<motion_shadows::Result<_>>()?;
-        let masks = (s.mask_readback.iter())
-            .map(|b| read_mask(b, self.mask_format, pixels))
+        let masks = (s.mask_readback.iter_mut())
+            .map(|b| b.read(pixels))
             .collect::<Result<_>>()?;
         Ok(Some(FrameOutput {
             frame,
@@ -120,8 +116,8 @@ impl<'h> Engine<'h> {
                 self.shadows.push((*light, shadow));
             }
         }
-        let host = self.host;
-        let device = &host.device;
+        let gpu = self.gpu;
+        let device = &gpu.device;
         let f = frame as f64;
         let size = (self.settings.width, self.settings.height);
         let view_proj = world.camera.view_proj(size.0 as f32 / size.1 as f32);
@@ -204,7 +200,7 @@ impl<'h> Engine<'h> {
         // SAFETY: the command buffer was ended and the fence reset above; the host's queue is used
         // by this thread only, and every object the frame uses belongs to the slot or the engine,
         // kept until its fence has signalled.
-        unsafe { device.queue_submit2(host.queue, &submit, s.fence) }.vk("vkQueueSubmit2")?;
+        unsafe { device.queue_submit2(gpu.queue, &submit, s.fence) }.vk("vkQueueSubmit2")?;
         s.pending = Some(frame);
         Ok(())
     }

@@ -138,7 +138,7 @@ impl Recorder<'_> {
         let push = ShadeConstants { maps, lookup, time };
         let p = &self.pipelines;
         // SAFETY: the shade pipeline's layout holds both sets (frame constants, images) and a
-        // compute push range of ShadeConstants' size, which `bytes_of(&push)` is; the images were
+        // compute push range of ShadeConstants' size, which `bytemuck::bytes_of(&push)` is; the images were
         // moved to the layouts the sets name by the barriers above, and 8x8 groups cover the image
         // (the shader returns past its edges).
         unsafe {
@@ -157,7 +157,7 @@ impl Recorder<'_> {
                 p.shade_layout,
                 vk::ShaderStageFlags::COMPUTE,
                 0,
-                bytes_of(&push),
+                bytemuck::bytes_of(&push),
             );
             device.cmd_dispatch(cmd, width.div_ceil(8), height.div_ceil(8), 1);
         }
@@ -363,7 +363,7 @@ impl Recorder<'_> {
                     p.gbuffer_layout,
                     vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
                     0,
-                    bytes_of(&push),
+                    bytemuck::bytes_of(&push),
                 );
                 device.cmd_draw_indexed(cmd, m.index_count, 1, 0, 0, 0);
             }

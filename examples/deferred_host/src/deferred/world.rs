@@ -8,7 +8,7 @@ use super::*;
 
 /// A vertex as the engine stores it: 24 bytes, position then normal (object space).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
 pub struct Vertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
