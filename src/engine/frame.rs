@@ -31,9 +31,8 @@ pub struct ShadowFrame {
     /// [`super::StaticLayer::Kept`], only when the layer could not be kept: the first frame
     /// in a map, or after the light, the still meshes or the map's buffers changed).
     pub static_layer_drawn: bool,
-    /// What the host's own shaders read when they test visibility against the map, declared
-    /// for every stage (`TemporalShadowMap::lookup_accesses` narrows it to the stages a host
-    /// reads from).
+    /// What the host's own shaders read when they test visibility against the map, in the
+    /// stages [`super::ShadowSettings::lookup_stages`] names (nothing when it is empty).
     pub lookups: PassAccesses,
 }
 
@@ -46,15 +45,20 @@ impl ShadowFrame {
         light: &LightView,
         map: &TemporalShadowMap,
         static_layer_drawn: bool,
+        lookup_stages: vk::PipelineStageFlags2,
     ) -> Self {
-        let every_stage = vk::PipelineStageFlags2::ALL_COMMANDS;
+        let lookups = if lookup_stages.is_empty() {
+            PassAccesses::default()
+        } else {
+            map.lookup_accesses(lookup_stages)
+        };
         Self {
             map_header: map.header_address(),
             collection: collection.accesses(draws, light, map, None),
             generation: generation.accesses(map),
             mask: mask.map(|(pass, inputs)| pass.accesses(inputs, map)),
             static_layer_drawn,
-            lookups: map.lookup_accesses(every_stage),
+            lookups,
         }
     }
 }
