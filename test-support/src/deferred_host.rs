@@ -8,8 +8,9 @@ use glam::DVec3;
 use motion_shadows::technique::{CameraView, TemporalShadowMap};
 use crate::host::Host;
 use crate::test_shader::compile_compute;
+use glam::Vec3;
 use motion_shadows_deferred_host::deferred::{
-    self, HostBuffer, Light, Settings, ShadowLookup, World,
+    self, HostBuffer, Light, Mesh, MeshIndices, Motion, Settings, ShadowLookup, World,
 };
 
 /// The host's debugging probes (`tests/glsl/`): compute shaders a host would write, calling
@@ -30,6 +31,40 @@ pub const GROUND_ALBEDO: f64 = 0.8;
 pub fn new_host() -> Host {
     Host::new(true)
         .unwrap_or_else(|e| panic!("GPU tests need a Vulkan device and the validation layer: {e}"))
+}
+
+/// Where a mesh of the engine's world is at a frame time, for the tests' CPU models.
+pub trait MeshAtTime {
+    /// World-space vertex positions at frame time `f`, as f32 (rigid transforms applied in
+    /// f64 and then rounded, so a CPU model sees the same numbers whatever it does next).
+    fn world_positions(&self, f: f64) -> Vec<Vec3>;
+    /// The mesh as a triangle list (three world positions per triangle) at frame time `f`.
+    fn world_triangles(&self, f: f64) -> Vec<Vec3>;
+}
+
+impl MeshAtTime for Mesh {
+    fn world_positions(&self, f: f64) -> Vec<Vec3> {
+        match &self.motion {
+            Motion::Rigid(transform) => {
+                let m = transform(f);
+                (self.vertices.iter())
+                    .map(|v| (m.transform_point3(Vec3::from(v.position).as_dvec3())).as_vec3())
+                    .collect()
+            }
+            Motion::Deformed(deform) => deform(f).iter().map(|v| Vec3::from(v.position)).collect(),
+        }
+    }
+
+    fn world_triangles(&self, f: f64) -> Vec<Vec3> {
+        let positions = self.world_positions(f);
+        let index = |i: usize| match &self.indices {
+            MeshIndices::U16(v) => u32::from(v[i]),
+            MeshIndices::U32(v) => v[i],
+        };
+        (0..self.indices.len())
+            .map(|i| positions[index(i) as usize])
+            .collect()
+    }
 }
 
 pub fn settings() -> Settings {
@@ -76,7 +111,7 @@ pub fn ground_point(rays: &CameraRays, x: f32, y: f32, half: f64) -> Option<DVec
 /// edge (grazing light, the spot's cone within `cone_margin` in cosine), where a pixel's
 /// area or a float ulp decides.
 pub fn ground_direct(light: &Light, p: DVec3, albedo: f64, cone_margin: f64) -> Option<f64> {
-    let view = light.view(SHADOW).expect("light view");
+    let view = light.engine_light().view(SHADOW).expect("light view");
     let (to_light, dist2, emission) = match *light {
         Light::Spot { intensity, .. } => {
             let d = view.position.as_dvec3() - p;
@@ -176,7 +211,7 @@ pub struct ProbePush {
 /// Lit-fraction queries (time -1, own id none, normal up) at the centres of the shadow-map
 /// texels of the row through ground depth `z`, on the ground, for the probe shader.
 pub fn lit_fraction_queries_along_texel_row(world: &World, z: f64) -> Vec<Query> {
-    let light = world.lights[0].view(SHADOW).expect("light view");
+    let light = world.lights[0].engine_light().view(SHADOW).expect("light view");
     let view_proj = (light.proj * light.view).as_dmat4();
     let to_world = view_proj.inverse();
     let row = {

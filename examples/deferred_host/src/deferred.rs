@@ -2,13 +2,13 @@
 //!
 //! The engine owns everything a renderer owns: the device (`Gpu`, created with what the
 //! library asks for), its allocator, its vertex and index buffers, its images, its pipelines
-//! and shaders, its frame loop with two frames in flight, and its lighting. The library is
+//! and shaders, its frame loop with three frames in flight, and its lighting. The library is
 //! handed the device and the allocator (`Context::from_raw_with_allocator`); per light one `LightShadow` (one map per frame in flight) records
 //! the shadow into the engine's command buffers from the meshes described once
 //! (`motion_shadows::Mesh`, with their CPU copy for the room each frame reserves):
 //!
 //! ```text
-//! per frame (slot = frame % 2, with its own command buffer, fence and resources):
+//! per frame (slot = frame % 3, with its own command buffer, fence and resources):
 //!   G-buffer (the engine's own)      depth, world normal, albedo at shutter time t = 1,
 //!                                    world motion over the shutter (this frame's position
 //!                                    minus last frame's, as engines keep for motion vectors)
@@ -53,7 +53,7 @@ pub type Result<T> = std::result::Result<T, Error>;
 
 /// Frames the CPU may record ahead of the GPU: each has its own copy of everything that a
 /// frame writes (command buffer, fence, draw list, shadow maps, images, uniform buffer).
-pub const FRAMES_IN_FLIGHT: usize = 2;
+pub const FRAMES_IN_FLIGHT: usize = 3;
 /// Lights the shading shader handles (`MAX_LIGHTS` in `glsl/frame.glsl`).
 pub const MAX_LIGHTS: usize = 2;
 

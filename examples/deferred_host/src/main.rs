@@ -1,7 +1,7 @@
 //! A deferred engine with motion-blurred shadows: the engine brings its own Vulkan device,
 //! geometry, G-buffer (with world-space motion: this frame's position minus last frame's, and
 //! each pixel's triangle id, which the mask needs for moving receivers),
-//! frame loop (two frames in flight) and shading, and motion-shadows adds a temporal shadow
+//! frame loop (three frames in flight) and shading, and motion-shadows adds a temporal shadow
 //! map per light and a visibility mask per light that follows each receiver along its motion
 //! over the shutter. The engine is `deferred.rs` beside this
 //! file and its parts in `deferred/` (the tests drive the same code, through this crate's

@@ -220,6 +220,8 @@ impl<'h> Engine<'h> {
             },
             mask: true,
             frames_in_flight: FRAMES_IN_FLIGHT as u32,
+            // Only the shading pass, a compute shader, reads the maps itself.
+            lookup_stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
             ..ShadowSettings::new(light.engine_light())
         }
     }
@@ -306,55 +308,39 @@ impl<'h> Engine<'h> {
             offset: 0,
             range: vk::WHOLE_SIZE,
         }];
-        let sampled = |view, layout| {
-            [vk::DescriptorImageInfo {
-                sampler: self.pipelines.sampler,
-                image_view: view,
-                image_layout: layout,
-            }]
-        };
         let read_only = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         // A single light leaves binding 4 pointing at light 0's mask (never read then).
         let mask1 = slot.masks.get(1).unwrap_or(&slot.masks[0]);
+        let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
+        // (binding, image, layout, type): shade.comp's set 1.
         let images = [
-            sampled(
-                slot.depth.view,
-                vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
-            ),
-            sampled(slot.normals.view, read_only),
-            sampled(slot.albedo.view, read_only),
-            sampled(slot.masks[0].view, read_only),
-            sampled(mask1.view, read_only),
+            (0, &slot.depth, vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL, sampled),
+            (1, &slot.normals, read_only, sampled),
+            (2, &slot.albedo, read_only, sampled),
+            (3, &slot.masks[0], read_only, sampled),
+            (4, mask1, read_only, sampled),
+            (5, &slot.radiance, vk::ImageLayout::GENERAL, vk::DescriptorType::STORAGE_IMAGE),
+            (6, &slot.motion, read_only, sampled),
         ];
-        let motion = sampled(slot.motion.view, read_only);
-        let output = [vk::DescriptorImageInfo {
-            sampler: vk::Sampler::null(),
-            image_view: slot.radiance.view,
-            image_layout: vk::ImageLayout::GENERAL,
-        }];
+        let infos = images.map(|(_, image, image_layout, _)| {
+            [vk::DescriptorImageInfo {
+                sampler: self.pipelines.sampler,
+                image_view: image.view,
+                image_layout,
+            }]
+        });
         let mut writes = vec![
             vk::WriteDescriptorSet::default()
                 .dst_set(slot.frame_set)
-                .dst_binding(0)
                 .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
                 .buffer_info(&ubo),
-            vk::WriteDescriptorSet::default()
-                .dst_set(slot.image_set)
-                .dst_binding(5)
-                .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-                .image_info(&output),
-            vk::WriteDescriptorSet::default()
-                .dst_set(slot.image_set)
-                .dst_binding(6)
-                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-                .image_info(&motion),
         ];
-        for (binding, info) in images.iter().enumerate() {
+        for ((binding, _, _, ty), info) in images.iter().zip(&infos) {
             writes.push(
                 vk::WriteDescriptorSet::default()
                     .dst_set(slot.image_set)
-                    .dst_binding(binding as u32)
-                    .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                    .dst_binding(*binding)
+                    .descriptor_type(*ty)
                     .image_info(info),
             );
         }

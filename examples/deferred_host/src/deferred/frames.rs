@@ -3,9 +3,9 @@
 use super::*;
 
 impl<'h> Engine<'h> {
-    /// Renders frames `frames` of `world` with two frames in flight: frame f records into slot
-    /// f % 2 after waiting for that slot's previous frame (two frames earlier), so the CPU
-    /// prepares one frame while the GPU runs the other.
+    /// Renders frames `frames` of `world` with `FRAMES_IN_FLIGHT` frames in flight: frame f
+    /// records into slot f % FRAMES_IN_FLIGHT after waiting for that slot's previous frame, so
+    /// the CPU prepares one frame while the GPU runs the earlier ones.
     ///
     /// The library reserves each frame's room from the meshes' descriptions (their CPU
     /// geometry here), so no frame's shadow overflows; one that did (a bound too small) or
