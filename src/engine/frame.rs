@@ -45,20 +45,26 @@ impl ShadowFrame {
         light: &LightView,
         map: &TemporalShadowMap,
         static_layer_drawn: bool,
-        lookup_stages: vk::PipelineStageFlags2,
     ) -> Self {
-        let lookups = if lookup_stages.is_empty() {
-            PassAccesses::default()
-        } else {
-            map.lookup_accesses(lookup_stages)
-        };
         Self {
             map_header: map.header_address(),
             collection: collection.accesses(draws, light, map, None),
             generation: generation.accesses(map),
             mask: mask.map(|(pass, inputs)| pass.accesses(inputs, map)),
             static_layer_drawn,
-            lookups,
+            lookups: PassAccesses::default(),
         }
+    }
+
+    /// The frame with the host's lookups of `map` declared in `stages` (none when empty).
+    pub(super) fn with_lookups(
+        mut self,
+        map: &TemporalShadowMap,
+        stages: vk::PipelineStageFlags2,
+    ) -> Self {
+        if !stages.is_empty() {
+            self.lookups = map.lookup_accesses(stages);
+        }
+        self
     }
 }

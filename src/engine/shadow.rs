@@ -281,8 +281,8 @@ impl LightShadow {
             &light,
             &slot.map,
             static_layer_drawn,
-            self.settings.lookup_stages,
-        ))
+        )
+        .with_lookups(&slot.map, self.settings.lookup_stages))
     }
 
     /// After frame `frame`'s fence (and [`Context::collect`]): checks that its shadow is

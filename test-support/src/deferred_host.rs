@@ -2,13 +2,13 @@
 //! and the app's (`app/tests/gpu/deferred_host.rs`, which compares the engine with the
 //! standalone renderer).
 
+use crate::host::Host;
 use crate::sampling::CameraRays;
+use crate::test_shader::compile_compute;
 use ash::vk;
 use glam::DVec3;
-use motion_shadows::technique::{CameraView, TemporalShadowMap};
-use crate::host::Host;
-use crate::test_shader::compile_compute;
 use glam::Vec3;
+use motion_shadows::technique::{CameraView, TemporalShadowMap};
 use motion_shadows_deferred_host::deferred::{
     self, HostBuffer, Light, Mesh, MeshIndices, Motion, Settings, ShadowLookup, World,
 };
@@ -61,7 +61,7 @@ impl MeshAtTime for Mesh {
             MeshIndices::U16(v) => u32::from(v[i]),
             MeshIndices::U32(v) => v[i],
         };
-        (0..self.indices.len())
+        (0..self.indices.count())
             .map(|i| positions[index(i) as usize])
             .collect()
     }
@@ -211,7 +211,10 @@ pub struct ProbePush {
 /// Lit-fraction queries (time -1, own id none, normal up) at the centres of the shadow-map
 /// texels of the row through ground depth `z`, on the ground, for the probe shader.
 pub fn lit_fraction_queries_along_texel_row(world: &World, z: f64) -> Vec<Query> {
-    let light = world.lights[0].engine_light().view(SHADOW).expect("light view");
+    let light = world.lights[0]
+        .engine_light()
+        .view(SHADOW)
+        .expect("light view");
     let view_proj = (light.proj * light.view).as_dmat4();
     let to_world = view_proj.inverse();
     let row = {

@@ -164,7 +164,10 @@ fn a_host_chooses_the_device_the_library_would() {
         unsafe { DeviceRequirements::choose_device(&host.instance) }.expect("a device");
     // SAFETY: `physical` was enumerated from the host's instance.
     let props = unsafe { host.instance.get_physical_device_properties(physical) };
-    let name = props.device_name_as_c_str().expect("a name").to_string_lossy();
+    let name = props
+        .device_name_as_c_str()
+        .expect("a name")
+        .to_string_lossy();
     let headless = Context::headless(&ContextOptions::from_env()).expect("headless context");
     assert_eq!(name, headless.info().name, "the library's own preference");
     // SAFETY: as above.
@@ -182,7 +185,11 @@ fn a_host_chooses_the_device_the_library_would() {
         (f.host_query_reset(), f.storage_image_write_without_format())
     };
     assert!(requirements.features.missing_required().is_empty());
-    assert_eq!(optional(&requirements), optional(&expected), "what for_device lists");
+    assert_eq!(
+        optional(&requirements),
+        optional(&expected),
+        "what for_device lists"
+    );
     drop(headless);
     host.assert_clean_teardown();
 }

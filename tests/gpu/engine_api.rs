@@ -304,7 +304,11 @@ fn the_frames_lookups_declare_only_the_stages_that_read_the_map() {
         assert!(!u.writes, "{u:?}");
         for access in [u.first, u.last] {
             assert_eq!(access.stages, SHADER_STAGES, "{u:?}");
-            assert_eq!(access.access, vk::AccessFlags2::SHADER_STORAGE_READ, "{u:?}");
+            assert_eq!(
+                access.access,
+                vk::AccessFlags2::SHADER_STORAGE_READ,
+                "{u:?}"
+            );
         }
     }
     assert_no_validation_messages(&ctx);
@@ -324,7 +328,11 @@ fn the_lookup_stages_setting_narrows_the_declared_lookups() {
     let lookups = declared_lookups(&ctx, narrowed);
     assert!(!lookups.uses.is_empty());
     for u in &lookups.uses {
-        assert_eq!((u.first.stages, u.last.stages), (fragment, fragment), "{u:?}");
+        assert_eq!(
+            (u.first.stages, u.last.stages),
+            (fragment, fragment),
+            "{u:?}"
+        );
     }
     let none = ShadowSettings {
         lookup_stages: vk::PipelineStageFlags2::empty(),
@@ -342,7 +350,10 @@ fn the_lookup_stages_setting_narrows_the_declared_lookups() {
         };
         let err = LightShadow::new(&ctx, refused).err().expect("refused");
         assert!(matches!(err, Error::InvalidArgument(_)), "{err}");
-        assert!(err.to_string().contains("ShadowSettings::lookup_stages"), "{err}");
+        assert!(
+            err.to_string().contains("ShadowSettings::lookup_stages"),
+            "{err}"
+        );
     }
     assert_no_validation_messages(&ctx);
 }

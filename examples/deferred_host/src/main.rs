@@ -67,7 +67,10 @@ fn main() -> Result<(), deferred::Error> {
     let png = Path::new("out").join("deferred_host.png");
     write_png(&png, &last)?;
 
-    println!("device:  {:?}", props.device_name_as_c_str().unwrap_or(c"?"));
+    println!(
+        "device:  {:?}",
+        props.device_name_as_c_str().unwrap_or(c"?")
+    );
     println!(
         "frames:  {FRAMES} at {WIDTH}x{HEIGHT}, {} in flight",
         deferred::FRAMES_IN_FLIGHT

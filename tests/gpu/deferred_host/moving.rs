@@ -85,13 +85,7 @@ pub(super) fn moving_lit(
         workgroup: 64,
         results_per_query: 1,
     };
-    let out = run_probe(
-        host,
-        map,
-        &queries,
-        MOVING_PROBE_COMP,
-        shape,
-    );
+    let out = run_probe(host, map, &queries, MOVING_PROBE_COMP, shape);
     out[..paths.len()].iter().map(|&v| f64::from(v)).collect()
 }
 

@@ -131,8 +131,14 @@ impl<'h> Engine<'h> {
         }
         let sampled = vk::FormatFeatureFlags::SAMPLED_IMAGE;
         let needs = [
-            (DEPTH_FORMAT, vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT | sampled),
-            (NORMAL_FORMAT, vk::FormatFeatureFlags::COLOR_ATTACHMENT | sampled),
+            (
+                DEPTH_FORMAT,
+                vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT | sampled,
+            ),
+            (
+                NORMAL_FORMAT,
+                vk::FormatFeatureFlags::COLOR_ATTACHMENT | sampled,
+            ),
         ];
         for (format, needed) in needs {
             // SAFETY: the physical device is the instance's.
@@ -259,7 +265,11 @@ impl<'h> Engine<'h> {
             let cmd = gpu.device.allocate_command_buffers(&alloc);
             let sets = gpu.device.allocate_descriptor_sets(&sets);
             let fence = gpu.device.create_fence(&Default::default(), None);
-            (cmd.vk("vkAllocateCommandBuffers")?[0], sets.vk("vkAllocateDescriptorSets")?, fence.vk("vkCreateFence")?)
+            (
+                cmd.vk("vkAllocateCommandBuffers")?[0],
+                sets.vk("vkAllocateDescriptorSets")?,
+                fence.vk("vkCreateFence")?,
+            )
         };
         let build = || -> Result<Slot> {
             let depth_usage = usage | vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
@@ -283,7 +293,9 @@ impl<'h> Engine<'h> {
                 albedo: attachment(ALBEDO_FORMAT)?,
                 motion: attachment(MOTION_FORMAT)?,
                 ids: attachment(ID_FORMAT)?,
-                masks: (0..lights).map(|_| storage(MASK_FORMAT)).collect::<Result<_>>()?,
+                masks: (0..lights)
+                    .map(|_| storage(MASK_FORMAT))
+                    .collect::<Result<_>>()?,
                 radiance: storage(RADIANCE_FORMAT)?,
                 radiance_readback: host_buffer(pixels * 16, vk::BufferUsageFlags::TRANSFER_DST)?,
                 mask_readback: (0..lights)
@@ -314,12 +326,22 @@ impl<'h> Engine<'h> {
         let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
         // (binding, image, layout, type): shade.comp's set 1.
         let images = [
-            (0, &slot.depth, vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL, sampled),
+            (
+                0,
+                &slot.depth,
+                vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+                sampled,
+            ),
             (1, &slot.normals, read_only, sampled),
             (2, &slot.albedo, read_only, sampled),
             (3, &slot.masks[0], read_only, sampled),
             (4, mask1, read_only, sampled),
-            (5, &slot.radiance, vk::ImageLayout::GENERAL, vk::DescriptorType::STORAGE_IMAGE),
+            (
+                5,
+                &slot.radiance,
+                vk::ImageLayout::GENERAL,
+                vk::DescriptorType::STORAGE_IMAGE,
+            ),
             (6, &slot.motion, read_only, sampled),
         ];
         let infos = images.map(|(_, image, image_layout, _)| {

@@ -114,7 +114,7 @@ impl Geometry {
                 vertex_count: mesh.vertices.len() as u32,
                 index_offset,
                 index_type,
-                index_count: mesh.indices.len() as u32,
+                index_count: mesh.indices.count() as u32,
                 first_triangle_id: next_id,
             });
             next_id += mesh.triangle_count();

@@ -102,7 +102,9 @@ impl Pipelines {
         unsafe {
             self.descriptor_pool =
                 (device.create_descriptor_pool(&pool, None)).vk("vkCreateDescriptorPool")?;
-            self.sampler = device.create_sampler(&sampler, None).vk("vkCreateSampler")?;
+            self.sampler = device
+                .create_sampler(&sampler, None)
+                .vk("vkCreateSampler")?;
         }
         let push = |stage_flags, size: usize| vk::PushConstantRange {
             stage_flags,

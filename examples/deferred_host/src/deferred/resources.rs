@@ -14,14 +14,16 @@ pub type SharedAllocator = Arc<Mutex<Allocator>>;
 /// An allocator on `gpu`'s device, with device addresses on (the library reads the
 /// engine's vertex buffers by address). Dropped before the device.
 pub fn new_allocator(gpu: &Gpu) -> Result<SharedAllocator> {
-    Ok(Arc::new(Mutex::new(Allocator::new(&AllocatorCreateDesc {
-        instance: gpu.instance.clone(),
-        device: gpu.device.clone(),
-        physical_device: gpu.physical,
-        debug_settings: Default::default(),
-        buffer_device_address: true,
-        allocation_sizes: Default::default(),
-    })?)))
+    Ok(Arc::new(Mutex::new(Allocator::new(
+        &AllocatorCreateDesc {
+            instance: gpu.instance.clone(),
+            device: gpu.device.clone(),
+            physical_device: gpu.physical,
+            debug_settings: Default::default(),
+            buffer_device_address: true,
+            allocation_sizes: Default::default(),
+        },
+    )?)))
 }
 
 fn allocate(
@@ -30,7 +32,9 @@ fn allocate(
     location: MemoryLocation,
     linear: bool,
 ) -> Result<Allocation> {
-    let mut allocator = allocator.lock().map_err(|_| "the allocator's lock is poisoned")?;
+    let mut allocator = allocator
+        .lock()
+        .map_err(|_| "the allocator's lock is poisoned")?;
     Ok(allocator.allocate(&AllocationCreateDesc {
         name: "engine",
         requirements,
@@ -80,8 +84,10 @@ impl HostBuffer {
         let requirements = unsafe { gpu.device.get_buffer_memory_requirements(buffer) };
         let allocation = allocate(allocator, requirements, MemoryLocation::CpuToGpu, true)?;
         // SAFETY: the allocation was made for this buffer's requirements; bound once.
-        unsafe { (gpu.device).bind_buffer_memory(buffer, allocation.memory(), allocation.offset()) }
-            .vk("vkBindBufferMemory")?;
+        unsafe {
+            (gpu.device).bind_buffer_memory(buffer, allocation.memory(), allocation.offset())
+        }
+        .vk("vkBindBufferMemory")?;
         out.allocation = Some(allocation);
         Ok(out)
     }
@@ -207,7 +213,10 @@ impl Image {
                 .bind_image_memory(image, allocation.memory(), allocation.offset())
                 .vk("vkBindImageMemory")?;
             out.allocation = Some(allocation);
-            out.view = gpu.device.create_image_view(&view, None).vk("vkCreateImageView")?;
+            out.view = gpu
+                .device
+                .create_image_view(&view, None)
+                .vk("vkCreateImageView")?;
         }
         Ok(out)
     }

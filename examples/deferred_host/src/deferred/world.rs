@@ -22,7 +22,8 @@ pub enum MeshIndices {
 }
 
 impl MeshIndices {
-    pub fn len(&self) -> usize {
+    /// How many indices (three per triangle).
+    pub fn count(&self) -> usize {
         match self {
             Self::U16(i) => i.len(),
             Self::U32(i) => i.len(),
@@ -56,7 +57,7 @@ pub struct Mesh {
 
 impl Mesh {
     pub fn triangle_count(&self) -> u32 {
-        (self.indices.len() / 3) as u32
+        (self.indices.count() / 3) as u32
     }
 }
 
