@@ -38,9 +38,8 @@ use bytemuck::{Pod, Zeroable};
 // distribution's libshaderc.so cannot be linked as it is; see build-support/shaderc-link.
 use ash::vk;
 use glam::{DMat4, Mat4, UVec4, Vec3, Vec4};
-use motion_shadows::research::passes::{Counters, LightKind};
 use motion_shadows::{
-    Context, CpuGeometry, GLSL_INCLUDE, IndexStream, Indices, LightShadow, LightView, MaskInputs,
+    Context, CpuGeometry, GLSL_INCLUDE, IndexStream, Indices, LightShadow, MaskInputs,
     Mesh as ShadowMesh, MotionImage, NormalEncoding, NormalImage, PositionStream, ShadowSettings,
     StaticLayer, TemporalShadowMap, TriangleIdImage,
 };

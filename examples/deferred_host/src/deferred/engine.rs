@@ -25,7 +25,7 @@ pub struct Settings {
     /// Texels of every shadow map.
     pub shadow_size: (u32, u32),
     pub lookup: ShadowLookup,
-    /// Keep each shadow map's static layer across frames (`LightView::keep_static_layer`):
+    /// Keep each shadow map's static layer across frames (`StaticLayer::Kept`):
     /// the world's static meshes never change in place, and its lights do not move.
     pub keep_static_layer: bool,
     /// Give the mask pass the G-buffer's motion (receivers followed along their path); off,
@@ -34,14 +34,26 @@ pub struct Settings {
     pub receivers_move: bool,
 }
 
+/// A map's counts after its frame (`TemporalShadowMap::read_counters`).
+#[derive(Debug, Clone, Copy)]
+pub struct MapCounts {
+    /// N_f: the fragments the collection stored.
+    pub node_count: u32,
+    /// N_r: the ranges the generation made, and the room for them.
+    pub range_count: u32,
+    pub range_capacity: u32,
+    /// 1 where the collection stored ranges directly (no fragments), else 0.
+    pub ranges_direct: u32,
+}
+
 /// A frame's results, read back once its fence signalled.
 #[derive(Debug, Clone)]
 pub struct FrameOutput {
     pub frame: u32,
     /// The frame-in-flight slot that rendered it.
     pub slot: usize,
-    /// Per light: the shadow map's counters (N_f = node_count, N_r = range_count).
-    pub counters: Vec<Counters>,
+    /// Per light: the shadow map's counts after the frame.
+    pub counters: Vec<MapCounts>,
     /// Linear radiance per pixel (rgb; a = 1 where a surface is, 0 for the background).
     pub radiance: Vec<[f32; 4]>,
     /// Per light: the visibility mask (lit fraction of the shutter) per pixel.

@@ -82,8 +82,16 @@ impl<'h> Engine<'h> {
         }
         let pixels = (self.settings.width * self.settings.height) as usize;
         let counters = (self.shadows.iter())
-            .map(|(_, shadow)| shadow.map(s.submission).read_counters())
-            .collect::<motion_shadows::Result<_>>()?;
+            .map(|(_, shadow)| {
+                let c = shadow.map(s.submission).read_counters()?;
+                Ok(MapCounts {
+                    node_count: c.node_count,
+                    range_count: c.range_count,
+                    range_capacity: c.range_capacity,
+                    ranges_direct: c.ranges_direct,
+                })
+            })
+            .collect::<Result<_>>()?;
         let masks = (s.mask_readback.iter_mut())
             .map(|b| b.read(pixels))
             .collect::<Result<_>>()?;
@@ -121,9 +129,6 @@ impl<'h> Engine<'h> {
         let f = frame as f64;
         let size = (self.settings.width, self.settings.height);
         let view_proj = world.camera.view_proj(size.0 as f32 / size.1 as f32);
-        let lights: Vec<LightView> = (self.shadows.iter())
-            .map(|(_, shadow)| *shadow.light_view())
-            .collect();
         let cpu = cpu_positions(world, f);
         let meshes = self.shadow_meshes(world, slot, f, &cpu);
         let recorder = Recorder {
@@ -140,21 +145,33 @@ impl<'h> Engine<'h> {
             view_proj,
             inv_view_proj: view_proj.inverse(),
             eye: world.camera.eye.extend(1.0),
-            info: UVec4::new(size.0, size.1, lights.len() as u32, 0),
+            info: UVec4::new(size.0, size.1, world.lights.len() as u32, 0),
             shading: Vec4::new(world.ambient, 0.0, 0.0, 0.0),
             lights: Default::default(),
         };
-        for (c, l) in constants.lights.iter_mut().zip(&lights) {
-            let (w, cos_cone, emission) = match l.kind {
-                LightKind::Spot {
-                    cos_cone,
+        for (c, light) in constants.lights.iter_mut().zip(&world.lights) {
+            // position.w: 1 for a spot light, 0 for a directional one (no position);
+            // direction.w: the spot's cosine of its cone half angle.
+            let (position, direction, cos_cone, emission) = match *light {
+                Light::Spot {
+                    position,
+                    direction,
+                    cone_half_angle_deg,
                     intensity,
-                } => (1.0, cos_cone, intensity),
-                LightKind::Directional { irradiance } => (0.0, -1.0, irradiance),
+                    ..
+                } => {
+                    let cos_cone = cone_half_angle_deg.to_radians().cos();
+                    (position.extend(1.0), direction, cos_cone, intensity)
+                }
+                Light::Directional {
+                    direction,
+                    irradiance,
+                    ..
+                } => (Vec4::ZERO, direction, -1.0, irradiance),
             };
             *c = LightConstants {
-                position: l.position.extend(w),
-                direction: l.direction.extend(cos_cone),
+                position,
+                direction: direction.normalize().extend(cos_cone),
                 emission: Vec4::new(emission, 0.0, 0.0, 0.0),
             };
         }
