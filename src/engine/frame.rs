@@ -31,9 +31,8 @@ pub struct ShadowFrame {
     /// [`super::StaticLayer::Kept`], only when the layer could not be kept: the first frame
     /// in a map, or after the light, the still meshes or the map's buffers changed).
     pub static_layer_drawn: bool,
-    /// What the host's own shaders read when they test visibility against the map, declared
-    /// for every stage (`TemporalShadowMap::lookup_accesses` narrows it to the stages a host
-    /// reads from).
+    /// What the host's own shaders read when they test visibility against the map, in the
+    /// stages [`super::ShadowSettings::lookup_stages`] names (nothing when it is empty).
     pub lookups: PassAccesses,
 }
 
@@ -47,14 +46,25 @@ impl ShadowFrame {
         map: &TemporalShadowMap,
         static_layer_drawn: bool,
     ) -> Self {
-        let every_stage = vk::PipelineStageFlags2::ALL_COMMANDS;
         Self {
             map_header: map.header_address(),
             collection: collection.accesses(draws, light, map, None),
             generation: generation.accesses(map),
             mask: mask.map(|(pass, inputs)| pass.accesses(inputs, map)),
             static_layer_drawn,
-            lookups: map.lookup_accesses(every_stage),
+            lookups: PassAccesses::default(),
         }
+    }
+
+    /// The frame with the host's lookups of `map` declared in `stages` (none when empty).
+    pub(super) fn with_lookups(
+        mut self,
+        map: &TemporalShadowMap,
+        stages: vk::PipelineStageFlags2,
+    ) -> Self {
+        if !stages.is_empty() {
+            self.lookups = map.lookup_accesses(stages);
+        }
+        self
     }
 }

@@ -2,6 +2,7 @@
 
 use super::light::Light;
 use crate::technique::{Lookup, Pruning, RangeStorage};
+use ash::vk;
 
 /// Whether the still meshes' nearest triangles (the static layer) are kept across frames.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -41,6 +42,12 @@ pub struct ShadowSettings {
     /// Frames the host has in flight: one map per frame, so that recording one never waits
     /// for another.
     pub frames_in_flight: u32,
+    /// The shader stages your own shaders read the map from (`ms_visibility`,
+    /// `ms_lit_fraction`): what [`super::ShadowFrame::lookups`] declares to your render
+    /// graph. Empty when only the mask reads the map. Vertex, geometry, fragment and compute
+    /// by default (the stages the generation makes the map visible to); any other stage is
+    /// refused.
+    pub lookup_stages: vk::PipelineStageFlags2,
 }
 
 impl ShadowSettings {
@@ -56,6 +63,7 @@ impl ShadowSettings {
             lookup: Lookup::default(),
             mask: false,
             frames_in_flight: 2,
+            lookup_stages: crate::gpu::Access::ANY_SHADER_READ.stages,
         }
     }
 }

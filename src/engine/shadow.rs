@@ -58,6 +58,14 @@ impl LightShadow {
                 "ShadowSettings::frames_in_flight is 0: at least one frame records".into(),
             ));
         }
+        let shader_stages = crate::gpu::Access::ANY_SHADER_READ.stages;
+        if !shader_stages.contains(settings.lookup_stages) {
+            return Err(Error::InvalidArgument(format!(
+                "ShadowSettings::lookup_stages {:?} names stages no shader reads the map in \
+                 (only {shader_stages:?})",
+                settings.lookup_stages
+            )));
+        }
         let mut light = settings.light.view(settings.map_size)?;
         light.static_layer = settings.static_layer != StaticLayer::Off;
         light.keep_static_layer = settings.static_layer == StaticLayer::Kept;
@@ -273,7 +281,8 @@ impl LightShadow {
             &light,
             &slot.map,
             static_layer_drawn,
-        ))
+        )
+        .with_lookups(&slot.map, self.settings.lookup_stages))
     }
 
     /// After frame `frame`'s fence (and [`Context::collect`]): checks that its shadow is

@@ -305,6 +305,21 @@ impl DeviceRequirements {
         Ok(requirements)
     }
 
+    /// The physical device the library's own contexts pick ([`crate::Context::headless`]),
+    /// for a host that creates its device itself: the first of discrete, integrated, virtual
+    /// and CPU devices that [`Self::for_device`] accepts and that has a queue family with
+    /// graphics and compute. Returns the device, that queue family and what to enable on it.
+    /// Errors ([`Error::MissingFeatures`]) with each rejected device's reason.
+    ///
+    /// # Safety
+    /// `instance` is live and was created for Vulkan 1.3 ([`Self::api_version`]).
+    pub unsafe fn choose_device(
+        instance: &ash::Instance,
+    ) -> Result<(vk::PhysicalDevice, u32, Self)> {
+        let chosen = super::device_select::choose(instance)?;
+        Ok((chosen.physical, chosen.queue_family, chosen.requirements))
+    }
+
     /// [`Self::extensions`] as the pointers `enabled_extension_names` takes (valid as long
     /// as the program runs).
     pub fn extension_names(&self) -> Vec<*const c_char> {

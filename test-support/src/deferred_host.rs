@@ -2,14 +2,24 @@
 //! and the app's (`app/tests/gpu/deferred_host.rs`, which compares the engine with the
 //! standalone renderer).
 
+use crate::host::Host;
 use crate::sampling::CameraRays;
+use crate::test_shader::compile_compute;
 use ash::vk;
 use glam::DVec3;
+use glam::Vec3;
 use motion_shadows::technique::{CameraView, TemporalShadowMap};
 use motion_shadows_deferred_host::deferred::{
-    self, HostBuffer, Light, Settings, ShadowLookup, World,
+    self, HostBuffer, Light, Mesh, MeshIndices, Motion, Settings, ShadowLookup, World,
 };
-use motion_shadows_deferred_host::host::Host;
+
+/// The host's debugging probes (`tests/glsl/`): compute shaders a host would write, calling
+/// the library's public include on a map by device address.
+pub const PROBE_COMP: &str = include_str!("../../tests/glsl/host_probe.comp");
+/// Eight samples of one pixel per invocation against `ms_texel_shadowed`.
+pub const SAMPLES_PROBE_COMP: &str = include_str!("../../tests/glsl/host_samples_probe.comp");
+/// A receiver moving between two points (two queries per invocation).
+pub const MOVING_PROBE_COMP: &str = include_str!("../../tests/glsl/host_moving_probe.comp");
 
 pub const SIZE: (u32, u32) = (160, 120);
 pub const SHADOW: (u32, u32) = (256, 256);
@@ -21,6 +31,40 @@ pub const GROUND_ALBEDO: f64 = 0.8;
 pub fn new_host() -> Host {
     Host::new(true)
         .unwrap_or_else(|e| panic!("GPU tests need a Vulkan device and the validation layer: {e}"))
+}
+
+/// Where a mesh of the engine's world is at a frame time, for the tests' CPU models.
+pub trait MeshAtTime {
+    /// World-space vertex positions at frame time `f`, as f32 (rigid transforms applied in
+    /// f64 and then rounded, so a CPU model sees the same numbers whatever it does next).
+    fn world_positions(&self, f: f64) -> Vec<Vec3>;
+    /// The mesh as a triangle list (three world positions per triangle) at frame time `f`.
+    fn world_triangles(&self, f: f64) -> Vec<Vec3>;
+}
+
+impl MeshAtTime for Mesh {
+    fn world_positions(&self, f: f64) -> Vec<Vec3> {
+        match &self.motion {
+            Motion::Rigid(transform) => {
+                let m = transform(f);
+                (self.vertices.iter())
+                    .map(|v| (m.transform_point3(Vec3::from(v.position).as_dvec3())).as_vec3())
+                    .collect()
+            }
+            Motion::Deformed(deform) => deform(f).iter().map(|v| Vec3::from(v.position)).collect(),
+        }
+    }
+
+    fn world_triangles(&self, f: f64) -> Vec<Vec3> {
+        let positions = self.world_positions(f);
+        let index = |i: usize| match &self.indices {
+            MeshIndices::U16(v) => u32::from(v[i]),
+            MeshIndices::U32(v) => v[i],
+        };
+        (0..self.indices.count())
+            .map(|i| positions[index(i) as usize])
+            .collect()
+    }
 }
 
 pub fn settings() -> Settings {
@@ -67,7 +111,7 @@ pub fn ground_point(rays: &CameraRays, x: f32, y: f32, half: f64) -> Option<DVec
 /// edge (grazing light, the spot's cone within `cone_margin` in cosine), where a pixel's
 /// area or a float ulp decides.
 pub fn ground_direct(light: &Light, p: DVec3, albedo: f64, cone_margin: f64) -> Option<f64> {
-    let view = light.view(SHADOW).expect("light view");
+    let view = light.engine_light().view(SHADOW).expect("light view");
     let (to_light, dist2, emission) = match *light {
         Light::Spot { intensity, .. } => {
             let d = view.position.as_dvec3() - p;
@@ -144,9 +188,9 @@ pub fn near_mask_edge(mask: &[f32], x: u32, y: u32, step: f32) -> bool {
     })
 }
 
-/// A query of the host's probe shader (`Query` in examples/deferred_host/glsl/probe.comp).
+/// A query of the host's probe shader (`Query` in tests/glsl/host_probe.comp).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Query {
     pub position: [f32; 3],
     pub time: f32,
@@ -155,7 +199,7 @@ pub struct Query {
 }
 
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ProbePush {
     pub map: u64,
     pub queries: u64,
@@ -167,7 +211,10 @@ pub struct ProbePush {
 /// Lit-fraction queries (time -1, own id none, normal up) at the centres of the shadow-map
 /// texels of the row through ground depth `z`, on the ground, for the probe shader.
 pub fn lit_fraction_queries_along_texel_row(world: &World, z: f64) -> Vec<Query> {
-    let light = world.lights[0].view(SHADOW).expect("light view");
+    let light = world.lights[0]
+        .engine_light()
+        .view(SHADOW)
+        .expect("light view");
     let view_proj = (light.proj * light.view).as_dmat4();
     let to_world = view_proj.inverse();
     let row = {
@@ -196,7 +243,7 @@ pub fn probe(host: &Host, map: &TemporalShadowMap, queries: &[Query]) -> Vec<f32
         host,
         map,
         queries,
-        deferred::sources::PROBE_COMP,
+        PROBE_COMP,
         Shape {
             per_invocation: 1,
             workgroup: 64,
@@ -237,11 +284,30 @@ pub fn run_probe(
         )
     }
     .expect("probe layout");
-    let pipeline = deferred::compute_pipeline(device, "probe", source, layout).expect("probe");
+    let spirv = compile_compute("probe", source);
+    let code = ash::util::read_spv(&mut std::io::Cursor::new(&spirv)).expect("SPIR-V words");
+    let module = deferred::shader_module(device, &code).expect("probe module");
+    let stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(module)
+        .name(c"main");
+    let info = [vk::ComputePipelineCreateInfo::default()
+        .stage(stage)
+        .layout(layout)];
+    // SAFETY: the module holds the probe's SPIR-V, whose push constants `layout` was made for;
+    // the module goes once the pipeline is made.
+    let pipeline = unsafe {
+        let pipeline = device.create_compute_pipelines(vk::PipelineCache::null(), &info, None);
+        device.destroy_shader_module(module, None);
+        pipeline.expect("probe pipeline")[0]
+    };
+    // Dropped after the buffers (declared before them).
+    let allocator = deferred::new_allocator(host).expect("allocator");
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
-    let query_buffer = HostBuffer::with_data(host, queries, usage).expect("queries");
+    let query_buffer = HostBuffer::with_data(host, &allocator, queries, usage).expect("queries");
     let result_count = shape.results_per_query * queries.len();
-    let results = HostBuffer::new(host, 4 * result_count as u64, usage).expect("results");
+    let mut results =
+        HostBuffer::new(host, &allocator, 4 * result_count as u64, usage).expect("results");
     let invocations = queries.len().div_ceil(shape.per_invocation);
     let constants = ProbePush {
         map: map.header_address(),
@@ -257,10 +323,7 @@ pub fn run_probe(
     // every buffer outlives the wait.
     host.record_and_wait(|cmd| unsafe {
         device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
-        let bytes = std::slice::from_raw_parts(
-            &constants as *const ProbePush as *const u8,
-            std::mem::size_of::<ProbePush>(),
-        );
+        let bytes = bytemuck::bytes_of(&constants);
         device.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::COMPUTE, 0, bytes);
         device.cmd_dispatch(cmd, (invocations as u32).div_ceil(shape.workgroup), 1, 1);
         let to_host = [vk::MemoryBarrier2::default()

@@ -7,8 +7,7 @@
 pub mod coverage_oracle;
 pub mod deferred_host;
 pub mod gpu;
-// The deferred host's device (the example engine's crate, `examples/deferred_host/`).
-pub use motion_shadows_deferred_host::host;
+pub mod host;
 pub mod prism_model;
 pub mod rng;
 pub mod sampling;

@@ -1,5 +1,5 @@
 //! The deferred host engine (`examples/deferred_host/src/deferred.rs`, the engine of the
-//! `deferred_host` example): its own device, buffers, G-buffer, two frames in flight and
+//! `deferred_host` example): its own device, buffers, G-buffer, three frames in flight and
 //! two lights, with the library's shadow and mask passes recorded into its command buffers.
 //! Checked against the lighting pass's own per-sample decisions and against closed forms;
 //! the comparisons with the standalone renderer and the ray tracer (the app, used there as a
@@ -403,10 +403,11 @@ fn a_kept_static_layer_renders_what_a_redrawn_one_renders() {
             );
             assert!(x.masks == y.masks, "frame {}: masks differ", x.frame);
         }
-        // Two frames in flight: each slot's map drew its layer once per light setup, in the
+        // Frames in flight: each slot's map drew its layer once per light setup, in the
         // slot's first frame (a light that moved gets a new shadow, whose maps draw theirs
         // again); redrawn, every frame drew it.
-        let first_of_each_slot = vec![range.start, range.start + 1];
+        let slots = deferred::FRAMES_IN_FLIGHT as u32;
+        let first_of_each_slot: Vec<u32> = (range.start..range.start + slots).collect();
         assert_eq!(drawn(&a), vec![first_of_each_slot; lights], "part {part}");
         let every_frame: Vec<u32> = range.clone().collect();
         assert_eq!(drawn(&b), vec![every_frame; lights], "part {part}");

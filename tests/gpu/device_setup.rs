@@ -8,7 +8,9 @@
 use crate::support::host::Host;
 use motion_shadows::Error;
 use motion_shadows::ash::vk;
-use motion_shadows::gpu::{Context, DeviceFeatures, TimestampQueries};
+use motion_shadows::gpu::{
+    Context, ContextOptions, DeviceFeatures, DeviceRequirements, TimestampQueries,
+};
 
 /// `Context::from_raw` on the host's handles, told what the host enabled.
 fn wrap(host: &Host) -> motion_shadows::Result<Context> {
@@ -148,5 +150,46 @@ fn with_host_query_reset_timestamps_time() {
     assert_eq!(spans.len(), 1);
     assert_eq!(spans[0].0, "end");
     drop((timestamps, ctx));
+    host.assert_clean_teardown();
+}
+
+/// A host that creates its own device picks it with the library's preference: the device
+/// `Context::headless` runs on, with what `for_device` says to enable there.
+#[test]
+fn a_host_chooses_the_device_the_library_would() {
+    let host = Host::new(true)
+        .unwrap_or_else(|e| panic!("GPU tests need a Vulkan device and the validation layer: {e}"));
+    // SAFETY: the host's instance is live and was created for Vulkan 1.3.
+    let (physical, family, requirements) =
+        unsafe { DeviceRequirements::choose_device(&host.instance) }.expect("a device");
+    // SAFETY: `physical` was enumerated from the host's instance.
+    let props = unsafe { host.instance.get_physical_device_properties(physical) };
+    let name = props
+        .device_name_as_c_str()
+        .expect("a name")
+        .to_string_lossy();
+    let headless = Context::headless(&ContextOptions::from_env()).expect("headless context");
+    assert_eq!(name, headless.info().name, "the library's own preference");
+    // SAFETY: as above.
+    let families = unsafe {
+        host.instance
+            .get_physical_device_queue_family_properties(physical)
+    };
+    let flags = families[family as usize].queue_flags;
+    assert!(flags.contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE));
+    // SAFETY: as above.
+    let expected = unsafe { DeviceRequirements::for_device(&host.instance, physical) }
+        .expect("the chosen device is accepted");
+    let optional = |r: &DeviceRequirements| {
+        let f = &r.features;
+        (f.host_query_reset(), f.storage_image_write_without_format())
+    };
+    assert!(requirements.features.missing_required().is_empty());
+    assert_eq!(
+        optional(&requirements),
+        optional(&expected),
+        "what for_device lists"
+    );
+    drop(headless);
     host.assert_clean_teardown();
 }

@@ -265,3 +265,95 @@ fn mask_inputs_without_the_mask_setting_are_refused() {
         .expect("one shot");
     assert_no_validation_messages(&ctx);
 }
+
+/// The shader stages whose shaders read storage buffers: where a host's lookups can run.
+const SHADER_STAGES: vk::PipelineStageFlags2 = vk::PipelineStageFlags2::from_raw(
+    vk::PipelineStageFlags2::VERTEX_SHADER.as_raw()
+        | vk::PipelineStageFlags2::GEOMETRY_SHADER.as_raw()
+        | vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw()
+        | vk::PipelineStageFlags2::COMPUTE_SHADER.as_raw(),
+);
+
+/// The declared lookups of frame 1 of the ground under `settings`.
+fn declared_lookups(ctx: &Context, settings: ShadowSettings) -> motion_shadows::PassAccesses {
+    let scene = Scene::new(ctx);
+    let meshes = [scene.ground()];
+    let mut shadow = LightShadow::new(ctx, settings).expect("shadow");
+    let mut lookups = None;
+    OneShot::new(ctx)
+        .expect("command buffer")
+        .run(|cmd| {
+            // SAFETY: as in `frame`.
+            let recorded = unsafe { shadow.record_frame(ctx, cmd, 1, &meshes, None) }?;
+            lookups = Some(recorded.lookups);
+            Ok(())
+        })
+        .expect("frame");
+    lookups.expect("recorded")
+}
+
+/// What a frame declares for the host's own lookups reads the map's buffers in exactly the
+/// stages that read it, never in every command's stage (a render graph given "all commands"
+/// orders transfers and attachments after the generation for nothing).
+#[test]
+fn the_frames_lookups_declare_only_the_stages_that_read_the_map() {
+    let ctx = context();
+    let lookups = declared_lookups(&ctx, settings());
+    assert!(!lookups.uses.is_empty(), "the map's buffers are declared");
+    for u in &lookups.uses {
+        assert!(!u.writes, "{u:?}");
+        for access in [u.first, u.last] {
+            assert_eq!(access.stages, SHADER_STAGES, "{u:?}");
+            assert_eq!(
+                access.access,
+                vk::AccessFlags2::SHADER_STORAGE_READ,
+                "{u:?}"
+            );
+        }
+    }
+    assert_no_validation_messages(&ctx);
+}
+
+/// A host that reads the map from fragment shaders only says so, and the frame declares
+/// that; one that reads it only through the mask declares no lookups; a stage no shader runs
+/// in is refused by the setting's name.
+#[test]
+fn the_lookup_stages_setting_narrows_the_declared_lookups() {
+    let ctx = context();
+    let fragment = vk::PipelineStageFlags2::FRAGMENT_SHADER;
+    let narrowed = ShadowSettings {
+        lookup_stages: fragment,
+        ..settings()
+    };
+    let lookups = declared_lookups(&ctx, narrowed);
+    assert!(!lookups.uses.is_empty());
+    for u in &lookups.uses {
+        assert_eq!(
+            (u.first.stages, u.last.stages),
+            (fragment, fragment),
+            "{u:?}"
+        );
+    }
+    let none = ShadowSettings {
+        lookup_stages: vk::PipelineStageFlags2::empty(),
+        ..settings()
+    };
+    assert_eq!(declared_lookups(&ctx, none).uses, Vec::new());
+    for stray in [
+        vk::PipelineStageFlags2::TRANSFER,
+        vk::PipelineStageFlags2::ALL_COMMANDS,
+        fragment | vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+    ] {
+        let refused = ShadowSettings {
+            lookup_stages: stray,
+            ..settings()
+        };
+        let err = LightShadow::new(&ctx, refused).err().expect("refused");
+        assert!(matches!(err, Error::InvalidArgument(_)), "{err}");
+        assert!(
+            err.to_string().contains("ShadowSettings::lookup_stages"),
+            "{err}"
+        );
+    }
+    assert_no_validation_messages(&ctx);
+}

@@ -1,14 +1,14 @@
 //! A small deferred engine that uses motion-shadows the way a real renderer would.
 //!
-//! The engine owns everything a renderer owns: the device (`Host`, created without the
-//! library), its vertex and index buffers, its images, its pipelines and shaders, its frame
-//! loop with two frames in flight, and its lighting. The library is handed the device
-//! (`Context::from_raw`); per light one `LightShadow` (one map per frame in flight) records
+//! The engine owns everything a renderer owns: the device (`Gpu`, created with what the
+//! library asks for), its allocator, its vertex and index buffers, its images, its pipelines
+//! and shaders, its frame loop with three frames in flight, and its lighting. The library is
+//! handed the device and the allocator (`Context::from_raw_with_allocator`); per light one `LightShadow` (one map per frame in flight) records
 //! the shadow into the engine's command buffers from the meshes described once
 //! (`motion_shadows::Mesh`, with their CPU copy for the room each frame reserves):
 //!
 //! ```text
-//! per frame (slot = frame % 2, with its own command buffer, fence and resources):
+//! per frame (slot = frame % 3, with its own command buffer, fence and resources):
 //!   G-buffer (the engine's own)      depth, world normal, albedo at shutter time t = 1,
 //!                                    world motion over the shutter (this frame's position
 //!                                    minus last frame's, as engines keep for motion vectors)
@@ -28,18 +28,18 @@
 //!
 //! The `deferred_host` example's engine (`main.rs` runs it), a module of its crate so that
 //! the tests (`tests/gpu/deferred_host.rs`, `app/tests/gpu/deferred_host.rs`) drive the same
-//! code; `host` is the engine's device. Its parts, in reading order: `world` (what it draws),
+//! code; `gpu` is the engine's device. Its parts, in reading order: `world` (what it draws),
 //! `engine` (settings, slots, setup), `frames` (the frame loop), `record` (one frame's
 //! commands), `frame_data` (what its shaders read), `shaders`, `pipelines`, `resources`.
 
-use crate::host::Host;
+use crate::gpu::Gpu;
+use bytemuck::{Pod, Zeroable};
 // Links shaderc (compiled into this program to build the host's own shaders) where the
 // distribution's libshaderc.so cannot be linked as it is; see build-support/shaderc-link.
 use ash::vk;
 use glam::{DMat4, Mat4, UVec4, Vec3, Vec4};
-use motion_shadows::research::passes::{Counters, LightKind};
 use motion_shadows::{
-    Context, CpuGeometry, GLSL_INCLUDE, IndexStream, Indices, LightShadow, LightView, MaskInputs,
+    Context, CpuGeometry, GLSL_INCLUDE, IndexStream, Indices, LightShadow, MaskInputs,
     Mesh as ShadowMesh, MotionImage, NormalEncoding, NormalImage, PositionStream, ShadowSettings,
     StaticLayer, TemporalShadowMap, TriangleIdImage,
 };
@@ -52,7 +52,7 @@ pub type Result<T> = std::result::Result<T, Error>;
 
 /// Frames the CPU may record ahead of the GPU: each has its own copy of everything that a
 /// frame writes (command buffer, fence, draw list, shadow maps, images, uniform buffer).
-pub const FRAMES_IN_FLIGHT: usize = 2;
+pub const FRAMES_IN_FLIGHT: usize = 3;
 /// Lights the shading shader handles (`MAX_LIGHTS` in `glsl/frame.glsl`).
 pub const MAX_LIGHTS: usize = 2;
 

@@ -1,12 +1,12 @@
 //! A deferred engine with motion-blurred shadows: the engine brings its own Vulkan device,
 //! geometry, G-buffer (with world-space motion: this frame's position minus last frame's, and
 //! each pixel's triangle id, which the mask needs for moving receivers),
-//! frame loop (two frames in flight) and shading, and motion-shadows adds a temporal shadow
+//! frame loop (three frames in flight) and shading, and motion-shadows adds a temporal shadow
 //! map per light and a visibility mask per light that follows each receiver along its motion
 //! over the shutter. The engine is `deferred.rs` beside this
 //! file and its parts in `deferred/` (the tests drive the same code, through this crate's
 //! library); read it from the top.
-//! `host.rs` is the engine's device, `glsl/` its shaders.
+//! `gpu.rs` is the engine's device, `glsl/` its shaders.
 //!
 //! ```sh
 //! cargo run -p motion-shadows-deferred-host   # MOTION_SHADOWS_VALIDATION=1: validation layer on
@@ -14,10 +14,9 @@
 //!
 //! Writes `out/deferred_host.png` and prints a summary.
 
-// The host's device (instance, device, queue; no help from the library) and the engine, the
-// crate's library: the tests (`tests/gpu/deferred_host.rs`, `app/tests/gpu/deferred_host.rs`)
-// use more of them than this example does.
-use motion_shadows_deferred_host::{deferred, host};
+// The engine's device and the engine, the crate's library: the tests
+// (`tests/gpu/deferred_host.rs`, `app/tests/gpu/deferred_host.rs`) drive the same code.
+use motion_shadows_deferred_host::{deferred, gpu::Gpu};
 
 use deferred::{Engine, FrameOutput, Settings, ShadowLookup, World};
 use std::path::Path;
@@ -30,8 +29,9 @@ const FRAMES: u32 = 4;
 fn main() -> Result<(), deferred::Error> {
     let start = Instant::now();
     let validation = std::env::var("MOTION_SHADOWS_VALIDATION").is_ok_and(|v| v == "1");
-    let host = host::Host::new(validation)?;
-    let messages = host.messages.clone();
+    let gpu = Gpu::new(validation)?;
+    // SAFETY: the physical device is the instance's.
+    let props = unsafe { gpu.instance.get_physical_device_properties(gpu.physical) };
     let world = World::demo();
     let settings = Settings {
         width: WIDTH,
@@ -43,7 +43,7 @@ fn main() -> Result<(), deferred::Error> {
         receivers_move: true,
     };
     let (last, include_path, layer_builds) = {
-        let mut engine = Engine::new(&host, &world, settings)?;
+        let mut engine = Engine::new(&gpu, &world, settings)?;
         // The casters move between frames; only the last frame is kept (written to disk).
         let last = engine
             .render(&world, 0..FRAMES, &|f| f == FRAMES - 1)?
@@ -67,7 +67,10 @@ fn main() -> Result<(), deferred::Error> {
     let png = Path::new("out").join("deferred_host.png");
     write_png(&png, &last)?;
 
-    println!("device:  {}", host.device_name);
+    println!(
+        "device:  {:?}",
+        props.device_name_as_c_str().unwrap_or(c"?")
+    );
     println!(
         "frames:  {FRAMES} at {WIDTH}x{HEIGHT}, {} in flight",
         deferred::FRAMES_IN_FLIGHT
@@ -107,17 +110,8 @@ fn main() -> Result<(), deferred::Error> {
         start.elapsed().as_secs_f64()
     );
 
-    // Destroying the device and instance also reports objects left alive.
-    drop(host);
-    let messages = messages.lock().map(|m| m.clone()).unwrap_or_default();
-    if !messages.is_empty() {
-        return Err(format!(
-            "the validation layer reported {} message(s):\n{}",
-            messages.len(),
-            messages.join("\n")
-        )
-        .into());
-    }
+    // SAFETY: the engine, and with it everything made on the device, is gone.
+    unsafe { gpu.destroy() };
     Ok(())
 }
 

@@ -5,7 +5,7 @@
 
 use super::deferred::{self, Light, Mesh, MeshIndices, Motion, Vertex, World};
 use super::{
-    Query, SHADOW, SIDE, Shape, interval_frame, interval_world,
+    MOVING_PROBE_COMP, Query, SHADOW, SIDE, Shape, interval_frame, interval_world,
     lit_fraction_queries_along_texel_row, new_host, probe, run_probe, settings, square_world,
 };
 use crate::support::host::Host;
@@ -85,13 +85,7 @@ pub(super) fn moving_lit(
         workgroup: 64,
         results_per_query: 1,
     };
-    let out = run_probe(
-        host,
-        map,
-        &queries,
-        deferred::sources::MOVING_PROBE_COMP,
-        shape,
-    );
+    let out = run_probe(host, map, &queries, MOVING_PROBE_COMP, shape);
     out[..paths.len()].iter().map(|&v| f64::from(v)).collect()
 }
 

@@ -56,7 +56,7 @@ fn per_texel_sample_tests_answer_as_ms_texel_shadowed() {
         &host,
         map,
         &queries,
-        deferred::sources::SAMPLES_PROBE_COMP,
+        SAMPLES_PROBE_COMP,
         Shape {
             per_invocation: 8,
             workgroup: 16,

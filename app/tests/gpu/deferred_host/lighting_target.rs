@@ -15,7 +15,7 @@ fn lighting_pass_writes_into_a_host_image() {
     use motion_shadows_app::render::upload::{SceneGeometry, light_view};
     let host = Host::new(true).unwrap_or_else(|e| panic!("needs a Vulkan device: {e}"));
     assert!(
-        host.storage_image_write_without_format,
+        host.enabled.storage_image_write_without_format(),
         "lavapipe and desktop GPUs support shaderStorageImageWriteWithoutFormat"
     );
     let size = (64u32, 48u32);
@@ -53,18 +53,15 @@ fn lighting_pass_writes_into_a_host_image() {
         let mut bindings = output.bindings().unwrap();
         let target = LightingTarget::new(&ctx, size.0, size.1, 4, 16).unwrap();
         let map = TemporalShadowMap::new(&ctx, size.0, size.1, 1 << 16, 1 << 15).unwrap();
-        let image = deferred::Image::new(
-            &host,
-            vk::Format::R32G32B32A32_SFLOAT,
-            size,
-            vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,
-            vk::ImageAspectFlags::COLOR,
-        )
-        .unwrap();
+        // Dropped after the image and the buffer (declared before them).
+        let allocator = deferred::new_allocator(&host).unwrap();
+        let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
+        let format = vk::Format::R32G32B32A32_SFLOAT;
+        let image = deferred::Image::new(&host, &allocator, (format, usage), size).unwrap();
         let pixels = (size.0 * size.1) as u64;
-        let readback =
-            deferred::HostBuffer::new(&host, pixels * 16, vk::BufferUsageFlags::TRANSFER_DST)
-                .unwrap();
+        let usage = vk::BufferUsageFlags::TRANSFER_DST;
+        let mut readback =
+            deferred::HostBuffer::new(&host, &allocator, pixels * 16, usage).unwrap();
         let device = &host.device;
         host.record_and_wait(|cmd| {
             use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};

@@ -25,7 +25,7 @@ pub struct Settings {
     /// Texels of every shadow map.
     pub shadow_size: (u32, u32),
     pub lookup: ShadowLookup,
-    /// Keep each shadow map's static layer across frames (`LightView::keep_static_layer`):
+    /// Keep each shadow map's static layer across frames (`StaticLayer::Kept`):
     /// the world's static meshes never change in place, and its lights do not move.
     pub keep_static_layer: bool,
     /// Give the mask pass the G-buffer's motion (receivers followed along their path); off,
@@ -34,14 +34,26 @@ pub struct Settings {
     pub receivers_move: bool,
 }
 
+/// A map's counts after its frame (`TemporalShadowMap::read_counters`).
+#[derive(Debug, Clone, Copy)]
+pub struct MapCounts {
+    /// N_f: the fragments the collection stored.
+    pub node_count: u32,
+    /// N_r: the ranges the generation made, and the room for them.
+    pub range_count: u32,
+    pub range_capacity: u32,
+    /// 1 where the collection stored ranges directly (no fragments), else 0.
+    pub ranges_direct: u32,
+}
+
 /// A frame's results, read back once its fence signalled.
 #[derive(Debug, Clone)]
 pub struct FrameOutput {
     pub frame: u32,
     /// The frame-in-flight slot that rendered it.
     pub slot: usize,
-    /// Per light: the shadow map's counters (N_f = node_count, N_r = range_count).
-    pub counters: Vec<Counters>,
+    /// Per light: the shadow map's counts after the frame.
+    pub counters: Vec<MapCounts>,
     /// Linear radiance per pixel (rgb; a = 1 where a surface is, 0 for the background).
     pub radiance: Vec<[f32; 4]>,
     /// Per light: the visibility mask (lit fraction of the shutter) per pixel.
@@ -57,13 +69,14 @@ pub(super) const MOTION_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 /// Each pixel's triangle: the global id the shadow pass's draws give it (`u32::MAX`: none).
 pub(super) const ID_FORMAT: vk::Format = vk::Format::R32_UINT;
 pub(super) const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+/// The masks: a lit fraction per pixel, in a format every device writes as a storage image.
+pub(super) const MASK_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 pub(super) const RADIANCE_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
-/// The deferred engine. Borrows the host's device for its whole life.
+/// The deferred engine. Borrows the device for its whole life.
 pub struct Engine<'h> {
-    pub(super) host: &'h Host,
+    pub(super) gpu: &'h Gpu,
     pub(super) settings: Settings,
-    pub(super) mask_format: vk::Format,
     pub(super) pipelines: Pipelines,
     pub(super) geometry: Geometry,
     pub(super) slots: Vec<Slot>,
@@ -72,8 +85,10 @@ pub struct Engine<'h> {
     pub(super) shadows: Vec<(Light, LightShadow)>,
     /// Frames submitted so far: the frame number the library is told (`record_frame`).
     pub(super) submissions: u64,
-    // Last: every library object above must go before the context.
+    // Every library object above must go before the context, and every allocation
+    // (the engine's and the context's) before the allocator.
     pub(super) ctx: Context,
+    pub(super) allocator: SharedAllocator,
 }
 
 /// What recording a frame reads: everything of the engine but the slots and shadows.
@@ -121,63 +136,58 @@ pub(super) struct Slot {
 
 impl<'h> Engine<'h> {
     /// Sets the engine up for `world` (its geometry, lights count) with `settings`.
-    pub fn new(host: &'h Host, world: &World, settings: Settings) -> Result<Self> {
+    pub fn new(gpu: &'h Gpu, world: &World, settings: Settings) -> Result<Self> {
         if world.lights.is_empty() || world.lights.len() > MAX_LIGHTS {
-            return Err(format!(
-                "{} lights: the engine shades 1 to {MAX_LIGHTS}",
-                world.lights.len()
-            )
-            .into());
+            let lights = world.lights.len();
+            return Err(format!("{lights} lights: the engine shades 1 to {MAX_LIGHTS}").into());
         }
-        if !host.storage_image_write_without_format {
-            return Err("the device lacks shaderStorageImageWriteWithoutFormat, which the visibility-mask pass needs".into());
-        }
-        let device = &host.device;
-        // SAFETY: Host::new made `device` from `physical` of `instance`, Vulkan 1.3, with a
-        // graphics+compute queue of `queue_family` and every feature the contract lists
-        // (shaderStorageImageWriteWithoutFormat checked above). The host outlives the engine
-        // (the borrow), which drops the context last, after waiting for its own frames. The
-        // library never submits: the engine records its passes into its own command buffers.
-        let ctx = unsafe {
-            Context::from_raw(
-                &host.instance,
-                host.physical,
-                host.device.clone(),
-                host.queue_family,
-                host.queue,
-                &host.enabled,
-            )
-        }?;
-        let mask_format = Self::pick_mask_format(host)?;
-        for (format, features, what) in [
+        let sampled = vk::FormatFeatureFlags::SAMPLED_IMAGE;
+        let needs = [
             (
                 DEPTH_FORMAT,
-                vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT
-                    | vk::FormatFeatureFlags::SAMPLED_IMAGE,
-                "a sampled depth attachment",
+                vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT | sampled,
             ),
             (
                 NORMAL_FORMAT,
-                vk::FormatFeatureFlags::COLOR_ATTACHMENT | vk::FormatFeatureFlags::SAMPLED_IMAGE,
-                "a sampled color attachment",
+                vk::FormatFeatureFlags::COLOR_ATTACHMENT | sampled,
             ),
-        ] {
-            if !Self::format_features(host, format).contains(features) {
-                return Err(format!("{format:?} cannot be {what} on this device").into());
+        ];
+        for (format, needed) in needs {
+            // SAFETY: the physical device is the instance's.
+            let properties = unsafe {
+                (gpu.instance).get_physical_device_format_properties(gpu.physical, format)
+            };
+            if !properties.optimal_tiling_features.contains(needed) {
+                return Err(format!("{format:?} cannot be {needed:?} on this device").into());
             }
         }
-        let pipelines = Pipelines::new(device, host.queue_family)?;
-        let geometry = Geometry::upload(host, world)?;
+        let allocator = new_allocator(gpu)?;
+        // SAFETY: Gpu made `device` from `physical` of `instance`, Vulkan 1.3, with a
+        // graphics+compute queue of `queue_family` and the features in `enabled`; the
+        // allocator is on that device with device addresses on. The Gpu outlives the engine
+        // (the borrow), which drops the context after waiting for its own frames. The library
+        // never submits: the engine records its passes into its own command buffers.
+        let ctx = unsafe {
+            Context::from_raw_with_allocator(
+                &gpu.instance,
+                gpu.physical,
+                gpu.device.clone(),
+                gpu.queue_family,
+                gpu.queue,
+                &gpu.enabled,
+                allocator.clone(),
+            )
+        }?;
         let mut engine = Engine {
-            host,
+            gpu,
             settings,
-            mask_format,
-            pipelines,
-            geometry,
+            pipelines: Pipelines::new(&gpu.device, gpu.queue_family)?,
+            geometry: Geometry::upload(gpu, &allocator, world)?,
             slots: Vec::new(),
             shadows: Vec::new(),
             submissions: 0,
             ctx,
+            allocator,
         };
         for _ in 0..FRAMES_IN_FLIGHT {
             let slot = engine.new_slot(world)?;
@@ -186,35 +196,14 @@ impl<'h> Engine<'h> {
         Ok(engine)
     }
 
-    pub(super) fn format_features(host: &Host, format: vk::Format) -> vk::FormatFeatureFlags {
-        // SAFETY: `host.physical` is a physical device of the host's live instance.
-        unsafe {
-            host.instance
-                .get_physical_device_format_properties(host.physical, format)
-        }
-        .optimal_tiling_features
-    }
-
-    /// R16_UNORM masks (2 bytes, 1/65535 steps) where the device can write them as storage
-    /// images, else R32_SFLOAT (which every device can).
-    pub(super) fn pick_mask_format(host: &Host) -> Result<vk::Format> {
-        let needed = vk::FormatFeatureFlags::STORAGE_IMAGE
-            | vk::FormatFeatureFlags::SAMPLED_IMAGE
-            | vk::FormatFeatureFlags::TRANSFER_SRC;
-        [vk::Format::R16_UNORM, vk::Format::R32_SFLOAT]
-            .into_iter()
-            .find(|&f| Self::format_features(host, f).contains(needed))
-            .ok_or_else(|| "no single-channel storage format for the masks".into())
-    }
-
     /// The library's context (device information, validation messages).
     pub fn context(&self) -> &Context {
         &self.ctx
     }
 
-    /// The mask images' format.
-    pub fn mask_format(&self) -> vk::Format {
-        self.mask_format
+    /// The allocator the engine and the library allocate from.
+    pub fn allocator(&self) -> &SharedAllocator {
+        &self.allocator
     }
 
     pub fn settings(&self) -> &Settings {
@@ -249,127 +238,80 @@ impl<'h> Engine<'h> {
             },
             mask: true,
             frames_in_flight: FRAMES_IN_FLIGHT as u32,
+            // Only the shading pass, a compute shader, reads the maps itself.
+            lookup_stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
             ..ShadowSettings::new(light.engine_light())
         }
     }
 
     pub(super) fn new_slot(&self, world: &World) -> Result<Slot> {
-        let host = self.host;
-        let device = &host.device;
+        let (gpu, allocator) = (self.gpu, &self.allocator);
         let size = (self.settings.width, self.settings.height);
         let pixels = size.0 as u64 * size.1 as u64;
         let lights = world.lights.len();
-        let sampled = vk::ImageUsageFlags::SAMPLED;
-        let color = vk::ImageAspectFlags::COLOR;
+        let usage = vk::ImageUsageFlags::SAMPLED;
+        let attachment = |format| {
+            let usage = usage | vk::ImageUsageFlags::COLOR_ATTACHMENT;
+            Image::new(gpu, allocator, (format, usage), size)
+        };
+        let storage = |format| {
+            let usage = usage | vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
+            Image::new(gpu, allocator, (format, usage), size)
+        };
+        let host_buffer = |bytes, usage| HostBuffer::new(gpu, allocator, bytes, usage);
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(self.pipelines.command_pool)
-            .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
-        // SAFETY: the engine's command pool, made for the host's queue family with
-        // RESET_COMMAND_BUFFER; slots are made on this thread only.
-        let cmd =
-            unsafe { device.allocate_command_buffers(&alloc) }.vk("vkAllocateCommandBuffers")?[0];
-        // Freed with the pool; the fence is destroyed by the engine's Drop once in the slot.
-        // SAFETY: creating an unsignalled fence on the host's live device has no precondition.
-        let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
-            .vk("vkCreateFence")?;
+        let set_layouts = [
+            self.pipelines.frame_set_layout,
+            self.pipelines.image_set_layout,
+        ];
+        let sets = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(self.pipelines.descriptor_pool)
+            .set_layouts(&set_layouts);
+        // SAFETY: the engine's command pool (the device's queue family, RESET_COMMAND_BUFFER)
+        // and descriptor pool (sized for FRAMES_IN_FLIGHT slots' two sets); command buffers and
+        // sets go with their pools. An unsignalled fence has no precondition; the slot's owner
+        // destroys it (the engine's Drop), or the error path below.
+        let (cmd, sets, fence) = unsafe {
+            let cmd = gpu.device.allocate_command_buffers(&alloc);
+            let sets = gpu.device.allocate_descriptor_sets(&sets);
+            let fence = gpu.device.create_fence(&Default::default(), None);
+            (
+                cmd.vk("vkAllocateCommandBuffers")?[0],
+                sets.vk("vkAllocateDescriptorSets")?,
+                fence.vk("vkCreateFence")?,
+            )
+        };
         let build = || -> Result<Slot> {
-            let set_layouts = [
-                self.pipelines.frame_set_layout,
-                self.pipelines.image_set_layout,
-            ];
-            let alloc = vk::DescriptorSetAllocateInfo::default()
-                .descriptor_pool(self.pipelines.descriptor_pool)
-                .set_layouts(&set_layouts);
-            // SAFETY: the pool was made for FRAMES_IN_FLIGHT slots' two sets each (its sizes count
-            // every binding of both layouts), and at most that many slots are made.
-            let sets = unsafe { device.allocate_descriptor_sets(&alloc) }
-                .vk("vkAllocateDescriptorSets")?;
+            let depth_usage = usage | vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
             let slot = Slot {
                 cmd,
                 fence,
                 pending: None,
                 submission: 0,
-                frame_constants: HostBuffer::new(
-                    host,
+                frame_constants: host_buffer(
                     std::mem::size_of::<FrameConstants>() as u64,
                     vk::BufferUsageFlags::UNIFORM_BUFFER,
                 )?,
-                deformed: HostBuffer::new(
-                    host,
+                deformed: host_buffer(
                     self.geometry.deformed_bytes,
                     vk::BufferUsageFlags::VERTEX_BUFFER
                         | vk::BufferUsageFlags::STORAGE_BUFFER
                         | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS,
                 )?,
-                depth: Image::new(
-                    host,
-                    DEPTH_FORMAT,
-                    size,
-                    vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | sampled,
-                    vk::ImageAspectFlags::DEPTH,
-                )?,
-                normals: Image::new(
-                    host,
-                    NORMAL_FORMAT,
-                    size,
-                    vk::ImageUsageFlags::COLOR_ATTACHMENT | sampled,
-                    color,
-                )?,
-                albedo: Image::new(
-                    host,
-                    ALBEDO_FORMAT,
-                    size,
-                    vk::ImageUsageFlags::COLOR_ATTACHMENT | sampled,
-                    color,
-                )?,
-                motion: Image::new(
-                    host,
-                    MOTION_FORMAT,
-                    size,
-                    vk::ImageUsageFlags::COLOR_ATTACHMENT | sampled,
-                    color,
-                )?,
-                ids: Image::new(
-                    host,
-                    ID_FORMAT,
-                    size,
-                    vk::ImageUsageFlags::COLOR_ATTACHMENT | sampled,
-                    color,
-                )?,
+                depth: Image::new(gpu, allocator, (DEPTH_FORMAT, depth_usage), size)?,
+                normals: attachment(NORMAL_FORMAT)?,
+                albedo: attachment(ALBEDO_FORMAT)?,
+                motion: attachment(MOTION_FORMAT)?,
+                ids: attachment(ID_FORMAT)?,
                 masks: (0..lights)
-                    .map(|_| {
-                        Image::new(
-                            host,
-                            self.mask_format,
-                            size,
-                            vk::ImageUsageFlags::STORAGE
-                                | sampled
-                                | vk::ImageUsageFlags::TRANSFER_SRC,
-                            color,
-                        )
-                    })
+                    .map(|_| storage(MASK_FORMAT))
                     .collect::<Result<_>>()?,
-                radiance: Image::new(
-                    host,
-                    RADIANCE_FORMAT,
-                    size,
-                    vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,
-                    color,
-                )?,
-                radiance_readback: HostBuffer::new(
-                    host,
-                    pixels * 16,
-                    vk::BufferUsageFlags::TRANSFER_DST,
-                )?,
+                radiance: storage(RADIANCE_FORMAT)?,
+                radiance_readback: host_buffer(pixels * 16, vk::BufferUsageFlags::TRANSFER_DST)?,
                 mask_readback: (0..lights)
-                    .map(|_| {
-                        HostBuffer::new(
-                            host,
-                            pixels * mask_texel_bytes(self.mask_format),
-                            vk::BufferUsageFlags::TRANSFER_DST,
-                        )
-                    })
+                    .map(|_| host_buffer(pixels * 4, vk::BufferUsageFlags::TRANSFER_DST))
                     .collect::<Result<_>>()?,
                 frame_set: sets[0],
                 image_set: sets[1],
@@ -380,7 +322,7 @@ impl<'h> Engine<'h> {
         };
         // SAFETY: the slot was not built, so its fence was never submitted and is destroyed once,
         // here.
-        build().inspect_err(|_| unsafe { device.destroy_fence(fence, None) })
+        build().inspect_err(|_| unsafe { gpu.device.destroy_fence(fence, None) })
     }
 
     /// The slot's descriptor sets point at its own images and uniform buffer, for good.
@@ -390,62 +332,56 @@ impl<'h> Engine<'h> {
             offset: 0,
             range: vk::WHOLE_SIZE,
         }];
-        let sampled = |view, layout| {
-            [vk::DescriptorImageInfo {
-                sampler: self.pipelines.sampler,
-                image_view: view,
-                image_layout: layout,
-            }]
-        };
         let read_only = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         // A single light leaves binding 4 pointing at light 0's mask (never read then).
         let mask1 = slot.masks.get(1).unwrap_or(&slot.masks[0]);
+        let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
+        // (binding, image, layout, type): shade.comp's set 1.
         let images = [
-            sampled(
-                slot.depth.view,
+            (
+                0,
+                &slot.depth,
                 vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+                sampled,
             ),
-            sampled(slot.normals.view, read_only),
-            sampled(slot.albedo.view, read_only),
-            sampled(slot.masks[0].view, read_only),
-            sampled(mask1.view, read_only),
+            (1, &slot.normals, read_only, sampled),
+            (2, &slot.albedo, read_only, sampled),
+            (3, &slot.masks[0], read_only, sampled),
+            (4, mask1, read_only, sampled),
+            (
+                5,
+                &slot.radiance,
+                vk::ImageLayout::GENERAL,
+                vk::DescriptorType::STORAGE_IMAGE,
+            ),
+            (6, &slot.motion, read_only, sampled),
         ];
-        let motion = sampled(slot.motion.view, read_only);
-        let output = [vk::DescriptorImageInfo {
-            sampler: vk::Sampler::null(),
-            image_view: slot.radiance.view,
-            image_layout: vk::ImageLayout::GENERAL,
-        }];
+        let infos = images.map(|(_, image, image_layout, _)| {
+            [vk::DescriptorImageInfo {
+                sampler: self.pipelines.sampler,
+                image_view: image.view,
+                image_layout,
+            }]
+        });
         let mut writes = vec![
             vk::WriteDescriptorSet::default()
                 .dst_set(slot.frame_set)
-                .dst_binding(0)
                 .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
                 .buffer_info(&ubo),
-            vk::WriteDescriptorSet::default()
-                .dst_set(slot.image_set)
-                .dst_binding(5)
-                .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-                .image_info(&output),
-            vk::WriteDescriptorSet::default()
-                .dst_set(slot.image_set)
-                .dst_binding(6)
-                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-                .image_info(&motion),
         ];
-        for (binding, info) in images.iter().enumerate() {
+        for ((binding, _, _, ty), info) in images.iter().zip(&infos) {
             writes.push(
                 vk::WriteDescriptorSet::default()
                     .dst_set(slot.image_set)
-                    .dst_binding(binding as u32)
-                    .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                    .dst_binding(*binding)
+                    .descriptor_type(*ty)
                     .image_info(info),
             );
         }
         // SAFETY: the slot's sets are written once, while it is being built, before any command
         // buffer uses them; each write names an image view or buffer of this slot, alive as long as
         // it.
-        unsafe { self.host.device.update_descriptor_sets(&writes, &[]) };
+        unsafe { self.gpu.device.update_descriptor_sets(&writes, &[]) };
     }
 }
 
@@ -454,7 +390,7 @@ impl Drop for Engine<'_> {
         // Frames still in flight use everything below: wait for them (the engine's own
         // fences; the library never waits on a host's device).
         self.wait_all();
-        let device = &self.host.device;
+        let device = &self.gpu.device;
         for slot in &self.slots {
             // SAFETY: wait_all just waited for every pending slot, so no fence is in use; each is
             // destroyed once.

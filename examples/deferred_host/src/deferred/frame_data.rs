@@ -6,7 +6,7 @@ use super::*;
 
 /// Per-frame constants, `Frame` in `glsl/frame.glsl` (std140).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
 pub(super) struct FrameConstants {
     pub(super) view_proj: Mat4,
     pub(super) inv_view_proj: Mat4,
@@ -17,7 +17,7 @@ pub(super) struct FrameConstants {
 }
 
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
 pub(super) struct LightConstants {
     pub(super) position: Vec4,
     pub(super) direction: Vec4,
@@ -26,7 +26,7 @@ pub(super) struct LightConstants {
 
 /// The G-buffer pass's push constants (`Draw` in gbuffer.vert): 128 bytes.
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub(super) struct DrawConstants {
     pub(super) model: [Vec4; 3],
     pub(super) previous_model: [Vec4; 3],
@@ -39,7 +39,7 @@ pub(super) struct DrawConstants {
 
 /// The shading pass's push constants (`Push` in shade.comp): 24 bytes.
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub(super) struct ShadeConstants {
     pub(super) maps: [u64; MAX_LIGHTS],
     pub(super) lookup: u32,
@@ -79,7 +79,7 @@ pub(super) struct Geometry {
 }
 
 impl Geometry {
-    pub(super) fn upload(host: &Host, world: &World) -> Result<Self> {
+    pub(super) fn upload(gpu: &Gpu, allocator: &SharedAllocator, world: &World) -> Result<Self> {
         let (mut vertices, mut index_bytes, mut meshes) =
             (Vec::new(), Vec::<u8>::new(), Vec::new());
         let (mut deformed_bytes, mut next_id) = (0u64, 0u32);
@@ -114,7 +114,7 @@ impl Geometry {
                 vertex_count: mesh.vertices.len() as u32,
                 index_offset,
                 index_type,
-                index_count: mesh.indices.len() as u32,
+                index_count: mesh.indices.count() as u32,
                 first_triangle_id: next_id,
             });
             next_id += mesh.triangle_count();
@@ -127,12 +127,14 @@ impl Geometry {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
         Ok(Self {
             static_vertices: HostBuffer::with_data(
-                host,
+                gpu,
+                allocator,
                 &vertices,
                 vk::BufferUsageFlags::VERTEX_BUFFER | shared,
             )?,
             indices: HostBuffer::with_data(
-                host,
+                gpu,
+                allocator,
                 &index_bytes,
                 vk::BufferUsageFlags::INDEX_BUFFER | shared,
             )?,
@@ -140,28 +142,4 @@ impl Geometry {
             deformed_bytes,
         })
     }
-}
-
-pub(super) fn mask_texel_bytes(format: vk::Format) -> u64 {
-    if format == vk::Format::R16_UNORM {
-        2
-    } else {
-        4
-    }
-}
-
-pub(super) fn read_mask(
-    buffer: &HostBuffer,
-    format: vk::Format,
-    pixels: usize,
-) -> Result<Vec<f32>> {
-    Ok(if format == vk::Format::R16_UNORM {
-        buffer
-            .read::<u16>(pixels)?
-            .into_iter()
-            .map(|v| v as f32 / 65535.0)
-            .collect()
-    } else {
-        buffer.read::<f32>(pixels)?
-    })
 }

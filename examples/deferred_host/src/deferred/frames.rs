@@ -3,9 +3,9 @@
 use super::*;
 
 impl<'h> Engine<'h> {
-    /// Renders frames `frames` of `world` with two frames in flight: frame f records into slot
-    /// f % 2 after waiting for that slot's previous frame (two frames earlier), so the CPU
-    /// prepares one frame while the GPU runs the other.
+    /// Renders frames `frames` of `world` with `FRAMES_IN_FLIGHT` frames in flight: frame f
+    /// records into slot f % FRAMES_IN_FLIGHT after waiting for that slot's previous frame, so
+    /// the CPU prepares one frame while the GPU runs the earlier ones.
     ///
     /// The library reserves each frame's room from the meshes' descriptions (their CPU
     /// geometry here), so no frame's shadow overflows; one that did (a bound too small) or
@@ -50,11 +50,7 @@ impl<'h> Engine<'h> {
             if slot.pending.take().is_some() {
                 // SAFETY: the fence belongs to this slot and was submitted with its frame
                 // (`pending`).
-                let _ = unsafe {
-                    self.host
-                        .device
-                        .wait_for_fences(&[slot.fence], true, u64::MAX)
-                };
+                let _ = unsafe { (self.gpu.device).wait_for_fences(&[slot.fence], true, u64::MAX) };
             }
         }
     }
@@ -69,9 +65,9 @@ impl<'h> Engine<'h> {
         let Some(frame) = self.slots[slot].pending.take() else {
             return Ok(None);
         };
-        let s = &self.slots[slot];
+        let s = &mut self.slots[slot];
         // SAFETY: the slot's fence was submitted with its pending frame.
-        unsafe { (self.host.device).wait_for_fences(&[s.fence], true, u64::MAX) }
+        unsafe { (self.gpu.device).wait_for_fences(&[s.fence], true, u64::MAX) }
             .vk("vkWaitForFences")?;
         // SAFETY: this slot's submission has completed, and with it every earlier one on
         // the queue: what was dropped while recording them can go.
@@ -86,10 +82,18 @@ impl<'h> Engine<'h> {
         }
         let pixels = (self.settings.width * self.settings.height) as usize;
         let counters = (self.shadows.iter())
-            .map(|(_, shadow)| shadow.map(s.submission).read_counters())
-            .collect::<motion_shadows::Result<_>>()?;
-        let masks = (s.mask_readback.iter())
-            .map(|b| read_mask(b, self.mask_format, pixels))
+            .map(|(_, shadow)| {
+                let c = shadow.map(s.submission).read_counters()?;
+                Ok(MapCounts {
+                    node_count: c.node_count,
+                    range_count: c.range_count,
+                    range_capacity: c.range_capacity,
+                    ranges_direct: c.ranges_direct,
+                })
+            })
+            .collect::<Result<_>>()?;
+        let masks = (s.mask_readback.iter_mut())
+            .map(|b| b.read(pixels))
             .collect::<Result<_>>()?;
         Ok(Some(FrameOutput {
             frame,
@@ -120,14 +124,11 @@ impl<'h> Engine<'h> {
                 self.shadows.push((*light, shadow));
             }
         }
-        let host = self.host;
-        let device = &host.device;
+        let gpu = self.gpu;
+        let device = &gpu.device;
         let f = frame as f64;
         let size = (self.settings.width, self.settings.height);
         let view_proj = world.camera.view_proj(size.0 as f32 / size.1 as f32);
-        let lights: Vec<LightView> = (self.shadows.iter())
-            .map(|(_, shadow)| *shadow.light_view())
-            .collect();
         let cpu = cpu_positions(world, f);
         let meshes = self.shadow_meshes(world, slot, f, &cpu);
         let recorder = Recorder {
@@ -144,21 +145,33 @@ impl<'h> Engine<'h> {
             view_proj,
             inv_view_proj: view_proj.inverse(),
             eye: world.camera.eye.extend(1.0),
-            info: UVec4::new(size.0, size.1, lights.len() as u32, 0),
+            info: UVec4::new(size.0, size.1, world.lights.len() as u32, 0),
             shading: Vec4::new(world.ambient, 0.0, 0.0, 0.0),
             lights: Default::default(),
         };
-        for (c, l) in constants.lights.iter_mut().zip(&lights) {
-            let (w, cos_cone, emission) = match l.kind {
-                LightKind::Spot {
-                    cos_cone,
+        for (c, light) in constants.lights.iter_mut().zip(&world.lights) {
+            // position.w: 1 for a spot light, 0 for a directional one (no position);
+            // direction.w: the spot's cosine of its cone half angle.
+            let (position, direction, cos_cone, emission) = match *light {
+                Light::Spot {
+                    position,
+                    direction,
+                    cone_half_angle_deg,
                     intensity,
-                } => (1.0, cos_cone, intensity),
-                LightKind::Directional { irradiance } => (0.0, -1.0, irradiance),
+                    ..
+                } => {
+                    let cos_cone = cone_half_angle_deg.to_radians().cos();
+                    (position.extend(1.0), direction, cos_cone, intensity)
+                }
+                Light::Directional {
+                    direction,
+                    irradiance,
+                    ..
+                } => (Vec4::ZERO, direction, -1.0, irradiance),
             };
             *c = LightConstants {
-                position: l.position.extend(w),
-                direction: l.direction.extend(cos_cone),
+                position,
+                direction: direction.normalize().extend(cos_cone),
                 emission: Vec4::new(emission, 0.0, 0.0, 0.0),
             };
         }
@@ -204,7 +217,7 @@ impl<'h> Engine<'h> {
         // SAFETY: the command buffer was ended and the fence reset above; the host's queue is used
         // by this thread only, and every object the frame uses belongs to the slot or the engine,
         // kept until its fence has signalled.
-        unsafe { device.queue_submit2(host.queue, &submit, s.fence) }.vk("vkQueueSubmit2")?;
+        unsafe { device.queue_submit2(gpu.queue, &submit, s.fence) }.vk("vkQueueSubmit2")?;
         s.pending = Some(frame);
         Ok(())
     }

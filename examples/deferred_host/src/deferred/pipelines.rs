@@ -43,7 +43,7 @@ impl Pipelines {
         let pool = vk::CommandPoolCreateInfo::default()
             .queue_family_index(queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        // SAFETY: the host's queue family, with a pool per engine; destroyed in Pipelines' Drop.
+        // SAFETY: the device's queue family, with a pool per engine; destroyed in Drop.
         self.command_pool =
             unsafe { device.create_command_pool(&pool, None) }.vk("vkCreateCommandPool")?;
         let binding = |binding, ty, stages| {
@@ -53,110 +53,73 @@ impl Pipelines {
                 .descriptor_count(1)
                 .stage_flags(stages)
         };
+        let set_layout = |bindings: &[vk::DescriptorSetLayoutBinding]| {
+            let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(bindings);
+            // SAFETY: `info` and its bindings live through the call; destroyed in Drop.
+            unsafe { device.create_descriptor_set_layout(&info, None) }
+                .vk("vkCreateDescriptorSetLayout")
+        };
+        let pipeline_layout = |sets: &[vk::DescriptorSetLayout], push: vk::PushConstantRange| {
+            let push = [push];
+            let info = (vk::PipelineLayoutCreateInfo::default())
+                .set_layouts(sets)
+                .push_constant_ranges(&push);
+            // SAFETY: the set layouts are made above; one push range within any device's 128
+            // bytes; destroyed in Drop.
+            unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")
+        };
         // Set 0: the frame's constants, read by every stage of both passes.
-        let frame = [binding(
-            0,
-            vk::DescriptorType::UNIFORM_BUFFER,
-            vk::ShaderStageFlags::VERTEX
-                | vk::ShaderStageFlags::FRAGMENT
-                | vk::ShaderStageFlags::COMPUTE,
-        )];
-        // SAFETY: `frame` is a local binding list alive for the call.
-        self.frame_set_layout = unsafe {
-            device.create_descriptor_set_layout(
-                &vk::DescriptorSetLayoutCreateInfo::default().bindings(&frame),
-                None,
-            )
-        }
-        .vk("vkCreateDescriptorSetLayout")?;
+        let all = vk::ShaderStageFlags::VERTEX
+            | vk::ShaderStageFlags::FRAGMENT
+            | vk::ShaderStageFlags::COMPUTE;
+        self.frame_set_layout = set_layout(&[binding(0, vk::DescriptorType::UNIFORM_BUFFER, all)])?;
         // Set 1 of the shading pass: depth, normals, albedo, two masks, the output, motion.
         let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
         let c = vk::ShaderStageFlags::COMPUTE;
-        let images = [
-            binding(0, sampled, c),
-            binding(1, sampled, c),
-            binding(2, sampled, c),
-            binding(3, sampled, c),
-            binding(4, sampled, c),
-            binding(5, vk::DescriptorType::STORAGE_IMAGE, c),
-            binding(6, sampled, c),
-        ];
-        // SAFETY: `images` is a local binding list alive for the call.
-        self.image_set_layout = unsafe {
-            device.create_descriptor_set_layout(
-                &vk::DescriptorSetLayoutCreateInfo::default().bindings(&images),
-                None,
-            )
-        }
-        .vk("vkCreateDescriptorSetLayout")?;
+        let storage = binding(5, vk::DescriptorType::STORAGE_IMAGE, c);
+        let images = [0, 1, 2, 3, 4, 6].map(|b| binding(b, sampled, c));
+        self.image_set_layout = set_layout(&[&images[..], &[storage]].concat())?;
         let n = FRAMES_IN_FLIGHT as u32;
+        let size = |ty, descriptor_count| vk::DescriptorPoolSize {
+            ty,
+            descriptor_count,
+        };
         let sizes = [
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::UNIFORM_BUFFER,
-                descriptor_count: n,
-            },
-            vk::DescriptorPoolSize {
-                ty: sampled,
-                descriptor_count: 6 * n,
-            },
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::STORAGE_IMAGE,
-                descriptor_count: n,
-            },
+            size(vk::DescriptorType::UNIFORM_BUFFER, n),
+            size(sampled, 6 * n),
+            size(vk::DescriptorType::STORAGE_IMAGE, n),
         ];
-        // SAFETY: `sizes` is a local alive for the call, counting every binding of both set layouts
-        // for each of the FRAMES_IN_FLIGHT slots.
-        self.descriptor_pool = unsafe {
-            device.create_descriptor_pool(
-                &vk::DescriptorPoolCreateInfo::default()
-                    .max_sets(2 * n)
-                    .pool_sizes(&sizes),
-                None,
-            )
-        }
-        .vk("vkCreateDescriptorPool")?;
+        let pool = (vk::DescriptorPoolCreateInfo::default())
+            .max_sets(2 * n)
+            .pool_sizes(&sizes);
         // Exact texel reads (texelFetch ignores the filter, but a sampler is required).
         let sampler = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::NEAREST)
-            .min_filter(vk::Filter::NEAREST)
             .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE);
-        // SAFETY: a sampler of fixed, always-supported state (nearest, clamp to edge).
-        self.sampler = unsafe { device.create_sampler(&sampler, None) }.vk("vkCreateSampler")?;
-
-        let draw_push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-            offset: 0,
-            size: std::mem::size_of::<DrawConstants>() as u32,
-        }];
-        let set_layouts = [self.frame_set_layout];
-        // SAFETY: the frame set layout is made above; one push range for the vertex and fragment
-        // stages of DrawConstants' size, within any device's 128 bytes.
-        self.gbuffer_layout = unsafe {
-            device.create_pipeline_layout(
-                &vk::PipelineLayoutCreateInfo::default()
-                    .set_layouts(&set_layouts)
-                    .push_constant_ranges(&draw_push),
-                None,
-            )
+        // SAFETY: the pool's sizes count every binding of both set layouts for each of the
+        // FRAMES_IN_FLIGHT slots; the sampler's state (nearest, clamp) is always supported;
+        // both are destroyed in Drop.
+        unsafe {
+            self.descriptor_pool =
+                (device.create_descriptor_pool(&pool, None)).vk("vkCreateDescriptorPool")?;
+            self.sampler = device
+                .create_sampler(&sampler, None)
+                .vk("vkCreateSampler")?;
         }
-        .vk("vkCreatePipelineLayout")?;
-        let shade_push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::COMPUTE,
+        let push = |stage_flags, size: usize| vk::PushConstantRange {
+            stage_flags,
             offset: 0,
-            size: std::mem::size_of::<ShadeConstants>() as u32,
-        }];
-        let set_layouts = [self.frame_set_layout, self.image_set_layout];
-        // SAFETY: both set layouts are made above; one compute push range of ShadeConstants' size.
-        self.shade_layout = unsafe {
-            device.create_pipeline_layout(
-                &vk::PipelineLayoutCreateInfo::default()
-                    .set_layouts(&set_layouts)
-                    .push_constant_ranges(&shade_push),
-                None,
-            )
-        }
-        .vk("vkCreatePipelineLayout")?;
+            size: size as u32,
+        };
+        let draw = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        self.gbuffer_layout = pipeline_layout(
+            &[self.frame_set_layout],
+            push(draw, std::mem::size_of::<DrawConstants>()),
+        )?;
+        self.shade_layout = pipeline_layout(
+            &[self.frame_set_layout, self.image_set_layout],
+            push(c, std::mem::size_of::<ShadeConstants>()),
+        )?;
         self.gbuffer = gbuffer_pipeline(device, self.gbuffer_layout)?;
         self.shade =
             compute_pipeline(device, "shade.comp", sources::SHADE_COMP, self.shade_layout)?;

@@ -19,7 +19,7 @@ impl Recorder<'_> {
         let cmd = s.cmd;
         let (width, height) = (self.settings.width, self.settings.height);
 
-        // 1. The G-buffer at t = 1. Its images' previous contents (two frames ago) were read
+        // 1. The G-buffer at t = 1. Its images' previous contents (the slot's last frame) were read
         //    by the compute passes: wait for those, discard the contents (UNDEFINED).
         let none = vk::AccessFlags2::NONE;
         let earlier_reads = vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::COPY;
@@ -138,7 +138,7 @@ impl Recorder<'_> {
         let push = ShadeConstants { maps, lookup, time };
         let p = &self.pipelines;
         // SAFETY: the shade pipeline's layout holds both sets (frame constants, images) and a
-        // compute push range of ShadeConstants' size, which `bytes_of(&push)` is; the images were
+        // compute push range of ShadeConstants' size, which `bytemuck::bytes_of(&push)` is; the images were
         // moved to the layouts the sets name by the barriers above, and 8x8 groups cover the image
         // (the shader returns past its edges).
         unsafe {
@@ -157,7 +157,7 @@ impl Recorder<'_> {
                 p.shade_layout,
                 vk::ShaderStageFlags::COMPUTE,
                 0,
-                bytes_of(&push),
+                bytemuck::bytes_of(&push),
             );
             device.cmd_dispatch(cmd, width.div_ceil(8), height.div_ceil(8), 1);
         }
@@ -172,26 +172,17 @@ impl Recorder<'_> {
         let mut barriers = vec![s.radiance.barrier(storage_write, transfer_src)];
         barriers.extend(s.masks.iter().map(|m| m.barrier(shader_read, transfer_src)));
         pipeline_barrier(device, cmd, &barriers, &[]);
-        let region = |aspect| {
-            [vk::BufferImageCopy {
-                buffer_offset: 0,
-                buffer_row_length: 0,
-                buffer_image_height: 0,
-                image_subresource: vk::ImageSubresourceLayers {
-                    aspect_mask: aspect,
-                    mip_level: 0,
-                    base_array_layer: 0,
-                    layer_count: 1,
-                },
-                image_offset: vk::Offset3D::default(),
-                image_extent: vk::Extent3D {
-                    width,
-                    height,
-                    depth: 1,
-                },
-            }]
-        };
-        let color = region(vk::ImageAspectFlags::COLOR);
+        let color = [vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                layer_count: 1,
+                ..Default::default()
+            })
+            .image_extent(vk::Extent3D {
+                width,
+                height,
+                depth: 1,
+            })];
         // SAFETY: the radiance and mask images are in TRANSFER_SRC_OPTIMAL (the barriers above),
         // each readback buffer holds one image of width x height texels (made so in new_slot), and
         // the region is exactly that.
@@ -228,39 +219,24 @@ impl Recorder<'_> {
         let device = self.device;
         let cmd = s.cmd;
         let (width, height) = (self.settings.width, self.settings.height);
-        let clear = |color: [f32; 4]| vk::ClearValue {
-            color: vk::ClearColorValue { float32: color },
+        // Cleared to zero, the ids to "no triangle".
+        let no_id = vk::ClearColorValue {
+            uint32: [u32::MAX; 4],
         };
         let colors = [
+            (&s.normals, Default::default()),
+            (&s.albedo, Default::default()),
+            (&s.motion, Default::default()),
+            (&s.ids, no_id),
+        ]
+        .map(|(image, color)| {
             vk::RenderingAttachmentInfo::default()
-                .image_view(s.normals.view)
+                .image_view(image.view)
                 .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
                 .load_op(vk::AttachmentLoadOp::CLEAR)
                 .store_op(vk::AttachmentStoreOp::STORE)
-                .clear_value(clear([0.0; 4])),
-            vk::RenderingAttachmentInfo::default()
-                .image_view(s.albedo.view)
-                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::STORE)
-                .clear_value(clear([0.0; 4])),
-            vk::RenderingAttachmentInfo::default()
-                .image_view(s.motion.view)
-                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::STORE)
-                .clear_value(clear([0.0; 4])),
-            vk::RenderingAttachmentInfo::default()
-                .image_view(s.ids.view)
-                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::STORE)
-                .clear_value(vk::ClearValue {
-                    color: vk::ClearColorValue {
-                        uint32: [u32::MAX; 4],
-                    },
-                }),
-        ];
+                .clear_value(vk::ClearValue { color })
+        });
         let depth = vk::RenderingAttachmentInfo::default()
             .image_view(s.depth.view)
             .image_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL)
@@ -363,7 +339,7 @@ impl Recorder<'_> {
                     p.gbuffer_layout,
                     vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
                     0,
-                    bytes_of(&push),
+                    bytemuck::bytes_of(&push),
                 );
                 device.cmd_draw_indexed(cmd, m.index_count, 1, 0, 0, 0);
             }

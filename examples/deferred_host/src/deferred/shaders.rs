@@ -13,12 +13,6 @@ pub mod sources {
     pub const GBUFFER_VERT: &str = include_str!("../../glsl/gbuffer.vert");
     pub const GBUFFER_FRAG: &str = include_str!("../../glsl/gbuffer.frag");
     pub const SHADE_COMP: &str = include_str!("../../glsl/shade.comp");
-    pub const PROBE_COMP: &str = include_str!("../../glsl/probe.comp");
-    pub const SAMPLES_PROBE_COMP: &str = include_str!("../../glsl/samples_probe.comp");
-    pub const MOVING_PROBE_COMP: &str = include_str!("../../glsl/moving_probe.comp");
-    /// The library's own per-texel test of a pixel's samples (not part of the public
-    /// include), for the test that holds it to `ms_texel_shadowed`.
-    pub const TEMPORAL_SAMPLES_GLSL: &str = include_str!(env!("TEMPORAL_SAMPLES_GLSL"));
 }
 
 /// Compiles one GLSL stage to SPIR-V. `#include "motion_shadows.glsl"` resolves to the
@@ -35,7 +29,6 @@ pub fn compile_glsl(name: &str, source: &str, kind: shaderc::ShaderKind) -> Resu
         let content = match requested {
             "motion_shadows.glsl" => GLSL_INCLUDE,
             "frame.glsl" => sources::FRAME_GLSL,
-            "temporal_samples.glsl" => sources::TEMPORAL_SAMPLES_GLSL,
             other => return Err(format!("no header {other}")),
         };
         Ok(shaderc::ResolvedInclude {

@@ -8,7 +8,7 @@ use super::*;
 
 /// A vertex as the engine stores it: 24 bytes, position then normal (object space).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
 pub struct Vertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
@@ -22,21 +22,11 @@ pub enum MeshIndices {
 }
 
 impl MeshIndices {
-    pub fn len(&self) -> usize {
+    /// How many indices (three per triangle).
+    pub fn count(&self) -> usize {
         match self {
             Self::U16(i) => i.len(),
             Self::U32(i) => i.len(),
-        }
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    pub fn get(&self, i: usize) -> u32 {
-        match self {
-            Self::U16(v) => u32::from(v[i]),
-            Self::U32(v) => v[i],
         }
     }
 }
@@ -67,33 +57,7 @@ pub struct Mesh {
 
 impl Mesh {
     pub fn triangle_count(&self) -> u32 {
-        (self.indices.len() / 3) as u32
-    }
-
-    /// World-space vertex positions at frame time `f`, as f32 (rigid transforms applied in
-    /// f64 and then rounded, so a CPU model sees the same numbers whatever it does next).
-    pub fn world_positions(&self, f: f64) -> Vec<Vec3> {
-        match &self.motion {
-            Motion::Rigid(transform) => {
-                let m = transform(f);
-                self.vertices
-                    .iter()
-                    .map(|v| {
-                        m.transform_point3(Vec3::from(v.position).as_dvec3())
-                            .as_vec3()
-                    })
-                    .collect()
-            }
-            Motion::Deformed(deform) => deform(f).iter().map(|v| Vec3::from(v.position)).collect(),
-        }
-    }
-
-    /// The mesh as a triangle list (three world positions per triangle) at frame time `f`.
-    pub fn world_triangles(&self, f: f64) -> Vec<Vec3> {
-        let positions = self.world_positions(f);
-        (0..self.indices.len())
-            .map(|i| positions[self.indices.get(i) as usize])
-            .collect()
+        (self.indices.count() / 3) as u32
     }
 }
 
@@ -175,11 +139,6 @@ impl Light {
                 .intensity(irradiance)
                 .depth_range(near, far),
         }
-    }
-
-    /// The library's view of the light for a shadow map of `size` texels.
-    pub fn view(&self, size: (u32, u32)) -> motion_shadows::Result<LightView> {
-        self.engine_light().view(size)
     }
 }
 

@@ -1,10 +1,13 @@
-//! A minimal "host engine": its own `ash::Entry`, instance, device, queue, command pool and
-//! fence, so that tests and the `deferred_host` example can check that `Context::from_raw`
-//! and the passes work inside someone else's Vulkan setup. The only help it takes from the
-//! library is `DeviceRequirements`: the features it chains into its `VkDeviceCreateInfo`.
+//! The tests' "host engine": its own `ash::Entry`, instance, device, queue, command pool and
+//! fence, so that the tests can check that `Context::from_raw` and the passes work inside
+//! someone else's Vulkan setup, with what a test needs on top of the example engine's device
+//! (`deferred::Gpu`, which it derefs to): a debug messenger that collects every validation
+//! message (synchronization validation on), features turned off on request, and one command
+//! buffer to record into. The only help it takes from the library is `DeviceRequirements`.
 
 use ash::vk;
 use motion_shadows::gpu::{DeviceFeatures, DeviceRequirements};
+use motion_shadows_deferred_host::gpu::Gpu;
 use std::ffi::{CStr, c_void};
 use std::sync::{Arc, Mutex};
 
@@ -22,19 +25,11 @@ struct Messenger {
 }
 
 pub struct Host {
-    pub entry: ash::Entry,
-    pub instance: ash::Instance,
-    pub physical: vk::PhysicalDevice,
-    pub device: ash::Device,
-    pub queue_family: u32,
-    pub queue: vk::Queue,
+    /// The instance, device and queue (destroyed by Host's Drop).
+    gpu: Gpu,
     /// Validation messages (stays empty without validation).
     pub messages: Messages,
     pub device_name: String,
-    /// The features the device was created with (what `Context::from_raw` is told).
-    pub enabled: DeviceFeatures,
-    /// shaderStorageImageWriteWithoutFormat was enabled (the visibility-mask pass needs it).
-    pub storage_image_write_without_format: bool,
     pool: vk::CommandPool,
     cmd: vk::CommandBuffer,
     fence: vk::Fence,
@@ -81,49 +76,6 @@ fn messenger_info(sink: *mut Messages) -> vk::DebugUtilsMessengerCreateInfoEXT<'
         )
         .pfn_user_callback(Some(on_message))
         .user_data(sink as *mut c_void)
-}
-
-/// A Vulkan 1.3 device with the features and a graphics+compute queue family; discrete GPUs
-/// first, CPU devices last (the same preference as `Context::headless`, so that a test that
-/// compares the two renders on the same device).
-fn pick_device(instance: &ash::Instance) -> Result<(vk::PhysicalDevice, u32, String), String> {
-    // SAFETY: `instance` is live; enumerating its devices has no other precondition.
-    let devices = unsafe { instance.enumerate_physical_devices() }
-        .map_err(|e| format!("vkEnumeratePhysicalDevices: {e}"))?;
-    let rank = |t: vk::PhysicalDeviceType| match t {
-        vk::PhysicalDeviceType::DISCRETE_GPU => 0,
-        vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
-        vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
-        vk::PhysicalDeviceType::CPU => 3,
-        _ => 4,
-    };
-    let mut best: Option<(u32, vk::PhysicalDevice, u32, String)> = None;
-    for pd in devices {
-        // SAFETY: `pd` was enumerated from the live `instance`.
-        let props = unsafe { instance.get_physical_device_properties(pd) };
-        // SAFETY: `pd` was enumerated from `instance`.
-        if unsafe { DeviceRequirements::for_device(instance, pd) }.is_err() {
-            continue;
-        }
-        // SAFETY: `pd` was enumerated from the live `instance`.
-        let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
-        let Some(family) = families.iter().position(|q| {
-            q.queue_flags
-                .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
-        }) else {
-            continue;
-        };
-        let name = props
-            .device_name_as_c_str()
-            .map(|c| c.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let r = rank(props.device_type);
-        if best.as_ref().is_none_or(|b| r < b.0) {
-            best = Some((r, pd, family as u32, name));
-        }
-    }
-    best.map(|(_, pd, family, name)| (pd, family, name))
-        .ok_or_else(|| "no Vulkan 1.3 device with the features motion-shadows needs".to_owned())
 }
 
 impl Host {
@@ -216,13 +168,22 @@ impl Host {
         } else {
             None
         };
-        let (physical, queue_family, device_name) = match pick_device(&instance) {
-            Ok(v) => v,
-            Err(e) => {
-                destroy_instance(&instance, messenger);
-                return Err(e);
-            }
-        };
+        // The library's preference (`Context::headless`'s), so that a test that compares the
+        // two renders on the same device.
+        // SAFETY: the instance is live and made for Vulkan 1.3.
+        let (physical, queue_family, mut requirements) =
+            match unsafe { DeviceRequirements::choose_device(&instance) } {
+                Ok(v) => v,
+                Err(e) => {
+                    destroy_instance(&instance, messenger);
+                    return Err(e.to_string());
+                }
+            };
+        // SAFETY: `physical` was enumerated from the live `instance`.
+        let props = unsafe { instance.get_physical_device_properties(physical) };
+        let device_name = (props.device_name_as_c_str())
+            .map(|c| c.to_string_lossy().into_owned())
+            .unwrap_or_default();
 
         let priorities = [1.0f32];
         let queues = [vk::DeviceQueueCreateInfo::default()
@@ -231,15 +192,6 @@ impl Host {
         // What the library asks for on this device: its required features, and the
         // optional ones the device has (shaderStorageImageWriteWithoutFormat for the
         // visibility-mask pass of deferred hosts, hostQueryReset for timestamps).
-        // SAFETY: `physical` was enumerated from `instance`.
-        let mut requirements = match unsafe { DeviceRequirements::for_device(&instance, physical) }
-        {
-            Ok(r) => r,
-            Err(e) => {
-                destroy_instance(&instance, messenger);
-                return Err(e.to_string());
-            }
-        };
         edit(&mut requirements.features);
         let enabled = requirements.features;
         let extensions = requirements.extension_names();
@@ -262,16 +214,17 @@ impl Host {
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
 
         let mut host = Host {
-            entry,
-            instance,
-            physical,
-            device,
-            queue_family,
-            queue,
+            gpu: Gpu {
+                entry,
+                instance,
+                physical,
+                device,
+                queue_family,
+                queue,
+                enabled,
+            },
             messages,
             device_name,
-            storage_image_write_without_format: enabled.storage_image_write_without_format(),
-            enabled,
             pool: vk::CommandPool::null(),
             cmd: vk::CommandBuffer::null(),
             fence: vk::Fence::null(),
@@ -284,7 +237,7 @@ impl Host {
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
         // SAFETY: `queue_family` is the family the device was created with a queue of; the pool is
         // destroyed in Drop.
-        host.pool = unsafe { host.device.create_command_pool(&pool_info, None) }
+        host.pool = unsafe { host.gpu.device.create_command_pool(&pool_info, None) }
             .map_err(|e| format!("vkCreateCommandPool: {e}"))?;
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(host.pool)
@@ -292,12 +245,13 @@ impl Host {
             .command_buffer_count(1);
         // SAFETY: `host.pool` was just made on this device; one primary buffer, freed with the
         // pool.
-        host.cmd = unsafe { host.device.allocate_command_buffers(&alloc) }
+        host.cmd = unsafe { host.gpu.device.allocate_command_buffers(&alloc) }
             .map_err(|e| format!("vkAllocateCommandBuffers: {e}"))?[0];
         // SAFETY: creating an unsignalled fence on the live device has no precondition; it is
         // destroyed in Drop.
         host.fence = unsafe {
-            host.device
+            host.gpu
+                .device
                 .create_fence(&vk::FenceCreateInfo::default(), None)
         }
         .map_err(|e| format!("vkCreateFence: {e}"))?;
@@ -382,13 +336,20 @@ impl Drop for Host {
             self.device.destroy_fence(self.fence, None);
             // Frees `cmd` with it.
             self.device.destroy_command_pool(self.pool, None);
-            self.device.destroy_device(None);
             if let Some(m) = self.messenger.take() {
                 m.loader.destroy_debug_utils_messenger(m.handle, None);
             }
-            self.instance.destroy_instance(None);
+            self.gpu.clone().destroy();
             // SAFETY: nothing refers to the sink once the instance is destroyed.
             drop(Box::from_raw(self.sink));
         }
+    }
+}
+
+impl std::ops::Deref for Host {
+    type Target = Gpu;
+
+    fn deref(&self) -> &Gpu {
+        &self.gpu
     }
 }
