@@ -94,8 +94,14 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         crate::render::upload::refuse_moving_light(&scene, viewer)?;
         crate::render::camera_motion::refuse_moving_camera(&scene, viewer)?;
     }
-    for method in [Some(method), split].into_iter().flatten() {
-        crate::render::upload::check_moving_light_deferred(&scene, &method.deferred(&deferred))?;
+    // Every method the method key reaches (a turning light: the temporal mask refuses it).
+    let mut shown = method;
+    loop {
+        crate::render::upload::check_moving_light_deferred(&scene, &shown.deferred(&deferred))?;
+        shown = shown.next(args.tsm_maps);
+        if shown == method {
+            break;
+        }
     }
     // Only scenes with an animation can play (the others are refused by AnimatedScene with
     // the reason, which the overlay shows as "still scene").
