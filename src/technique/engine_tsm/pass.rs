@@ -97,7 +97,10 @@ impl EngineTsmPass {
     /// since its last submitted build ([`EngineTsmMap::static_map_submitted`]; or after
     /// [`EngineTsmMap::forget_static_map`]). Then, per batch
     /// of [`EngineTsmMap::layers`] maps: each layer started from the static map (a copy, or a
-    /// clear), the moving draws drawn into it at its time, and one mask dispatch. Errors,
+    /// clear), the moving draws drawn into it at its time, and one mask dispatch. A moving
+    /// light ([`LightView::end`], turning or not) draws and reads each map with the light at
+    /// the map's time, and every draw as moving (nothing stands still in its frame: the static
+    /// map stays empty). Errors,
     /// recording nothing, when `maps` is 0 or above [`super::MAX_TSM_MAPS`], when `inputs.size` is
     /// 0 on a side, or when `inputs.motion` is given and `inputs.time` is not in [0, 1].
     ///
