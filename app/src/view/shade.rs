@@ -219,7 +219,7 @@ impl ShadePass {
             position,
             direction,
             end: None,
-            ..frame.light.clone()
+            ..*frame.light
         }
         .gpu();
         let push = ShadePush {
