@@ -16,6 +16,13 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_buffer_reference : require
 #include "motion_shadows.glsl"
+#include "light_motion.glsl"
+
+// Where a moving light's pose at t = 1 (MsLightEnd) follows the light in the maps' header
+// (src/technique/engine_tsm/map.rs LIGHT_END_OFFSET; shared.glsl's PLAIN_LIGHT_END_OFFSET,
+// as shadow_depth.vert reads it). Each map i was drawn with the light at its time t_i and is
+// read with that same light.
+const uint64_t TSM_LIGHT_END_OFFSET = 224UL;
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -72,15 +79,19 @@ void main() {
         vec3 n = gbuffer_normal(pixel, p, light);
         uint index;
         float receiver;
-        if (MOVING) {
-            vec3 motion = texelFetch(motion_image, pixel, 0).xyz;
+        if (MOVING || ms_light_moves(light)) {
+            // A moving receiver, or any under a moving light: a texel per map, the receiver
+            // where it is at the map's time, projected by the light where it is then (a still
+            // light's own: ms_light_at leaves it as it is).
+            vec3 motion = MOVING ? texelFetch(motion_image, pixel, 0).xyz : vec3(0.0);
             for (uint k = 0u; k < pc.batch; ++k) {
                 float t = (float(pc.first_map + k) + 0.5) * pc.inv_maps;
-                if (!ms_receiver_texel(light, pc.map_size, p + (t - pc.time) * motion, n,
+                MsLight at = ms_light_at(light, pc.light + TSM_LIGHT_END_OFFSET, t);
+                if (!ms_receiver_texel(at, pc.map_size, p + (t - pc.time) * motion, n,
                                        index, receiver)) continue;
                 ivec2 texel = ivec2(index % pc.map_size.x, index / pc.map_size.x);
                 float static_stored = SECOND_LOOKUP ? texelFetch(static_map, texel, 0).r : 1.0;
-                if (!lit_in_layer(light, texel, k, static_stored, receiver)) lit -= 1.0;
+                if (!lit_in_layer(at, texel, k, static_stored, receiver)) lit -= 1.0;
             }
         } else if (ms_receiver_texel(light, pc.map_size, p, n, index, receiver)) {
             // A receiver standing still: one texel for every map.

@@ -86,9 +86,23 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         Some(path) => load_scene_file(path)?,
         None => builtin(&args.scene, &builtin_options(&args.random))?,
     };
-    let viewer = format!("the viewer (view --method {})", method_name(args));
-    crate::render::upload::refuse_moving_light(&scene, &viewer)?;
-    crate::render::camera_motion::refuse_moving_camera(&scene, &viewer)?;
+    // A moving light or camera: the deferred frame takes both (the camera where it is at
+    // the G-buffer's time, the mask with the light moving), as `render --frame deferred`
+    // does, and refuses what it refuses; the stochastic frame takes neither.
+    if args.frame == FrameArg::Forward {
+        let viewer = "the viewer's stochastic frame (view --frame forward)";
+        crate::render::upload::refuse_moving_light(&scene, viewer)?;
+        crate::render::camera_motion::refuse_moving_camera(&scene, viewer)?;
+    }
+    // Every method the method key reaches (a turning light: the temporal mask refuses it).
+    let mut shown = method;
+    loop {
+        crate::render::upload::check_moving_light_deferred(&scene, &shown.deferred(&deferred))?;
+        shown = shown.next(args.tsm_maps);
+        if shown == method {
+            break;
+        }
+    }
     // Only scenes with an animation can play (the others are refused by AnimatedScene with
     // the reason, which the overlay shows as "still scene").
     let animation = match &args.scene_file {

@@ -5,6 +5,7 @@
 use crate::render::deferred::{
     DeferredMethod, DeferredSettings, deferred_light, still_pixels_plane,
 };
+use crate::render::upload::with_motion;
 use crate::render::{Method, RenderSettings, forward_light};
 use crate::scene::Scene;
 use motion_shadows::technique::{LightView, Lookup};
@@ -60,18 +61,20 @@ impl ViewMethod {
     }
 
     /// The light and the still pixels' plane test of this method's frame, as the offline
-    /// frame sets them up.
+    /// frame sets them up (a moving light with its pose at t = 1). Errors where the scene's
+    /// light cannot move so (it turns 90 degrees or more; the scene's validation refuses it
+    /// first).
     pub fn light(
         &self,
         scene: &Scene,
         settings: &RenderSettings,
         base: &DeferredSettings,
-    ) -> (LightView, bool) {
+    ) -> crate::error::Result<(LightView, bool)> {
         let deferred = self.deferred(base);
-        (
-            deferred_light(scene, settings, &deferred),
+        Ok((
+            with_motion(scene, deferred_light(scene, settings, &deferred))?,
             still_pixels_plane(settings, &deferred),
-        )
+        ))
     }
 }
 

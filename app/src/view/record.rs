@@ -273,6 +273,7 @@ pub unsafe fn record_frame(
             &inputs,
             ShadeFrame {
                 light: view.light,
+                camera_time: view.camera_time,
                 inv_view_proj: view.view_proj.inverse(),
                 exposure: view.exposure,
                 overlay: view.overlay,

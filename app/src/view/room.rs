@@ -67,7 +67,10 @@ pub fn prepare_side(
 /// host's positions ([`TemporalShadowMap::reserve_for`], the exact lookup's conservative
 /// collection included): such a frame never overflows and is never grown and drawn again.
 /// Reserved before every frame: what the map can store changes with the animation. Counts
-/// the map's growth as an allocation.
+/// the map's growth as an allocation. Under a moving light nothing is reserved: the ceiling
+/// does not bound the prisms of triangles moving in the light's moving frame
+/// (`RangeCeiling::new`), so the map grows after a frame that overflowed, as the offline
+/// frame's does, and that frame is counted incomplete (`incomplete_frames`).
 pub fn reserve_map(
     ctx: &Context,
     map: &mut TemporalShadowMap,
@@ -75,6 +78,9 @@ pub fn reserve_map(
     scene: &Scene,
     counter: &mut AllocationCounter,
 ) -> anyhow::Result<()> {
+    if light.is_moving() {
+        return Ok(());
+    }
     // As the upload draws them (`render::upload::scene_draws`): a mesh that does not move
     // names its positions twice (static: in the static layer, not in the lists), closed
     // meshes are culled.

@@ -48,7 +48,11 @@ const SPLIT: u32 = 1 << 30;
 /// What one frame's shading reads besides its images.
 #[derive(Clone, Copy)]
 pub struct ShadeFrame<'a> {
+    /// The frame's light; a moving one shades where it is at `camera_time`, as the offline
+    /// deferred frame shades it (`render::upload::light_at`).
     pub light: &'a LightView,
+    /// The shutter time the G-buffer shows.
+    pub camera_time: f32,
     pub inv_view_proj: Mat4,
     pub exposure: f32,
     /// The overlay's codes (device address) and grid size (`overlay.rs`), if shown.
@@ -210,7 +214,14 @@ impl ShadePass {
                 (frame.split_lit.unwrap_or(inputs.output), general),
             ])
         };
-        let gpu = frame.light.gpu();
+        let (position, direction) = frame.light.pose_at(frame.camera_time);
+        let gpu = LightView {
+            position,
+            direction,
+            end: None,
+            ..*frame.light
+        }
+        .gpu();
         let push = ShadePush {
             inv_view_proj: frame.inv_view_proj,
             light_position: gpu.position,

@@ -76,7 +76,7 @@ impl Viewer {
             &self.options.scene,
             &self.options.settings,
             &self.options.deferred,
-        );
+        )?;
         let frames = FrameLoop::new(
             gpu,
             self.options.scene.clone(),
@@ -124,6 +124,9 @@ impl Viewer {
         let frame = match (self.state.stochastic, self.state.method) {
             (true, _) if self.state.split.is_some() => {
                 "deferred (split: stochastic off)".to_owned()
+            }
+            (true, _) if moves(frames.scene()) => {
+                "deferred (stochastic: still light and camera only)".to_owned()
             }
             (false, _) => "deferred".to_owned(),
             (true, ViewMethod::Tsm { .. }) => "deferred (stochastic: temporal only)".to_owned(),
@@ -219,22 +222,26 @@ impl Viewer {
             frames.scene(),
             &self.options.settings,
             &self.options.deferred,
-        );
+        )?;
         // The stochastic frame is the temporal map's: with a TSM method the deferred one is
         // shown (the overlay says so).
-        let split = self.state.split.map(|method| {
-            let (light, plane_test_where_still) = method.light(
-                frames.scene(),
-                &self.options.settings,
-                &self.options.deferred,
-            );
-            SplitRequest {
-                method,
-                light,
-                plane_test_where_still,
+        let split = match self.state.split {
+            Some(method) => {
+                let (light, plane_test_where_still) = method.light(
+                    frames.scene(),
+                    &self.options.settings,
+                    &self.options.deferred,
+                )?;
+                Some(SplitRequest {
+                    method,
+                    light,
+                    plane_test_where_still,
+                })
             }
-        });
-        let forward = (self.state.stochastic && split.is_none())
+            None => None,
+        };
+        // A moving light or camera: the deferred frame only (the overlay says so).
+        let forward = (self.state.stochastic && split.is_none() && !moves(frames.scene()))
             .then(|| {
                 self.state
                     .method
@@ -432,7 +439,8 @@ pub fn run(options: ViewOptions) -> anyhow::Result<ViewReport> {
         }
     }
     let mut state = ViewState::new(
-        CameraControl::new(&options.scene.camera),
+        // A moving camera starts where it is at the G-buffer's time, as the offline frame's.
+        CameraControl::new(&options.scene.camera.at(options.frame.camera_time)),
         options.method,
         options.tsm_maps,
         options.overlay,
@@ -488,4 +496,11 @@ pub fn run(options: ViewOptions) -> anyhow::Result<ViewReport> {
     drop(viewer.window.take());
     report.validation_messages = messages.lock().map(|m| m.clone()).unwrap_or_default();
     Ok(report)
+}
+
+/// Whether the scene's light or camera moves during the shutter: the viewer's stochastic
+/// frame does not take either (its lighting pass is set up with both still), its deferred
+/// frame takes both.
+fn moves(scene: &crate::scene::Scene) -> bool {
+    scene.light.moves() || scene.camera.moves()
 }

@@ -38,11 +38,13 @@ fn json_says_whether_the_light_moves() {
             assert_eq!(json["static_layer_bytes"], 0, "{scene}");
         }
     }
-    // The deferred frame's mask (either lookup) and its exact truth take the moving light
-    // too.
+    // The deferred frame's masks (temporal with either lookup, TSM's, plain's) and its exact
+    // truth take the moving light too.
     for (method, lookup) in [
         ("temporal", &["--lookup", "depth"][..]),
         ("temporal", &["--lookup", "exact"]),
+        ("tsm", &["--tsm-maps", "4"]),
+        ("plain", &[]),
         ("raytrace", &[]),
     ] {
         let mut args = vec![
@@ -69,6 +71,38 @@ fn json_says_whether_the_light_moves() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// `compare --frame deferred` on `moving-light`: the truth, the temporal mask, TSM-N and
+/// plain, all under the carried light (their accuracy: `tests/gpu/moving_light*.rs`).
+#[test]
+fn the_deferred_comparison_takes_a_moving_light() {
+    let dir = temp_dir("light-compare");
+    let args = [
+        "compare",
+        "--frame",
+        "deferred",
+        "--scene",
+        "moving-light",
+        "--tsm-maps",
+        "2",
+        "--width",
+        "32",
+        "--height",
+        "24",
+    ];
+    let run = motion_shadows(&args, &dir);
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    for method in ["temporal", "tsm-2", "plain"] {
+        assert!(stdout.contains(method), "{method}: {stdout}");
+    }
+    assert!(dir.join("moving-light-deferred-compare-masks.png").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn what_does_not_take_a_moving_light_refuses_it_by_name() {
     let dir = temp_dir("light-refused");
@@ -91,7 +125,10 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
             forward(&["--shadow-estimator", "analytic"]),
             "--shadow-estimator analytic",
         ),
-        (deferred(&["--method", "tsm"]), "--method tsm"),
+        (
+            deferred(&["--method", "tsm", "--static-receivers"]),
+            "--static-receivers",
+        ),
         (deferred(&["--static-receivers"]), "--static-receivers"),
     ] {
         let out = motion_shadows(&args, &dir);
@@ -109,13 +146,28 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
     }
     let path = dir.join("turning.json");
     std::fs::write(&path, scene_to_json(&file)).unwrap();
-    let mut args = vec!["render", "--frame", "deferred", "--scene-file"];
-    args.push(path.to_str().unwrap());
-    args.extend(&SMALL[..4]);
-    let out = motion_shadows(&args, &dir);
+    // (TSM's and plain's masks take it: `moving_light_deferred_tsm` in the gpu binary.) The
+    // viewer, whose method key reaches the temporal mask, refuses it from any method.
+    let out = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
+        .args(["view", "--method", "tsm", "--scene-file"])
+        .arg(&path)
+        .output()
+        .expect("run the binary");
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "{args:?} ran");
+    assert!(!out.status.success(), "view ran");
     assert!(stderr.contains("a turning light"), "{stderr}");
+    for lookup in ["depth", "exact"] {
+        let mut args = vec!["render", "--frame", "deferred", "--lookup", lookup];
+        args.extend(["--scene-file", path.to_str().unwrap()]);
+        args.extend(&SMALL[..4]);
+        let out = motion_shadows(&args, &dir);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} ran");
+        assert!(
+            stderr.contains("a turning light") && stderr.contains("--method temporal"),
+            "{lookup}: {stderr}"
+        );
+    }
     // The forward frame's exact lookup with a light that turns (a translating one it takes).
     let mut args = vec!["render", "--lookup", "exact", "--scene-file"];
     args.push(path.to_str().unwrap());
@@ -127,16 +179,17 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
         stderr.contains("a turning light") && stderr.contains("--lookup exact"),
         "{stderr}"
     );
-    // The viewer, before it opens a window.
+    // The viewer's stochastic frame, before it opens a window (its deferred frame takes the
+    // light: the view binary's `moving`).
     let out = Command::new(env!("CARGO_BIN_EXE_motion-shadows"))
-        .args(["view", "--scene", "moving-light"])
+        .args(["view", "--frame", "forward", "--scene", "moving-light"])
         .env("MOTION_SHADOWS_VALIDATION", "1")
         .output()
         .expect("run the binary");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "view ran");
     assert!(
-        stderr.contains("light moves") && stderr.contains("the viewer"),
+        stderr.contains("light moves") && stderr.contains("the viewer's stochastic frame"),
         "{stderr}"
     );
     std::fs::remove_dir_all(&dir).ok();

@@ -8,6 +8,7 @@
 
 mod exact_room;
 mod keys;
+mod moving;
 mod presents;
 mod refused;
 mod split;

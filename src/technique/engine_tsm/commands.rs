@@ -111,20 +111,24 @@ pub(super) unsafe fn copy_static(
     };
 }
 
-/// Records the static draws (`statics`) or the moving ones at time `t`, depth-only, inside
-/// dynamic rendering with `pipeline` bound (`draw_each` of the collection pass, one kind of
-/// draw only).
+/// Records the static draws (`moving_at` None) or the moving ones at time `moving_at`,
+/// depth-only, inside dynamic rendering with `pipeline` bound (`draw_each` of the collection
+/// pass, one kind of draw only). Under a moving light (`light_moves`) nothing stands still in
+/// the light's frame: every draw is drawn as moving, at each map's time, and the static map
+/// stays empty.
 pub(super) fn draw_where(
     device: &ash::Device,
     cmd: vk::CommandBuffer,
     pipeline: &Pipeline,
     draws: &DrawList,
     map: &EngineTsmMap,
-    t: f32,
-    statics: bool,
+    moving_at: Option<f32>,
+    light_moves: bool,
 ) {
+    let statics = moving_at.is_none();
+    let t = moving_at.unwrap_or(0.0);
     for (i, record) in draws.records().iter().enumerate() {
-        let is_static = record.flags() & DRAW_STATIC != 0;
+        let is_static = record.flags() & DRAW_STATIC != 0 && !light_moves;
         if record.triangle_count == 0 || is_static != statics {
             continue;
         }

@@ -5,15 +5,22 @@ use super::checks::check_map_format;
 use super::{MAP_FORMAT, MAX_TSM_LAYERS, TsmStart};
 use crate::error::{Error, Result};
 use crate::gpu::{Buffer, BufferUsage, Context, Doomed, Handle, Image};
-use crate::technique::gpu_types::PlainMapHeader;
+use crate::technique::gpu_types::{GpuLightEnd, PlainMapHeader};
 use crate::technique::shadow_map::StaticLayerSource;
 use ash::vk;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 /// Bytes of the header: the light and the map's size (a [`PlainMapHeader`], so that
-/// `shadow_depth.vert` reads it as it reads an ordinary map's).
-const HEADER_BYTES: u64 = std::mem::size_of::<PlainMapHeader>() as u64;
+/// `shadow_depth.vert` reads it as it reads an ordinary map's), then a moving light's pose at
+/// t = 1 ([`GpuLightEnd`], zeros for a still light) where `shadow_depth.vert` and
+/// `tsm_mask.comp` find it (shared.glsl's `PLAIN_LIGHT_END_OFFSET`): each map is drawn and
+/// read with the light at its time.
+pub(super) const HEADER_BYTES: u64 = LIGHT_END_OFFSET + std::mem::size_of::<GpuLightEnd>() as u64;
+/// Where the light's pose at t = 1 starts in the header (`TSM_LIGHT_END_OFFSET` in
+/// `glsl/tsm_mask.comp`, `PLAIN_LIGHT_END_OFFSET` in shared.glsl).
+pub(super) const LIGHT_END_OFFSET: u64 = std::mem::size_of::<PlainMapHeader>() as u64;
+const _: () = assert!(LIGHT_END_OFFSET == 224);
 
 /// The maps of one light (per frame in flight and light): the static draws' depth map, kept
 /// across frames, and the working depth maps (an array of [`Self::layers`]) the N times are
@@ -32,7 +39,8 @@ pub struct EngineTsmMap {
     pub(super) working: Image,
     /// A 2D array view of every layer of `working`, for the mask shader (destroyed here).
     pub(super) working_array: vk::ImageView,
-    /// [`PlainMapHeader`]: the light (read by `shadow_depth.vert` and the mask shader).
+    /// [`PlainMapHeader`] and [`GpuLightEnd`]: the light (read by `shadow_depth.vert` and the
+    /// mask shader).
     pub(super) header: Buffer,
     /// What the static map holds for keeping ([`crate::technique::LightView::keep_static_layer`]):
     /// `.0` drawn by a pass the host said it submitted, `.1` by the last recorded pass that drew

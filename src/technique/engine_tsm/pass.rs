@@ -97,7 +97,10 @@ impl EngineTsmPass {
     /// since its last submitted build ([`EngineTsmMap::static_map_submitted`]; or after
     /// [`EngineTsmMap::forget_static_map`]). Then, per batch
     /// of [`EngineTsmMap::layers`] maps: each layer started from the static map (a copy, or a
-    /// clear), the moving draws drawn into it at its time, and one mask dispatch. Errors,
+    /// clear), the moving draws drawn into it at its time, and one mask dispatch. A moving
+    /// light ([`LightView::end`], turning or not) draws and reads each map with the light at
+    /// the map's time, and every draw as moving (nothing stands still in its frame: the static
+    /// map stays empty). Errors,
     /// recording nothing, when `maps` is 0 or above [`super::MAX_TSM_MAPS`], when `inputs.size` is
     /// 0 on a side, or when `inputs.motion` is given and `inputs.time` is not in [0, 1].
     ///
@@ -142,17 +145,18 @@ impl EngineTsmPass {
         maps: u32,
     ) -> Result<()> {
         check_record(inputs.size, inputs.time, inputs.motion.is_some(), maps)?;
-        light.refuse_moving("the time-dependent shadow maps (EngineTsmPass)")?;
         // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue, and
         // no other pending command buffer uses `map` (this function's contract).
         unsafe { write_header(device, cmd, map, light) };
 
-        // The static map, unless the one kept from an earlier frame still holds these draws.
+        // The static map, unless the one kept from an earlier frame still holds these draws
+        // (under a moving light none: it is kept empty, and redrawn when the light stops).
+        let light_moves = light.is_moving();
         let source = StaticLayerSource::of(light, draws);
         if map.take_static_redraw(source, light.keep_static_layer) {
             // SAFETY: as above; the draws' buffers are as `Draw` requires and the draw list
             // was updated before (the contract).
-            unsafe { draw_static_map(device, cmd, &self.depth_only, draws, map) };
+            unsafe { draw_static_map(device, cmd, &self.depth_only, draws, map, light_moves) };
         }
 
         // SAFETY: the caller's contract (the set is not in use; the views are valid).
@@ -170,7 +174,15 @@ impl EngineTsmPass {
             // ordered its images' writes before these reads (the contract).
             unsafe {
                 start_layers(device, cmd, map, batch);
-                draw_moving_layers(device, cmd, &self.depth_only, draws, map, batch);
+                draw_moving_layers(
+                    device,
+                    cmd,
+                    &self.depth_only,
+                    draws,
+                    map,
+                    batch,
+                    light_moves,
+                );
                 dispatch_mask(device, cmd, mask, bindings, inputs, map, batch, flags);
             }
         }

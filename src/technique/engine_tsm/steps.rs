@@ -10,7 +10,7 @@
 use super::TsmStart;
 use super::bindings::EngineTsmBindings;
 use super::commands::{begin_depth, copy_static, draw_where};
-use super::map::{EngineTsmMap, static_resting_layout};
+use super::map::{EngineTsmMap, HEADER_BYTES, static_resting_layout};
 use crate::gpu::{Access, Pipeline, image_barrier, memory_barrier};
 use crate::technique::draws::DrawList;
 use crate::technique::gpu_types::{DepthFormat, PlainMapHeader};
@@ -62,7 +62,8 @@ pub(super) fn mask_flags(inputs: &MaskInputs) -> u32 {
     normal_flags | mask_position_flag(inputs)
 }
 
-/// Writes the map's header (the light as `shadow_depth.vert` and the mask shader read it),
+/// Writes the map's header (the light as `shadow_depth.vert` and the mask shader read it, a
+/// moving light's pose at t = 1 included),
 /// after earlier shader reads of it and before the shaders below read it.
 ///
 /// # Safety
@@ -80,18 +81,23 @@ pub(super) unsafe fn write_header(
         depths: 0,
         ids: 0,
     };
+    let mut bytes = bytemuck::bytes_of(&header).to_vec();
+    bytes.extend_from_slice(bytemuck::bytes_of(&light.gpu_end()));
+    debug_assert_eq!(bytes.len() as u64, HEADER_BYTES);
     // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue (this
     // function's contract, CollectionPass::record's), so every shader stage and transfer are
     // supported.
     unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
-    // SAFETY: plain data of the header's size; outside a render pass (the contract).
-    unsafe { map.header.record_write(device, cmd, &[header]) };
+    // SAFETY: plain data of the header's size (HEADER_BYTES); outside a render pass (the
+    // contract).
+    unsafe { map.header.record_write(device, cmd, &bytes) };
     // SAFETY: the same command buffer, outside rendering; stages its queue supports.
     unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ) };
 }
 
 /// Draws the static draws into the static map, cleared first, with `depth_only`, and leaves
-/// it in the layout its next use reads it in ([`static_resting_layout`]).
+/// it in the layout its next use reads it in ([`static_resting_layout`]); under a moving
+/// light (`light_moves`) it stays empty ([`draw_where`]).
 ///
 /// # Safety
 /// As [`write_header`]; the static map is in no other hands; `depth_only` is the pass's
@@ -103,6 +109,7 @@ pub(super) unsafe fn draw_static_map(
     depth_only: &Pipeline,
     draws: &DrawList,
     map: &EngineTsmMap,
+    light_moves: bool,
 ) {
     let static_layout = static_resting_layout(map.start);
     let static_reads = if map.start == TsmStart::SecondLookup {
@@ -133,7 +140,7 @@ pub(super) unsafe fn draw_static_map(
     // SAFETY: rendering into the static map began just above; the depth-only pipeline is
     // the pass's, made for D32 depth with no colours, the static map's format.
     unsafe { depth_only.bind(device, cmd) };
-    draw_where(device, cmd, depth_only, draws, map, 0.0, true);
+    draw_where(device, cmd, depth_only, draws, map, None, light_moves);
     // SAFETY: the rendering began above and the static draws are recorded into it.
     unsafe { device.cmd_end_rendering(cmd) };
     // SAFETY: rendering has ended; the same image and range, from the attachment layout it
@@ -258,12 +265,14 @@ pub(super) unsafe fn start_layers(
     }
 }
 
-/// Draws the moving draws into each layer of `batch` at its map's time, the centre of its
-/// stratum of the shutter, with `depth_only`, and leaves the layers for the mask shader's
-/// sampled reads.
+/// Draws the moving draws (every draw under a moving light, `light_moves`) into each layer of
+/// `batch` at its map's time, the centre of its stratum of the shutter, with `depth_only`
+/// (the light where it is then: `shadow_depth.vert` reads its pose at t = 1 from the header),
+/// and leaves the layers for the mask shader's sampled reads.
 ///
 /// # Safety
 /// As [`draw_static_map`]; the batch's layers were started ([`start_layers`]).
+#[allow(clippy::too_many_arguments)]
 pub(super) unsafe fn draw_moving_layers(
     device: &ash::Device,
     cmd: vk::CommandBuffer,
@@ -271,6 +280,7 @@ pub(super) unsafe fn draw_moving_layers(
     draws: &DrawList,
     map: &EngineTsmMap,
     batch: Batch,
+    light_moves: bool,
 ) {
     let Batch { first, maps, .. } = batch;
     let inv_maps = 1.0 / maps as f32;
@@ -283,7 +293,7 @@ pub(super) unsafe fn draw_moving_layers(
         let view = map.working.layer_view(layer);
         // SAFETY: the caller's contract; the layer is in the attachment layout.
         unsafe { begin_depth(device, cmd, view, map.width, map.height, clear) };
-        draw_where(device, cmd, depth_only, draws, map, t, false);
+        draw_where(device, cmd, depth_only, draws, map, Some(t), light_moves);
         // SAFETY: this layer's rendering began above and its moving draws are recorded.
         unsafe { device.cmd_end_rendering(cmd) };
     }

@@ -24,8 +24,12 @@ pub(crate) struct StaticLayerSource {
 }
 
 impl StaticLayerSource {
-    /// What a collection of `draws` lit by `light` would draw into the static layer.
+    /// What a collection of `draws` lit by `light` would draw into the static layer: the
+    /// static draws, none under a moving light (nothing stands still in its frame), so that a
+    /// layer kept from a still light's frames is redrawn once the light moves, and again
+    /// once it stops.
     pub fn of(light: &LightView, draws: &DrawList) -> Self {
+        let light_moves = light.is_moving();
         Self {
             view: light.view,
             proj: light.proj,
@@ -34,7 +38,9 @@ impl StaticLayerSource {
                 .iter()
                 .copied()
                 .enumerate()
-                .filter(|(_, r)| r.flags() & DRAW_STATIC != 0 && r.triangle_count > 0)
+                .filter(|(_, r)| {
+                    r.flags() & DRAW_STATIC != 0 && r.triangle_count > 0 && !light_moves
+                })
                 .collect(),
         }
     }
