@@ -18,6 +18,23 @@ void append_fragment(MsShadowMap map, uint p, float depth, float time, uint id, 
     store_node(map.nodes, index, Node(depth, clamp(time, 0.0, 1.0), id, next));
 }
 
+// Lists texel p's tile for the sort (gpu_constants.rs's SORT_TILE_ROW), once: the first
+// range stored in it marks it, appends it to the list and counts the sort's workgroups.
+void list_sort_tile(MsShadowMap map, uint p) {
+    uvec2 size = map.size.xy;
+    uint tiles_x = (size.x + TILE_TEXELS - 1u) / TILE_TEXELS;
+    uint tiles = tiles_x * ((size.y + TILE_TEXELS - 1u) / TILE_TEXELS);
+    uint tile = (p / size.x) / TILE_TEXELS * tiles_x + (p % size.x) / TILE_TEXELS;
+    UintArray words = UintArray(map.tiles);
+    if (atomicExchange(words.v[DISPATCH_WORDS + tile], 1u) != 0u) return;
+    uint index = atomicAdd(words.v[DISPATCH_SORT + 3u], 1u);
+    words.v[DISPATCH_WORDS + tiles + index] = tile;
+    // Up to SORT_TILE_ROW workgroups across, as many rows as the listed tiles fill (the row
+    // count starts at 1).
+    atomicMax(words.v[DISPATCH_SORT], min(index + 1u, SORT_TILE_ROW));
+    atomicMax(words.v[DISPATCH_SORT + 1u], index / SORT_TILE_ROW + 1u);
+}
+
 // The exact construction without a coverage map: append a covered run [times.x, times.y] of
 // triangle `id` over texel p (depths at its ends) to the texel's range list, as the generation
 // pass would have paired it from its two nodes. The figures stay those of the lists: two
@@ -32,6 +49,8 @@ void append_range_of(MsShadowMap map, uint p, vec2 times, vec2 depths, uint id, 
     if (atomicAdd(counters.c.node_count, 2u) == 0xfffffffeu) atomicOr(counters.c.wrapped, 1u);
     uint fragments = 2u * (atomicAdd(UintArray(map.heads).v[p], 1u) + 1u);
     atomicMax(counters.c.longest_list, fragments);
+    // The texel's first range, where the generation sorts the lists: its tile joins the sort.
+    if (bounded && fragments == 2u && map.list_ranges != map.ranges) list_sort_tile(map, p);
     if (bounded && fragments > MAX_LIST_NODES) {
         if (fragments == MAX_LIST_NODES + 2u) atomicAdd(counters.c.overlong_pixels, 1u);
         return;

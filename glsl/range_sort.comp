@@ -3,7 +3,8 @@
 // every texel whose list keeps at most SHORT_SORT ranges after the static rule's pruning
 // (nearly all) is sorted, pruned by the cover rule where COVER_RULE, and written to places it
 // takes; longer lists go to range_sort_long.comp through the scratch list (an indirect
-// dispatch whose group counts this tier raises). One workgroup per 8x8-texel tile.
+// dispatch whose group counts this tier raises). One workgroup per 8x8-texel tile that holds
+// a range: the tiles the collection listed (collection_append.glsl's list_sort_tile).
 #define SHORT_SORT 16u
 #define SORT_CAPACITY SHORT_SORT
 #include "range_sort_lists.glsl"
@@ -78,7 +79,14 @@ void store_short(uint p, uint head, uint second, uvec2 links, uvec2 links2) {
 
 void main() {
     open_sort();
-    uvec2 pixel = gl_WorkGroupID.xy * TILE_TEXELS + gl_LocalInvocationID.xy;
+    UintArray tile_words = UintArray(map.tiles);
+    uint slot = gl_WorkGroupID.y * SORT_TILE_ROW + gl_WorkGroupID.x;
+    // The last row's workgroups past the list.
+    if (slot >= tile_words.v[DISPATCH_SORT + 3u]) return;
+    uint tiles_x = (map.size.x + TILE_TEXELS - 1u) / TILE_TEXELS;
+    uint tiles = tiles_x * ((map.size.y + TILE_TEXELS - 1u) / TILE_TEXELS);
+    uint tile = tile_words.v[DISPATCH_WORDS + tiles + slot];
+    uvec2 pixel = uvec2(tile % tiles_x, tile / tiles_x) * TILE_TEXELS + gl_LocalInvocationID.xy;
     if (pixel.x >= map.size.x || pixel.y >= map.size.y) return;
     uint p = pixel.y * map.size.x + pixel.x;
     uint head = UintArray(map.range_heads).v[p];

@@ -81,9 +81,10 @@ layout(buffer_reference, std430, buffer_reference_align = 16) buffer Vec4Array {
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer CounterRef { Counters c; };
 
 // The generation pass runs one TILE_TEXELS x TILE_TEXELS workgroup per tile of the map,
-// through an indirect dispatch the collection sets (the map header's `tiles`, 3 group counts
-// and a pad): every tile where the lists hold fragments, none where the collection stored the
-// ranges itself.
+// through an indirect dispatch the collection's clear sets (the map header's `tiles`, 3 group
+// counts and a pad): every tile where the lists hold fragments, none where the collection
+// stored the ranges itself; their sort then visits the tiles the collection listed
+// (collection_append.glsl's list_sort_tile; gpu_constants.rs's SORT_TILE_ROW).
 
 // ---- host geometry ----
 

@@ -240,13 +240,10 @@ pub(crate) fn collection_uses(
         DRAW_STAGES_RW.and(Access::TRANSFER_WRITE),
         true,
     );
-    // The generation's dispatch arguments.
-    a.buffer(
-        (&map.tiles, "generation dispatch"),
-        Access::TRANSFER_WRITE,
-        Access::TRANSFER_WRITE,
-        true,
-    );
+    // The generation's dispatch arguments, and the sort's tile list the fragment shader
+    // writes (collection_append.glsl's list_sort_tile).
+    let (first, last) = transfer_then_draws(Access::FRAGMENT_RW);
+    a.buffer((&map.tiles, "generation dispatch"), first, last, true);
     a.buffer(
         (&map.nodes, "nodes"),
         Access::FRAGMENT_RW,

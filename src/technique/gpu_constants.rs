@@ -29,6 +29,17 @@ pub const DISPATCH_SORT_LONG: u32 = 8;
 /// See [`DISPATCH_PAIRING`].
 pub const DISPATCH_WORDS: u32 = 12;
 
+/// The sort's tile list (issue 39): after its dispatch words, the `tiles` buffer holds a mark
+/// per tile of the map, then the list of the tiles the collection stored a range in (each
+/// marked and listed by the first range it stores there), which the sort's dispatch visits
+/// instead of every tile of the map (on lavapipe a workgroup that finds nothing still costs
+/// its setup). Its workgroups: this many across, in rows (a short row, so that the frames of
+/// most tests, with more than 128 tiles holding ranges, go through the rows' arithmetic; the
+/// dispatch's 65,535 rows then reach 8,388,480 tiles, maps of about 23,000 x 23,000 texels,
+/// and a map with more tiles is refused); the pad word of the sort's dispatch counts the
+/// listed tiles.
+pub const SORT_TILE_ROW: u32 = 128;
+
 /// `DrawRecord::index_kind`: no index stream.
 pub const INDEX_NONE: u32 = 0;
 /// `DrawRecord::index_kind`: 16-bit indices.
@@ -121,6 +132,7 @@ pub const GLSL_UINTS: &[(&str, u32)] = &[
     ("MAX_LIST_NODES", MAX_LIST_NODES),
     ("TILE_TEXELS", TILE_TEXELS),
     ("DISPATCH_PAIRING", DISPATCH_PAIRING),
+    ("SORT_TILE_ROW", SORT_TILE_ROW),
     ("DISPATCH_SORT", DISPATCH_SORT),
     ("DISPATCH_SORT_LONG", DISPATCH_SORT_LONG),
     ("DISPATCH_WORDS", DISPATCH_WORDS),

@@ -118,8 +118,25 @@ pub struct TemporalShadowMap {
 }
 
 use super::gpu_constants::{
-    DISPATCH_PAIRING, DISPATCH_SORT, DISPATCH_SORT_LONG, DISPATCH_WORDS, TILE_TEXELS,
+    DISPATCH_PAIRING, DISPATCH_SORT, DISPATCH_SORT_LONG, DISPATCH_WORDS, SORT_TILE_ROW, TILE_TEXELS,
 };
+
+/// The most tiles the sort's dispatch reaches: SORT_TILE_ROW across, as many rows as every
+/// Vulkan device dispatches (maxComputeWorkGroupCount is at least 65,535 in each dimension).
+const MAX_SORT_TILES: u64 = SORT_TILE_ROW as u64 * 65_535;
+
+/// The generation's TILE_TEXELS x TILE_TEXELS tiles of a `width` x `height` map (the sort's
+/// tile list has room for each: `gpu_constants::SORT_TILE_ROW`).
+fn tile_count(width: u32, height: u32) -> u32 {
+    width.div_ceil(TILE_TEXELS) * height.div_ceil(TILE_TEXELS)
+}
+
+impl TemporalShadowMap {
+    /// The map's tiles ([`tile_count`]).
+    pub(crate) fn tile_count(&self) -> u32 {
+        tile_count(self.width, self.height)
+    }
+}
 
 /// The header's `size.z` for sorted ranges (`MS_SORTED_RANGES` in
 /// `glsl/motion_shadows.glsl`, which a host includes without the generated constants).
@@ -247,6 +264,15 @@ impl TemporalShadowMap {
                 "shadow map size {width}x{height}"
             )));
         }
+        let tiles =
+            u64::from(width.div_ceil(TILE_TEXELS)) * u64::from(height.div_ceil(TILE_TEXELS));
+        if tiles > MAX_SORT_TILES {
+            return Err(Error::InvalidArgument(format!(
+                "shadow map size {width}x{height}: {tiles} tiles of {TILE_TEXELS}x{TILE_TEXELS} \
+                 texels, more than the sort's dispatch reaches ({MAX_SORT_TILES}: \
+                 {SORT_TILE_ROW} across, 65,535 rows)"
+            )));
+        }
         let pixels = width as u64 * height as u64;
         let addressed = ctx.max_addressed_buffer_bytes();
         let head_bytes = checked_bytes("the shadow map's list heads", pixels, 4, addressed)?;
@@ -303,7 +329,7 @@ impl TemporalShadowMap {
             tiles: Buffer::new(
                 ctx,
                 "generation dispatches",
-                u64::from(DISPATCH_WORDS) * 4,
+                (u64::from(DISPATCH_WORDS) + 2 * u64::from(tile_count(width, height))) * 4,
                 BufferUsage::Storage,
             )?,
             counters_readback: Buffer::new(

@@ -15,9 +15,12 @@ const HEIGHT: u32 = 32;
 const NODES: u32 = 1000;
 const RANGES: u32 = 2000;
 
-/// The table's fixed part, in bytes: the header (480), the counters (48) and the generation's
-/// dispatches (48).
-const FIXED: u64 = 480 + 48 + 48;
+/// The map's 8x8-texel tiles.
+const TILES: u64 = (WIDTH as u64).div_ceil(8) * (HEIGHT as u64).div_ceil(8);
+
+/// The table's fixed part, in bytes: the header (480), the counters (48), the generation's
+/// dispatches (48) and the sort's tile marks and list (4 + 4 per tile).
+const FIXED: u64 = 480 + 48 + 48 + (4 + 4) * TILES;
 
 fn light() -> LightView {
     LightView::spot(
@@ -119,5 +122,23 @@ fn a_frame_whose_path_the_map_was_not_prepared_for_is_refused() {
         "{refusal}"
     );
     assert!(refusal.contains("node"), "{refusal}");
+    assert_no_validation_messages(&ctx);
+}
+
+/// A map with more 8x8-texel tiles than the sort's dispatch reaches (128 across, 65,535
+/// rows: 8,388,480 tiles) is refused by name before anything is allocated, rather than
+/// leaving its farthest tiles unsorted.
+#[test]
+fn a_map_past_the_sorts_dispatch_is_refused() {
+    let ctx = context();
+    // 2,900 x 2,893 = 8,389,700 tiles.
+    match TemporalShadowMap::new(&ctx, 23200, 23144, 1, 1) {
+        Err(Error::InvalidArgument(message)) => assert!(
+            message.contains("23200x23144") && message.contains("tiles"),
+            "{message}"
+        ),
+        Err(other) => panic!("refused for another reason: {other}"),
+        Ok(_) => panic!("a 23200x23144 map was made"),
+    }
     assert_no_validation_messages(&ctx);
 }

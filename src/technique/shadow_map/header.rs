@@ -75,16 +75,13 @@ impl TemporalShadowMap {
         ];
         let none = [0, 1, 1, 0];
         // Pairing, sorting each texel's list, sorting the long lists (its first tier counts
-        // their groups).
-        let (pairing, sort) = match (collects_ranges, sorts) {
-            (false, _) => (tiles, none),
-            (true, false) => (none, none),
-            (true, true) => (none, tiles),
-        };
+        // their groups). The sort visits the tiles the collection lists (SORT_TILE_ROW): none
+        // until it stores a range.
+        let pairing = if collects_ranges { none } else { tiles };
         let mut words = [0u32; DISPATCH_WORDS as usize];
         for (at, groups) in [
             (DISPATCH_PAIRING, pairing),
-            (DISPATCH_SORT, sort),
+            (DISPATCH_SORT, none),
             (DISPATCH_SORT_LONG, none),
         ] {
             words[at as usize..at as usize + 4].copy_from_slice(&groups);
@@ -93,6 +90,16 @@ impl TemporalShadowMap {
         unsafe {
             device.cmd_fill_buffer(cmd, self.range_heads.raw(), 0, vk::WHOLE_SIZE, 0);
             self.tiles.record_write(device, cmd, &words);
+            if collects_ranges && sorts {
+                // The tiles' marks (the list after them is written where marked).
+                device.cmd_fill_buffer(
+                    cmd,
+                    self.tiles.raw(),
+                    u64::from(DISPATCH_WORDS) * 4,
+                    u64::from(self.tile_count()) * 4,
+                    0,
+                );
+            }
         }
     }
 }
