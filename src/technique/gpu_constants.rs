@@ -302,8 +302,7 @@ mod tests {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
         let mut files = 0;
         for dir in ["glsl", "tests/glsl"] {
-            for entry in std::fs::read_dir(root.join(dir)).unwrap() {
-                let path = entry.unwrap().path();
+            for path in crate::technique::glsl_files::glsl_files(&root.join(dir)) {
                 let source = std::fs::read_to_string(&path).unwrap();
                 files += 1;
                 for name in glsl_names() {

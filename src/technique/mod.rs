@@ -35,6 +35,8 @@ mod draws;
 mod engine_tsm;
 mod gbuffer;
 mod generation;
+#[cfg(test)]
+mod glsl_files;
 #[doc(hidden)]
 pub mod gpu_constants;
 pub mod gpu_types;
@@ -108,9 +110,21 @@ pub use view::{
 /// `glsl/motion_shadows.glsl`: the GLSL include a host's own shaders use to test visibility
 /// against a [`TemporalShadowMap`] (`ms_visibility(MsShadowMap(header_address), position,
 /// normal, t, MS_NO_TRIANGLE)`). Write it next to your shaders or hand it to your compiler's
-/// include callback. With shaderc, target Vulkan 1.2 (`EnvVersion::Vulkan1_2`) unless the
-/// device has maintenance4: for 1.3 glslang declares workgroup sizes with LocalSizeId.
-pub const GLSL_INCLUDE: &str = include_str!("../../glsl/motion_shadows.glsl");
+/// include callback under the name `motion_shadows.glsl`. With shaderc, target Vulkan 1.2
+/// (`EnvVersion::Vulkan1_2`) unless the device has maintenance4: for 1.3 glslang declares
+/// workgroup sizes with LocalSizeId.
+///
+/// The file includes its parts (`glsl/motion_shadows/`, one concept each); this string is
+/// those parts concatenated in the file's order, so it includes nothing (a test holds the two
+/// to the same parts).
+pub const GLSL_INCLUDE: &str = concat!(
+    include_str!("../../glsl/motion_shadows/map_layout.glsl"),
+    include_str!("../../glsl/motion_shadows/receiver_projection.glsl"),
+    include_str!("../../glsl/motion_shadows/point_lookups.glsl"),
+    include_str!("../../glsl/motion_shadows/shutter_lookups.glsl"),
+    include_str!("../../glsl/motion_shadows/receiver_path.glsl"),
+    include_str!("../../glsl/motion_shadows/filtered_lookups.glsl"),
+);
 
 /// `glsl/light_motion.glsl`: a moving light's lookups ([`LightView::moving_to`]:
 /// `ms_map_at` for a sample at its time, `ms_light_frame_end` for a moving receiver's path,

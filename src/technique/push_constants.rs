@@ -311,8 +311,7 @@ mod tests {
     fn every_push_block_is_made_of_probed_structs() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("glsl");
         let mut blocks = 0;
-        for entry in std::fs::read_dir(&dir).unwrap() {
-            let path = entry.unwrap().path();
+        for path in crate::technique::glsl_files::glsl_files(&dir) {
             let source = std::fs::read_to_string(&path).unwrap();
             for (at, _) in source.match_indices("layout(push_constant) uniform Push {") {
                 blocks += 1;
