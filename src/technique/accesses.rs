@@ -374,36 +374,42 @@ impl super::VisibilityMaskPass {
     /// contract); the map's ranges must be visible to compute reads, which the generation
     /// pass's exit barrier (or the host's, from [`GenerationPass::accesses`]) does.
     pub fn accesses(&self, inputs: &super::MaskInputs, map: &TemporalShadowMap) -> PassAccesses {
-        let sampled = Access::COMPUTE_SAMPLED_READ;
         let mut a = map.lookup_accesses(vk::PipelineStageFlags2::COMPUTE_SHADER);
-        let image = |view, layout| Resource::ImageView { view, layout };
-        a.add(
-            image(inputs.depth, inputs.depth_layout),
-            sampled,
-            sampled,
-            false,
-        );
-        let optional = [
-            inputs.normals.map(|n| (n.view, n.layout)),
-            inputs.motion.map(|m| (m.view, m.layout)),
-            inputs.ids.map(|i| (i.view, i.layout)),
-            inputs.positions.map(|p| (p.view, p.layout)),
-        ];
-        for (view, layout) in optional.into_iter().flatten() {
-            a.add(image(view, layout), sampled, sampled, false);
-        }
         let write = Access {
             stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
             access: vk::AccessFlags2::SHADER_STORAGE_WRITE,
         };
-        a.add(
-            image(inputs.output, vk::ImageLayout::GENERAL),
-            write,
-            write,
-            true,
-        );
+        mask_image_uses(&mut a, inputs, write);
         a
     }
+}
+
+/// The host's images a mask over `inputs` uses: its G-buffer images sampled by the compute
+/// shader, its output (in `GENERAL`) with `output` accesses.
+pub(crate) fn mask_image_uses(a: &mut PassAccesses, inputs: &super::MaskInputs, output: Access) {
+    let sampled = Access::COMPUTE_SAMPLED_READ;
+    let image = |view, layout| Resource::ImageView { view, layout };
+    a.add(
+        image(inputs.depth, inputs.depth_layout),
+        sampled,
+        sampled,
+        false,
+    );
+    let optional = [
+        inputs.normals.map(|n| (n.view, n.layout)),
+        inputs.motion.map(|m| (m.view, m.layout)),
+        inputs.ids.map(|i| (i.view, i.layout)),
+        inputs.positions.map(|p| (p.view, p.layout)),
+    ];
+    for (view, layout) in optional.into_iter().flatten() {
+        a.add(image(view, layout), sampled, sampled, false);
+    }
+    a.add(
+        image(inputs.output, vk::ImageLayout::GENERAL),
+        output,
+        output,
+        true,
+    );
 }
 
 impl TemporalShadowMap {

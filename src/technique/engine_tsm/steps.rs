@@ -62,12 +62,13 @@ pub(super) fn mask_flags(inputs: &MaskInputs) -> u32 {
     normal_flags | mask_position_flag(inputs)
 }
 
-/// Writes the map's header (the light as `shadow_depth.vert` and the mask shader read it),
-/// after earlier shader reads of it and before the shaders below read it.
+/// Writes the map's header (the light as `shadow_depth.vert` and the mask shader read it)
+/// before the shaders below read it.
 ///
 /// # Safety
 /// `cmd` is recording, outside any render pass, on a graphics and compute queue; no other
-/// pending command buffer reads the map's header.
+/// pending command buffer reads the map's header; earlier reads of it in `cmd` were ordered
+/// before transfer writes (the pass's entry barrier, or the host's).
 pub(super) unsafe fn write_header(
     device: &ash::Device,
     cmd: vk::CommandBuffer,
@@ -80,11 +81,8 @@ pub(super) unsafe fn write_header(
         depths: 0,
         ids: 0,
     };
-    // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue (this
-    // function's contract, CollectionPass::record's), so every shader stage and transfer are
-    // supported.
-    unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
-    // SAFETY: plain data of the header's size; outside a render pass (the contract).
+    // SAFETY: plain data of the header's size; outside a render pass, after earlier reads
+    // (the contract).
     unsafe { map.header.record_write(device, cmd, &[header]) };
     // SAFETY: the same command buffer, outside rendering; stages its queue supports.
     unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ) };
