@@ -47,8 +47,26 @@ pub enum Resource {
     },
     /// The draw list's position and index streams: the host's buffers, read by address.
     DrawStreams,
+    /// An image of the library's own (a G-buffer's), all its layers, in `layout` during the
+    /// pass: [`super::Barrier::between`] gives its layout transitions.
+    Image {
+        /// The handle.
+        image: vk::Image,
+        /// Its name (as its allocation's).
+        name: &'static str,
+        /// Its aspect (depth or colour).
+        aspect: vk::ImageAspectFlags,
+        /// Its layers (all of them, of its only mip level).
+        layers: u32,
+        /// Its layout while the pass uses it.
+        layout: vk::ImageLayout,
+        /// Whether the pass overwrites it whole (what it held before, and its layout, need
+        /// not be kept: the transition into the pass starts from `UNDEFINED`).
+        discards: bool,
+    },
     /// An image of the host's, through the view the host gave, in `layout` during the pass
-    /// (the host's barriers move it there before and on after).
+    /// (the host's barriers move it there before and on after: a view names no image for a
+    /// layout transition).
     ImageView {
         /// The view.
         view: vk::ImageView,
@@ -141,6 +159,33 @@ impl PassAccesses {
             Resource::Buffer {
                 buffer: buffer.raw(),
                 name,
+            },
+            first,
+            last,
+            writes,
+        );
+    }
+
+    /// `image` (a library image, all its layers) in `layout` during the pass, overwritten
+    /// whole if `discards`.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn image(
+        &mut self,
+        (image, name): (&crate::gpu::Image, &'static str),
+        layout: vk::ImageLayout,
+        discards: bool,
+        first: Access,
+        last: Access,
+        writes: bool,
+    ) {
+        self.add(
+            Resource::Image {
+                image: image.raw(),
+                name,
+                aspect: image.aspect(),
+                layers: image.size().2,
+                layout,
+                discards,
             },
             first,
             last,

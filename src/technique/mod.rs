@@ -34,6 +34,7 @@ mod draws;
 #[cfg(feature = "research")]
 mod engine_tsm;
 mod gbuffer;
+mod gbuffer_accesses;
 mod generation;
 #[doc(hidden)]
 pub mod gpu_constants;
@@ -41,6 +42,7 @@ pub mod gpu_types;
 #[cfg(feature = "research")]
 mod image_output;
 mod image_pass;
+mod image_transitions;
 mod light_motion;
 #[cfg(feature = "research")]
 mod lighting;
@@ -85,6 +87,7 @@ pub use gpu_types::{
 };
 #[cfg(feature = "research")]
 pub use image_output::LightingImageOutput;
+pub use image_transitions::ImageTransition;
 pub use light_motion::{LightEnd, MAX_LIGHT_TURN_DEG};
 #[cfg(feature = "research")]
 pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, Samples, ShadowSource};

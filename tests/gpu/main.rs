@@ -18,6 +18,7 @@ mod exact_lookup;
 mod exact_prisms;
 mod footprint_hull;
 mod footprint_hull_ties;
+mod gbuffer_declared;
 mod host_memory;
 mod layout;
 mod map_bytes;

@@ -159,7 +159,7 @@ impl EngineTsmPass {
         if self.outer_barriers {
             // SAFETY: `cmd` is recording outside any render pass on a graphics and compute
             // queue (this function's contract), which has the stages the barrier names.
-            unsafe { record_own(device, cmd, check, ENTRY, entry_barrier(map)) };
+            unsafe { record_own(device, cmd, check, ENTRY, entry_barrier(map).as_ref()) };
         }
         self.accesses(inputs, draws, map)
             .declare_run(check, PASS_NAME);
