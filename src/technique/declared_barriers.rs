@@ -88,23 +88,41 @@ impl Barrier {
         check: &AccessCheck,
         by: &str,
     ) {
-        let global = Access::from(self.before) != Access::NONE;
-        let memory = [vk::MemoryBarrier2::default()
-            .src_stage_mask(self.before.stages)
-            .src_access_mask(self.before.access)
-            .dst_stage_mask(self.after.stages)
-            .dst_access_mask(self.after.access)];
-        let images: Vec<_> = self.images.iter().map(ImageTransition::barrier).collect();
-        let dependency = vk::DependencyInfo::default()
-            .memory_barriers(if global { &memory } else { &[] })
-            .image_memory_barriers(&images);
-        // SAFETY: the caller's contract: `cmd` is recording outside a render pass on a queue
-        // with these stages; each image is alive and in its `old` layout.
-        unsafe { device.cmd_pipeline_barrier2(cmd, &dependency) };
-        if global {
+        // SAFETY: the caller's contract.
+        unsafe { record_within(device, cmd, self) };
+        if Access::from(self.before) != Access::NONE {
             check.report_barrier(by, self.before.into(), self.after.into());
         }
     }
+}
+
+/// Records `barrier` without reporting it to the access check: a barrier between a pass's
+/// own steps (the check follows what passes and hosts order between passes).
+///
+/// # Safety
+/// As [`Barrier::record`].
+pub(crate) unsafe fn record_within(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    barrier: &Barrier,
+) {
+    let global = Access::from(barrier.before) != Access::NONE;
+    let memory = [vk::MemoryBarrier2::default()
+        .src_stage_mask(barrier.before.stages)
+        .src_access_mask(barrier.before.access)
+        .dst_stage_mask(barrier.after.stages)
+        .dst_access_mask(barrier.after.access)];
+    let images: Vec<_> = barrier
+        .images
+        .iter()
+        .map(ImageTransition::barrier)
+        .collect();
+    let dependency = vk::DependencyInfo::default()
+        .memory_barriers(if global { &memory } else { &[] })
+        .image_memory_barriers(&images);
+    // SAFETY: the caller's contract: `cmd` is recording outside a render pass on a queue with
+    // these stages; each image is alive and in its `old` layout.
+    unsafe { device.cmd_pipeline_barrier2(cmd, &dependency) };
 }
 
 /// Records `barrier` (if any) as a pass's own entry or exit barrier, reported as `by`.
