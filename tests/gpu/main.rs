@@ -21,6 +21,7 @@ mod footprint_hull_ties;
 mod gbuffer_declared;
 mod host_memory;
 mod layout;
+mod lighting_declared;
 mod map_bytes;
 mod mask_ids;
 mod minimal_host;
