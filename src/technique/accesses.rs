@@ -5,10 +5,10 @@
 //! against); a host with its own barrier system (a render graph) turns them off
 //! (`with_host_barriers` on [`CollectionPass`], [`GenerationPass`], [`super::DrawList`],
 //! [`TemporalShadowMap`] for its counter readback, [`super::VisibilityMaskPass`],
-//! [`super::GBufferPass`], and the research feature's `EngineTsmPass`) and records
-//! [`super::Barrier::between`] the declarations of every two passes it runs in turn (with the
-//! layout transitions of the library's own images, [`Resource::Image`]). The barriers inside
-//! a pass (between its own steps) stay its own.
+//! [`super::GBufferPass`], and the research feature's `EngineTsmPass` and `LightingPass`)
+//! and records [`super::Barrier::between`] the declarations of every two passes it runs in
+//! turn (with the layout transitions of the library's own images, [`Resource::Image`]). The
+//! barriers inside a pass (between its own steps) stay its own.
 //!
 //! The rule between frames: one frame's lookups of the map (a host shader,
 //! [`TemporalShadowMap::lookup_accesses`]; the mask, [`super::VisibilityMaskPass::accesses`])
