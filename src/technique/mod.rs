@@ -53,6 +53,8 @@ mod own_barriers;
 mod path_buffers;
 #[cfg(feature = "research")]
 mod plain_shadow;
+#[cfg(feature = "research")]
+mod plain_shadow_steps;
 mod pruning;
 #[doc(hidden)]
 pub mod push_constants;
