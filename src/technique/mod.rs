@@ -29,6 +29,8 @@ mod collection;
 mod coverage;
 #[cfg(feature = "research")]
 mod coverage_pass;
+#[cfg(feature = "research")]
+mod coverage_steps;
 mod declared_barriers;
 mod draws;
 #[cfg(feature = "research")]
