@@ -4,9 +4,11 @@
 //! declarations ([`super::Barrier::between`]; `own_barriers.rs` says what each orders
 //! against); a host with its own barrier system (a render graph) turns them off
 //! (`with_host_barriers` on [`CollectionPass`], [`GenerationPass`], [`super::DrawList`],
-//! [`TemporalShadowMap`] for its counter readback, [`super::VisibilityMaskPass`]) and
-//! records [`super::Barrier::between`] the declarations of every two passes it runs in turn.
-//! The barriers inside a pass (between its own steps) stay its own.
+//! [`TemporalShadowMap`] for its counter readback, [`super::VisibilityMaskPass`],
+//! [`super::GBufferPass`], and the research feature's `EngineTsmPass` and `LightingPass`)
+//! and records [`super::Barrier::between`] the declarations of every two passes it runs in
+//! turn (with the layout transitions of the library's own images, [`Resource::Image`]). The
+//! barriers inside a pass (between its own steps) stay its own.
 //!
 //! The rule between frames: one frame's lookups of the map (a host shader,
 //! [`TemporalShadowMap::lookup_accesses`]; the mask, [`super::VisibilityMaskPass::accesses`])
@@ -47,8 +49,26 @@ pub enum Resource {
     },
     /// The draw list's position and index streams: the host's buffers, read by address.
     DrawStreams,
+    /// An image of the library's own (a G-buffer's), all its layers, in `layout` during the
+    /// pass: [`super::Barrier::between`] gives its layout transitions.
+    Image {
+        /// The handle.
+        image: vk::Image,
+        /// Its name (as its allocation's).
+        name: &'static str,
+        /// Its aspect (depth or colour).
+        aspect: vk::ImageAspectFlags,
+        /// Its layers (all of them, of its only mip level).
+        layers: u32,
+        /// Its layout while the pass uses it.
+        layout: vk::ImageLayout,
+        /// Whether the pass overwrites it whole (what it held before, and its layout, need
+        /// not be kept: the transition into the pass starts from `UNDEFINED`).
+        discards: bool,
+    },
     /// An image of the host's, through the view the host gave, in `layout` during the pass
-    /// (the host's barriers move it there before and on after).
+    /// (the host's barriers move it there before and on after: a view names no image for a
+    /// layout transition).
     ImageView {
         /// The view.
         view: vk::ImageView,
@@ -141,6 +161,33 @@ impl PassAccesses {
             Resource::Buffer {
                 buffer: buffer.raw(),
                 name,
+            },
+            first,
+            last,
+            writes,
+        );
+    }
+
+    /// `image` (a library image, all its layers) in `layout` during the pass, overwritten
+    /// whole if `discards`.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn image(
+        &mut self,
+        (image, name): (&crate::gpu::Image, &'static str),
+        layout: vk::ImageLayout,
+        discards: bool,
+        first: Access,
+        last: Access,
+        writes: bool,
+    ) {
+        self.add(
+            Resource::Image {
+                image: image.raw(),
+                name,
+                aspect: image.aspect(),
+                layers: image.size().2,
+                layout,
+                discards,
             },
             first,
             last,
@@ -371,36 +418,42 @@ impl super::VisibilityMaskPass {
     /// contract); the map's ranges must be visible to compute reads, which the generation
     /// pass's exit barrier (or the host's, from [`GenerationPass::accesses`]) does.
     pub fn accesses(&self, inputs: &super::MaskInputs, map: &TemporalShadowMap) -> PassAccesses {
-        let sampled = Access::COMPUTE_SAMPLED_READ;
         let mut a = map.lookup_accesses(vk::PipelineStageFlags2::COMPUTE_SHADER);
-        let image = |view, layout| Resource::ImageView { view, layout };
-        a.add(
-            image(inputs.depth, inputs.depth_layout),
-            sampled,
-            sampled,
-            false,
-        );
-        let optional = [
-            inputs.normals.map(|n| (n.view, n.layout)),
-            inputs.motion.map(|m| (m.view, m.layout)),
-            inputs.ids.map(|i| (i.view, i.layout)),
-            inputs.positions.map(|p| (p.view, p.layout)),
-        ];
-        for (view, layout) in optional.into_iter().flatten() {
-            a.add(image(view, layout), sampled, sampled, false);
-        }
         let write = Access {
             stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
             access: vk::AccessFlags2::SHADER_STORAGE_WRITE,
         };
-        a.add(
-            image(inputs.output, vk::ImageLayout::GENERAL),
-            write,
-            write,
-            true,
-        );
+        mask_image_uses(&mut a, inputs, write);
         a
     }
+}
+
+/// The host's images a mask over `inputs` uses: its G-buffer images sampled by the compute
+/// shader, its output (in `GENERAL`) with `output` accesses.
+pub(crate) fn mask_image_uses(a: &mut PassAccesses, inputs: &super::MaskInputs, output: Access) {
+    let sampled = Access::COMPUTE_SAMPLED_READ;
+    let image = |view, layout| Resource::ImageView { view, layout };
+    a.add(
+        image(inputs.depth, inputs.depth_layout),
+        sampled,
+        sampled,
+        false,
+    );
+    let optional = [
+        inputs.normals.map(|n| (n.view, n.layout)),
+        inputs.motion.map(|m| (m.view, m.layout)),
+        inputs.ids.map(|i| (i.view, i.layout)),
+        inputs.positions.map(|p| (p.view, p.layout)),
+    ];
+    for (view, layout) in optional.into_iter().flatten() {
+        a.add(image(view, layout), sampled, sampled, false);
+    }
+    a.add(
+        image(inputs.output, vk::ImageLayout::GENERAL),
+        output,
+        output,
+        true,
+    );
 }
 
 impl TemporalShadowMap {

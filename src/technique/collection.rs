@@ -335,7 +335,7 @@ impl CollectionPass {
         if self.outer_barriers {
             // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue
             // (this function's contract), so every stage named is supported.
-            unsafe { record_own(device, cmd, check, "collection entry", own.entry) };
+            unsafe { record_own(device, cmd, check, "collection entry", own.entry.as_ref()) };
         }
         self.accesses(draws, light, map, coverage)
             .declare_run(check, "collection");
@@ -454,7 +454,7 @@ impl CollectionPass {
         }
         if self.outer_barriers {
             // SAFETY: outside rendering, on the graphics and compute queue of the contract.
-            unsafe { record_own(device, cmd, check, "collection exit", own.exit) };
+            unsafe { record_own(device, cmd, check, "collection exit", own.exit.as_ref()) };
         }
         Ok(())
     }

@@ -4,15 +4,14 @@
 
 use super::collection::{PrismPipelines, PrismShaders, draw_each};
 use super::coverage::CoverageMap;
+use super::coverage_steps::{Step, step_barrier};
 use super::draws::DrawList;
 use super::push_constants::{MapDrawPush, PushBlock};
 use super::shaders;
 use super::shadow_map::TemporalShadowMap;
 use super::view::LightView;
 use crate::error::Result;
-use crate::gpu::{
-    Access, Context, Pipeline, attachmentless_pipeline, begin_attachmentless, memory_barrier,
-};
+use crate::gpu::{Context, Pipeline, attachmentless_pipeline, begin_attachmentless};
 use ash::vk;
 
 /// Passes 2 and 3 of the extension. Immutable after creation: one serves every frame in
@@ -85,14 +84,7 @@ impl CoveragePass {
     ) {
         // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue
         // (CollectionPass::record's contract, which this one takes).
-        unsafe {
-            memory_barrier(
-                device,
-                cmd,
-                Access::ANY_SHADER_READ.and(Access::FRAGMENT_RW),
-                Access::TRANSFER_WRITE,
-            )
-        };
+        unsafe { step_barrier(device, cmd, coverage, (Step::Earlier, Step::Fill)) };
         // SAFETY: the two buffers are the coverage map's own and alive as long as `coverage`;
         // WHOLE_SIZE fills stay within them, outside rendering, after the barrier above.
         unsafe {
@@ -101,7 +93,7 @@ impl CoveragePass {
         }
         // SAFETY: outside rendering; fragment and transfer stages are on the contract's graphics
         // queue.
-        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::FRAGMENT_RW) };
+        unsafe { step_barrier(device, cmd, coverage, (Step::Fill, Step::Marks)) };
         // SAFETY: outside rendering (the fill barrier is recorded), and the coverage map's size is
         // the extent the caps pipeline's dynamic viewport takes.
         unsafe { begin_attachmentless(device, cmd, coverage.width(), coverage.height()) };
@@ -120,7 +112,7 @@ impl CoveragePass {
         unsafe { device.cmd_end_rendering(cmd) };
         // The reset pass reads what the caps wrote, in other fragment invocations.
         // SAFETY: rendering has ended; fragment stages are on this queue.
-        unsafe { memory_barrier(device, cmd, Access::FRAGMENT_RW, Access::FRAGMENT_RW) };
+        unsafe { step_barrier(device, cmd, coverage, (Step::Marks, Step::Marks)) };
         // SAFETY: outside rendering again; the same extent as before, the coverage map's.
         unsafe { begin_attachmentless(device, cmd, coverage.width(), coverage.height()) };
         let constants = MapDrawPush {
@@ -144,13 +136,6 @@ impl CoveragePass {
         unsafe { device.cmd_end_rendering(cmd) };
         // SAFETY: rendering has ended; fragment and compute stages are on the contract's graphics
         // and compute queue.
-        unsafe {
-            memory_barrier(
-                device,
-                cmd,
-                Access::FRAGMENT_RW,
-                Access::COMPUTE_RW.and(Access::ANY_SHADER_READ),
-            )
-        };
+        unsafe { step_barrier(device, cmd, coverage, (Step::Marks, Step::Later)) };
     }
 }

@@ -421,7 +421,15 @@ impl DrawList {
         if self.outer_barriers {
             // SAFETY: `cmd` is recording outside a render pass on a graphics and compute queue
             // (the contract), which supports every shader stage and the transfer stage.
-            unsafe { record_own(device, cmd, check, "draw list update entry", own.entry) };
+            unsafe {
+                record_own(
+                    device,
+                    cmd,
+                    check,
+                    "draw list update entry",
+                    own.entry.as_ref(),
+                )
+            };
         }
         self.update_accesses()
             .declare_run(check, "draw list update");
@@ -429,7 +437,15 @@ impl DrawList {
         unsafe { self.buffer.record_write(device, cmd, &records) };
         if self.outer_barriers {
             // SAFETY: as the barrier before: the same command buffer, outside a render pass.
-            unsafe { record_own(device, cmd, check, "draw list update exit", own.exit) };
+            unsafe {
+                record_own(
+                    device,
+                    cmd,
+                    check,
+                    "draw list update exit",
+                    own.exit.as_ref(),
+                )
+            };
         }
         self.records = records;
         Ok(())

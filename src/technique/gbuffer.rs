@@ -8,6 +8,7 @@
 //! interpolated from the vertices' own: exact, since a point with fixed barycentrics on a
 //! triangle whose corners move linearly moves linearly.
 
+use super::declared_barriers::{Barrier, record_own};
 use super::draws::DrawList;
 use super::mask::{
     MaskInputs, MotionImage, NormalEncoding, NormalImage, PositionImage, TriangleIdImage,
@@ -182,6 +183,20 @@ impl GBuffer {
         }
     }
 
+    /// Every image, its name (its allocation's) and the layout [`GBufferPass::record`]
+    /// leaves it in.
+    pub(super) fn named_images(&self) -> [(&Image, &'static str, vk::ImageLayout); 6] {
+        let [normals, albedo, motion] = &self.colors;
+        [
+            (&self.depth, "G-buffer depth", DEPTH_READ_LAYOUT),
+            (normals, "G-buffer normals", COLOR_READ_LAYOUT),
+            (albedo, "G-buffer albedo", COLOR_READ_LAYOUT),
+            (motion, "G-buffer motion", COLOR_READ_LAYOUT),
+            (&self.ids, "G-buffer triangle ids", COLOR_READ_LAYOUT),
+            (&self.positions, "G-buffer positions", COLOR_READ_LAYOUT),
+        ]
+    }
+
     fn images(&self) -> impl Iterator<Item = (&Image, vk::ImageLayout)> {
         std::iter::once((&self.depth, DEPTH_READ_LAYOUT))
             .chain(self.colors.iter().map(|image| (image, COLOR_READ_LAYOUT)))
@@ -274,6 +289,9 @@ impl GBuffer {
 /// Draws G-buffers. Immutable after creation.
 pub struct GBufferPass {
     pipeline: Pipeline,
+    /// Whether [`Self::record`] records its own entry and exit barriers (off:
+    /// [`Self::with_host_barriers`]).
+    pub(super) outer_barriers: bool,
 }
 
 impl GBufferPass {
@@ -305,7 +323,10 @@ impl GBufferPass {
                 ],
             },
         )?;
-        Ok(Self { pipeline })
+        Ok(Self {
+            pipeline,
+            outer_barriers: true,
+        })
     }
 
     /// Records `draws` at shutter time `time` from `camera` into `target` (cleared first:
@@ -319,7 +340,10 @@ impl GBufferPass {
     /// Synchronization: waits for earlier compute sampled reads and transfer reads of the
     /// images (their contents are discarded); leaves them written, in their read layouts
     /// (depth `DEPTH_STENCIL_READ_ONLY_OPTIMAL`, colours `SHADER_READ_ONLY_OPTIMAL`), visible
-    /// to compute shaders' sampled reads. State changed: the bound graphics pipeline, push
+    /// to compute shaders' sampled reads. Both barriers are the transitions
+    /// `Barrier::between` derives from [`Self::accesses`] and [`GBuffer::earlier_accesses`] /
+    /// [`GBuffer::read_accesses`]; a pass made [`Self::with_host_barriers`] records neither
+    /// (the host issues them, and the images are left in their attachment layouts). State changed: the bound graphics pipeline, push
     /// constants, viewport, scissor.
     pub unsafe fn record(
         &self,
@@ -330,31 +354,17 @@ impl GBufferPass {
         time: f32,
         target: &GBuffer,
     ) {
-        let earlier = Access::COMPUTE_SAMPLED_READ.and(Access::TRANSFER_READ);
-        let attachment = |image: &Image| {
-            if image.aspect() == vk::ImageAspectFlags::DEPTH {
-                (
-                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                    Access::DEPTH_ATTACHMENT,
-                )
-            } else {
-                (
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                    Access::COLOR_ATTACHMENT_WRITE,
-                )
-            }
-        };
-        let unread = [&target.ids, &target.positions].map(|image| (image, COLOR_READ_LAYOUT));
-        let with_ids = || target.images().chain(unread);
-        for (image, _) in with_ids() {
-            let (layout, access) = attachment(image);
-            let range = image.layers_range(0, 1);
-            let discard = (vk::ImageLayout::UNDEFINED, layout);
-            // SAFETY: `cmd` is recording outside rendering on a graphics queue (the contract); each
-            // image is the target's own and alive as long as `target`, and from UNDEFINED its
-            // contents are discarded, which record draws over whole.
-            unsafe { image_barrier(device, cmd, image.raw(), range, discard, earlier, access) };
+        let this = self.accesses(draws, target);
+        let check = draws.buffer().access_check();
+        if self.outer_barriers {
+            let entry = Barrier::between(&target.earlier_accesses(), &this);
+            // SAFETY: `cmd` is recording outside rendering on a graphics queue (the contract);
+            // the images are the target's own, alive as long as `target`, in their read
+            // layouts (where the pass and the readback leave them) or discarded from UNDEFINED
+            // (the entry's transitions: the pass draws over them whole).
+            unsafe { record_own(device, cmd, check, "G-buffer entry", entry.as_ref()) };
         }
+        this.declare_run(check, "G-buffer");
         let [normal, albedo, motion] = target.colors.each_ref().map(|image| image.layer_view(0));
         let colors = [
             (normal, 0),
@@ -389,14 +399,11 @@ impl GBufferPass {
         }
         // SAFETY: rendering began above.
         unsafe { device.cmd_end_rendering(cmd) };
-        for (image, read_layout) in with_ids() {
-            let (layout, access) = attachment(image);
-            let range = image.layers_range(0, 1);
-            let read = (layout, read_layout);
-            let after = Access::COMPUTE_SAMPLED_READ;
-            // SAFETY: rendering has ended, so the attachments may change layout; the same images
-            // and ranges the pass began with.
-            unsafe { image_barrier(device, cmd, image.raw(), range, read, access, after) };
+        if self.outer_barriers {
+            let exit = Barrier::between(&this, &target.read_accesses());
+            // SAFETY: rendering has ended, so the attachments may change layout: the same
+            // images, from the attachment layouts the pass drew them in to their read layouts.
+            unsafe { record_own(device, cmd, check, "G-buffer exit", exit.as_ref()) };
         }
     }
 }

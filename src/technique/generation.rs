@@ -130,7 +130,7 @@ impl GenerationPass {
             // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue
             // (CollectionPass::record's contract, which this function takes), so compute, indirect
             // and transfer stages are supported.
-            unsafe { record_own(device, cmd, check, "generation entry", own.entry) };
+            unsafe { record_own(device, cmd, check, "generation entry", own.entry.as_ref()) };
         }
         self.accesses(map).declare_run(check, "generation");
         // SAFETY: one LongListHeader into the map's long-pixel buffer, which starts with it;
@@ -223,7 +223,7 @@ impl GenerationPass {
         if self.outer_barriers {
             // SAFETY: outside rendering; compute and every shader stage are on the graphics and
             // compute queue.
-            unsafe { record_own(device, cmd, check, "generation exit", own.exit) };
+            unsafe { record_own(device, cmd, check, "generation exit", own.exit.as_ref()) };
         }
     }
 }

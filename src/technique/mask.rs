@@ -373,7 +373,7 @@ impl VisibilityMaskPass {
             }
             if self.outer_barriers {
                 let exit = super::own_barriers::mask(bindings).exit;
-                record_own(device, cmd, check, "visibility mask exit", exit);
+                record_own(device, cmd, check, "visibility mask exit", exit.as_ref());
             }
         }
         Ok(())

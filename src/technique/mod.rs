@@ -29,11 +29,14 @@ mod collection;
 mod coverage;
 #[cfg(feature = "research")]
 mod coverage_pass;
+#[cfg(feature = "research")]
+mod coverage_steps;
 mod declared_barriers;
 mod draws;
 #[cfg(feature = "research")]
 mod engine_tsm;
 mod gbuffer;
+mod gbuffer_accesses;
 mod generation;
 #[cfg(test)]
 mod glsl_files;
@@ -43,6 +46,7 @@ pub mod gpu_types;
 #[cfg(feature = "research")]
 mod image_output;
 mod image_pass;
+mod image_transitions;
 mod light_motion;
 #[cfg(feature = "research")]
 mod lighting;
@@ -53,6 +57,8 @@ mod own_barriers;
 mod path_buffers;
 #[cfg(feature = "research")]
 mod plain_shadow;
+#[cfg(feature = "research")]
+mod plain_shadow_steps;
 mod pruning;
 #[doc(hidden)]
 pub mod push_constants;
@@ -87,6 +93,7 @@ pub use gpu_types::{
 };
 #[cfg(feature = "research")]
 pub use image_output::LightingImageOutput;
+pub use image_transitions::ImageTransition;
 pub use light_motion::{LightEnd, MAX_LIGHT_TURN_DEG};
 #[cfg(feature = "research")]
 pub use lighting::{LightingPass, LightingTarget, MAX_SAMPLES_PER_CHUNK, Samples, ShadowSource};

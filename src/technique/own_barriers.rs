@@ -30,7 +30,7 @@ use crate::gpu::Access;
 const ANY_SHADER_STAGE: Access = Access::ANY_SHADER_READ;
 
 /// A pass's own entry and exit barriers (None: nothing to order).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct OwnBarriers {
     pub entry: Option<Barrier>,
     pub exit: Option<Barrier>,

@@ -13,13 +13,14 @@
 use super::collection::draw_each;
 use super::draws::DrawList;
 use super::gpu_types::{DepthFormat, NO_TRIANGLE, PlainMapHeader};
+use super::plain_shadow_steps::{Step, step_barrier};
 use super::push_constants::{MapDrawPush, PushBlock};
 use super::shaders;
 use super::view::LightView;
 use crate::error::{Error, Result};
 use crate::gpu::{
     Access, Attachments, Buffer, BufferUsage, Context, Image, Pipeline, begin_rendering,
-    graphics_pipeline, image_barrier, memory_barrier,
+    graphics_pipeline,
 };
 use ash::vk;
 use glam::UVec4;
@@ -146,6 +147,21 @@ impl PlainShadowMap {
     fn attachments(&self) -> impl Iterator<Item = &Image> {
         std::iter::once(&self.depth_image).chain(self.id_image.as_ref())
     }
+
+    /// The attachments with their names (their allocations').
+    pub(super) fn named_attachments(&self) -> impl Iterator<Item = (&Image, &'static str)> {
+        std::iter::once((&self.depth_image, "ordinary shadow map depth attachment")).chain(
+            self.id_image
+                .as_ref()
+                .map(|i| (i, "ordinary shadow map id attachment")),
+        )
+    }
+
+    /// The planes' buffers (depths, and ids with [`DepthFormat::DepthAndId`]) with names.
+    pub(super) fn named_planes(&self) -> impl Iterator<Item = (&Buffer, &'static str)> {
+        std::iter::once((&self.depths, "ordinary shadow map depths"))
+            .chain(self.ids.as_ref().map(|b| (b, "ordinary shadow map ids")))
+    }
 }
 
 /// Whether a device whose optimal-tiling format features are `features` can draw the
@@ -267,7 +283,7 @@ impl PlainShadowPass {
         };
         // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue (the
         // contract), so every shader stage and transfer are supported.
-        unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
+        unsafe { step_barrier(device, cmd, map, &[Step::HeaderReads], &[Step::HeaderWrite]) };
         let mut bytes = header_bytes(map.layers);
         bytes[..HEADER].copy_from_slice(bytemuck::bytes_of(&header));
         bytes[HEADER..TIMES].copy_from_slice(bytemuck::bytes_of(&light.gpu_end()));
@@ -280,24 +296,13 @@ impl PlainShadowPass {
         // transfer-destination usage; outside rendering, after its earlier readers (the barrier
         // above).
         unsafe { map.header.record_write(device, cmd, &bytes) };
-        // SAFETY: the same command buffer, outside rendering; stages its queue supports.
-        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ) };
-        for image in map.attachments() {
-            let (layout, access) = attachment_state(image);
-            // SAFETY: the image is the map's own, alive as long as `map`, and the range is its
-            // `map.layers` layers; from UNDEFINED its contents are discarded, which the render
-            // clears.
-            unsafe {
-                image_barrier(
-                    device,
-                    cmd,
-                    image.raw(),
-                    image.layers_range(0, map.layers),
-                    (vk::ImageLayout::UNDEFINED, layout),
-                    Access::TRANSFER_READ,
-                    access,
-                )
-            };
+        // SAFETY: the same command buffer, outside rendering; stages its queue supports. The
+        // attachments are the map's own, alive as long as `map`, all their layers; their
+        // contents are discarded (from UNDEFINED), which the render clears, after the last
+        // copy out of them.
+        unsafe {
+            step_barrier(device, cmd, map, &[Step::HeaderWrite], &[Step::HeaderReads]);
+            step_barrier(device, cmd, map, &[Step::CopyOut], &[Step::Draw]);
         }
         let pipeline = match map.format {
             DepthFormat::DepthOnly => &self.depth_only,
@@ -349,35 +354,31 @@ impl PlainShadowPass {
         map: &PlainShadowMap,
     ) {
         // SAFETY: `cmd` is recording outside rendering (the contract, record_render having ended
-        // its rendering), on a queue with every shader stage and transfer.
-        unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
+        // its rendering), on a queue with every shader stage and transfer; the attachments are
+        // the map's own, all their layers, in the attachment layouts record_render left them in,
+        // moved to TRANSFER_SRC_OPTIMAL for the copies.
+        unsafe {
+            step_barrier(
+                device,
+                cmd,
+                map,
+                &[Step::PlanesRead, Step::Draw],
+                &[Step::CopyOut],
+            )
+        };
         let planes = [Some(&map.depths), map.ids.as_ref()];
         for (image, buffer) in map.attachments().zip(planes.into_iter().flatten()) {
-            let (layout, access) = attachment_state(image);
-            // SAFETY: the map's own image and all its layers, in the attachment layout
-            // record_render left them in, moved to TRANSFER_SRC_OPTIMAL for the copy.
-            unsafe {
-                image_barrier(
-                    device,
-                    cmd,
-                    image.raw(),
-                    image.layers_range(0, map.layers),
-                    (layout, vk::ImageLayout::TRANSFER_SRC_OPTIMAL),
-                    access,
-                    Access::TRANSFER_READ,
-                )
-            };
             // SAFETY: the image is in TRANSFER_SRC_OPTIMAL (above), and the map's buffer for this
             // plane holds width x height x layers texels of its format, copied from offset 0.
             unsafe { image.record_copy_to_buffer(device, cmd, buffer.raw(), 0) };
         }
         // SAFETY: outside rendering; transfer and every shader stage are on this queue.
-        unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ) };
+        unsafe { step_barrier(device, cmd, map, &[Step::CopyOut], &[Step::PlanesRead]) };
     }
 }
 
 /// The layout an attachment is drawn in and the accesses drawing makes to it.
-fn attachment_state(image: &Image) -> (vk::ImageLayout, Access) {
+pub(super) fn attachment_state(image: &Image) -> (vk::ImageLayout, Access) {
     if image.aspect() == vk::ImageAspectFlags::DEPTH {
         (
             vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,

@@ -31,6 +31,7 @@
 //! `commands.rs` with an [`EngineTsmBindings`] (`bindings.rs`); the refusals are in
 //! `checks.rs`.
 
+mod accesses;
 mod bindings;
 mod checks;
 mod commands;

@@ -2,6 +2,7 @@
 //! of one record in flight, and the record itself, a sequence of the steps in `steps.rs`.
 
 use super::MAP_FORMAT;
+use super::accesses::entry_barrier;
 use super::bindings::EngineTsmBindings;
 use super::checks::{check_map_format, check_record};
 use super::map::EngineTsmMap;
@@ -14,6 +15,7 @@ use crate::gpu::{
     Attachments, Context, ImageBindingLayout, Pipeline, graphics_pipeline,
     specialized_compute_pipeline,
 };
+use crate::technique::declared_barriers::record_own;
 use crate::technique::draws::DrawList;
 use crate::technique::mask::MaskInputs;
 use crate::technique::push_constants::{MapDrawPush, PushBlock, TsmMaskPush};
@@ -21,6 +23,11 @@ use crate::technique::shaders;
 use crate::technique::shadow_map::StaticLayerSource;
 use crate::technique::view::LightView;
 use ash::vk;
+
+/// The pass's name in the access check's reports.
+const PASS_NAME: &str = "time-dependent shadow maps";
+/// Its entry barrier's label in the access check's log.
+const ENTRY: &str = "time-dependent shadow maps entry";
 
 /// Records time-dependent shadow maps and their mask. Immutable after creation: one serves
 /// every frame in flight and every light.
@@ -30,6 +37,9 @@ pub struct EngineTsmPass {
     layout: ImageBindingLayout,
     /// Mask pipelines, indexed by `moving as usize + 2 * second_lookup as usize`.
     masks: Vec<Pipeline>,
+    /// Whether [`Self::record`] records its own entry barrier (off:
+    /// [`Self::with_host_barriers`]).
+    pub(super) outer_barriers: bool,
 }
 
 impl EngineTsmPass {
@@ -80,6 +90,7 @@ impl EngineTsmPass {
             depth_only,
             layout,
             masks,
+            outer_barriers: true,
         })
     }
 
@@ -124,8 +135,9 @@ impl EngineTsmPass {
     ///   before `COMPUTE_SHADER` storage reads and writes, with its own barriers (image layout
     ///   transitions included).
     ///
-    /// Synchronization: waits for earlier shader reads of the header, earlier uses of the
-    /// maps by this pass (they are in no other hands). Leaves the output written by
+    /// Synchronization: waits for the previous record's reads of the map's header (the entry
+    /// barrier, derived from [`Self::accesses`]; the host's with [`Self::with_host_barriers`])
+    /// and for earlier uses of the maps' images by this pass (they are in no other hands). Leaves the output written by
     /// `COMPUTE_SHADER` (`SHADER_STORAGE_WRITE`, after reads of it there), in `GENERAL`
     /// layout; the host's barrier makes it visible to its lighting. The working map is left
     /// in `SHADER_READ_ONLY_OPTIMAL`, the static map in `SHADER_READ_ONLY_OPTIMAL`
@@ -145,8 +157,17 @@ impl EngineTsmPass {
         maps: u32,
     ) -> Result<()> {
         check_record(inputs.size, inputs.time, inputs.motion.is_some(), maps)?;
+        let check = map.header.access_check();
+        if self.outer_barriers {
+            // SAFETY: `cmd` is recording outside any render pass on a graphics and compute
+            // queue (this function's contract), which has the stages the barrier names.
+            unsafe { record_own(device, cmd, check, ENTRY, entry_barrier(map).as_ref()) };
+        }
+        self.accesses(inputs, draws, map)
+            .declare_run(check, PASS_NAME);
         // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue, and
-        // no other pending command buffer uses `map` (this function's contract).
+        // no other pending command buffer uses `map` (this function's contract); the previous
+        // record's reads of the header were waited for (the entry barrier above, or the host's).
         unsafe { write_header(device, cmd, map, light) };
 
         // The static map, unless the one kept from an earlier frame still holds these draws

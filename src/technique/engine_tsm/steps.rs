@@ -8,10 +8,11 @@
 //! buffer uses the map (unless submitted earlier to the same queue).
 
 use super::TsmStart;
+use super::accesses::{Step, step_barrier};
 use super::bindings::EngineTsmBindings;
 use super::commands::{begin_depth, copy_static, draw_where};
-use super::map::{EngineTsmMap, HEADER_BYTES, static_resting_layout};
-use crate::gpu::{Access, Pipeline, image_barrier, memory_barrier};
+use super::map::{EngineTsmMap, HEADER_BYTES};
+use crate::gpu::Pipeline;
 use crate::technique::draws::DrawList;
 use crate::technique::gpu_types::{DepthFormat, PlainMapHeader};
 use crate::technique::mask::{MaskInputs, NormalEncoding, NormalImage, mask_position_flag};
@@ -25,11 +26,6 @@ use crate::technique::gpu_constants::{
     MASK_HAS_NORMALS as HAS_NORMALS, MASK_NORMALS_UNORM as NORMALS_UNORM,
     TSM_FIRST_BATCH as FIRST_BATCH, TSM_LAST_BATCH as LAST_BATCH,
 };
-
-/// Sampled reads of the mask shader (the working and static maps).
-const COMPUTE_SAMPLED_READ: Access = Access::COMPUTE_SAMPLED_READ;
-/// The mask shader's read-modify-write of the output image.
-const COMPUTE_STORAGE_RW: Access = Access::COMPUTE_RW;
 
 /// One batch of the N maps: maps `first..first + count` of `maps`, drawn into the working
 /// map's first `count` layers and tested by one dispatch.
@@ -63,12 +59,12 @@ pub(super) fn mask_flags(inputs: &MaskInputs) -> u32 {
 }
 
 /// Writes the map's header (the light as `shadow_depth.vert` and the mask shader read it, a
-/// moving light's pose at t = 1 included),
-/// after earlier shader reads of it and before the shaders below read it.
+/// moving light's pose at t = 1 included) before the shaders below read it.
 ///
 /// # Safety
 /// `cmd` is recording, outside any render pass, on a graphics and compute queue; no other
-/// pending command buffer reads the map's header.
+/// pending command buffer reads the map's header; earlier reads of it in `cmd` were ordered
+/// before transfer writes (the pass's entry barrier, or the host's).
 pub(super) unsafe fn write_header(
     device: &ash::Device,
     cmd: vk::CommandBuffer,
@@ -84,20 +80,16 @@ pub(super) unsafe fn write_header(
     let mut bytes = bytemuck::bytes_of(&header).to_vec();
     bytes.extend_from_slice(bytemuck::bytes_of(&light.gpu_end()));
     debug_assert_eq!(bytes.len() as u64, HEADER_BYTES);
-    // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue (this
-    // function's contract, CollectionPass::record's), so every shader stage and transfer are
-    // supported.
-    unsafe { memory_barrier(device, cmd, Access::ANY_SHADER_READ, Access::TRANSFER_WRITE) };
-    // SAFETY: plain data of the header's size (HEADER_BYTES); outside a render pass (the
-    // contract).
+    // SAFETY: plain data of the header's size (HEADER_BYTES); outside a render pass, after
+    // earlier reads (the contract).
     unsafe { map.header.record_write(device, cmd, &bytes) };
-    // SAFETY: the same command buffer, outside rendering; stages its queue supports.
-    unsafe { memory_barrier(device, cmd, Access::TRANSFER_WRITE, Access::ANY_SHADER_READ) };
+    // SAFETY: the same command buffer, outside rendering, on a graphics and compute queue.
+    unsafe { step_barrier(device, cmd, map, (Step::HeaderWrite, Step::HeaderReads)) };
 }
 
 /// Draws the static draws into the static map, cleared first, with `depth_only`, and leaves
-/// it in the layout its next use reads it in ([`static_resting_layout`]); under a moving
-/// light (`light_moves`) it stays empty ([`draw_where`]).
+/// it in the layout its next use reads it in (`static_resting_layout` in `map.rs`); under a
+/// moving light (`light_moves`) it stays empty ([`draw_where`]).
 ///
 /// # Safety
 /// As [`write_header`]; the static map is in no other hands; `depth_only` is the pass's
@@ -111,29 +103,9 @@ pub(super) unsafe fn draw_static_map(
     map: &EngineTsmMap,
     light_moves: bool,
 ) {
-    let static_layout = static_resting_layout(map.start);
-    let static_reads = if map.start == TsmStart::SecondLookup {
-        COMPUTE_SAMPLED_READ
-    } else {
-        Access::TRANSFER_READ
-    };
-    // SAFETY: the static map is this map's image (one layer), in no other hands (the
-    // contract); from UNDEFINED its old contents are discarded, which the cleared redraw
-    // below replaces.
-    unsafe {
-        image_barrier(
-            device,
-            cmd,
-            map.static_map.raw(),
-            map.static_map.layers_range(0, 1),
-            (
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-            ),
-            static_reads,
-            Access::DEPTH_ATTACHMENT,
-        )
-    };
+    // SAFETY: the static map is this map's image, in no other hands (the contract), at rest
+    // or discarded: the cleared redraw below replaces its contents.
+    unsafe { step_barrier(device, cmd, map, (Step::StaticReads, Step::StaticDraw)) };
     let view = map.static_map.layer_view(0);
     // SAFETY: the caller's contract; the view is in the attachment layout.
     unsafe { begin_depth(device, cmd, view, map.width, map.height, true) };
@@ -143,19 +115,9 @@ pub(super) unsafe fn draw_static_map(
     draw_where(device, cmd, depth_only, draws, map, None, light_moves);
     // SAFETY: the rendering began above and the static draws are recorded into it.
     unsafe { device.cmd_end_rendering(cmd) };
-    // SAFETY: rendering has ended; the same image and range, from the attachment layout it
-    // was drawn in to the layout the rest of the frame reads it in.
-    unsafe {
-        image_barrier(
-            device,
-            cmd,
-            map.static_map.raw(),
-            map.static_map.layers_range(0, 1),
-            (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, static_layout),
-            Access::DEPTH_ATTACHMENT,
-            static_reads,
-        )
-    };
+    // SAFETY: rendering has ended; the static map leaves the attachment layout it was drawn
+    // in for its resting layout, where the rest of the frame reads it.
+    unsafe { step_barrier(device, cmd, map, (Step::StaticDraw, Step::StaticReads)) };
 }
 
 /// Writes the set every dispatch binds: the host's images and the maps. Without a normal or
@@ -206,62 +168,17 @@ pub(super) unsafe fn start_layers(
     map: &EngineTsmMap,
     batch: Batch,
 ) {
-    let working = map.working.raw();
-    let all_layers = map.working.layers_range(0, map.layers);
-    if map.start == TsmStart::SecondLookup {
-        // SAFETY: the working map is this map's image, all its `layers`; its previous
-        // readers (the last dispatch, or an earlier frame's) are named as the source, and
-        // UNDEFINED discards contents the second lookup redraws whole.
-        unsafe {
-            image_barrier(
-                device,
-                cmd,
-                working,
-                all_layers,
-                (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                ),
-                COMPUTE_SAMPLED_READ,
-                Access::DEPTH_ATTACHMENT,
-            )
-        };
-    } else {
-        // SAFETY: the working map's layers go to TRANSFER_DST_OPTIMAL for the static copy,
-        // after the previous dispatch's sampled reads; from UNDEFINED, since the copy
-        // overwrites every layer used.
-        unsafe {
-            image_barrier(
-                device,
-                cmd,
-                working,
-                all_layers,
-                (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                ),
-                COMPUTE_SAMPLED_READ,
-                Access::TRANSFER_WRITE,
-            )
-        };
-        // SAFETY: both images are the map's, in the layouts named.
+    // SAFETY: the working map is this map's image, in no other hands; its previous readers
+    // (the last dispatch, or an earlier record's) are waited for, and its layers are
+    // discarded: the copy or the clearing rendering overwrites every layer used.
+    unsafe { step_barrier(device, cmd, map, (Step::LayersRead, Step::LayersStart)) };
+    if map.start == TsmStart::Copy {
+        // SAFETY: both images are the map's, in the layouts their steps declare (the static
+        // map at rest in TRANSFER_SRC_OPTIMAL, the working map in TRANSFER_DST_OPTIMAL).
         unsafe { copy_static(device, cmd, map, batch.count) };
-        // SAFETY: the copy into the working layers is recorded; the same image and layers
-        // move from TRANSFER_DST_OPTIMAL to the attachment layout the moving draws load.
-        unsafe {
-            image_barrier(
-                device,
-                cmd,
-                working,
-                all_layers,
-                (
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                ),
-                Access::TRANSFER_WRITE,
-                Access::DEPTH_ATTACHMENT,
-            )
-        };
+        // SAFETY: the copy is recorded; the working layers move on to the attachment layout
+        // the moving draws load.
+        unsafe { step_barrier(device, cmd, map, (Step::LayersStart, Step::MovingDraws)) };
     }
 }
 
@@ -299,20 +216,7 @@ pub(super) unsafe fn draw_moving_layers(
     }
     // SAFETY: all the batch's renderings have ended; the working layers leave the
     // attachment layout for the mask shader's sampled reads.
-    unsafe {
-        image_barrier(
-            device,
-            cmd,
-            map.working.raw(),
-            map.working.layers_range(0, map.layers),
-            (
-                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            ),
-            Access::DEPTH_ATTACHMENT,
-            COMPUTE_SAMPLED_READ,
-        )
-    };
+    unsafe { step_barrier(device, cmd, map, (Step::MovingDraws, Step::LayersRead)) };
 }
 
 /// Tests every pixel of the host's image against the batch's maps: the first batch writes
@@ -340,7 +244,14 @@ pub(super) unsafe fn dispatch_mask(
     if first > 0 {
         // The previous batch's count, read and rewritten by this one.
         // SAFETY: outside rendering; compute is on this queue.
-        unsafe { memory_barrier(device, cmd, COMPUTE_STORAGE_RW, COMPUTE_STORAGE_RW) };
+        unsafe {
+            step_barrier(
+                device,
+                cmd,
+                map,
+                (Step::Dispatch(inputs), Step::Dispatch(inputs)),
+            )
+        };
     }
     let flags = flags
         | if first == 0 { FIRST_BATCH } else { 0 }

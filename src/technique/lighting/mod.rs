@@ -7,6 +7,7 @@
 //! shading runs once per visible sample instead of once per covering fragment.
 
 use super::collection::draw_each;
+use super::declared_barriers::record_own;
 use super::draws::DrawList;
 use super::gpu_types::{COUNT_INVALID, CameraParams, FIXED_TIME, GpuCameraEnd, ShadowMode};
 use super::plain_shadow::PlainShadowMap;
@@ -22,6 +23,7 @@ use crate::gpu::{
 use ash::vk;
 use std::sync::Arc;
 
+mod accesses;
 mod target;
 pub use target::LightingTarget;
 
@@ -84,6 +86,9 @@ pub struct LightingPass {
     /// The most loop iterations one pixel's shadow lookups may report before the pass
     /// counts it as possibly cut short (0: the device has no loop limit, nothing counted).
     loop_budget: u32,
+    /// Whether [`Self::record_clear`] records its entry barrier (off:
+    /// [`Self::with_host_barriers`]).
+    outer_barriers: bool,
 }
 
 /// What one shading pipeline is specialized for (`resolve.comp`'s specialization
@@ -186,6 +191,7 @@ impl LightingPass {
                 shaders::RESOLVE_COMP,
             )?,
             loop_budget: ctx.info().shader_loop_budget(),
+            outer_barriers: true,
         })
     }
 
@@ -249,8 +255,12 @@ impl LightingPass {
     ///   before it on the same queue); its passes' closing barriers make it visible here.
     /// - `target` is not in use by a command buffer running at the same time.
     ///
-    /// Synchronization: waits for earlier compute and transfer uses of the target; leaves
-    /// the radiance written by the compute stage and visible to compute and transfer reads.
+    /// Synchronization: waits for earlier compute and transfer uses of the target (the entry
+    /// barrier, derived from [`Self::accesses`], [`LightingTarget::readback_accesses`] and
+    /// [`super::LightingImageOutput::accesses`]; the host's with [`Self::with_host_barriers`]);
+    /// leaves the radiance written by the compute stage and visible to compute and transfer
+    /// reads. `record` declares the frame to the access check (`record_clear` and
+    /// `record_samples` called apart do not).
     /// State changed: the bound graphics and compute pipelines, push constants, viewport,
     /// scissor.
     #[allow(clippy::too_many_arguments)]
@@ -273,6 +283,7 @@ impl LightingPass {
         }
         // SAFETY: this function's contract is record_clear's (it says "As Self::record").
         unsafe { self.record_clear(device, cmd, view, target) };
+        accesses::declare_frame(draws, shadow, target);
         let mut first = 0;
         while first < target.spp {
             let count = target.samples_per_chunk.min(target.spp - first);
@@ -326,19 +337,14 @@ impl LightingPass {
             camera: header,
             end,
         });
-        // SAFETY: `cmd` is recording outside any render pass on a graphics and compute queue
-        // (CollectionPass::record's contract, taken by record), so every stage named is supported.
-        unsafe {
-            memory_barrier(
-                device,
-                cmd,
-                Access::ANY_SHADER_READ
-                    .and(Access::COMPUTE_RW)
-                    .and(Access::GEOMETRY_RW)
-                    .and(Access::TRANSFER_READ),
-                Access::TRANSFER_WRITE,
-            )
-        };
+        if self.outer_barriers {
+            let entry = accesses::entry_barrier(target);
+            let check = target.header.access_check();
+            // SAFETY: `cmd` is recording outside any render pass on a graphics and compute
+            // queue (CollectionPass::record's contract, taken by record), so every stage
+            // named is supported.
+            unsafe { record_own(device, cmd, check, "lighting entry", entry.as_ref()) };
+        }
         // SAFETY: the header gets one CameraParams (its size) and the fills cover the target's own
         // radiance and counter buffers (WHOLE_SIZE), outside rendering, after their earlier readers
         // (the barrier above); no other command buffer uses the target meanwhile (the contract).

@@ -98,6 +98,14 @@ impl LightingTarget {
         })
     }
 
+    pub(super) fn readback(&self) -> &Buffer {
+        &self.readback
+    }
+
+    pub(super) fn counters_readback(&self) -> &Buffer {
+        &self.counters_readback
+    }
+
     /// Samples per pixel the target was made for (every one shares the pixel's average).
     pub fn spp(&self) -> u32 {
         self.spp

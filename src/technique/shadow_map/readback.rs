@@ -29,7 +29,15 @@ impl TemporalShadowMap {
             // SAFETY: `cmd` is of the map's device, recording outside any render pass (the
             // contract); its queue runs the generation pass's compute work, so it supports the
             // compute and transfer stages.
-            unsafe { record_own(device, cmd, check, "counter readback entry", own.entry) };
+            unsafe {
+                record_own(
+                    device,
+                    cmd,
+                    check,
+                    "counter readback entry",
+                    own.entry.as_ref(),
+                )
+            };
         }
         self.counter_readback_accesses()
             .declare_run(check, "counter readback");
@@ -53,7 +61,15 @@ impl TemporalShadowMap {
         if self.outer_barriers {
             // SAFETY: the same command buffer, outside a render pass; host reads are a valid
             // destination once the fence signals.
-            unsafe { record_own(device, cmd, check, "counter readback exit", own.exit) };
+            unsafe {
+                record_own(
+                    device,
+                    cmd,
+                    check,
+                    "counter readback exit",
+                    own.exit.as_ref(),
+                )
+            };
         }
     }
 

@@ -7,6 +7,7 @@
 //! and in batches (`EngineTsmMap::layers`).
 
 mod convergence;
+mod declared;
 mod rig;
 mod static_map;
 mod strata;

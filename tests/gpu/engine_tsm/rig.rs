@@ -87,7 +87,7 @@ pub(super) fn light(direction: Vec3, keep_static: bool) -> LightView {
 }
 
 /// The camera: above the ground at an angle, the light's box in view.
-fn camera() -> (Mat4, Vec3) {
+pub(super) fn camera() -> (Mat4, Vec3) {
     let c = CameraView::perspective(
         Vec3::new(0.4, 7.0, 4.0),
         Vec3::ZERO,
