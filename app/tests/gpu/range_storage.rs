@@ -248,3 +248,35 @@ fn sorted_ranges_render_what_the_lists_render() {
     }
     assert_no_validation_messages(&ctx);
 }
+
+/// A map whose ranges lie in more tiles than one row of the sort's dispatch holds (128 tiles
+/// across, `gpu_constants::SORT_TILE_ROW`; the sort visits the tiles the collection listed):
+/// 300 cubes over a 512 x 512 map (4,096 tiles), the sorted ranges' image against the lists'.
+/// A tile past the first row left unsorted would read the collection's list indices as
+/// sorted places.
+#[test]
+fn ranges_in_more_tiles_than_a_row_are_all_sorted() {
+    let ctx = context();
+    let options = BuiltinOptions {
+        cube_count: 300,
+        ..BuiltinOptions::default()
+    };
+    let scene = builtin("cubes-toward-light", &options).unwrap();
+    let mut renderer = Renderer::new(&ctx).expect("renderer");
+    let mut render = |storage| {
+        let settings = RenderSettings {
+            shadow_size: Some((512, 512)),
+            ..settings(storage)
+        };
+        motion_shadows_app::frame::render(Some(&mut renderer), &scene, &settings, &mut |_| {})
+            .expect("render")
+    };
+    let lists = render(LISTS);
+    let sorted = render(SORTED[0]);
+    assert_eq!(lists.stats.ranges, sorted.stats.ranges, "the same frame");
+    assert!(
+        lists.image.rgb == sorted.image.rgb,
+        "the sorted ranges' image differs from the lists'"
+    );
+    assert_no_validation_messages(&ctx);
+}
