@@ -26,6 +26,9 @@ void list_sort_tile(MsShadowMap map, uint p) {
     uint tiles = tiles_x * ((size.y + TILE_TEXELS - 1u) / TILE_TEXELS);
     uint tile = (p / size.x) / TILE_TEXELS * tiles_x + (p % size.x) / TILE_TEXELS;
     UintArray words = UintArray(map.tiles);
+    // A plain read first: most of a tile's texels find it marked and skip the atomic (a stale
+    // 0 only falls through to it).
+    if (words.v[DISPATCH_WORDS + tile] != 0u) return;
     if (atomicExchange(words.v[DISPATCH_WORDS + tile], 1u) != 0u) return;
     uint index = atomicAdd(words.v[DISPATCH_SORT + 3u], 1u);
     words.v[DISPATCH_WORDS + tiles + index] = tile;
