@@ -122,12 +122,15 @@ bool ms_exact_static_next(MsMap map, uint texel, uint stop, inout uint r, inout 
 // MS_EXACT_ASKED_TOGETHER, for a third loop that asks them the whole test: on llvmpipe a
 // loop's body costs its whole code per iteration of the SIMD group, taken or not, and the
 // root finding is most of it while most triangles are decided without it.
+//
+// `known_still`: the caller knows p0 == p1 when the shader is compiled (ms_walk_exact_still),
+// so that the moving receivers' loop folds away.
 bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint own, uint stop,
-                         inout uint cursor, inout ms_exact_Union shadowed) {
+                         bool known_still, inout uint cursor, inout ms_exact_Union shadowed) {
     bool spot = map.light.position.w != 0.0;
     vec3 light = spot ? map.light.position.xyz : map.light.direction.xyz;
     float s_min = ms_exact_s_min(spot, ms_exact_scene_size(map));
-    bool still = p0 == p1;
+    bool still = known_still || p0 == p1;
     bool from_start = cursor == MS_EXACT_CURSOR_START;
     bool in_static =
         map.static_names != 0UL && (from_start || (cursor & MS_EXACT_CURSOR_STATIC) != 0u);
@@ -276,7 +279,8 @@ void ms_walk_exact(MsMap map, vec3 p0, vec3 p1, uint own, uint budget, inout MsW
         float t = path.t, exit;
         ivec2 here = path.texel;
         bool inside = ms_path_advance(path, map.size, exit);
-        if (!ms_exact_texel_walk(map, at, p0, p1, vec2(t, exit), own, stop, cursor, texel_union)) {
+        if (!ms_exact_texel_walk(map, at, p0, p1, vec2(t, exit), own, stop, false, cursor,
+                                 texel_union)) {
             // Within the texel: its next invocation goes on there, with the union so far.
             path.t = t;
             path.texel = here;
@@ -291,6 +295,33 @@ void ms_walk_exact(MsMap map, vec3 p0, vec3 p1, uint own, uint budget, inout MsW
     }
     walk.cursor = cursor;
     ms_walk_end(walk, budget, stopped, path.t, path.texel, shadowed, 1.0 - min(shadowed, 1.0));
+    walk.walked = ms_loop_iterations;
+}
+
+// ms_walk_exact for a receiver that stands still at p under a still light, walked from its
+// start without a loop budget (a device without a loop limit; on lavapipe, the visibility
+// mask's round 0, whose probe hands a pixel whose loops were cut to the general walk): the
+// same texel, window, triangles and union, so the same answer bit for bit, without the
+// path's texel stepping or the moving receivers' loop, whose code llvmpipe runs (masked) for
+// every SIMD group that reaches it. The caller branches here only where a whole SIMD group
+// stands still (a uniform branch; a divergent one would run both).
+void ms_walk_exact_still(MsMap map, vec3 p, uint own, inout MsWalk walk,
+                         inout ms_exact_Union texel_union) {
+    MsLightPath path;
+    walk.state = MS_WALK_DONE;
+    walk.sum = 1.0;
+    if (map.triangles == 0UL || !ms_path_start(map.light, map.size, p, p, path)) return;
+    texel_union = ms_exact_union_empty();
+    uint cursor = MS_EXACT_CURSOR_START;
+    ++ms_loop_iterations;
+    uint at = uint(path.texel.y) * map.size.x + uint(path.texel.x);
+    // The window ms_path_advance gives a path that does not move: the time it is in view.
+    float exit = clamp(path.hi, path.t, path.hi);
+    ms_exact_texel_walk(map, at, p, p, vec2(path.t, exit), own, 0xffffffffu, true, cursor,
+                        texel_union);
+    float shadowed = 0.0;
+    shadowed += min(ms_exact_union_length(texel_union), exit - path.t);
+    walk.sum = 1.0 - min(shadowed, 1.0);
     walk.walked = ms_loop_iterations;
 }
 

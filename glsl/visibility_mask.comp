@@ -40,6 +40,13 @@ layout(constant_id = 1) const bool EXACT = false;
 // start: the stop's test in the walk's loop, even with a budget of 0 at run time, made the
 // default frame's mask 1.3x slower on lavapipe, folded away here.
 layout(constant_id = 2) const bool FOLLOW_UP = false;
+// Round 0 of an exact mask on a device with follow-up rounds, under a still light (the host
+// picks it only there: under a moving one nothing stands still relative to it): receivers
+// standing still take their one texel's walk (ms_walk_exact_still), moving ones go to round 1
+// from their start. llvmpipe runs a branch's code (masked) for every SIMD group that reaches
+// it, whichever lanes take it: kept out of this pipeline, the general walk (texel stepping,
+// the moving receivers' loops) costs the still receivers, most of a frame's, nothing.
+layout(constant_id = 3) const bool STILL_FIRST = false;
 
 // MASK_* flags (MASK_HAS_IDS: read the triangle-id image), from src/technique/gpu_constants.rs.
 #include "gpu_constants.glsl"
@@ -197,6 +204,8 @@ void main() {
     MsMap tested = ms_load(map);
     vec3 motion = MOVING ? texelFetch(motion_image, pixel, 0).xyz : vec3(0.0);
     vec3 p0 = p - pc.time * motion;
+    // A moving receiver in a STILL_FIRST round 0: walked by round 1 from its start.
+    bool to_round_1 = false;
     if (EXACT) {
         // A map built for the exact lookup (Lookup::Exact): the receiver's own shadow ray
         // against the triangles named along its path; no normal, offset or bias.
@@ -206,8 +215,14 @@ void main() {
         if (ms_light_moves(tested.light)) {
             ms_exact_light_motion = ms_light_end(pc.map).position.xyz - tested.light.position.xyz;
         }
-        ms_walk_exact(tested, p0, p0 + motion, own, FOLLOW_UP ? pc.loop_budget : 0u, walk,
-                      carried);
+        if (!STILL_FIRST) {
+            ms_walk_exact(tested, p0, p0 + motion, own, FOLLOW_UP ? pc.loop_budget : 0u, walk,
+                          carried);
+        } else if (motion == vec3(0.0)) {
+            ms_walk_exact_still(tested, p0, own, walk, carried);
+        } else {
+            to_round_1 = true;
+        }
     } else if (MOVING) {
         if (motion == vec3(0.0) && (pc.flags & MASK_STILL_PIXELS_PLANE) != 0u) {
             // A point that stands still keeps its plane all frame: the standing receiver's
@@ -241,7 +256,7 @@ void main() {
     bool over = false;
     if (!FOLLOW_UP) {
         // Round 0: what ran too long, or shared a group with it, goes on from its start.
-        if (!cut) {
+        if (!cut && !to_round_1) {
             imageStore(mask, pixel, vec4(walk.sum));
         } else {
             over = !queue_append(pixel, ms_walk_start(), carried);
