@@ -1,5 +1,5 @@
-//! The engine's Vulkan device: its own instance and device, made with what the library asks
-//! for (`DeviceRequirements::choose_device` picks the device and lists what to enable).
+//! The engine's own Vulkan instance and device, made with what the library asks for
+//! (`DeviceRequirements::choose_device` picks the device and says what to enable).
 
 use crate::deferred::{Error, Result};
 use ash::vk;
@@ -22,60 +22,44 @@ pub struct Gpu {
 }
 
 impl Gpu {
-    /// A Vulkan 1.3 instance (with the Khronos validation layer when `validation`: it prints
-    /// what it finds) and a device with the features the library needs.
+    /// A Vulkan 1.3 instance (with the Khronos validation layer when `validation`) and a
+    /// device with the features the library needs.
     pub fn new(validation: bool) -> Result<Gpu> {
-        // SAFETY: loading the loader runs its initialization; `entry` is kept in Gpu.
-        let entry = unsafe { ash::Entry::load() }?;
         let app = vk::ApplicationInfo::default().api_version(vk::API_VERSION_1_3);
         let layers = [c"VK_LAYER_KHRONOS_validation".as_ptr()];
-        let mut info = vk::InstanceCreateInfo::default().application_info(&app);
-        if validation {
-            info = info.enabled_layer_names(&layers);
-        }
-        // SAFETY: `info` and what it points at are locals alive for the call.
-        let instance = unsafe { entry.create_instance(&info, None) }?;
-        // SAFETY: the instance is live and made for Vulkan 1.3; on an error, nothing else
-        // was made on it, so it is destroyed at once.
-        let device = unsafe {
+        let layers = if validation { &layers[..] } else { &[] };
+        let info =
+            vk::InstanceCreateInfo::default().application_info(&app).enabled_layer_names(layers);
+        // SAFETY: loading the loader runs its initialization, and `entry` is kept in the Gpu
+        // while the instance lives; `info` and what it points at are locals.
+        let (entry, instance) = unsafe {
+            let entry = ash::Entry::load()?;
+            let instance = entry.create_instance(&info, None)?;
+            (entry, instance)
+        };
+        let priorities = [1.0f32];
+        // SAFETY: the instance is live and made for Vulkan 1.3; the chosen device has every
+        // feature its requirements chain in; `info` and its chain are locals. On an error
+        // nothing else was made on the instance, so it goes at once.
+        let (physical, queue_family, device, queue, enabled) = unsafe {
             DeviceRequirements::choose_device(&instance)
                 .map_err(Error::from)
-                .and_then(|chosen| Self::create_device(&instance, chosen))
-                .inspect_err(|_| instance.destroy_instance(None))
-        }?;
-        let (physical, queue_family, device, enabled) = device;
-        // SAFETY: the device was made with one queue of `queue_family`.
-        let queue = unsafe { device.get_device_queue(queue_family, 0) };
-        Ok(Gpu {
-            entry,
-            instance,
-            physical,
-            device,
-            queue_family,
-            queue,
-            enabled,
-        })
-    }
-
-    /// # Safety
-    /// `physical` is a device of `instance` with every feature `requirements` lists.
-    unsafe fn create_device(
-        instance: &ash::Instance,
-        (physical, queue_family, mut requirements): (vk::PhysicalDevice, u32, DeviceRequirements),
-    ) -> Result<(vk::PhysicalDevice, u32, ash::Device, DeviceFeatures)> {
-        let priorities = [1.0f32];
-        let queues = [vk::DeviceQueueCreateInfo::default()
-            .queue_family_index(queue_family)
-            .queue_priorities(&priorities)];
-        let extensions = requirements.extension_names();
-        let info = requirements.chain(
-            vk::DeviceCreateInfo::default()
-                .queue_create_infos(&queues)
-                .enabled_extension_names(&extensions),
-        );
-        // SAFETY: the caller's contract; `info` and its chain are locals alive for the call.
-        let device = unsafe { instance.create_device(physical, &info, None) }?;
-        Ok((physical, queue_family, device, requirements.features))
+                .and_then(|(physical, family, mut requirements)| {
+                    let queues = [vk::DeviceQueueCreateInfo::default()
+                        .queue_family_index(family)
+                        .queue_priorities(&priorities)];
+                    let extensions = requirements.extension_names();
+                    let info = vk::DeviceCreateInfo::default()
+                        .queue_create_infos(&queues)
+                        .enabled_extension_names(&extensions);
+                    let device =
+                        instance.create_device(physical, &requirements.chain(info), None)?;
+                    let queue = device.get_device_queue(family, 0);
+                    Ok((physical, family, device, queue, requirements.features))
+                })
+                .inspect_err(|_| instance.destroy_instance(None))?
+        };
+        Ok(Gpu { entry, instance, physical, device, queue_family, queue, enabled })
     }
 
     /// Destroys the device and the instance.

@@ -1,259 +1,225 @@
-//! The engine's pipelines and layouts, created once and shared by all frames.
+//! The engine's pipelines, layouts and pools, made once and shared by all frames; its GLSL
+//! (`glsl/`) compiled at run time by shaderc, for Vulkan 1.2 SPIR-V as the book says.
 
 use super::*;
+// Links shaderc where the distribution's libshaderc.so cannot be linked as it is.
+use motion_shadows_shaderc_link as _;
 
-// ---------------------------------------------------------------------------------------
-// The engine's pipelines (created once, shared by all frames).
-// ---------------------------------------------------------------------------------------
+/// The G-buffer's attachments (after the depth): normal, albedo, world motion, triangle id.
+pub(super) const COLOR_FORMATS: [vk::Format; 4] = [
+    vk::Format::R16G16B16A16_SFLOAT,
+    vk::Format::R8G8B8A8_UNORM,
+    vk::Format::R16G16B16A16_SFLOAT,
+    vk::Format::R32_UINT,
+];
+pub(super) const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+/// The masks: a lit fraction per pixel, a format every device writes as a storage image.
+pub(super) const MASK_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 
-/// The engine's pipelines and layouts (created once, shared by all frames).
+/// `Draw` in glsl/gbuffer.vert: 128 bytes of push constants.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub(super) struct DrawConstants {
+    /// The slot's `FrameConstants` by device address.
+    pub(super) frame: u64,
+    pub(super) pad: u64,
+    /// Object to world at t = 1 and t = 0, three rows each.
+    pub(super) model: [Vec4; 3],
+    pub(super) previous_model: [Vec4; 3],
+    pub(super) albedo: Vec3,
+    /// The mesh's first global triangle id (its shadow draw's): plus the primitive's index,
+    /// the id the G-buffer stores.
+    pub(super) first_id: u32,
+}
+
+/// `Frame` in glsl/frame.glsl (std430, read by device address).
+#[repr(C)]
+#[derive(Clone, Copy, Default, Pod, Zeroable)]
+pub(super) struct FrameConstants {
+    pub(super) view_proj: Mat4,
+    pub(super) inv_view_proj: Mat4,
+    pub(super) eye: Vec4,
+    /// Width, height, lights.
+    pub(super) info: UVec4,
+    /// x: the ambient factor.
+    pub(super) shading: Vec4,
+    pub(super) lights: [[Vec4; 3]; MAX_LIGHTS],
+}
+
+/// The engine's pipelines and what they need (each destroyed once, in Drop).
+#[derive(Default)]
 pub(super) struct Pipelines {
-    pub(super) device: ash::Device,
-    pub(super) frame_set_layout: vk::DescriptorSetLayout,
-    pub(super) image_set_layout: vk::DescriptorSetLayout,
-    pub(super) gbuffer_layout: vk::PipelineLayout,
-    pub(super) gbuffer: vk::Pipeline,
-    pub(super) shade_layout: vk::PipelineLayout,
-    pub(super) shade: vk::Pipeline,
-    pub(super) sampler: vk::Sampler,
-    pub(super) descriptor_pool: vk::DescriptorPool,
+    device: Option<ash::Device>,
     pub(super) command_pool: vk::CommandPool,
+    pub(super) descriptor_pool: vk::DescriptorPool,
+    /// The shading's images: depth, normal, albedo, mask 0, mask 1.
+    pub(super) set_layout: vk::DescriptorSetLayout,
+    pub(super) gbuffer_layout: vk::PipelineLayout,
+    pub(super) shade_layout: vk::PipelineLayout,
+    pub(super) gbuffer: vk::Pipeline,
+    pub(super) shade: vk::Pipeline,
 }
 
 impl Pipelines {
     pub(super) fn new(device: &ash::Device, queue_family: u32) -> Result<Self> {
-        let mut p = Pipelines {
-            device: device.clone(),
-            frame_set_layout: vk::DescriptorSetLayout::null(),
-            image_set_layout: vk::DescriptorSetLayout::null(),
-            gbuffer_layout: vk::PipelineLayout::null(),
-            gbuffer: vk::Pipeline::null(),
-            shade_layout: vk::PipelineLayout::null(),
-            shade: vk::Pipeline::null(),
-            sampler: vk::Sampler::null(),
-            descriptor_pool: vk::DescriptorPool::null(),
-            command_pool: vk::CommandPool::null(),
+        let mut p = Pipelines { device: Some(device.clone()), ..Default::default() };
+        use shaderc::ShaderKind as K;
+        let vert =
+            compile_glsl("gbuffer.vert", include_str!("../../glsl/gbuffer.vert"), K::Vertex)?;
+        let frag =
+            compile_glsl("gbuffer.frag", include_str!("../../glsl/gbuffer.frag"), K::Fragment)?;
+        let comp = compile_glsl("shade.comp", include_str!("../../glsl/shade.comp"), K::Compute)?;
+        let compute = vk::ShaderStageFlags::COMPUTE;
+        let bindings = [0, 1, 2, 3, 4].map(|binding| {
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(binding)
+                .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
+                .descriptor_count(1)
+                .stage_flags(compute)
+        });
+        let n = FRAMES_IN_FLIGHT as u32;
+        let sizes = [vk::DescriptorPoolSize {
+            ty: vk::DescriptorType::SAMPLED_IMAGE,
+            descriptor_count: 5 * n,
+        }];
+        let draw = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let push = |stage_flags, size: usize| {
+            [vk::PushConstantRange { stage_flags, offset: 0, size: size as u32 }]
         };
-        // On error, dropping `p` destroys what was created.
-        p.create(device, queue_family)?;
-        Ok(p)
-    }
-
-    pub(super) fn create(&mut self, device: &ash::Device, queue_family: u32) -> Result<()> {
+        let (draw_push, shade_push) = (push(draw, size_of::<DrawConstants>()), push(compute, 24));
+        let attributes = [0, 1].map(|location| vk::VertexInputAttributeDescription {
+            location,
+            binding: 0,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: 12 * location,
+        });
+        let binding = [vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: 24,
+            input_rate: vk::VertexInputRate::VERTEX,
+        }];
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(&binding)
+            .vertex_attribute_descriptions(&attributes);
+        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport =
+            vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
+        // No culling: the ground is seen from either side.
+        let raster = vk::PipelineRasterizationStateCreateInfo::default().line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(true)
+            .depth_write_enable(true)
+            .depth_compare_op(vk::CompareOp::LESS);
+        let blend = [vk::PipelineColorBlendAttachmentState::default()
+            .color_write_mask(vk::ColorComponentFlags::RGBA); 4];
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend);
+        let dynamic = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic);
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(&COLOR_FORMATS)
+            .depth_attachment_format(DEPTH_FORMAT);
         let pool = vk::CommandPoolCreateInfo::default()
             .queue_family_index(queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        // SAFETY: the device's queue family, with a pool per engine; destroyed in Drop.
-        self.command_pool =
-            unsafe { device.create_command_pool(&pool, None) }.vk("vkCreateCommandPool")?;
-        let binding = |binding, ty, stages| {
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(binding)
-                .descriptor_type(ty)
-                .descriptor_count(1)
-                .stage_flags(stages)
-        };
-        let set_layout = |bindings: &[vk::DescriptorSetLayoutBinding]| {
-            let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(bindings);
-            // SAFETY: `info` and its bindings live through the call; destroyed in Drop.
-            unsafe { device.create_descriptor_set_layout(&info, None) }
-                .vk("vkCreateDescriptorSetLayout")
-        };
-        let pipeline_layout = |sets: &[vk::DescriptorSetLayout], push: vk::PushConstantRange| {
-            let push = [push];
-            let info = (vk::PipelineLayoutCreateInfo::default())
-                .set_layouts(sets)
-                .push_constant_ranges(&push);
-            // SAFETY: the set layouts are made above; one push range within any device's 128
-            // bytes; destroyed in Drop.
-            unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")
-        };
-        // Set 0: the frame's constants, read by every stage of both passes.
-        let all = vk::ShaderStageFlags::VERTEX
-            | vk::ShaderStageFlags::FRAGMENT
-            | vk::ShaderStageFlags::COMPUTE;
-        self.frame_set_layout = set_layout(&[binding(0, vk::DescriptorType::UNIFORM_BUFFER, all)])?;
-        // Set 1 of the shading pass: depth, normals, albedo, two masks, the output, motion.
-        let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
-        let c = vk::ShaderStageFlags::COMPUTE;
-        let storage = binding(5, vk::DescriptorType::STORAGE_IMAGE, c);
-        let images = [0, 1, 2, 3, 4, 6].map(|b| binding(b, sampled, c));
-        self.image_set_layout = set_layout(&[&images[..], &[storage]].concat())?;
-        let n = FRAMES_IN_FLIGHT as u32;
-        let size = |ty, descriptor_count| vk::DescriptorPoolSize {
-            ty,
-            descriptor_count,
-        };
-        let sizes = [
-            size(vk::DescriptorType::UNIFORM_BUFFER, n),
-            size(sampled, 6 * n),
-            size(vk::DescriptorType::STORAGE_IMAGE, n),
-        ];
-        let pool = (vk::DescriptorPoolCreateInfo::default())
-            .max_sets(2 * n)
-            .pool_sizes(&sizes);
-        // Exact texel reads (texelFetch ignores the filter, but a sampler is required).
-        let sampler = vk::SamplerCreateInfo::default()
-            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE);
-        // SAFETY: the pool's sizes count every binding of both set layouts for each of the
-        // FRAMES_IN_FLIGHT slots; the sampler's state (nearest, clamp) is always supported;
-        // both are destroyed in Drop.
+        // SAFETY: every create info is a local alive for its call, the modules hold shaderc's
+        // SPIR-V of the engine's GLSL, whose push constants and set the layouts match (the
+        // push ranges within any device's 128 bytes); the pool's sizes count every set of the
+        // FRAMES_IN_FLIGHT slots. The modules go once the pipelines are made; on an error,
+        // Drop destroys what was made.
         unsafe {
-            self.descriptor_pool =
-                (device.create_descriptor_pool(&pool, None)).vk("vkCreateDescriptorPool")?;
-            self.sampler = device
-                .create_sampler(&sampler, None)
-                .vk("vkCreateSampler")?;
+            let module = |code: &[u32]| {
+                device.create_shader_module(&vk::ShaderModuleCreateInfo::default().code(code), None)
+            };
+            let modules = [module(&vert), module(&frag), module(&comp)];
+            let made = (|| -> Result<()> {
+                let stages =
+                    [vk::ShaderStageFlags::VERTEX, vk::ShaderStageFlags::FRAGMENT, compute]
+                        .into_iter()
+                        .zip(&modules)
+                        .map(|(stage, module)| {
+                            Ok(vk::PipelineShaderStageCreateInfo::default()
+                                .stage(stage)
+                                .module((*module)?)
+                                .name(c"main"))
+                        })
+                        .collect::<std::result::Result<Vec<_>, vk::Result>>()?;
+                p.command_pool = device.create_command_pool(&pool, None)?;
+                let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+                p.set_layout = device.create_descriptor_set_layout(&info, None)?;
+                let info = vk::DescriptorPoolCreateInfo::default().max_sets(n).pool_sizes(&sizes);
+                p.descriptor_pool = device.create_descriptor_pool(&info, None)?;
+                let info = vk::PipelineLayoutCreateInfo::default().push_constant_ranges(&draw_push);
+                p.gbuffer_layout = device.create_pipeline_layout(&info, None)?;
+                let sets = [p.set_layout];
+                let info = vk::PipelineLayoutCreateInfo::default()
+                    .set_layouts(&sets)
+                    .push_constant_ranges(&shade_push);
+                p.shade_layout = device.create_pipeline_layout(&info, None)?;
+                let info = [vk::GraphicsPipelineCreateInfo::default()
+                    .stages(&stages[..2])
+                    .vertex_input_state(&vertex_input)
+                    .input_assembly_state(&assembly)
+                    .viewport_state(&viewport)
+                    .rasterization_state(&raster)
+                    .multisample_state(&multisample)
+                    .depth_stencil_state(&depth)
+                    .color_blend_state(&blend)
+                    .dynamic_state(&dynamic)
+                    .layout(p.gbuffer_layout)
+                    .push_next(&mut rendering)];
+                let cache = vk::PipelineCache::null();
+                p.gbuffer =
+                    device.create_graphics_pipelines(cache, &info, None).map_err(|e| e.1)?[0];
+                let info = [vk::ComputePipelineCreateInfo::default()
+                    .stage(stages[2])
+                    .layout(p.shade_layout)];
+                p.shade = device.create_compute_pipelines(cache, &info, None).map_err(|e| e.1)?[0];
+                Ok(())
+            })();
+            for module in modules.into_iter().flatten() {
+                device.destroy_shader_module(module, None);
+            }
+            made?;
         }
-        let push = |stage_flags, size: usize| vk::PushConstantRange {
-            stage_flags,
-            offset: 0,
-            size: size as u32,
-        };
-        let draw = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        self.gbuffer_layout = pipeline_layout(
-            &[self.frame_set_layout],
-            push(draw, std::mem::size_of::<DrawConstants>()),
-        )?;
-        self.shade_layout = pipeline_layout(
-            &[self.frame_set_layout, self.image_set_layout],
-            push(c, std::mem::size_of::<ShadeConstants>()),
-        )?;
-        self.gbuffer = gbuffer_pipeline(device, self.gbuffer_layout)?;
-        self.shade =
-            compute_pipeline(device, "shade.comp", sources::SHADE_COMP, self.shade_layout)?;
-        Ok(())
+        Ok(p)
     }
 }
 
 impl Drop for Pipelines {
     fn drop(&mut self) {
-        // Null handles (a failed `new`) are ignored; the command buffers go with their pool,
-        // the descriptor sets with theirs.
-        let device = &self.device;
-        // SAFETY: the engine drops its pipelines after waiting for every slot's frame (its own
-        // Drop), so none is in use; null handles of a failed `new` are ignored by the destroy
-        // calls.
+        let Some(device) = &self.device else { return };
+        // SAFETY: the engine drops its pipelines after waiting for every frame (its Drop);
+        // the command buffers and sets go with their pools; null handles (what a failed `new`
+        // did not make) are ignored.
         unsafe {
             device.destroy_pipeline(self.gbuffer, None);
             device.destroy_pipeline(self.shade, None);
             device.destroy_pipeline_layout(self.gbuffer_layout, None);
             device.destroy_pipeline_layout(self.shade_layout, None);
             device.destroy_descriptor_pool(self.descriptor_pool, None);
-            device.destroy_descriptor_set_layout(self.frame_set_layout, None);
-            device.destroy_descriptor_set_layout(self.image_set_layout, None);
-            device.destroy_sampler(self.sampler, None);
+            device.destroy_descriptor_set_layout(self.set_layout, None);
             device.destroy_command_pool(self.command_pool, None);
         }
     }
 }
 
-/// The G-buffer pipeline: two vertex bindings (positions, normals) with dynamic strides, a
-/// depth test, two color attachments, dynamic rendering (no render pass object).
-pub(super) fn gbuffer_pipeline(
-    device: &ash::Device,
-    layout: vk::PipelineLayout,
-) -> Result<vk::Pipeline> {
-    let vert = shader_module(
-        device,
-        &compile_glsl(
-            "gbuffer.vert",
-            sources::GBUFFER_VERT,
-            shaderc::ShaderKind::Vertex,
-        )?,
-    )?;
-    let frag = match compile_glsl(
-        "gbuffer.frag",
-        sources::GBUFFER_FRAG,
-        shaderc::ShaderKind::Fragment,
-    )
-    .and_then(|code| shader_module(device, &code))
-    {
-        Ok(m) => m,
-        Err(e) => {
-            // SAFETY: the fragment module failed, so the vertex module is used by nothing and
-            // destroyed once.
-            unsafe { device.destroy_shader_module(vert, None) };
-            return Err(e);
-        }
-    };
-    let stages = [
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::VERTEX)
-            .module(vert)
-            .name(c"main"),
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::FRAGMENT)
-            .module(frag)
-            .name(c"main"),
-    ];
-    let bindings = [0, 1, 2].map(|binding| vk::VertexInputBindingDescription {
-        binding,
-        stride: 24, // overridden per draw (VERTEX_INPUT_BINDING_STRIDE is dynamic)
-        input_rate: vk::VertexInputRate::VERTEX,
+/// Compiles one stage for Vulkan 1.2 SPIR-V; `#include "frame.glsl"` is the engine's header.
+fn compile_glsl(name: &str, source: &str, kind: shaderc::ShaderKind) -> Result<Vec<u32>> {
+    let mut options = shaderc::CompileOptions::new()?;
+    options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_2 as u32);
+    options.set_include_callback(|requested, _, _, _| match requested {
+        "frame.glsl" => Ok(shaderc::ResolvedInclude {
+            resolved_name: requested.into(),
+            content: include_str!("../../glsl/frame.glsl").into(),
+        }),
+        other => Err(format!("no header {other}")),
     });
-    let attributes = [0, 1, 2].map(|i| vk::VertexInputAttributeDescription {
-        location: i,
-        binding: i,
-        format: vk::Format::R32G32B32_SFLOAT,
-        offset: 0,
-    });
-    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-        .vertex_binding_descriptions(&bindings)
-        .vertex_attribute_descriptions(&attributes);
-    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
-        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
-    let viewport = vk::PipelineViewportStateCreateInfo::default()
-        .viewport_count(1)
-        .scissor_count(1);
-    // No culling: the ground and the strip are seen from either side.
-    let raster = vk::PipelineRasterizationStateCreateInfo::default()
-        .polygon_mode(vk::PolygonMode::FILL)
-        .cull_mode(vk::CullModeFlags::NONE)
-        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
-        .line_width(1.0);
-    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(true)
-        .depth_write_enable(true)
-        .depth_compare_op(vk::CompareOp::LESS);
-    let blend = [vk::PipelineColorBlendAttachmentState::default()
-        .color_write_mask(vk::ColorComponentFlags::RGBA); 4];
-    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend);
-    let dynamic = [
-        vk::DynamicState::VIEWPORT,
-        vk::DynamicState::SCISSOR,
-        vk::DynamicState::VERTEX_INPUT_BINDING_STRIDE,
-    ];
-    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic);
-    let formats = [NORMAL_FORMAT, ALBEDO_FORMAT, MOTION_FORMAT, ID_FORMAT];
-    let mut rendering = vk::PipelineRenderingCreateInfo::default()
-        .color_attachment_formats(&formats)
-        .depth_attachment_format(DEPTH_FORMAT);
-    let info = [vk::GraphicsPipelineCreateInfo::default()
-        .stages(&stages)
-        .vertex_input_state(&vertex_input)
-        .input_assembly_state(&assembly)
-        .viewport_state(&viewport)
-        .rasterization_state(&raster)
-        .multisample_state(&multisample)
-        .depth_stencil_state(&depth)
-        .color_blend_state(&blend)
-        .dynamic_state(&dynamic)
-        .layout(layout)
-        .push_next(&mut rendering)];
-    // SAFETY: every state struct `info` points at is a local alive for the call, the modules hold
-    // the engine's compiled GLSL, and `layout` was made for its push constants and sets.
-    let pipeline =
-        unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &info, None) };
-    // SAFETY: pipeline creation has returned; the modules are needed only while it runs.
-    unsafe {
-        device.destroy_shader_module(vert, None);
-        device.destroy_shader_module(frag, None);
-    }
-    Ok(pipeline
-        .map_err(|(_, e)| e)
-        .vk("vkCreateGraphicsPipelines")?[0])
+    let compiler = shaderc::Compiler::new()?;
+    Ok(compiler
+        .compile_into_spirv(source, kind, name, "main", Some(&options))?
+        .as_binary()
+        .to_vec())
 }
