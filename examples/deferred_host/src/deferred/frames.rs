@@ -4,10 +4,9 @@ use super::*;
 
 impl Engine<'_> {
     /// Renders frames `frames` of `world` with `FRAMES_IN_FLIGHT` frames in flight: frame f
-    /// records into slot f % FRAMES_IN_FLIGHT once that slot's previous frame is retired, so
-    /// the CPU records a frame while the GPU runs the earlier ones. A frame whose shadow was
-    /// incomplete (room exceeded, or the mask cut short by the device's loop limit) is an
-    /// error once its fence signalled. Returns the frames `keep(frame)` asks for, in order.
+    /// records into slot f % FRAMES_IN_FLIGHT once that slot's last frame is retired. A frame
+    /// whose shadow was incomplete (room exceeded, the mask cut short by the device's loop
+    /// limit) is an error after its fence. Returns the frames `keep(frame)` asks for.
     pub fn render(
         &mut self,
         world: &World,
@@ -21,9 +20,8 @@ impl Engine<'_> {
         }
         let mut kept = Vec::new();
         for frame in frames {
-            let slot = frame as usize % FRAMES_IN_FLIGHT;
-            kept.extend(self.retire(slot, keep)?);
-            self.submit(world, slot, frame)?;
+            kept.extend(self.retire(frame as usize % FRAMES_IN_FLIGHT, keep)?);
+            self.submit(world, frame as usize % FRAMES_IN_FLIGHT, frame)?;
         }
         // What is still in flight, oldest first.
         let mut pending: Vec<_> =
@@ -38,87 +36,120 @@ impl Engine<'_> {
     /// Waits for the slot's frame (if any), checks its shadows, and reads it back if kept.
     fn retire(&mut self, slot: usize, keep: &dyn Fn(u32) -> bool) -> Result<Option<FrameOutput>> {
         let s = &mut self.slots[slot];
-        let Some(frame) = s.pending.take() else {
-            return Ok(None);
-        };
+        let Some(frame) = s.pending.take() else { return Ok(None) };
         // SAFETY: the fence was submitted with the slot's frame; once it signalled, that
-        // submission and every earlier one on the queue completed, so what the library
-        // dropped while they were recorded can go.
+        // submission and every earlier one completed: what the library dropped may go.
         unsafe {
             self.gpu.device.wait_for_fences(&[s.fence], true, u64::MAX)?;
             self.ctx.collect(s.submission);
         }
         for (light, (_, shadow)) in self.shadows.iter_mut().enumerate() {
-            let finished = shadow.finish_frame(&self.ctx, s.submission);
-            finished.map_err(|e| format!("frame {frame}, light {light}: {e}"))?;
+            shadow
+                .finish_frame(&self.ctx, s.submission)
+                .map_err(|e| format!("frame {frame}, light {light}: {e}"))?;
         }
         if !keep(frame) {
             return Ok(None);
         }
-        let counters = (self.shadows.iter())
-            .map(|(_, shadow)| {
-                let c = shadow.map(s.submission).read_counters()?;
-                let (node_count, range_count) = (c.node_count, c.range_count);
-                let (range_capacity, ranges_direct) = (c.range_capacity, c.ranges_direct);
-                Ok(MapCounts { node_count, range_count, range_capacity, ranges_direct })
+        let counts = |(_, shadow): &(_, LightShadow)| -> Result<MapCounts> {
+            let c = shadow.map(s.submission).read_counters()?;
+            Ok(MapCounts {
+                node_count: c.node_count,
+                range_count: c.range_count,
+                range_capacity: c.range_capacity,
+                ranges_direct: c.ranges_direct,
             })
-            .collect::<Result<_>>()?;
+        };
+        let counters = self.shadows.iter().map(counts).collect::<Result<_>>()?;
         let pixels = (self.settings.width * self.settings.height) as usize;
         let values: Vec<f32> = s.output.read(pixels * (4 + s.masks.len()))?;
         let (radiance, masks) = values.split_at(4 * pixels);
         let radiance = radiance.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect();
         let masks = masks.chunks_exact(pixels).map(<[f32]>::to_vec).collect();
-        let static_layer_drawn = s.static_layer_drawn.clone();
-        Ok(Some(FrameOutput { frame, slot, counters, radiance, masks, static_layer_drawn }))
+        Ok(Some(FrameOutput {
+            frame,
+            slot,
+            counters,
+            radiance,
+            masks,
+            static_layer_drawn: s.static_layer_drawn.clone(),
+        }))
     }
 
-    /// Writes the idle slot's constants, records frame `frame` into its command buffer and
-    /// submits it with its fence.
+    /// Writes the idle slot's constants, records frame `frame` and submits it.
     fn submit(&mut self, world: &World, slot: usize, frame: u32) -> Result<()> {
         // Library objects dropped from here on (a moved light's old shadow) wait for this frame.
         self.submissions += 1;
         self.ctx.begin_frame(self.submissions);
         self.slots[slot].submission = self.submissions;
+        let (width, height, keep) =
+            (self.settings.width, self.settings.height, self.settings.keep_static_layer);
+        let static_layer = if keep { StaticLayer::Kept } else { StaticLayer::Redrawn };
         for (at, light) in world.lights.iter().enumerate() {
             if self.shadows.get(at).is_none_or(|(made_for, _)| made_for != light) {
-                let shadow = LightShadow::new(&self.ctx, self.shadow_settings(light))?;
+                // The mask on; no shader of the engine reads the maps itself (only the mask).
+                let (map_size, frames_in_flight, lookup_stages) = (
+                    self.settings.shadow_size,
+                    FRAMES_IN_FLIGHT as u32,
+                    vk::PipelineStageFlags2::NONE,
+                );
+                let settings = ShadowSettings {
+                    map_size,
+                    static_layer,
+                    mask: true,
+                    frames_in_flight,
+                    lookup_stages,
+                    ..ShadowSettings::new(light.engine_light())
+                };
                 self.shadows.truncate(at);
-                self.shadows.push((*light, shadow));
+                self.shadows.push((*light, LightShadow::new(&self.ctx, settings)?));
             }
         }
-        let (width, height) = (self.settings.width, self.settings.height);
         let view_proj = world.camera.view_proj(width as f32 / height as f32);
         let mut lights = [[Vec4::ZERO; 3]; MAX_LIGHTS];
         for (constants, light) in lights.iter_mut().zip(&world.lights) {
-            *constants = light.constants();
+            // Position (w = 1: a spot), direction (w = the cosine of the cone), emission.
+            *constants = match *light {
+                Light::Spot {
+                    position, direction, cone_half_angle_deg: cone, intensity, ..
+                } => [
+                    position.extend(1.0),
+                    direction.normalize().extend(cone.to_radians().cos()),
+                    Vec4::splat(intensity),
+                ],
+                Light::Directional { direction, irradiance, .. } => {
+                    [Vec4::ZERO, direction.normalize().extend(-1.0), Vec4::splat(irradiance)]
+                }
+            };
         }
+        let info = UVec4::new(width, height, world.lights.len() as u32, 0);
+        let (eye, ambient) = (world.camera.eye.extend(1.0), Vec4::splat(world.ambient));
         let constants = FrameConstants {
             view_proj,
             inv_view_proj: view_proj.inverse(),
-            eye: world.camera.eye.extend(1.0),
-            info: UVec4::new(width, height, world.lights.len() as u32, 0),
-            shading: Vec4::splat(world.ambient),
+            eye,
+            info,
+            ambient,
             lights,
         };
         // The slot is idle (retired), so the CPU may overwrite what its last frame read.
         self.slots[slot].constants.write(&[constants])?;
         let (cmd, fence, gpu) = (self.slots[slot].cmd, self.slots[slot].fence, self.gpu);
-        let device = &gpu.device;
         let begin = vk::CommandBufferBeginInfo::default()
             .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
         let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
-        // SAFETY: the slot is idle (retired, or never submitted), so its command buffer and
-        // fence are in no pending work, and its pool lets a buffer be reset; the buffer is
-        // ended whether recording succeeded or not; the queue is used by this thread only,
-        // and what the frame uses is the slot's or the engine's, kept until its fence.
+        // SAFETY: the slot is idle (retired, or never submitted): its command buffer and fence
+        // are in no pending work, and its pool lets a buffer be reset; the buffer is ended
+        // whether recording succeeded or not; the queue is used by this thread only; what the
+        // frame uses is the slot's or the engine's, kept until its fence.
         unsafe {
-            device.reset_fences(&[fence])?;
-            device.begin_command_buffer(cmd, &begin)?;
+            gpu.device.reset_fences(&[fence])?;
+            gpu.device.begin_command_buffer(cmd, &begin)?;
             let recorded = self.record(world, slot, frame);
-            device.end_command_buffer(cmd)?;
+            gpu.device.end_command_buffer(cmd)?;
             recorded?;
-            device.queue_submit2(gpu.queue, &submit, fence)?;
+            gpu.device.queue_submit2(gpu.queue, &submit, fence)?;
         }
         self.slots[slot].pending = Some(frame);
         Ok(())
