@@ -7,6 +7,7 @@
 // The G-buffer pass's push constants (DrawConstants in pipelines.rs): 128 bytes.
 layout(push_constant) uniform Draw {
     uint64_t frame;         // the frame's constants, by address
+    uint64_t vertices;      // the engine's vertex buffer, by address (vertex pulling)
     vec4 model[3];          // object -> world at t = 1 (three rows of an affine matrix)
     vec4 previous_model[3]; // ... and at t = 0 (last frame's)
     vec3 albedo;

@@ -6,9 +6,11 @@
 //
 // (spot light: E = intensity, falloff = 1 / d^2 inside its hard cone, 0 outside; directional
 // light: E = irradiance), plus ambient * albedo. `mask` is the lit share of the shutter the
-// library's visibility mask wrote. The radiance and the masks go to the slot's readback
+// library's visibility mask wrote; each light is read from its map's header (the library's
+// include: `ms_load_light`). The radiance and the masks go to the slot's readback
 // buffer by device address (an engine would present or post-process instead).
 #extension GL_EXT_samplerless_texture_functions : require
+#include "motion_shadows.glsl"
 #include "frame.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -31,6 +33,7 @@ layout(push_constant) uniform Push {
     uint64_t frame;
     uint64_t radiance;  // width x height rgba (a = 1 where a surface is)
     uint64_t masks;     // then each light's mask, width x height
+    uint64_t maps[2];   // each light's map header (ShadowFrame::map_header)
 } pc;
 
 const float PI = 3.14159265358979323846;
@@ -41,7 +44,7 @@ void main() {
     uvec2 size = frame.info.xy;
     if (any(greaterThanEqual(uvec2(pixel), size))) return;
     uint i = uint(pixel.y) * size.x + uint(pixel.x);
-    float mask[MAX_LIGHTS] = float[](texelFetch(mask0, pixel, 0).r, texelFetch(mask1, pixel, 0).r);
+    float mask[2] = float[](texelFetch(mask0, pixel, 0).r, texelFetch(mask1, pixel, 0).r);
     for (uint l = 0u; l < frame.info.z; ++l) Masks(pc.masks).v[l * size.x * size.y + i] = mask[l];
     float depth = texelFetch(depth_image, pixel, 0).r;
     if (depth == 1.0) {     // the depth buffer's clear value: no surface, black
@@ -55,7 +58,7 @@ void main() {
     vec3 albedo = texelFetch(albedo_image, pixel, 0).rgb;
     float direct = 0.0;
     for (uint l = 0u; l < frame.info.z; ++l) {
-        Light light = frame.lights[l];
+        MsLight light = ms_load_light(pc.maps[l]);
         bool spot = light.position.w > 0.5;
         vec3 to_light = spot ? light.position.xyz - p : -light.direction.xyz;
         float dist2 = spot ? dot(to_light, to_light) : 1.0;
@@ -65,5 +68,5 @@ void main() {
         if (spot && dot(-dir, light.direction.xyz) < light.direction.w) continue;   // cone
         direct += light.emission.x * cos_theta / dist2 * mask[l];
     }
-    Radiance(pc.radiance).v[i] = vec4(albedo / PI * direct + frame.shading.x * albedo, 1.0);
+    Radiance(pc.radiance).v[i] = vec4(albedo / PI * direct + frame.ambient.x * albedo, 1.0);
 }

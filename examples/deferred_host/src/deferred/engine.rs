@@ -37,15 +37,13 @@ pub struct FrameOutput {
     pub static_layer_drawn: Vec<bool>,
 }
 
-/// A mesh in the engine's buffers: byte offsets (index runs 4-byte aligned), its first global
-/// triangle id (meshes' ids never overlap), and its CPU copy, which the room is reserved from.
+/// A mesh in the engine's buffers: byte offsets (index runs 4-byte aligned), its first
+/// global triangle id (meshes' ids never overlap), its positions (the room's CPU copy).
 pub(super) struct MeshSlot {
     pub(super) vertex_offset: u64,
     pub(super) index_offset: u64,
-    pub(super) index_type: vk::IndexType,
     pub(super) first_triangle_id: u32,
     pub(super) positions: Vec<Vec3>,
-    pub(super) indices: MeshIndices,
 }
 
 /// Everything one frame in flight writes; `pending`: its frame not yet retired, numbered
@@ -69,181 +67,67 @@ pub struct Engine<'h> {
     pub(super) gpu: &'h Gpu,
     pub(super) settings: Settings,
     pub(super) pipelines: Pipelines,
-    pub(super) vertices: HostBuffer,
-    pub(super) indices: HostBuffer,
-    pub(super) meshes: Vec<MeshSlot>,
+    /// The vertex and index buffers, and where each mesh lies in them.
+    pub(super) geometry: (HostBuffer, HostBuffer, Vec<MeshSlot>),
     pub(super) slots: Vec<Slot>,
     /// Per light: the light its shadow was made for (one that moved gets a new shadow).
     pub(super) shadows: Vec<(Light, LightShadow)>,
     pub(super) submissions: u64,
     pub(super) ctx: Context,
-    pub(super) memory: Memory,
+    _memory: Memory,
 }
 
 impl<'h> Engine<'h> {
     /// Sets the engine up for `world`'s meshes and lights.
     pub fn new(gpu: &'h Gpu, world: &World, settings: Settings) -> Result<Self> {
-        if world.lights.is_empty() || world.lights.len() > MAX_LIGHTS {
-            return Err(format!(
-                "{} lights: the engine shades 1 to {MAX_LIGHTS}",
-                world.lights.len()
-            )
-            .into());
+        let lights = world.lights.len();
+        if lights == 0 || lights > MAX_LIGHTS {
+            return Err(format!("{lights} lights: the engine shades 1 to {MAX_LIGHTS}").into());
         }
         let memory = Memory::new(gpu)?;
+        let (g, allocator) = (gpu, memory.allocator.clone());
         // SAFETY: Gpu made the device from `physical` of `instance` for Vulkan 1.3, with a
         // graphics+compute queue of `queue_family` and the features in `enabled`; the
         // allocator is on that device with device addresses on. The Gpu outlives the engine,
         // which waits for its frames before the context drops.
         let ctx = unsafe {
-            let allocator = memory.allocator.clone();
+            let (device, family) = (g.device.clone(), g.queue_family);
             Context::from_raw_with_allocator(
-                &gpu.instance,
-                gpu.physical,
-                gpu.device.clone(),
-                gpu.queue_family,
-                gpu.queue,
-                &gpu.enabled,
+                &g.instance,
+                g.physical,
+                device,
+                family,
+                g.queue,
+                &g.enabled,
                 allocator,
             )
         }?;
-        let (mut vertices, mut index_bytes, mut meshes, mut next_id) =
-            (Vec::new(), Vec::<u8>::new(), Vec::new(), 0);
+        let (mut vertices, mut index_bytes, mut meshes, mut next_id) = (vec![], vec![], vec![], 0);
         for mesh in &world.meshes {
-            let (index_offset, vertex_offset) =
-                (index_bytes.len() as u64, size_of_val(&vertices[..]) as u64);
-            let index_type = match &mesh.indices {
-                MeshIndices::U16(i) => {
-                    (
-                        vk::IndexType::UINT16,
-                        index_bytes.extend(i.iter().flat_map(|v| v.to_le_bytes())),
-                    )
-                        .0
-                }
-                MeshIndices::U32(i) => {
-                    (
-                        vk::IndexType::UINT32,
-                        index_bytes.extend(i.iter().flat_map(|v| v.to_le_bytes())),
-                    )
-                        .0
-                }
-            };
+            let (vertex_offset, index_offset) = (size_of_val(&vertices[..]), index_bytes.len());
+            index_bytes.extend_from_slice(match &mesh.indices {
+                MeshIndices::U16(i) => bytemuck::cast_slice::<u16, u8>(i),
+                MeshIndices::U32(i) => bytemuck::cast_slice(i),
+            });
             // The library reads 16-bit indices as whole words: each run starts 4-byte aligned.
             index_bytes.resize(index_bytes.len().next_multiple_of(4), 0);
-            vertices.extend_from_slice(&mesh.vertices);
-            let (positions, indices) = (
-                mesh.vertices.iter().map(|v| Vec3::from(v.position)).collect(),
-                mesh.indices.clone(),
-            );
-            meshes.push(MeshSlot {
-                vertex_offset,
-                index_offset,
-                index_type,
-                first_triangle_id: next_id,
-                positions,
-                indices,
-            });
+            let first_triangle_id = next_id;
             next_id += (mesh.indices.count() / 3) as u32;
+            let positions = mesh.vertices.iter().map(|v| Vec3::from(v.position)).collect();
+            let (vertex_offset, index_offset) = (vertex_offset as u64, index_offset as u64);
+            meshes.push(MeshSlot { vertex_offset, index_offset, first_triangle_id, positions });
+            vertices.extend_from_slice(&mesh.vertices);
         }
         // The rasterizer's vertex and index buffers are the shadow pass's streams too.
         use vk::BufferUsageFlags as U;
         let streams = U::STORAGE_BUFFER | U::SHADER_DEVICE_ADDRESS;
-        let (vertices, indices) = (
-            HostBuffer::with_data(&memory, &vertices, streams | U::VERTEX_BUFFER)?,
-            HostBuffer::with_data(&memory, &index_bytes, streams | U::INDEX_BUFFER)?,
-        );
+        let vertices = HostBuffer::with_data(&memory, &vertices, streams | U::VERTEX_BUFFER)?;
+        let indices = HostBuffer::with_data(&memory, &index_bytes, streams | U::INDEX_BUFFER)?;
         let pipelines = Pipelines::new(&gpu.device, gpu.queue_family)?;
-        let (slots, shadows, submissions) = (Vec::new(), Vec::new(), 0);
-        let mut engine = Engine {
-            gpu,
-            settings,
-            pipelines,
-            vertices,
-            indices,
-            meshes,
-            slots,
-            shadows,
-            submissions,
-            ctx,
-            memory,
-        };
-        for _ in 0..FRAMES_IN_FLIGHT {
-            let slot = engine.new_slot(world.lights.len())?;
-            engine.slots.push(slot);
-        }
-        Ok(engine)
-    }
-
-    fn new_slot(&self, lights: usize) -> Result<Slot> {
-        let (size, p, memory) =
-            ((self.settings.width, self.settings.height), &self.pipelines, &self.memory);
-        use vk::{BufferUsageFlags as B, ImageUsageFlags as U};
-        let image = |format, usage| Image::new(memory, format, usage | U::SAMPLED, size);
-        let attachment =
-            |i: usize| if i == 0 { U::DEPTH_STENCIL_ATTACHMENT } else { U::COLOR_ATTACHMENT };
-        let gbuffer = (FORMATS.iter().enumerate())
-            .map(|(i, format)| image(*format, attachment(i)))
-            .collect::<Result<Vec<_>>>()?;
-        // The masks: a lit share per pixel, a format every device writes as a storage image.
-        let masks = (0..lights)
-            .map(|_| image(vk::Format::R32_SFLOAT, U::STORAGE))
-            .collect::<Result<Vec<_>>>()?;
-        let host =
-            |bytes, usage| HostBuffer::new(memory, bytes as u64, usage | B::SHADER_DEVICE_ADDRESS);
-        let constants = host(size_of::<FrameConstants>(), B::STORAGE_BUFFER)?;
-        let output =
-            host(size.0 as usize * size.1 as usize * (16 + 4 * lights), B::STORAGE_BUFFER)?;
-        // Depth, normal, albedo, mask 0 and mask 1 (light 0's again with one light).
-        let (read, general) = (vk::ImageLayout::READ_ONLY_OPTIMAL, vk::ImageLayout::GENERAL);
-        let views = [
-            (&gbuffer[0], read),
-            (&gbuffer[1], read),
-            (&gbuffer[2], read),
-            (&masks[0], general),
-            (&masks[lights - 1], general),
-        ];
-        let infos = views.map(|(image, image_layout)| {
-            [vk::DescriptorImageInfo { image_view: image.view, image_layout, ..Default::default() }]
-        });
-        let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(p.command_pool)
-            .command_buffer_count(1);
-        let layouts = [p.set_layout];
-        let sets = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(p.descriptor_pool)
-            .set_layouts(&layouts);
-        let device = &self.gpu.device;
-        // SAFETY: the engine's pools (its queue family; a set for each of FRAMES_IN_FLIGHT
-        // slots), whose buffers and sets go with them; the set's images are the slot's, kept
-        // with it; the fence, made last, is destroyed by the engine's Drop.
-        let (cmd, set, fence) = unsafe {
-            let (cmd, set) = (
-                device.allocate_command_buffers(&alloc)?[0],
-                device.allocate_descriptor_sets(&sets)?[0],
-            );
-            let sampled = vk::DescriptorType::SAMPLED_IMAGE;
-            let writes: Vec<_> = (infos.iter().enumerate())
-                .map(|(binding, info)| {
-                    let write = vk::WriteDescriptorSet::default().dst_set(set).image_info(info);
-                    write.dst_binding(binding as u32).descriptor_type(sampled)
-                })
-                .collect();
-            device.update_descriptor_sets(&writes, &[]);
-            (cmd, set, device.create_fence(&Default::default(), None)?)
-        };
-        let (pending, submission, static_layer_drawn) = (None, 0, Vec::new());
-        Ok(Slot {
-            cmd,
-            fence,
-            set,
-            pending,
-            submission,
-            constants,
-            output,
-            gbuffer,
-            masks,
-            static_layer_drawn,
-        })
+        let slots = (0..FRAMES_IN_FLIGHT).map(|_| new_slot(&memory, &pipelines, &settings, lights));
+        let (slots, geometry) = (slots.collect::<Result<_>>()?, (vertices, indices, meshes));
+        let (shadows, submissions) = (Vec::new(), 0);
+        Ok(Engine { gpu, settings, pipelines, geometry, slots, shadows, submissions, ctx, _memory: memory })
     }
 
     /// The library's context (device information, validation messages).
@@ -253,13 +137,72 @@ impl<'h> Engine<'h> {
 
     /// Global id of mesh `mesh`'s first triangle.
     pub fn first_triangle_id(&self, mesh: usize) -> u32 {
-        self.meshes[mesh].first_triangle_id
+        self.geometry.2[mesh].first_triangle_id
     }
 
     /// Light `light`'s map in slot `slot`, holding that slot's last frame.
     pub fn shadow_map(&self, slot: usize, light: usize) -> &TemporalShadowMap {
         self.shadows[light].1.map(self.slots[slot].submission)
     }
+}
+
+/// A frame slot: its G-buffer, masks, buffers, command buffer, descriptor set and fence.
+fn new_slot(memory: &Memory, p: &Pipelines, settings: &Settings, lights: usize) -> Result<Slot> {
+    let size = (settings.width, settings.height);
+    use vk::{BufferUsageFlags as B, ImageUsageFlags as U};
+    let image = |format, usage| Image::new(memory, format, usage | U::SAMPLED, size);
+    let attachment = |i| if i == 0 { U::DEPTH_STENCIL_ATTACHMENT } else { U::COLOR_ATTACHMENT };
+    let gbuffer = (0..5).map(|i| image(FORMATS[i], attachment(i))).collect::<Result<Vec<_>>>()?;
+    // The masks: a lit share per pixel, a format every device writes as a storage image.
+    let mask = |_| image(vk::Format::R32_SFLOAT, U::STORAGE);
+    let masks = (0..lights).map(mask).collect::<Result<Vec<_>>>()?;
+    let usage = B::STORAGE_BUFFER | B::SHADER_DEVICE_ADDRESS;
+    let constants = HostBuffer::new(memory, size_of::<FrameConstants>() as u64, usage)?;
+    let pixels = u64::from(size.0) * u64::from(size.1);
+    let output = HostBuffer::new(memory, pixels * (16 + 4 * lights as u64), usage)?;
+    // Depth, normal, albedo, mask 0 and mask 1 (light 0's again with one light).
+    let (read, general) = (vk::ImageLayout::READ_ONLY_OPTIMAL, vk::ImageLayout::GENERAL);
+    let images = [(&gbuffer[0], read), (&gbuffer[1], read), (&gbuffer[2], read)];
+    let images = images.into_iter().chain([(&masks[0], general), (&masks[lights - 1], general)]);
+    let info = |(image, layout): (&Image, _)| {
+        [vk::DescriptorImageInfo::default().image_view(image.view).image_layout(layout)]
+    };
+    let infos: Vec<_> = images.map(info).collect();
+    let alloc = vk::CommandBufferAllocateInfo::default().command_buffer_count(1);
+    let (alloc, layouts) = (alloc.command_pool(p.command_pool), [p.set_layout]);
+    let sets = vk::DescriptorSetAllocateInfo::default().descriptor_pool(p.descriptor_pool);
+    let (sets, device) = (sets.set_layouts(&layouts), &memory.gpu.device);
+    // SAFETY: the engine's pools (its queue family; a set for each of FRAMES_IN_FLIGHT slots),
+    // whose buffers and sets go with them; the set's images are the slot's, kept with it; the
+    // fence, made last, is destroyed by the engine's Drop.
+    let (cmd, set, fence) = unsafe {
+        let (cmd, set) = (
+            device.allocate_command_buffers(&alloc)?[0],
+            device.allocate_descriptor_sets(&sets)?[0],
+        );
+        let sampled = vk::DescriptorType::SAMPLED_IMAGE;
+        let writes: Vec<_> = (infos.iter().enumerate())
+            .map(|(binding, info)| {
+                let write = vk::WriteDescriptorSet::default().dst_set(set).image_info(info);
+                write.dst_binding(binding as u32).descriptor_type(sampled)
+            })
+            .collect();
+        device.update_descriptor_sets(&writes, &[]);
+        (cmd, set, device.create_fence(&Default::default(), None)?)
+    };
+    let (pending, submission, static_layer_drawn) = (None, 0, Vec::new());
+    Ok(Slot {
+        cmd,
+        fence,
+        set,
+        pending,
+        submission,
+        constants,
+        output,
+        gbuffer,
+        masks,
+        static_layer_drawn,
+    })
 }
 
 impl Drop for Engine<'_> {

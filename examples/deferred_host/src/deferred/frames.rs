@@ -7,16 +7,10 @@ impl Engine<'_> {
     /// records into slot f % FRAMES_IN_FLIGHT once that slot's last frame is retired. A frame
     /// whose shadow was incomplete (room exceeded, the mask cut short by the device's loop
     /// limit) is an error after its fence. Returns the frames `keep(frame)` asks for.
-    pub fn render(
-        &mut self,
-        world: &World,
-        frames: std::ops::Range<u32>,
-        keep: &dyn Fn(u32) -> bool,
-    ) -> Result<Vec<FrameOutput>> {
-        if world.meshes.len() != self.meshes.len()
-            || world.lights.len() != self.slots[0].masks.len()
-        {
-            return Err("the world's meshes or lights are not those the engine was made for".into());
+    pub fn render(&mut self, world: &World, frames: Range<u32>, keep: Keep) -> Result<Frames> {
+        let lights = self.slots[0].masks.len();
+        if world.meshes.len() != self.geometry.2.len() || world.lights.len() != lights {
+            return Err("not the meshes and lights the engine was made for".into());
         }
         let mut kept = Vec::new();
         for frame in frames {
@@ -24,17 +18,16 @@ impl Engine<'_> {
             self.submit(world, frame as usize % FRAMES_IN_FLIGHT, frame)?;
         }
         // What is still in flight, oldest first.
-        let mut pending: Vec<_> =
-            (0..FRAMES_IN_FLIGHT).filter_map(|s| Some((self.slots[s].pending?, s))).collect();
-        pending.sort();
-        for (_, slot) in pending {
+        let mut pending: Vec<_> = self.slots.iter().map(|s| s.pending).enumerate().collect();
+        pending.sort_by_key(|(_, frame)| *frame);
+        for (slot, _) in pending {
             kept.extend(self.retire(slot, keep)?);
         }
         Ok(kept)
     }
 
     /// Waits for the slot's frame (if any), checks its shadows, and reads it back if kept.
-    fn retire(&mut self, slot: usize, keep: &dyn Fn(u32) -> bool) -> Result<Option<FrameOutput>> {
+    fn retire(&mut self, slot: usize, keep: Keep) -> Result<Option<FrameOutput>> {
         let s = &mut self.slots[slot];
         let Some(frame) = s.pending.take() else { return Ok(None) };
         // SAFETY: the fence was submitted with the slot's frame; once it signalled, that
@@ -44,36 +37,27 @@ impl Engine<'_> {
             self.ctx.collect(s.submission);
         }
         for (light, (_, shadow)) in self.shadows.iter_mut().enumerate() {
-            shadow
-                .finish_frame(&self.ctx, s.submission)
-                .map_err(|e| format!("frame {frame}, light {light}: {e}"))?;
+            let finished = shadow.finish_frame(&self.ctx, s.submission);
+            finished.map_err(|e| format!("frame {frame}, light {light}: {e}"))?;
         }
         if !keep(frame) {
             return Ok(None);
         }
-        let counts = |(_, shadow): &(_, LightShadow)| -> Result<MapCounts> {
+        let mut counters = Vec::new();
+        for (_, shadow) in &self.shadows {
             let c = shadow.map(s.submission).read_counters()?;
-            Ok(MapCounts {
-                node_count: c.node_count,
-                range_count: c.range_count,
-                range_capacity: c.range_capacity,
-                ranges_direct: c.ranges_direct,
-            })
-        };
-        let counters = self.shadows.iter().map(counts).collect::<Result<_>>()?;
+            let (node_count, range_count, ranges_direct) =
+                (c.node_count, c.range_count, c.ranges_direct);
+            let range_capacity = c.range_capacity;
+            counters.push(MapCounts { node_count, range_count, range_capacity, ranges_direct });
+        }
         let pixels = (self.settings.width * self.settings.height) as usize;
         let values: Vec<f32> = s.output.read(pixels * (4 + s.masks.len()))?;
         let (radiance, masks) = values.split_at(4 * pixels);
         let radiance = radiance.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect();
         let masks = masks.chunks_exact(pixels).map(<[f32]>::to_vec).collect();
-        Ok(Some(FrameOutput {
-            frame,
-            slot,
-            counters,
-            radiance,
-            masks,
-            static_layer_drawn: s.static_layer_drawn.clone(),
-        }))
+        let static_layer_drawn = s.static_layer_drawn.clone();
+        Ok(Some(FrameOutput { frame, slot, counters, radiance, masks, static_layer_drawn }))
     }
 
     /// Writes the idle slot's constants, records frame `frame` and submits it.
@@ -82,61 +66,30 @@ impl Engine<'_> {
         self.submissions += 1;
         self.ctx.begin_frame(self.submissions);
         self.slots[slot].submission = self.submissions;
-        let (width, height, keep) =
-            (self.settings.width, self.settings.height, self.settings.keep_static_layer);
+        let Settings { width, height, shadow_size: map_size, keep_static_layer: keep, .. } =
+            self.settings;
         let static_layer = if keep { StaticLayer::Kept } else { StaticLayer::Redrawn };
+        // The mask on; the engine's shading reads each map's header (compute).
+        let (frames_in_flight, lookup_stages) = (FRAMES_IN_FLIGHT as u32, S::COMPUTE_SHADER);
         for (at, light) in world.lights.iter().enumerate() {
             if self.shadows.get(at).is_none_or(|(made_for, _)| made_for != light) {
-                // The mask on; no shader of the engine reads the maps itself (only the mask).
-                let (map_size, frames_in_flight, lookup_stages) = (
-                    self.settings.shadow_size,
-                    FRAMES_IN_FLIGHT as u32,
-                    vk::PipelineStageFlags2::NONE,
-                );
-                let settings = ShadowSettings {
-                    map_size,
-                    static_layer,
-                    mask: true,
-                    frames_in_flight,
-                    lookup_stages,
-                    ..ShadowSettings::new(light.engine_light())
-                };
+                let new = ShadowSettings::new(light.engine_light());
+                let settings = ShadowSettings { map_size, static_layer, mask: true, ..new };
+                let settings = ShadowSettings { frames_in_flight, lookup_stages, ..settings };
                 self.shadows.truncate(at);
                 self.shadows.push((*light, LightShadow::new(&self.ctx, settings)?));
             }
         }
         let view_proj = world.camera.view_proj(width as f32 / height as f32);
-        let mut lights = [[Vec4::ZERO; 3]; MAX_LIGHTS];
-        for (constants, light) in lights.iter_mut().zip(&world.lights) {
-            // Position (w = 1: a spot), direction (w = the cosine of the cone), emission.
-            *constants = match *light {
-                Light::Spot {
-                    position, direction, cone_half_angle_deg: cone, intensity, ..
-                } => [
-                    position.extend(1.0),
-                    direction.normalize().extend(cone.to_radians().cos()),
-                    Vec4::splat(intensity),
-                ],
-                Light::Directional { direction, irradiance, .. } => {
-                    [Vec4::ZERO, direction.normalize().extend(-1.0), Vec4::splat(irradiance)]
-                }
-            };
-        }
         let info = UVec4::new(width, height, world.lights.len() as u32, 0);
         let (eye, ambient) = (world.camera.eye.extend(1.0), Vec4::splat(world.ambient));
-        let constants = FrameConstants {
-            view_proj,
-            inv_view_proj: view_proj.inverse(),
-            eye,
-            info,
-            ambient,
-            lights,
-        };
+        let inv_view_proj = view_proj.inverse();
         // The slot is idle (retired), so the CPU may overwrite what its last frame read.
+        let constants = FrameConstants { view_proj, inv_view_proj, eye, info, ambient };
         self.slots[slot].constants.write(&[constants])?;
         let (cmd, fence, gpu) = (self.slots[slot].cmd, self.slots[slot].fence, self.gpu);
-        let begin = vk::CommandBufferBeginInfo::default()
-            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        let begin = vk::CommandBufferBeginInfo::default();
+        let begin = begin.flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
         let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
         // SAFETY: the slot is idle (retired, or never submitted): its command buffer and fence

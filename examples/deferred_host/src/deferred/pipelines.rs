@@ -14,42 +14,39 @@ pub(super) const FORMATS: [vk::Format; 5] = [
     vk::Format::R32_UINT,
 ];
 
-/// `Draw` in glsl/gbuffer.vert: 128 bytes of push constants.
+/// `Draw` in glsl/gbuffer.vert (128 bytes): the frame's constants and the vertex buffer by
+/// address, object to world at t = 1 and t = 0 (three rows each), the albedo, and the
+/// mesh's first global triangle id (its shadow draw's).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 pub(super) struct DrawConstants {
-    /// The slot's `FrameConstants`, by device address.
-    pub(super) frame: [u64; 2],
-    /// Object to world at t = 1 and t = 0, three rows each.
+    pub(super) addresses: [u64; 2],
     pub(super) model: [Vec4; 3],
     pub(super) previous_model: [Vec4; 3],
     pub(super) albedo: Vec3,
-    /// The mesh's first global triangle id (its shadow draw's).
     pub(super) first_id: u32,
 }
 
-/// `Frame` in glsl/frame.glsl, read by device address; `lights` as its `Light`s.
+/// `Frame` in glsl/frame.glsl (read by address): `info` = width, height, lights.
 #[repr(C)]
-#[derive(Clone, Copy, Default, Pod, Zeroable)]
+#[derive(Clone, Copy, Pod, Zeroable)]
 pub(super) struct FrameConstants {
     pub(super) view_proj: Mat4,
     pub(super) inv_view_proj: Mat4,
     pub(super) eye: Vec4,
     pub(super) info: UVec4,
     pub(super) ambient: Vec4,
-    pub(super) lights: [[Vec4; 3]; MAX_LIGHTS],
 }
 
-/// The engine's pipelines and what they need; the shading's set holds depth, normal,
-/// albedo, mask 0 and mask 1.
+/// The engine's pipelines and what they need; the shading's descriptor set holds depth,
+/// normal, albedo, mask 0 and mask 1 (sampled images).
 #[derive(Default)]
 pub(super) struct Pipelines {
     device: Option<ash::Device>,
     pub(super) command_pool: vk::CommandPool,
     pub(super) descriptor_pool: vk::DescriptorPool,
     pub(super) set_layout: vk::DescriptorSetLayout,
-    pub(super) gbuffer_layout: vk::PipelineLayout,
-    pub(super) shade_layout: vk::PipelineLayout,
+    pub(super) layouts: [vk::PipelineLayout; 2],
     pub(super) gbuffer: vk::Pipeline,
     pub(super) shade: vk::Pipeline,
 }
@@ -57,65 +54,40 @@ pub(super) struct Pipelines {
 impl Pipelines {
     pub(super) fn new(device: &ash::Device, queue_family: u32) -> Result<Self> {
         let mut p = Pipelines { device: Some(device.clone()), ..Default::default() };
-        use shaderc::ShaderKind as K;
+        use {shaderc::ShaderKind as K, vk::ShaderStageFlags as Stage};
         let spirv = [
-            compile_glsl("gbuffer.vert", include_str!("../../glsl/gbuffer.vert"), K::Vertex)?,
-            compile_glsl("gbuffer.frag", include_str!("../../glsl/gbuffer.frag"), K::Fragment)?,
-            compile_glsl("shade.comp", include_str!("../../glsl/shade.comp"), K::Compute)?,
+            compile("gbuffer.vert", include_str!("../../glsl/gbuffer.vert"), K::Vertex)?,
+            compile("gbuffer.frag", include_str!("../../glsl/gbuffer.frag"), K::Fragment)?,
+            compile("shade.comp", include_str!("../../glsl/shade.comp"), K::Compute)?,
         ];
-        use vk::ShaderStageFlags as Stage;
-        let bindings = [0, 1, 2, 3, 4].map(|binding| {
-            let binding =
-                vk::DescriptorSetLayoutBinding::default().binding(binding).descriptor_count(1);
-            binding.descriptor_type(vk::DescriptorType::SAMPLED_IMAGE).stage_flags(Stage::COMPUTE)
-        });
-        let n = FRAMES_IN_FLIGHT as u32;
-        let sizes = [vk::DescriptorPoolSize {
-            ty: vk::DescriptorType::SAMPLED_IMAGE,
-            descriptor_count: 5 * n,
-        }];
-        let push = |stage_flags, size: usize| {
-            [vk::PushConstantRange { stage_flags, offset: 0, size: size as u32 }]
-        };
-        let (draw_push, shade_push) = (
-            push(Stage::VERTEX | Stage::FRAGMENT, size_of::<DrawConstants>()),
-            push(Stage::COMPUTE, 24),
-        );
-        let attribute = |location| vk::VertexInputAttributeDescription {
-            location,
-            binding: 0,
-            format: vk::Format::R32G32B32_SFLOAT,
-            offset: 12 * location,
-        };
-        let (attributes, input_rate) = ([attribute(0), attribute(1)], vk::VertexInputRate::VERTEX);
-        let binding = [vk::VertexInputBindingDescription {
-            binding: 0,
-            stride: size_of::<Vertex>() as u32,
-            input_rate,
-        }];
-        let vertex_input =
-            vk::PipelineVertexInputStateCreateInfo::default().vertex_binding_descriptions(&binding);
-        let vertex_input = vertex_input.vertex_attribute_descriptions(&attributes);
-        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
-            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
-        let viewport =
-            vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
+        let binding = vk::DescriptorSetLayoutBinding::default().descriptor_count(1);
+        let binding = binding.descriptor_type(vk::DescriptorType::SAMPLED_IMAGE);
+        let bindings = [0, 1, 2, 3, 4].map(|b| binding.binding(b).stage_flags(Stage::COMPUTE));
+        let (ty, n) = (vk::DescriptorType::SAMPLED_IMAGE, FRAMES_IN_FLIGHT as u32);
+        let sizes = [vk::DescriptorPoolSize { ty, descriptor_count: 5 * n }];
+        let draw = Stage::VERTEX | Stage::FRAGMENT;
+        let push = |stage_flags, size| [vk::PushConstantRange { stage_flags, offset: 0, size }];
+        let pushes = [push(draw, size_of::<DrawConstants>() as u32), push(Stage::COMPUTE, 40)];
+        let vertices = vk::PipelineVertexInputStateCreateInfo::default(); // pulled by address
+        let triangles = vk::PrimitiveTopology::TRIANGLE_LIST;
+        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(triangles);
+        let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1);
+        let viewport = viewport.scissor_count(1);
         // No culling: the ground is seen from either side.
         let raster = vk::PipelineRasterizationStateCreateInfo::default().line_width(1.0);
-        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-            .depth_test_enable(true)
-            .depth_write_enable(true);
-        let depth = depth.depth_compare_op(vk::CompareOp::LESS);
-        let blend = [vk::PipelineColorBlendAttachmentState::default()
-            .color_write_mask(vk::ColorComponentFlags::RGBA); 4];
+        let samples = vk::SampleCountFlags::TYPE_1;
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default();
+        let multisample = multisample.rasterization_samples(samples);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default().depth_test_enable(true);
+        let depth = depth.depth_write_enable(true).depth_compare_op(vk::CompareOp::LESS);
+        let rgba = vk::ColorComponentFlags::RGBA;
+        let blend = [vk::PipelineColorBlendAttachmentState::default().color_write_mask(rgba); 4];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend);
         let dynamic = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic);
         let formats =
-            vk::PipelineRenderingCreateInfo::default().color_attachment_formats(&FORMATS[1..]);
-        let mut formats = formats.depth_attachment_format(FORMATS[0]);
+            vk::PipelineRenderingCreateInfo::default().depth_attachment_format(FORMATS[0]);
+        let mut formats = formats.color_attachment_formats(&FORMATS[1..]);
         let pool = vk::CommandPoolCreateInfo::default().queue_family_index(queue_family);
         let pool = pool.flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
         let cache = vk::PipelineCache::null();
@@ -124,51 +96,39 @@ impl Pipelines {
         // push range within any device's 128 bytes); the pool counts every slot's set. The
         // modules go once the pipelines are made; on an error, Drop destroys what was made.
         unsafe {
-            let module = |code: &[u32]| {
-                device.create_shader_module(&vk::ShaderModuleCreateInfo::default().code(code), None)
+            let module = |code: &Vec<u32>| {
+                let info = vk::ShaderModuleCreateInfo::default().code(code);
+                device.create_shader_module(&info, None)
             };
-            let modules = spirv.each_ref().map(|code| module(code));
+            let modules = spirv.each_ref().map(module);
             let made = (|| -> Result<()> {
-                let stage = |stage, module: &std::result::Result<_, _>| {
-                    Ok::<_, vk::Result>(
-                        vk::PipelineShaderStageCreateInfo::default()
-                            .stage(stage)
-                            .module(*module.as_ref().map_err(|e| *e)?)
-                            .name(c"main"),
-                    )
+                let [vert, frag, comp] = modules.map(|m| m.map_err(Error::from));
+                let stage = |stage, module| {
+                    let info = vk::PipelineShaderStageCreateInfo::default().stage(stage);
+                    info.module(module).name(c"main")
                 };
-                let stages =
-                    [stage(Stage::VERTEX, &modules[0])?, stage(Stage::FRAGMENT, &modules[1])?];
+                let stages = [stage(Stage::VERTEX, vert?), stage(Stage::FRAGMENT, frag?)];
                 p.command_pool = device.create_command_pool(&pool, None)?;
                 let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
                 p.set_layout = device.create_descriptor_set_layout(&info, None)?;
                 let info = vk::DescriptorPoolCreateInfo::default().max_sets(n).pool_sizes(&sizes);
                 p.descriptor_pool = device.create_descriptor_pool(&info, None)?;
-                let info = vk::PipelineLayoutCreateInfo::default().push_constant_ranges(&draw_push);
-                p.gbuffer_layout = device.create_pipeline_layout(&info, None)?;
-                let sets = [p.set_layout];
-                let info = vk::PipelineLayoutCreateInfo::default()
-                    .set_layouts(&sets)
-                    .push_constant_ranges(&shade_push);
-                p.shade_layout = device.create_pipeline_layout(&info, None)?;
-                let info = vk::GraphicsPipelineCreateInfo::default()
-                    .stages(&stages)
-                    .vertex_input_state(&vertex_input);
-                let info = info
-                    .input_assembly_state(&assembly)
-                    .viewport_state(&viewport)
-                    .rasterization_state(&raster);
-                let info = info
-                    .multisample_state(&multisample)
-                    .depth_stencil_state(&depth)
-                    .color_blend_state(&blend);
-                let info = info.dynamic_state(&dynamic).layout(p.gbuffer_layout);
-                let info = [info.push_next(&mut formats)];
+                let sets = [[].as_slice(), &[p.set_layout]];
+                for ((layout, sets), push) in p.layouts.iter_mut().zip(sets).zip(&pushes) {
+                    let info = vk::PipelineLayoutCreateInfo::default().set_layouts(sets);
+                    *layout =
+                        device.create_pipeline_layout(&info.push_constant_ranges(push), None)?;
+                }
+                let info = vk::GraphicsPipelineCreateInfo::default().stages(&stages);
+                let info = info.vertex_input_state(&vertices).input_assembly_state(&assembly);
+                let info = info.viewport_state(&viewport).rasterization_state(&raster);
+                let info = info.multisample_state(&multisample).depth_stencil_state(&depth);
+                let info = info.color_blend_state(&blend).dynamic_state(&dynamic);
+                let info = [info.layout(p.layouts[0]).push_next(&mut formats)];
                 p.gbuffer =
                     device.create_graphics_pipelines(cache, &info, None).map_err(|e| e.1)?[0];
-                let info = [vk::ComputePipelineCreateInfo::default()
-                    .stage(stage(Stage::COMPUTE, &modules[2])?)
-                    .layout(p.shade_layout)];
+                let info = vk::ComputePipelineCreateInfo::default().layout(p.layouts[1]);
+                let info = [info.stage(stage(Stage::COMPUTE, comp?))];
                 p.shade = device.create_compute_pipelines(cache, &info, None).map_err(|e| e.1)?[0];
                 Ok(())
             })();
@@ -189,8 +149,9 @@ impl Drop for Pipelines {
         unsafe {
             device.destroy_pipeline(self.gbuffer, None);
             device.destroy_pipeline(self.shade, None);
-            device.destroy_pipeline_layout(self.gbuffer_layout, None);
-            device.destroy_pipeline_layout(self.shade_layout, None);
+            for layout in self.layouts {
+                device.destroy_pipeline_layout(layout, None);
+            }
             device.destroy_descriptor_pool(self.descriptor_pool, None);
             device.destroy_descriptor_set_layout(self.set_layout, None);
             device.destroy_command_pool(self.command_pool, None);
@@ -198,16 +159,19 @@ impl Drop for Pipelines {
     }
 }
 
-/// Compiles one stage for Vulkan 1.2 SPIR-V; `#include "frame.glsl"` is the engine's header.
-fn compile_glsl(name: &str, source: &str, kind: shaderc::ShaderKind) -> Result<Vec<u32>> {
+/// One stage as Vulkan 1.2 SPIR-V; `#include` serves the library's header (`GLSL_INCLUDE`)
+/// and the engine's own `frame.glsl`.
+fn compile(name: &str, source: &str, kind: shaderc::ShaderKind) -> Result<Vec<u32>> {
     let mut options = shaderc::CompileOptions::new()?;
     options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_2 as u32);
     options.set_include_callback(|requested, _, _, _| {
-        let content = include_str!("../../glsl/frame.glsl").into();
-        let found = shaderc::ResolvedInclude { resolved_name: requested.into(), content };
-        if requested == "frame.glsl" { Ok(found) } else { Err(format!("no header {requested}")) }
+        let content = match requested {
+            "motion_shadows.glsl" => GLSL_INCLUDE,
+            "frame.glsl" => include_str!("../../glsl/frame.glsl"),
+            _ => return Err(format!("no header {requested}")),
+        };
+        Ok(shaderc::ResolvedInclude { resolved_name: requested.into(), content: content.into() })
     });
-    let spirv =
-        shaderc::Compiler::new()?.compile_into_spirv(source, kind, name, "main", Some(&options))?;
-    Ok(spirv.as_binary().to_vec())
+    let compiler = shaderc::Compiler::new()?;
+    Ok(compiler.compile_into_spirv(source, kind, name, "main", Some(&options))?.as_binary().into())
 }

@@ -5,8 +5,8 @@ use super::*;
 use motion_shadows::gpu_allocator::{MemoryLocation, vulkan as alloc};
 use std::sync::{Arc, Mutex};
 
-/// The engine's device and its allocator (with device addresses on: the library reads the
-/// engine's buffers by address), shared with the library (`Context::from_raw_with_allocator`).
+/// The engine's device and allocator (device addresses on: the library reads the engine's
+/// buffers by address), shared with the library (`Context::from_raw_with_allocator`).
 #[derive(Clone)]
 pub struct Memory {
     pub gpu: Gpu,
@@ -23,67 +23,57 @@ impl Memory {
             device,
             physical_device,
             debug_settings,
-            buffer_device_address: true,
             allocation_sizes,
+            buffer_device_address: true,
         };
         Ok(Memory {
             gpu: gpu.clone(),
             allocator: Arc::new(Mutex::new(alloc::Allocator::new(&desc)?)),
         })
     }
-}
 
-/// A buffer or an image with its memory; dropped (after the frames that use it), the
-/// handles go, then the memory. Null handles (what was not made) are ignored.
-#[derive(Default)]
-struct Bound {
-    memory: Option<Memory>,
-    allocation: Option<alloc::Allocation>,
-    buffer: vk::Buffer,
-    image: vk::Image,
-    view: vk::ImageView,
-}
-
-impl Bound {
-    fn new(memory: &Memory) -> Self {
-        let (buffer, image, view) = Default::default();
-        Bound { memory: Some(memory.clone()), allocation: None, buffer, image, view }
-    }
-
-    fn allocate(
-        &mut self,
+    /// Memory for `requirements` (host-visible and mapped, or device-local), kept by `bound`.
+    fn allocate<'b>(
+        &self,
+        bound: &'b mut Bound,
         requirements: vk::MemoryRequirements,
-        location: MemoryLocation,
-    ) -> Result<&alloc::Allocation> {
-        let linear = location == MemoryLocation::CpuToGpu;
+        host: bool,
+    ) -> Result<&'b alloc::Allocation> {
+        let location = if host { MemoryLocation::CpuToGpu } else { MemoryLocation::GpuOnly };
         let allocation_scheme = alloc::AllocationScheme::GpuAllocatorManaged;
         let desc = alloc::AllocationCreateDesc {
             name: "engine",
             requirements,
             location,
-            linear,
+            linear: host,
             allocation_scheme,
         };
-        let memory = self.memory.as_ref().ok_or("no allocator")?;
         let allocation =
-            memory.allocator.lock().map_err(|_| "a poisoned allocator")?.allocate(&desc)?;
-        Ok(self.allocation.insert(allocation))
+            self.allocator.lock().map_err(|_| "a poisoned allocator")?.allocate(&desc)?;
+        Ok(bound.allocation.insert(allocation))
     }
+}
+
+/// A buffer or an image with its memory; dropped (after the frames that use it), the
+/// handles go, then the memory. Null handles (what was not made) are ignored.
+struct Bound {
+    memory: Memory,
+    allocation: Option<alloc::Allocation>,
+    handles: (vk::Buffer, vk::Image, vk::ImageView),
 }
 
 impl Drop for Bound {
     fn drop(&mut self) {
-        let Some(memory) = &self.memory else { return };
-        let device = &memory.gpu.device;
+        let (device, (buffer, image, view)) = (&self.memory.gpu.device, self.handles);
         // SAFETY: the engine drops its buffers and images after the frames that use them;
         // the view goes before its image, both before their memory.
         unsafe {
-            device.destroy_image_view(self.view, None);
-            device.destroy_image(self.image, None);
-            device.destroy_buffer(self.buffer, None);
+            device.destroy_image_view(view, None);
+            device.destroy_image(image, None);
+            device.destroy_buffer(buffer, None);
         }
         if let (Some(allocation), Ok(mut allocator)) =
-            (self.allocation.take(), memory.allocator.lock())
+            (self.allocation.take(), self.memory.allocator.lock())
         {
             let _ = allocator.free(allocation); // a failed free leaks until the allocator goes
         }
@@ -100,22 +90,24 @@ pub struct HostBuffer {
 
 impl HostBuffer {
     pub fn new(memory: &Memory, size: u64, usage: vk::BufferUsageFlags) -> Result<Self> {
-        let (mut bound, d) = (Bound::new(memory), &memory.gpu.device);
-        let info = vk::BufferCreateInfo::default().size(size.max(4)).usage(usage);
+        let mut bound =
+            Bound { memory: memory.clone(), allocation: None, handles: Default::default() };
+        let (d, info) =
+            (&memory.gpu.device, vk::BufferCreateInfo::default().size(size.max(4)).usage(usage));
         let by_address = usage.contains(vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS);
         // SAFETY: `info` is a local; the memory is allocated for the buffer's requirements
         // and bound once; the address is asked only with SHADER_DEVICE_ADDRESS usage, of an
         // allocator with device addresses on. On an error `bound` destroys what was made.
-        let address = unsafe {
+        let (buffer, address) = unsafe {
             let buffer = d.create_buffer(&info, None)?;
-            bound.buffer = buffer;
-            let allocation = bound
-                .allocate(d.get_buffer_memory_requirements(buffer), MemoryLocation::CpuToGpu)?;
+            bound.handles.0 = buffer;
+            let allocation =
+                memory.allocate(&mut bound, d.get_buffer_memory_requirements(buffer), true)?;
             d.bind_buffer_memory(buffer, allocation.memory(), allocation.offset())?;
             let info = vk::BufferDeviceAddressInfo::default().buffer(buffer);
-            by_address.then(|| d.get_buffer_device_address(&info)).unwrap_or(0)
+            (buffer, by_address.then(|| d.get_buffer_device_address(&info)).unwrap_or(0))
         };
-        Ok(HostBuffer { buffer: bound.buffer, address, bound })
+        Ok(HostBuffer { buffer, address, bound })
     }
 
     /// A buffer holding `data`.
@@ -130,25 +122,20 @@ impl HostBuffer {
     }
 
     fn mapped(&mut self) -> Result<&mut [u8]> {
-        Ok(self
-            .bound
-            .allocation
-            .as_mut()
-            .and_then(|a| a.mapped_slice_mut())
-            .ok_or("an unmapped buffer")?)
+        Ok(self.bound.allocation.as_mut().and_then(|a| a.mapped_slice_mut()).ok_or("unmapped")?)
     }
 
     /// Copies `data` to the start, while no submission uses the buffer: written before
     /// `vkQueueSubmit`, coherent memory is visible to the submission without a barrier.
     pub fn write<T: Pod>(&mut self, data: &[T]) -> Result<()> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
-        self.mapped()?.get_mut(..bytes.len()).ok_or("writing past the end")?.copy_from_slice(bytes);
+        self.mapped()?.get_mut(..bytes.len()).ok_or("past the end")?.copy_from_slice(bytes);
         Ok(())
     }
 
     /// Reads `count` values from the start, after a barrier to HOST_READ and the fence.
     pub fn read<T: Pod>(&mut self, count: usize) -> Result<Vec<T>> {
-        let bytes = self.mapped()?.get(..count * size_of::<T>()).ok_or("reading past the end")?;
+        let bytes = self.mapped()?.get(..count * size_of::<T>()).ok_or("past the end")?;
         Ok(bytemuck::pod_collect_to_vec(bytes))
     }
 
@@ -165,12 +152,12 @@ pub type State = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
 pub struct Image {
     pub image: vk::Image,
     pub view: vk::ImageView,
-    aspect: vk::ImageAspectFlags,
+    range: vk::ImageSubresourceRange,
     _bound: Bound,
 }
 
 impl Image {
-    /// Errors if the device cannot use `format` for `usage`.
+    /// Errors if the device cannot use `format` for every use in `usage`.
     pub fn new(
         memory: &Memory,
         format: vk::Format,
@@ -183,27 +170,33 @@ impl Image {
             (U::STORAGE, F::STORAGE_IMAGE),
             (U::TRANSFER_SRC, F::TRANSFER_SRC),
         ];
-        let uses = [
+        let uses = uses.into_iter().chain([
             (U::COLOR_ATTACHMENT, F::COLOR_ATTACHMENT),
             (U::DEPTH_STENCIL_ATTACHMENT, F::DEPTH_STENCIL_ATTACHMENT),
-        ]
-        .into_iter()
-        .chain(uses);
+        ]);
         let needed =
             uses.filter(|(u, _)| usage.contains(*u)).fold(F::empty(), |all, (_, f)| all | f);
-        let depth = format == vk::Format::D32_SFLOAT;
-        let aspect = if depth { vk::ImageAspectFlags::DEPTH } else { vk::ImageAspectFlags::COLOR };
+        let aspect = if format == vk::Format::D32_SFLOAT {
+            vk::ImageAspectFlags::DEPTH
+        } else {
+            vk::ImageAspectFlags::COLOR
+        };
+        let range = vk::ImageSubresourceRange {
+            aspect_mask: aspect,
+            level_count: 1,
+            layer_count: 1,
+            ..Default::default()
+        };
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)
-            .mip_levels(1)
-            .array_layers(1);
-        let info = info
-            .extent(vk::Extent3D { width, height, depth: 1 })
-            .samples(vk::SampleCountFlags::TYPE_1)
             .usage(usage);
-        let (mut bound, gpu) = (Bound::new(memory), &memory.gpu);
-        // SAFETY: the physical device is the instance's, and supports the format for every use
+        let info =
+            info.extent(vk::Extent3D { width, height, depth: 1 }).mip_levels(1).array_layers(1);
+        let mut bound =
+            Bound { memory: memory.clone(), allocation: None, handles: Default::default() };
+        let (gpu, samples) = (&memory.gpu, vk::SampleCountFlags::TYPE_1);
+        // SAFETY: the physical device is the instance's and supports the format for every use
         // asked (checked first); `info` is a local; the memory is allocated for the image's
         // requirements and bound once; the view has the image's format and aspect. On an
         // error `bound` destroys what was made.
@@ -213,21 +206,22 @@ impl Image {
             if !properties.optimal_tiling_features.contains(needed) {
                 return Err(format!("{format:?} cannot be {usage:?} on this device").into());
             }
-            let image = gpu.device.create_image(&info, None)?;
-            bound.image = image;
-            let allocation = bound.allocate(
+            let image = gpu.device.create_image(&info.samples(samples), None)?;
+            bound.handles.1 = image;
+            let allocation = memory.allocate(
+                &mut bound,
                 gpu.device.get_image_memory_requirements(image),
-                MemoryLocation::GpuOnly,
+                false,
             )?;
             gpu.device.bind_image_memory(image, allocation.memory(), allocation.offset())?;
             let view = vk::ImageViewCreateInfo::default()
                 .image(image)
-                .view_type(vk::ImageViewType::TYPE_2D)
-                .format(format);
-            bound.view =
-                gpu.device.create_image_view(&view.subresource_range(range(aspect)), None)?;
+                .view_type(vk::ImageViewType::TYPE_2D);
+            bound.handles.2 = gpu
+                .device
+                .create_image_view(&view.format(format).subresource_range(range), None)?;
         }
-        Ok(Image { image: bound.image, view: bound.view, aspect, _bound: bound })
+        Ok(Image { image: bound.handles.1, view: bound.handles.2, range, _bound: bound })
     }
 
     /// A layout transition of the whole image, with its memory dependency.
@@ -238,15 +232,10 @@ impl Image {
     ) -> vk::ImageMemoryBarrier2<'static> {
         let barrier = vk::ImageMemoryBarrier2::default()
             .src_stage_mask(src_stage)
-            .src_access_mask(src_access)
-            .old_layout(old);
-        let barrier = barrier.dst_stage_mask(dst_stage).dst_access_mask(dst_access).new_layout(new);
-        barrier.image(self.image).subresource_range(range(self.aspect))
+            .src_access_mask(src_access);
+        let barrier = barrier.dst_stage_mask(dst_stage).dst_access_mask(dst_access).old_layout(old);
+        barrier.new_layout(new).image(self.image).subresource_range(self.range)
     }
-}
-
-fn range(aspect_mask: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
-    vk::ImageSubresourceRange { aspect_mask, level_count: 1, layer_count: 1, ..Default::default() }
 }
 
 /// Records one `vkCmdPipelineBarrier2` of `images` and `memory` into `cmd`.
