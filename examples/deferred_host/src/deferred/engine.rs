@@ -2,9 +2,8 @@
 
 use super::*;
 
-/// What the engine is set up with. `keep_static_layer`: keep each map's static layer across
-/// frames (`StaticLayer::Kept`; the still meshes never change in place). `receivers_move`:
-/// give the mask the G-buffer's motion (off: every receiver stands still, cheaper).
+/// `keep_static_layer`: keep each map's static layer (the still meshes never change in
+/// place). `receivers_move`: give the mask the G-buffer's motion (off: receivers stand still).
 #[derive(Debug, Clone)]
 pub struct Settings {
     pub width: u32,
@@ -14,8 +13,8 @@ pub struct Settings {
     pub receivers_move: bool,
 }
 
-/// A map's counts after its frame: N_f (fragments stored), N_r (ranges made), the room for
-/// ranges, and 1 where the collection stored ranges directly.
+/// A map's counts after its frame: fragments and ranges stored, the room for ranges, and 1
+/// where the collection stored ranges directly.
 #[derive(Debug, Clone, Copy)]
 pub struct MapCounts {
     pub node_count: u32,
@@ -24,9 +23,9 @@ pub struct MapCounts {
     pub ranges_direct: u32,
 }
 
-/// A frame read back after its fence: per pixel its linear radiance (a = 1 where a surface
-/// is) and, per light, its mask (the lit share of the shutter); per light the map's counts
-/// and whether the frame drew its static layer.
+/// A frame read back after its fence: per pixel its radiance (a = 1 where a surface is) and
+/// per light its mask (the lit share of the shutter); per light its map's counts and whether
+/// it drew the static layer.
 #[derive(Debug, Clone)]
 pub struct FrameOutput {
     pub frame: u32,
@@ -37,8 +36,8 @@ pub struct FrameOutput {
     pub static_layer_drawn: Vec<bool>,
 }
 
-/// A mesh in the engine's buffers: byte offsets (index runs 4-byte aligned), its first
-/// global triangle id (meshes' ids never overlap), its positions (the room's CPU copy).
+/// A mesh in the engine's buffers (byte offsets), its first global triangle id (meshes' ids
+/// never overlap) and its positions, the CPU copy the room is reserved from.
 pub(super) struct MeshSlot {
     pub(super) vertex_offset: u64,
     pub(super) index_offset: u64,
@@ -46,8 +45,8 @@ pub(super) struct MeshSlot {
     pub(super) positions: Vec<Vec3>,
 }
 
-/// Everything one frame in flight writes; `pending`: its frame not yet retired, numbered
-/// `submission` for the library; `output`: radiance, then each light's mask.
+/// What one frame in flight writes; `pending`: its frame until retired, `submission` the
+/// library's number for it; `output`: radiance, then each light's mask.
 pub(super) struct Slot {
     pub(super) cmd: vk::CommandBuffer,
     pub(super) fence: vk::Fence,
@@ -58,11 +57,11 @@ pub(super) struct Slot {
     pub(super) output: HostBuffer,
     pub(super) gbuffer: Vec<Image>,
     pub(super) masks: Vec<Image>,
-    pub(super) static_layer_drawn: Vec<bool>,
+    pub(super) layer_drawn: Vec<bool>,
 }
 
 /// The deferred engine. Its fields drop in order: the library's objects before the context,
-/// every allocation (the engine's and the context's) before the allocator (`memory`, last).
+/// every allocation (the engine's and the context's) before the allocator (last).
 pub struct Engine<'h> {
     pub(super) gpu: &'h Gpu,
     pub(super) settings: Settings,
@@ -84,50 +83,55 @@ impl<'h> Engine<'h> {
         if lights == 0 || lights > MAX_LIGHTS {
             return Err(format!("{lights} lights: the engine shades 1 to {MAX_LIGHTS}").into());
         }
-        let memory = Memory::new(gpu)?;
-        let (g, allocator) = (gpu, memory.allocator.clone());
+        let (memory, g) = (Memory::new(gpu)?, gpu);
+        let (device, allocator) = (g.device.clone(), memory.allocator.clone());
         // SAFETY: Gpu made the device from `physical` of `instance` for Vulkan 1.3, with a
         // graphics+compute queue of `queue_family` and the features in `enabled`; the
-        // allocator is on that device with device addresses on. The Gpu outlives the engine,
+        // allocator is the device's, with device addresses on. The Gpu outlives the engine,
         // which waits for its frames before the context drops.
         let ctx = unsafe {
-            let (device, family) = (g.device.clone(), g.queue_family);
+            let (physical, family, queue) = (g.physical, g.queue_family, g.queue);
             Context::from_raw_with_allocator(
                 &g.instance,
-                g.physical,
+                physical,
                 device,
                 family,
-                g.queue,
+                queue,
                 &g.enabled,
                 allocator,
             )
         }?;
         let (mut vertices, mut index_bytes, mut meshes, mut next_id) = (vec![], vec![], vec![], 0);
         for mesh in &world.meshes {
-            let (vertex_offset, index_offset) = (size_of_val(&vertices[..]), index_bytes.len());
+            let vertex_offset = vertices.len() as u64;
+            let index_offset = index_bytes.len() as u64;
             index_bytes.extend_from_slice(match &mesh.indices {
                 MeshIndices::U16(i) => bytemuck::cast_slice::<u16, u8>(i),
                 MeshIndices::U32(i) => bytemuck::cast_slice(i),
             });
             // The library reads 16-bit indices as whole words: each run starts 4-byte aligned.
             index_bytes.resize(index_bytes.len().next_multiple_of(4), 0);
-            let first_triangle_id = next_id;
-            next_id += (mesh.indices.count() / 3) as u32;
             let positions = mesh.vertices.iter().map(|v| Vec3::from(v.position)).collect();
-            let (vertex_offset, index_offset) = (vertex_offset as u64, index_offset as u64);
+            let first_triangle_id = next_id;
             meshes.push(MeshSlot { vertex_offset, index_offset, first_triangle_id, positions });
-            vertices.extend_from_slice(&mesh.vertices);
+            next_id += (mesh.indices.count() / 3) as u32;
+            vertices.extend_from_slice(bytemuck::cast_slice(&mesh.vertices));
         }
-        // The rasterizer's vertex and index buffers are the shadow pass's streams too.
+        // The rasterizer's index buffer is the shadow pass's index stream too.
         use vk::BufferUsageFlags as U;
-        let streams = U::STORAGE_BUFFER | U::SHADER_DEVICE_ADDRESS;
-        let vertices = HostBuffer::with_data(&memory, &vertices, streams | U::VERTEX_BUFFER)?;
-        let indices = HostBuffer::with_data(&memory, &index_bytes, streams | U::INDEX_BUFFER)?;
+        let upload = |bytes: &[u8], usage| -> Result<HostBuffer> {
+            let usage = usage | U::STORAGE_BUFFER | U::SHADER_DEVICE_ADDRESS;
+            let mut buffer = HostBuffer::new(&memory, bytes.len() as u64, usage)?;
+            buffer.write(bytes).map(|()| buffer)
+        };
+        let (vertices, indices) =
+            (upload(&vertices, U::empty())?, upload(&index_bytes, U::INDEX_BUFFER)?);
         let pipelines = Pipelines::new(&gpu.device, gpu.queue_family)?;
-        let slots = (0..FRAMES_IN_FLIGHT).map(|_| new_slot(&memory, &pipelines, &settings, lights));
-        let (slots, geometry) = (slots.collect::<Result<_>>()?, (vertices, indices, meshes));
-        let (shadows, submissions) = (Vec::new(), 0);
-        Ok(Engine { gpu, settings, pipelines, geometry, slots, shadows, submissions, ctx, _memory: memory })
+        let slot = |_| new_slot(&memory, &pipelines, &settings, lights);
+        let slots = (0..FRAMES_IN_FLIGHT).map(slot).collect::<Result<_>>()?;
+        let geometry = (vertices, indices, meshes);
+        let (shadows, submissions, _memory) = (Vec::new(), 0, memory);
+        Ok(Engine { gpu, settings, pipelines, geometry, slots, shadows, submissions, ctx, _memory })
     }
 
     /// The library's context (device information, validation messages).
@@ -149,12 +153,16 @@ impl<'h> Engine<'h> {
 /// A frame slot: its G-buffer, masks, buffers, command buffer, descriptor set and fence.
 fn new_slot(memory: &Memory, p: &Pipelines, settings: &Settings, lights: usize) -> Result<Slot> {
     let size = (settings.width, settings.height);
-    use vk::{BufferUsageFlags as B, ImageUsageFlags as U};
-    let image = |format, usage| Image::new(memory, format, usage | U::SAMPLED, size);
-    let attachment = |i| if i == 0 { U::DEPTH_STENCIL_ATTACHMENT } else { U::COLOR_ATTACHMENT };
-    let gbuffer = (0..5).map(|i| image(FORMATS[i], attachment(i))).collect::<Result<Vec<_>>>()?;
+    use vk::{BufferUsageFlags as B, FormatFeatureFlags as F, ImageUsageFlags as U};
+    let image = |format, (usage, feature): Usage| {
+        Image::new(memory, format, (usage | U::SAMPLED, feature | F::SAMPLED_IMAGE), size)
+    };
+    let depth = (U::DEPTH_STENCIL_ATTACHMENT, F::DEPTH_STENCIL_ATTACHMENT);
+    let uses = [depth, (U::COLOR_ATTACHMENT, F::COLOR_ATTACHMENT)];
+    let gbuffer = (0..5).map(|i| image(FORMATS[i], uses[i.min(1)]));
+    let gbuffer = gbuffer.collect::<Result<Vec<_>>>()?;
     // The masks: a lit share per pixel, a format every device writes as a storage image.
-    let mask = |_| image(vk::Format::R32_SFLOAT, U::STORAGE);
+    let mask = |_| image(vk::Format::R32_SFLOAT, (U::STORAGE, F::STORAGE_IMAGE));
     let masks = (0..lights).map(mask).collect::<Result<Vec<_>>>()?;
     let usage = B::STORAGE_BUFFER | B::SHADER_DEVICE_ADDRESS;
     let constants = HostBuffer::new(memory, size_of::<FrameConstants>() as u64, usage)?;
@@ -176,10 +184,8 @@ fn new_slot(memory: &Memory, p: &Pipelines, settings: &Settings, lights: usize) 
     // whose buffers and sets go with them; the set's images are the slot's, kept with it; the
     // fence, made last, is destroyed by the engine's Drop.
     let (cmd, set, fence) = unsafe {
-        let (cmd, set) = (
-            device.allocate_command_buffers(&alloc)?[0],
-            device.allocate_descriptor_sets(&sets)?[0],
-        );
+        let cmd = device.allocate_command_buffers(&alloc)?[0];
+        let set = device.allocate_descriptor_sets(&sets)?[0];
         let sampled = vk::DescriptorType::SAMPLED_IMAGE;
         let writes: Vec<_> = (infos.iter().enumerate())
             .map(|(binding, info)| {
@@ -190,7 +196,7 @@ fn new_slot(memory: &Memory, p: &Pipelines, settings: &Settings, lights: usize) 
         device.update_descriptor_sets(&writes, &[]);
         (cmd, set, device.create_fence(&Default::default(), None)?)
     };
-    let (pending, submission, static_layer_drawn) = (None, 0, Vec::new());
+    let (pending, submission, layer_drawn) = (None, 0, Vec::new());
     Ok(Slot {
         cmd,
         fence,
@@ -201,7 +207,7 @@ fn new_slot(memory: &Memory, p: &Pipelines, settings: &Settings, lights: usize) 
         output,
         gbuffer,
         masks,
-        static_layer_drawn,
+        layer_drawn,
     })
 }
 

@@ -56,7 +56,7 @@ impl Engine<'_> {
         let (radiance, masks) = values.split_at(4 * pixels);
         let radiance = radiance.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect();
         let masks = masks.chunks_exact(pixels).map(<[f32]>::to_vec).collect();
-        let static_layer_drawn = s.static_layer_drawn.clone();
+        let static_layer_drawn = s.layer_drawn.clone();
         Ok(Some(FrameOutput { frame, slot, counters, radiance, masks, static_layer_drawn }))
     }
 

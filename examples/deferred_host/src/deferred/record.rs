@@ -149,7 +149,7 @@ impl Engine<'_> {
             let inputs = Some(inputs);
             frames.push(unsafe { shadow.record_frame(ctx, cmd, submission, &described, inputs) }?);
         }
-        s.static_layer_drawn = frames.iter().map(|f| f.static_layer_drawn).collect();
+        s.layer_drawn = frames.iter().map(|f| f.static_layer_drawn).collect();
 
         // 3. The shading (each light read from its map's header), after the masks' declared
         //    last accesses; the generation's closing barrier made the maps readable.

@@ -15,42 +15,19 @@ pub struct Memory {
 
 impl Memory {
     pub fn new(gpu: &Gpu) -> Result<Memory> {
-        let (instance, device, physical_device) =
-            (gpu.instance.clone(), gpu.device.clone(), gpu.physical);
+        let (instance, device, physical_device) = (&gpu.instance, &gpu.device, gpu.physical);
+        let (instance, device, buffer_device_address) = (instance.clone(), device.clone(), true);
         let (debug_settings, allocation_sizes) = Default::default();
         let desc = alloc::AllocatorCreateDesc {
             instance,
             device,
             physical_device,
             debug_settings,
+            buffer_device_address,
             allocation_sizes,
-            buffer_device_address: true,
         };
-        Ok(Memory {
-            gpu: gpu.clone(),
-            allocator: Arc::new(Mutex::new(alloc::Allocator::new(&desc)?)),
-        })
-    }
-
-    /// Memory for `requirements` (host-visible and mapped, or device-local), kept by `bound`.
-    fn allocate<'b>(
-        &self,
-        bound: &'b mut Bound,
-        requirements: vk::MemoryRequirements,
-        host: bool,
-    ) -> Result<&'b alloc::Allocation> {
-        let location = if host { MemoryLocation::CpuToGpu } else { MemoryLocation::GpuOnly };
-        let allocation_scheme = alloc::AllocationScheme::GpuAllocatorManaged;
-        let desc = alloc::AllocationCreateDesc {
-            name: "engine",
-            requirements,
-            location,
-            linear: host,
-            allocation_scheme,
-        };
-        let allocation =
-            self.allocator.lock().map_err(|_| "a poisoned allocator")?.allocate(&desc)?;
-        Ok(bound.allocation.insert(allocation))
+        let allocator = Arc::new(Mutex::new(alloc::Allocator::new(&desc)?));
+        Ok(Memory { gpu: gpu.clone(), allocator })
     }
 }
 
@@ -60,6 +37,23 @@ struct Bound {
     memory: Memory,
     allocation: Option<alloc::Allocation>,
     handles: (vk::Buffer, vk::Image, vk::ImageView),
+}
+
+impl Bound {
+    fn allocate(&mut self, requirements: vk::MemoryRequirements) -> Result<&alloc::Allocation> {
+        let host = self.handles.1 == vk::Image::null(); // buffers are mapped, images local
+        let location = if host { MemoryLocation::CpuToGpu } else { MemoryLocation::GpuOnly };
+        let scheme = alloc::AllocationScheme::GpuAllocatorManaged;
+        let desc = alloc::AllocationCreateDesc {
+            name: "engine",
+            requirements,
+            location,
+            linear: host,
+            allocation_scheme: scheme,
+        };
+        let mut allocator = self.memory.allocator.lock().map_err(|_| "a poisoned allocator")?;
+        Ok(self.allocation.insert(allocator.allocate(&desc)?))
+    }
 }
 
 impl Drop for Bound {
@@ -72,9 +66,8 @@ impl Drop for Bound {
             device.destroy_image(image, None);
             device.destroy_buffer(buffer, None);
         }
-        if let (Some(allocation), Ok(mut allocator)) =
-            (self.allocation.take(), self.memory.allocator.lock())
-        {
+        let allocation = self.allocation.take();
+        if let (Some(allocation), Ok(mut allocator)) = (allocation, self.memory.allocator.lock()) {
             let _ = allocator.free(allocation); // a failed free leaks until the allocator goes
         }
     }
@@ -90,39 +83,26 @@ pub struct HostBuffer {
 
 impl HostBuffer {
     pub fn new(memory: &Memory, size: u64, usage: vk::BufferUsageFlags) -> Result<Self> {
-        let mut bound =
-            Bound { memory: memory.clone(), allocation: None, handles: Default::default() };
-        let (d, info) =
-            (&memory.gpu.device, vk::BufferCreateInfo::default().size(size.max(4)).usage(usage));
-        let by_address = usage.contains(vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS);
+        let mut bound = Bound { memory: memory.clone(), allocation: None, handles: <_>::default() };
+        let info = vk::BufferCreateInfo::default().size(size.max(4)).usage(usage);
+        let (d, by_address) = (&memory.gpu.device, vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS);
         // SAFETY: `info` is a local; the memory is allocated for the buffer's requirements
         // and bound once; the address is asked only with SHADER_DEVICE_ADDRESS usage, of an
         // allocator with device addresses on. On an error `bound` destroys what was made.
         let (buffer, address) = unsafe {
             let buffer = d.create_buffer(&info, None)?;
             bound.handles.0 = buffer;
-            let allocation =
-                memory.allocate(&mut bound, d.get_buffer_memory_requirements(buffer), true)?;
+            let allocation = bound.allocate(d.get_buffer_memory_requirements(buffer))?;
             d.bind_buffer_memory(buffer, allocation.memory(), allocation.offset())?;
             let info = vk::BufferDeviceAddressInfo::default().buffer(buffer);
-            (buffer, by_address.then(|| d.get_buffer_device_address(&info)).unwrap_or(0))
+            (buffer, usage.contains(by_address).then(|| d.get_buffer_device_address(&info)))
         };
-        Ok(HostBuffer { buffer, address, bound })
-    }
-
-    /// A buffer holding `data`.
-    pub fn with_data<T: Pod>(
-        memory: &Memory,
-        data: &[T],
-        usage: vk::BufferUsageFlags,
-    ) -> Result<Self> {
-        let mut buffer = Self::new(memory, size_of_val(data) as u64, usage)?;
-        buffer.write(data)?;
-        Ok(buffer)
+        Ok(HostBuffer { buffer, address: address.unwrap_or(0), bound })
     }
 
     fn mapped(&mut self) -> Result<&mut [u8]> {
-        Ok(self.bound.allocation.as_mut().and_then(|a| a.mapped_slice_mut()).ok_or("unmapped")?)
+        let allocation = self.bound.allocation.as_mut();
+        Ok(allocation.and_then(|a| a.mapped_slice_mut()).ok_or("unmapped")?)
     }
 
     /// Copies `data` to the start, while no submission uses the buffer: written before
@@ -157,86 +137,55 @@ pub struct Image {
 }
 
 impl Image {
-    /// Errors if the device cannot use `format` for every use in `usage`.
+    /// Errors if the device cannot use `format` with `features` (what `usage` needs).
     pub fn new(
         memory: &Memory,
         format: vk::Format,
-        usage: vk::ImageUsageFlags,
-        (width, height): (u32, u32),
+        usage: Usage,
+        size: (u32, u32),
     ) -> Result<Self> {
-        use vk::{FormatFeatureFlags as F, ImageUsageFlags as U};
-        let uses = [
-            (U::SAMPLED, F::SAMPLED_IMAGE),
-            (U::STORAGE, F::STORAGE_IMAGE),
-            (U::TRANSFER_SRC, F::TRANSFER_SRC),
-        ];
-        let uses = uses.into_iter().chain([
-            (U::COLOR_ATTACHMENT, F::COLOR_ATTACHMENT),
-            (U::DEPTH_STENCIL_ATTACHMENT, F::DEPTH_STENCIL_ATTACHMENT),
-        ]);
-        let needed =
-            uses.filter(|(u, _)| usage.contains(*u)).fold(F::empty(), |all, (_, f)| all | f);
-        let aspect = if format == vk::Format::D32_SFLOAT {
-            vk::ImageAspectFlags::DEPTH
-        } else {
-            vk::ImageAspectFlags::COLOR
-        };
-        let range = vk::ImageSubresourceRange {
-            aspect_mask: aspect,
-            level_count: 1,
-            layer_count: 1,
-            ..Default::default()
-        };
-        let info = vk::ImageCreateInfo::default()
-            .image_type(vk::ImageType::TYPE_2D)
-            .format(format)
-            .usage(usage);
-        let info =
-            info.extent(vk::Extent3D { width, height, depth: 1 }).mip_levels(1).array_layers(1);
-        let mut bound =
-            Bound { memory: memory.clone(), allocation: None, handles: Default::default() };
-        let (gpu, samples) = (&memory.gpu, vk::SampleCountFlags::TYPE_1);
-        // SAFETY: the physical device is the instance's and supports the format for every use
-        // asked (checked first); `info` is a local; the memory is allocated for the image's
+        let ((usage, features), (width, height)) = (usage, size);
+        let depth = format == vk::Format::D32_SFLOAT;
+        let aspect = if depth { vk::ImageAspectFlags::DEPTH } else { vk::ImageAspectFlags::COLOR };
+        let range = vk::ImageSubresourceRange::default().aspect_mask(aspect);
+        let range = range.level_count(1).layer_count(1);
+        let info = vk::ImageCreateInfo::default().image_type(vk::ImageType::TYPE_2D).format(format);
+        let info = info.extent(vk::Extent3D { width, height, depth: 1 }).mip_levels(1);
+        let info = info.array_layers(1).samples(vk::SampleCountFlags::TYPE_1).usage(usage);
+        let view = vk::ImageViewCreateInfo::default().view_type(vk::ImageViewType::TYPE_2D);
+        let view = view.format(format).subresource_range(range);
+        let mut bound = Bound { memory: memory.clone(), allocation: None, handles: <_>::default() };
+        let gpu = &memory.gpu;
+        // SAFETY: the physical device is the instance's and supports the format for `usage`
+        // (checked first); `info` is a local; the memory is allocated for the image's
         // requirements and bound once; the view has the image's format and aspect. On an
         // error `bound` destroys what was made.
         unsafe {
             let properties =
                 gpu.instance.get_physical_device_format_properties(gpu.physical, format);
-            if !properties.optimal_tiling_features.contains(needed) {
+            if !properties.optimal_tiling_features.contains(features) {
                 return Err(format!("{format:?} cannot be {usage:?} on this device").into());
             }
-            let image = gpu.device.create_image(&info.samples(samples), None)?;
+            let image = gpu.device.create_image(&info, None)?;
             bound.handles.1 = image;
-            let allocation = memory.allocate(
-                &mut bound,
-                gpu.device.get_image_memory_requirements(image),
-                false,
-            )?;
+            let allocation = bound.allocate(gpu.device.get_image_memory_requirements(image))?;
             gpu.device.bind_image_memory(image, allocation.memory(), allocation.offset())?;
-            let view = vk::ImageViewCreateInfo::default()
-                .image(image)
-                .view_type(vk::ImageViewType::TYPE_2D);
-            bound.handles.2 = gpu
-                .device
-                .create_image_view(&view.format(format).subresource_range(range), None)?;
+            bound.handles.2 = gpu.device.create_image_view(&view.image(image), None)?;
         }
         Ok(Image { image: bound.handles.1, view: bound.handles.2, range, _bound: bound })
     }
 
     /// A layout transition of the whole image, with its memory dependency.
-    pub fn barrier(
-        &self,
-        (old, src_stage, src_access): State,
-        (new, dst_stage, dst_access): State,
-    ) -> vk::ImageMemoryBarrier2<'static> {
-        let barrier = vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(src_stage)
-            .src_access_mask(src_access);
-        let barrier = barrier.dst_stage_mask(dst_stage).dst_access_mask(dst_access).old_layout(old);
-        barrier.new_layout(new).image(self.image).subresource_range(self.range)
+    pub fn barrier(&self, from: State, to: State) -> vk::ImageMemoryBarrier2<'static> {
+        let barrier = vk::ImageMemoryBarrier2::default().image(self.image).old_layout(from.0);
+        let barrier = barrier.src_stage_mask(from.1).src_access_mask(from.2).new_layout(to.0);
+        let barrier = barrier.dst_stage_mask(to.1).dst_access_mask(to.2);
+        barrier.subresource_range(self.range)
     }
 }
+
+/// An image's usage and the format features it needs.
+pub type Usage = (vk::ImageUsageFlags, vk::FormatFeatureFlags);
 
 /// Records one `vkCmdPipelineBarrier2` of `images` and `memory` into `cmd`.
 pub fn pipeline_barrier(
@@ -245,9 +194,8 @@ pub fn pipeline_barrier(
     images: &[vk::ImageMemoryBarrier2],
     memory: &[vk::MemoryBarrier2],
 ) {
-    let dependency =
-        vk::DependencyInfo::default().image_memory_barriers(images).memory_barriers(memory);
+    let dependency = vk::DependencyInfo::default().image_memory_barriers(images);
     // SAFETY: every caller passes a command buffer it is recording, outside rendering, and
     // barriers of its own images; `dependency` lives through the call.
-    unsafe { device.cmd_pipeline_barrier2(cmd, &dependency) };
+    unsafe { device.cmd_pipeline_barrier2(cmd, &dependency.memory_barriers(memory)) };
 }
