@@ -1,51 +1,30 @@
-//! A deferred engine with motion-blurred shadows (the crate's library, `deferred.rs` and
-//! `deferred/`, read from the top; `gpu.rs` its device, `glsl/` its shaders): it renders a few
-//! frames of a box flying and turning over the ground beside a still post, under a spot light
-//! and a directional light, with three frames in flight.
+//! A deferred engine with motion-blurred shadows (the crate's library: `deferred.rs` and
+//! `deferred/`, read from the top; `gpu.rs` its device, `glsl/` its shaders) renders a box
+//! flying and turning over the ground beside a still post, under a spot light and a
+//! directional light, three frames in flight.
 //!
 //! ```sh
 //! cargo run -p motion-shadows-deferred-host   # MOTION_SHADOWS_VALIDATION=1: validation on
 //! ```
 //!
-//! Writes `out/deferred_host.png` and prints a summary.
+//! Writes `out/deferred_host.png` and prints each light's counts.
 
 use motion_shadows_deferred_host::{deferred, gpu::Gpu};
-
-use deferred::{Engine, Settings, World};
-
-const FRAMES: u32 = 4;
 
 fn main() -> deferred::Result<()> {
     let validation = std::env::var("MOTION_SHADOWS_VALIDATION").is_ok_and(|v| v == "1");
     let gpu = Gpu::new(validation)?;
-    let (world, (width, height)) = (World::demo(), (320, 240));
-    let settings = Settings {
-        width,
-        height,
-        shadow_size: (512, 512),
-        // The still meshes never change in place.
-        keep_static_layer: true,
-        receivers_move: true,
-    };
-    let (last, device) = {
-        let mut engine = Engine::new(&gpu, &world, settings)?;
-        let frames = engine.render(&world, 0..FRAMES, &|f| f == FRAMES - 1)?;
-        let last = frames.into_iter().next_back().ok_or("the last frame was not kept")?;
-        (last, engine.context().info().name.clone())
+    let (world, width, height) = (deferred::World::demo(), 320, 240);
+    // The still meshes never change in place: their static layers are kept.
+    let (shadow_size, keep_static_layer, receivers_move) = ((512, 512), true, true);
+    let settings =
+        deferred::Settings { width, height, shadow_size, keep_static_layer, receivers_move };
+    let frame = {
+        let mut engine = deferred::Engine::new(&gpu, &world, settings)?;
+        engine.render(&world, 0..4, &|f| f == 3)?.pop().ok_or("frame 3 was not kept")?
     }; // The engine waits for its frames and frees everything (the library's objects too).
-    println!("device:  {device}");
-    println!("frames:  {FRAMES} at {width}x{height}, {} in flight", deferred::FRAMES_IN_FLIGHT);
-    for (i, (counts, mask)) in last.counters.iter().zip(&last.masks).enumerate() {
-        // The mean lit share over the pixels that show a surface.
-        let shown: Vec<f32> = (mask.iter().zip(&last.radiance))
-            .filter(|(_, r)| r[3] > 0.0)
-            .map(|(m, _)| *m)
-            .collect();
-        let mean = shown.iter().sum::<f32>() / shown.len().max(1) as f32;
-        println!(
-            "light {i}: N_f = {}, N_r = {}, mean mask {mean:.4}",
-            counts.node_count, counts.range_count
-        );
+    for (light, counts) in frame.counters.iter().enumerate() {
+        println!("light {light}: N_f = {}, N_r = {}", counts.node_count, counts.range_count);
     }
     // Linear radiance to sRGB.
     let encode = |v: f32| {
@@ -53,17 +32,15 @@ fn main() -> deferred::Result<()> {
         let s = if v <= 0.003_130_8 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 };
         (s * 255.0).round() as u8
     };
-    let bytes: Vec<u8> =
-        last.radiance.iter().flat_map(|p| [encode(p[0]), encode(p[1]), encode(p[2])]).collect();
+    let rgb: Vec<u8> =
+        frame.radiance.iter().flat_map(|p| p[..3].iter().map(|&v| encode(v))).collect();
     std::fs::create_dir_all("out")?;
-    image::save_buffer(
-        "out/deferred_host.png",
-        &bytes,
-        width,
-        height,
-        image::ExtendedColorType::Rgb8,
-    )?;
-    println!("wrote out/deferred_host.png");
+    let path = "out/deferred_host.png";
+    image::save_buffer(path, &rgb, width, height, image::ExtendedColorType::Rgb8)?;
+    println!(
+        "frames 0 to 3 at {width}x{height}, {} in flight: wrote {path}",
+        deferred::FRAMES_IN_FLIGHT
+    );
     // SAFETY: the engine, and with it everything made on the device, is gone.
     unsafe { gpu.destroy() };
     Ok(())

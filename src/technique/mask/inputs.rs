@@ -105,7 +105,8 @@ pub struct MaskInputs {
     /// A view of the host's depth image (depth aspect, sampled usage), `size` texels.
     pub depth: vk::ImageView,
     /// Its layout while the pass runs (`DEPTH_STENCIL_READ_ONLY_OPTIMAL`,
-    /// `DEPTH_READ_ONLY_OPTIMAL` or `SHADER_READ_ONLY_OPTIMAL`).
+    /// `DEPTH_READ_ONLY_OPTIMAL`, `SHADER_READ_ONLY_OPTIMAL` or synchronization2's
+    /// `READ_ONLY_OPTIMAL`, which the deferred example uses for every G-buffer image).
     pub depth_layout: vk::ImageLayout,
     /// The host's normal image, or `None` to rebuild normals from the depth neighbours.
     pub normals: Option<NormalImage>,
