@@ -142,12 +142,12 @@ impl Engine<'_> {
         pipeline_barrier(device, cmd, &barriers, &[]);
         let mut frames = Vec::new();
         for ((_, shadow), inputs) in shadows.iter_mut().zip(&inputs) {
+            let (meshes, inputs) = (&described, Some(inputs));
             // SAFETY: recording outside rendering on the context's graphics+compute queue,
             // after the shadow's earlier frames (one queue, submitted in order); the streams'
             // contract is kept above; the mask's views have the usages its inputs ask and are
             // in the layouts they name (the barrier just recorded).
-            let inputs = Some(inputs);
-            frames.push(unsafe { shadow.record_frame(ctx, cmd, submission, &described, inputs) }?);
+            frames.push(unsafe { shadow.record_frame(ctx, cmd, submission, meshes, inputs) }?);
         }
         s.layer_drawn = frames.iter().map(|f| f.static_layer_drawn).collect();
 
