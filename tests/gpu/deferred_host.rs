@@ -73,9 +73,12 @@ fn square_world() -> (World, f64, f64) {
 const SIDE: f32 = 2.0;
 const TRAVEL: f32 = 4.0;
 
-/// `ms_lit_fraction` (through the mask pass, and through the host's own shader) against the
-/// closed form of `square_world`, at the centres of ground pixels that the square does not
-/// cover at t = 1 and that lie more than 1.5 shadow texels from the shadow's sides (z edges).
+/// `ms_lit_fraction` (through the mask pass, moving and still variants, and through the host's
+/// probe shader at the same points) against the closed form of `square_world`, at the centres
+/// of ground pixels that the square does not cover at t = 1 and that lie more than 1.5 shadow
+/// texels from the shadow's sides (z edges); the engine's shading of those pixels against
+/// albedo / pi * E * mask + ambient, and `ms_visibility` at t = 0.5 against the square's
+/// position then.
 ///
 /// Tolerance: 2e-3 (the prism's rasterization snaps vertices to 1/256 texel, plus f32
 /// rounding), plus what a shadow-map texel of motion implies: the map holds the interval
