@@ -428,6 +428,24 @@ impl super::VisibilityMaskPass {
     }
 }
 
+impl super::MaskInputs {
+    /// What the visibility mask does with the host's images: each input view sampled by
+    /// compute shaders in the layout these inputs give, the output written by compute shaders
+    /// in `GENERAL` (the image uses of [`super::VisibilityMaskPass::accesses`] and
+    /// `ShadowFrame::mask`). Known before the frame is recorded, when the host records the
+    /// barrier that moves its G-buffer and mask images into those layouts (`ShadowFrame`
+    /// arrives after `LightShadow::record_frame` has recorded the mask).
+    pub fn image_accesses(&self) -> PassAccesses {
+        let mut a = PassAccesses::default();
+        let write = Access {
+            stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
+            access: vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        };
+        mask_image_uses(&mut a, self, write);
+        a
+    }
+}
+
 /// The host's images a mask over `inputs` uses: its G-buffer images sampled by the compute
 /// shader, its output (in `GENERAL`) with `output` accesses.
 pub(crate) fn mask_image_uses(a: &mut PassAccesses, inputs: &super::MaskInputs, output: Access) {

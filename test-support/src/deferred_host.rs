@@ -10,7 +10,7 @@ use glam::DVec3;
 use glam::Vec3;
 use motion_shadows::technique::{CameraView, TemporalShadowMap};
 use motion_shadows_deferred_host::deferred::{
-    self, HostBuffer, Light, Mesh, MeshIndices, Motion, Settings, ShadowLookup, World,
+    HostBuffer, Light, Memory, Mesh, MeshIndices, Settings, World, pipeline_barrier,
 };
 
 /// The host's debugging probes (`tests/glsl/`): compute shaders a host would write, calling
@@ -44,15 +44,10 @@ pub trait MeshAtTime {
 
 impl MeshAtTime for Mesh {
     fn world_positions(&self, f: f64) -> Vec<Vec3> {
-        match &self.motion {
-            Motion::Rigid(transform) => {
-                let m = transform(f);
-                (self.vertices.iter())
-                    .map(|v| (m.transform_point3(Vec3::from(v.position).as_dvec3())).as_vec3())
-                    .collect()
-            }
-            Motion::Deformed(deform) => deform(f).iter().map(|v| Vec3::from(v.position)).collect(),
-        }
+        let m = (self.transform)(f);
+        (self.vertices.iter())
+            .map(|v| (m.transform_point3(Vec3::from(v.position).as_dvec3())).as_vec3())
+            .collect()
     }
 
     fn world_triangles(&self, f: f64) -> Vec<Vec3> {
@@ -72,7 +67,6 @@ pub fn settings() -> Settings {
         width: SIZE.0,
         height: SIZE.1,
         shadow_size: SHADOW,
-        lookup: ShadowLookup::MaskImages,
         keep_static_layer: false,
         receivers_move: true,
     }
@@ -286,7 +280,9 @@ pub fn run_probe(
     .expect("probe layout");
     let spirv = compile_compute("probe", source);
     let code = ash::util::read_spv(&mut std::io::Cursor::new(&spirv)).expect("SPIR-V words");
-    let module = deferred::shader_module(device, &code).expect("probe module");
+    let info = vk::ShaderModuleCreateInfo::default().code(&code);
+    // SAFETY: `code` is SPIR-V words that shaderc compiled from the probe's GLSL.
+    let module = unsafe { device.create_shader_module(&info, None) }.expect("probe module");
     let stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module)
@@ -301,13 +297,14 @@ pub fn run_probe(
         device.destroy_shader_module(module, None);
         pipeline.expect("probe pipeline")[0]
     };
-    // Dropped after the buffers (declared before them).
-    let allocator = deferred::new_allocator(host).expect("allocator");
+    // The allocator goes with the buffers' last handle on it.
+    let memory = Memory::new(host).expect("allocator");
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
-    let query_buffer = HostBuffer::with_data(host, &allocator, queries, usage).expect("queries");
+    let bytes = std::mem::size_of_val(queries) as u64;
+    let mut query_buffer = HostBuffer::new(&memory, bytes, usage).expect("query buffer");
+    query_buffer.write(queries).expect("queries");
     let result_count = shape.results_per_query * queries.len();
-    let mut results =
-        HostBuffer::new(host, &allocator, 4 * result_count as u64, usage).expect("results");
+    let mut results = HostBuffer::new(&memory, 4 * result_count as u64, usage).expect("results");
     let invocations = queries.len().div_ceil(shape.per_invocation);
     let constants = ProbePush {
         map: map.header_address(),
@@ -331,7 +328,7 @@ pub fn run_probe(
             .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
             .dst_stage_mask(vk::PipelineStageFlags2::HOST)
             .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-        deferred::pipeline_barrier(device, cmd, &[], &to_host);
+        pipeline_barrier(device, cmd, &[], &to_host);
     })
     .expect("probe submission");
     let out = results.read::<f32>(result_count).expect("results");

@@ -7,10 +7,7 @@
 //! `test-support/src/deferred_host.rs`.
 
 use crate::support::host::Host;
-use deferred::{
-    Camera, Engine, FrameOutput, Light, Mesh, MeshIndices, Motion, Settings, ShadowLookup, Vertex,
-    World,
-};
+use deferred::{Camera, Engine, FrameOutput, Light, Mesh, MeshIndices, Settings, Vertex, World};
 use glam::{DMat4, DVec3, Vec3};
 
 use motion_shadows_deferred_host::deferred;
@@ -60,13 +57,13 @@ fn square_world() -> (World, f64, f64) {
                 indices: MeshIndices::U16(vec![0, 1, 2, 0, 2, 3]),
                 albedo: Vec3::splat(0.5),
                 closed: false,
-                motion: Motion::Rigid(Box::new(|f| {
+                transform: Box::new(|f| {
                     DMat4::from_translation(DVec3::new(
                         START + f64::from(TRAVEL) * f,
                         1.0,
                         f64::from(Z0),
                     ))
-                })),
+                }),
             },
         ],
     };
@@ -76,9 +73,12 @@ fn square_world() -> (World, f64, f64) {
 const SIDE: f32 = 2.0;
 const TRAVEL: f32 = 4.0;
 
-/// `ms_lit_fraction` (through the mask pass, and through the host's own shader) against the
-/// closed form of `square_world`, at the centres of ground pixels that the square does not
-/// cover at t = 1 and that lie more than 1.5 shadow texels from the shadow's sides (z edges).
+/// `ms_lit_fraction` (through the mask pass, moving and still variants, and through the host's
+/// probe shader at the same points) against the closed form of `square_world`, at the centres
+/// of ground pixels that the square does not cover at t = 1 and that lie more than 1.5 shadow
+/// texels from the shadow's sides (z edges); the engine's shading of those pixels against
+/// albedo / pi * E * mask + ambient, and `ms_visibility` at t = 0.5 against the square's
+/// position then.
 ///
 /// Tolerance: 2e-3 (the prism's rasterization snaps vertices to 1/256 texel, plus f32
 /// rounding), plus what a shadow-map texel of motion implies: the map holds the interval
@@ -181,55 +181,62 @@ fn lit_fraction_matches_the_closed_form_for_a_translating_square() {
         "{compared} pixels, {partial} partial"
     );
 
-    // The host's own shader calling ms_lit_fraction gives the masks' values (the R16 masks
-    // round to 1/65535).
-    // Irradiance 2 straight down on the ground: cos(theta) = 1 everywhere.
-    let direct = |_: DVec3| GROUND_ALBEDO / std::f64::consts::PI * 2.0;
+    // The engine's shading of those pixels: irradiance 2 straight down on the ground
+    // (cos(theta) = 1), so radiance = albedo / pi * 2 * mask + ambient * albedo.
+    let direct = GROUND_ALBEDO / std::f64::consts::PI * 2.0;
     let ambient = 0.05 * GROUND_ALBEDO;
-    engine.set_lookup(ShadowLookup::LitFractionInShader);
-    let in_shader = engine
-        .render(&world, 1..2, &|_| true)
-        .expect("frame")
-        .pop()
-        .expect("kept");
-    let mut worst_shader = 0.0f64;
-    for &(x, y, p, _) in &points {
+    let mut worst_shading = 0.0f64;
+    for &(x, y, ..) in &points {
         let i = (y * SIZE.0 + x) as usize;
-        let lit = (f64::from(in_shader.radiance[i][0]) - ambient) / direct(p);
-        worst_shader = worst_shader.max((lit - f64::from(frame.masks[0][i])).abs());
+        let expected = direct * f64::from(frame.masks[0][i]) + ambient;
+        worst_shading = worst_shading.max((f64::from(frame.radiance[i][0]) - expected).abs());
     }
-    eprintln!(
-        "ms_lit_fraction in the host's shader vs the mask: max difference {worst_shader:.2e}"
-    );
-    assert!(worst_shader < 1e-4);
+    eprintln!("shading vs albedo / pi * E * mask + ambient: max difference {worst_shading:.2e}");
+    assert!(worst_shading < 1e-4 * direct);
 
-    // And ms_visibility at one instant, t = 0.5: in shadow exactly under the square then (away
+    // The library's GLSL include in a shader of the host's own (the probe), at the same ground
+    // points: ms_lit_fraction against the closed form within the mask's tolerance, and
+    // ms_visibility at one instant, t = 0.5: in shadow exactly under the square then (away
     // from its edges by 1.5 texels).
-    engine.set_lookup(ShadowLookup::VisibilityAt(0.5));
-    let instant = engine
-        .render(&world, 1..2, &|_| true)
-        .expect("frame")
-        .pop()
-        .expect("kept");
-    let x_at = start + 0.5 * travel;
-    let mut checked = 0;
-    for &(x, y, p, _) in &points {
-        let dx = (p.x - x_at).min(x_at + side - p.x);
-        if dx.abs() < 1.5 * texel {
-            continue;
-        }
-        let under = p.z > z0 && p.z < z0 + side && dx > 0.0;
-        let i = (y * SIZE.0 + x) as usize;
-        let lit = (f64::from(instant.radiance[i][0]) - ambient) / direct(p);
+    let map = engine.shadow_map(frame.slot, 0);
+    let query = |p: DVec3, time: f32| Query {
+        position: p.as_vec3().to_array(),
+        time,
+        normal: [0.0, 1.0, 0.0],
+        own: u32::MAX,
+    };
+    let queries: Vec<Query> = points.iter().map(|&(.., p, _)| query(p, -1.0)).collect();
+    let lit = probe(&host, map, &queries);
+    let mut worst_include = 0.0f64;
+    for (&(x, y, p, expected), &got) in points.iter().zip(&lit) {
+        let error = (f64::from(got) - expected).abs();
         assert!(
-            (lit - if under { 0.0 } else { 1.0 }).abs() < 1e-3,
-            "pixel ({x},{y}) at ({:.3}, {:.3}), t = 0.5: lit {lit}, under the square: {under}",
+            error <= tolerance,
+            "pixel ({x},{y}) at ({:.3}, {:.3}): ms_lit_fraction {got}, closed form {expected}",
             p.x,
             p.z
         );
-        checked += 1;
+        worst_include = worst_include.max(error);
     }
-    eprintln!("ms_visibility at t = 0.5: {checked} pixels match");
+    eprintln!("ms_lit_fraction in the host's probe vs the closed form: max {worst_include:.5}");
+    let x_at = start + 0.5 * travel;
+    let away: Vec<_> = (points.iter())
+        .map(|&(.., p, _)| (p, (p.x - x_at).min(x_at + side - p.x)))
+        .filter(|(_, dx)| dx.abs() >= 1.5 * texel)
+        .collect();
+    let queries: Vec<Query> = away.iter().map(|&(p, _)| query(p, 0.5)).collect();
+    let visible = probe(&host, map, &queries);
+    for (&(p, dx), &got) in away.iter().zip(&visible) {
+        let under = p.z > z0 && p.z < z0 + side && dx > 0.0;
+        assert_eq!(
+            got,
+            if under { 0.0 } else { 1.0 },
+            "({:.3}, {:.3}), t = 0.5: ms_visibility {got}, under the square: {under}",
+            p.x,
+            p.z
+        );
+    }
+    eprintln!("ms_visibility at t = 0.5: {} points match", away.len());
 
     // At texel centres the map holds exactly the intervals of the point itself (no half
     // texel of motion): there ms_lit_fraction equals the closed form to 1e-3, along a row of
@@ -290,9 +297,9 @@ fn comb_world(slats: usize) -> World {
         indices: MeshIndices::U16(indices),
         albedo: Vec3::splat(0.5),
         closed: false,
-        motion: Motion::Rigid(Box::new(move |f| {
+        transform: Box::new(move |f| {
             DMat4::from_translation(DVec3::new(start + travel * f, 1.0, 0.0))
-        })),
+        }),
     };
     world
 }
@@ -480,9 +487,9 @@ fn caster_world(casters: &[Caster]) -> World {
             indices: MeshIndices::U16(vec![0, 1, 2, 0, 2, 3]),
             albedo: Vec3::splat(0.5),
             closed: false,
-            motion: Motion::Rigid(Box::new(move |f| {
+            transform: Box::new(move |f| {
                 DMat4::from_translation(DVec3::new(x0 + travel * f, h0 + (h1 - h0) * f, Z0))
-            })),
+            }),
         });
     }
     World { meshes, ..world }

@@ -105,7 +105,8 @@ pub struct MaskInputs {
     /// A view of the host's depth image (depth aspect, sampled usage), `size` texels.
     pub depth: vk::ImageView,
     /// Its layout while the pass runs (`DEPTH_STENCIL_READ_ONLY_OPTIMAL`,
-    /// `DEPTH_READ_ONLY_OPTIMAL` or `SHADER_READ_ONLY_OPTIMAL`).
+    /// `DEPTH_READ_ONLY_OPTIMAL`, `SHADER_READ_ONLY_OPTIMAL` or synchronization2's
+    /// `READ_ONLY_OPTIMAL`, which the deferred example uses for every G-buffer image).
     pub depth_layout: vk::ImageLayout,
     /// The host's normal image, or `None` to rebuild normals from the depth neighbours.
     pub normals: Option<NormalImage>,
@@ -288,5 +289,64 @@ mod tests {
                 ..base
             }
         );
+    }
+
+    /// The host's images as the mask uses them, known before the frame is recorded (the
+    /// host's barrier into those layouts comes first): every input view sampled by compute
+    /// shaders in the layout the inputs give, the output written by compute shaders in
+    /// `GENERAL`, and nothing else.
+    #[test]
+    fn image_accesses_declare_each_view_in_its_layout_and_the_output_written() {
+        use crate::technique::{AccessData, Resource, ResourceUse};
+        let view = |n| vk::ImageView::from_raw(n);
+        let (read, depth_read) = (
+            vk::ImageLayout::READ_ONLY_OPTIMAL,
+            vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+        );
+        let inputs = MaskInputs::new(view(1), depth_read, view(2), (8, 8), Mat4::IDENTITY)
+            .with_motion(
+                MotionImage {
+                    view: view(4),
+                    layout: read,
+                },
+                1.0,
+            )
+            .with_ids(TriangleIdImage {
+                view: view(5),
+                layout: read,
+            });
+        let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
+        let uses = |view, layout, access, writes| {
+            let at = AccessData {
+                stages: compute,
+                access,
+            };
+            ResourceUse {
+                resource: Resource::ImageView { view, layout },
+                first: at,
+                last: at,
+                writes,
+            }
+        };
+        let sampled = vk::AccessFlags2::SHADER_SAMPLED_READ;
+        let mut expected = vec![
+            uses(view(1), depth_read, sampled, false),
+            uses(view(4), read, sampled, false),
+            uses(view(5), read, sampled, false),
+            uses(
+                view(2),
+                vk::ImageLayout::GENERAL,
+                vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                true,
+            ),
+        ];
+        let key = |u: &ResourceUse| match u.resource {
+            Resource::ImageView { view, .. } => view.as_raw(),
+            _ => u64::MAX,
+        };
+        let mut got = inputs.image_accesses().uses;
+        got.sort_by_key(key);
+        expected.sort_by_key(key);
+        assert_eq!(got, expected);
     }
 }

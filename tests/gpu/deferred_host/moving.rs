@@ -3,7 +3,7 @@
 //! forms for a receiver translating under a still caster (both light kinds), for one moving
 //! with or behind a moving caster, and the static answer where the receiver stands still.
 
-use super::deferred::{self, Light, Mesh, MeshIndices, Motion, Vertex, World};
+use super::deferred::{self, Light, Mesh, MeshIndices, Vertex, World};
 use super::{
     MOVING_PROBE_COMP, Query, SHADOW, SIDE, Shape, interval_frame, interval_world,
     lit_fraction_queries_along_texel_row, new_host, probe, run_probe, settings, square_world,
@@ -34,7 +34,7 @@ fn square_over_ground(light: Light, at: impl Fn(f64) -> DVec3 + 'static) -> Worl
                 indices: MeshIndices::U16(vec![0, 1, 2, 0, 2, 3]),
                 albedo: Vec3::splat(0.5),
                 closed: false,
-                motion: Motion::Rigid(Box::new(move |f| DMat4::from_translation(DVec3::Y + at(f)))),
+                transform: Box::new(move |f| DMat4::from_translation(DVec3::Y + at(f))),
             },
         ],
         ..world
@@ -302,7 +302,7 @@ fn a_receiver_leaving_the_spot_lights_view_is_lit_outside_it() {
             indices: MeshIndices::U16(vec![0, 1, 2, 0, 2, 3]),
             albedo: Vec3::splat(0.5),
             closed: false,
-            motion: Motion::Rigid(Box::new(|_| DMat4::from_translation(DVec3::Y))),
+            transform: Box::new(|_| DMat4::from_translation(DVec3::Y)),
         }],
         ..world
     };

@@ -53,15 +53,15 @@ fn lighting_pass_writes_into_a_host_image() {
         let mut bindings = output.bindings().unwrap();
         let target = LightingTarget::new(&ctx, size.0, size.1, 4, 16).unwrap();
         let map = TemporalShadowMap::new(&ctx, size.0, size.1, 1 << 16, 1 << 15).unwrap();
-        // Dropped after the image and the buffer (declared before them).
-        let allocator = deferred::new_allocator(&host).unwrap();
+        // The allocator goes with the image's and the buffer's last handle on it.
+        let memory = deferred::Memory::new(&host).unwrap();
         let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
+        let features = vk::FormatFeatureFlags::STORAGE_IMAGE | vk::FormatFeatureFlags::TRANSFER_SRC;
         let format = vk::Format::R32G32B32A32_SFLOAT;
-        let image = deferred::Image::new(&host, &allocator, (format, usage), size).unwrap();
+        let image = deferred::Image::new(&memory, format, (usage, features), size).unwrap();
         let pixels = (size.0 * size.1) as u64;
         let usage = vk::BufferUsageFlags::TRANSFER_DST;
-        let mut readback =
-            deferred::HostBuffer::new(&host, &allocator, pixels * 16, usage).unwrap();
+        let mut readback = deferred::HostBuffer::new(&memory, pixels * 16, usage).unwrap();
         let device = &host.device;
         host.record_and_wait(|cmd| {
             use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};

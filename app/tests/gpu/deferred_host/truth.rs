@@ -3,7 +3,7 @@
 //! of each G-buffer point moving with its triangle (`render_truth`), which shares no code with
 //! the shadow map, the mask or the host's G-buffer.
 
-use super::deferred::{self, Camera, Engine, Light, Mesh, MeshIndices, Motion, Vertex, World};
+use super::deferred::{self, Camera, Engine, Light, Mesh, MeshIndices, Vertex, World};
 use super::{SHADOW, SIZE, app_scene, new_host, settings};
 use glam::{DMat4, DVec3, Vec3};
 use motion_shadows_app::compare::mask_error;
@@ -23,7 +23,7 @@ fn sliding_box(name: &str, half: Vec3, at: impl Fn(f64) -> DVec3 + 'static) -> M
         indices: MeshIndices::U16(indices),
         albedo: Vec3::splat(0.7),
         closed: true,
-        motion: Motion::Rigid(Box::new(move |f| DMat4::from_translation(at(f)))),
+        transform: Box::new(move |f| DMat4::from_translation(at(f))),
     }
 }
 
@@ -71,7 +71,7 @@ fn sliding_platform() -> World {
                 indices: MeshIndices::U16(vec![0, 1, 2, 0, 2, 3]),
                 albedo: Vec3::splat(0.7),
                 closed: false,
-                motion: Motion::Rigid(Box::new(|_| DMat4::IDENTITY)),
+                transform: Box::new(|_| DMat4::IDENTITY),
             },
         ],
     }
@@ -159,10 +159,10 @@ fn tumbling_box() -> World {
                 indices: MeshIndices::U16(indices),
                 albedo: Vec3::splat(0.7),
                 closed: true,
-                motion: Motion::Rigid(Box::new(move |f| {
+                transform: Box::new(move |f| {
                     DMat4::from_translation(DVec3::new(0.0, 1.2, 0.0))
                         * DMat4::from_rotation_x(30f64.to_radians() * (f - start))
-                })),
+                }),
             },
         ],
     }

@@ -1,288 +1,201 @@
-//! Buffers and images in memory from the engine's allocator (gpu-allocator, which the
-//! library's context allocates from too), and the barriers around them.
+//! Buffers and images in memory from the engine's gpu-allocator, which the library's
+//! context allocates from too.
 
 use super::*;
-use motion_shadows::gpu_allocator::MemoryLocation;
-use motion_shadows::gpu_allocator::vulkan::{
-    Allocation, AllocationCreateDesc, AllocationScheme, Allocator, AllocatorCreateDesc,
-};
+use motion_shadows::gpu_allocator::{MemoryLocation, vulkan as alloc};
 use std::sync::{Arc, Mutex};
 
-/// The engine's allocator, shared with the library (`Context::from_raw_with_allocator`).
-pub type SharedAllocator = Arc<Mutex<Allocator>>;
-
-/// An allocator on `gpu`'s device, with device addresses on (the library reads the
-/// engine's vertex buffers by address). Dropped before the device.
-pub fn new_allocator(gpu: &Gpu) -> Result<SharedAllocator> {
-    Ok(Arc::new(Mutex::new(Allocator::new(
-        &AllocatorCreateDesc {
-            instance: gpu.instance.clone(),
-            device: gpu.device.clone(),
-            physical_device: gpu.physical,
-            debug_settings: Default::default(),
-            buffer_device_address: true,
-            allocation_sizes: Default::default(),
-        },
-    )?)))
+/// The engine's device and allocator (device addresses on: the library reads the engine's
+/// buffers by address), shared with the library (`Context::from_raw_with_allocator`).
+#[derive(Clone)]
+pub struct Memory {
+    pub gpu: Gpu,
+    pub allocator: Arc<Mutex<alloc::Allocator>>,
 }
 
-fn allocate(
-    allocator: &SharedAllocator,
-    requirements: vk::MemoryRequirements,
-    location: MemoryLocation,
-    linear: bool,
-) -> Result<Allocation> {
-    let mut allocator = allocator
-        .lock()
-        .map_err(|_| "the allocator's lock is poisoned")?;
-    Ok(allocator.allocate(&AllocationCreateDesc {
-        name: "engine",
-        requirements,
-        location,
-        linear,
-        allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-    })?)
-}
-
-fn free(allocator: &SharedAllocator, allocation: Option<Allocation>) {
-    if let (Some(allocation), Ok(mut allocator)) = (allocation, allocator.lock()) {
-        // A free that fails leaks the block until the allocator goes; nothing to do here.
-        let _ = allocator.free(allocation);
+impl Memory {
+    pub fn new(gpu: &Gpu) -> Result<Memory> {
+        let (instance, device, physical_device) = (&gpu.instance, &gpu.device, gpu.physical);
+        let (instance, device, buffer_device_address) = (instance.clone(), device.clone(), true);
+        let (debug_settings, allocation_sizes) = Default::default();
+        let desc = alloc::AllocatorCreateDesc {
+            instance,
+            device,
+            physical_device,
+            debug_settings,
+            buffer_device_address,
+            allocation_sizes,
+        };
+        let allocator = Arc::new(Mutex::new(alloc::Allocator::new(&desc)?));
+        Ok(Memory { gpu: gpu.clone(), allocator })
     }
 }
 
-/// A buffer in host-visible, coherent memory, mapped for its whole life: the engine's vertex,
-/// index, uniform and readback buffers. With `SHADER_DEVICE_ADDRESS` usage its device address
-/// is what the library's position and index streams point at.
+/// A buffer or an image with its memory; dropped (after the frames that use it), the
+/// handles go, then the memory. Null handles (what was not made) are ignored.
+struct Bound {
+    memory: Memory,
+    allocation: Option<alloc::Allocation>,
+    handles: (vk::Buffer, vk::Image, vk::ImageView),
+}
+
+impl Bound {
+    fn allocate(&mut self, requirements: vk::MemoryRequirements) -> Result<&alloc::Allocation> {
+        let host = self.handles.1 == vk::Image::null(); // buffers are mapped, images local
+        let location = if host { MemoryLocation::CpuToGpu } else { MemoryLocation::GpuOnly };
+        let scheme = alloc::AllocationScheme::GpuAllocatorManaged;
+        let desc = alloc::AllocationCreateDesc {
+            name: "engine",
+            requirements,
+            location,
+            linear: host,
+            allocation_scheme: scheme,
+        };
+        let mut allocator = self.memory.allocator.lock().map_err(|_| "a poisoned allocator")?;
+        Ok(self.allocation.insert(allocator.allocate(&desc)?))
+    }
+}
+
+impl Drop for Bound {
+    fn drop(&mut self) {
+        let (device, (buffer, image, view)) = (&self.memory.gpu.device, self.handles);
+        // SAFETY: the engine drops its buffers and images after the frames that use them;
+        // the view goes before its image, both before their memory.
+        unsafe {
+            device.destroy_image_view(view, None);
+            device.destroy_image(image, None);
+            device.destroy_buffer(buffer, None);
+        }
+        let allocation = self.allocation.take();
+        if let (Some(allocation), Ok(mut allocator)) = (allocation, self.memory.allocator.lock()) {
+            let _ = allocator.free(allocation); // a failed free leaks until the allocator goes
+        }
+    }
+}
+
+/// A buffer in host-visible, coherent memory, mapped for its whole life. With
+/// `SHADER_DEVICE_ADDRESS` usage, shaders and the library's streams read it by address.
 pub struct HostBuffer {
-    device: ash::Device,
-    allocator: SharedAllocator,
     pub buffer: vk::Buffer,
-    allocation: Option<Allocation>,
-    pub size: u64,
+    address: u64,
+    bound: Bound,
 }
 
 impl HostBuffer {
-    pub fn new(
-        gpu: &Gpu,
-        allocator: &SharedAllocator,
-        size: u64,
-        usage: vk::BufferUsageFlags,
-    ) -> Result<Self> {
-        let size = size.max(4);
-        let info = vk::BufferCreateInfo::default().size(size).usage(usage);
-        // SAFETY: `info` is a local; a buffer of the requested size and usage.
-        let buffer = unsafe { gpu.device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
-        let mut out = HostBuffer {
-            device: gpu.device.clone(),
-            allocator: allocator.clone(),
-            buffer,
-            allocation: None,
-            size,
+    pub fn new(memory: &Memory, size: u64, usage: vk::BufferUsageFlags) -> Result<Self> {
+        let mut bound = Bound { memory: memory.clone(), allocation: None, handles: <_>::default() };
+        let info = vk::BufferCreateInfo::default().size(size.max(4)).usage(usage);
+        let (d, by_address) = (&memory.gpu.device, vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS);
+        // SAFETY: `info` is a local; the memory is allocated for the buffer's requirements
+        // and bound once; the address is asked only with SHADER_DEVICE_ADDRESS usage, of an
+        // allocator with device addresses on. On an error `bound` destroys what was made.
+        let (buffer, address) = unsafe {
+            let buffer = d.create_buffer(&info, None)?;
+            bound.handles.0 = buffer;
+            let allocation = bound.allocate(d.get_buffer_memory_requirements(buffer))?;
+            d.bind_buffer_memory(buffer, allocation.memory(), allocation.offset())?;
+            let info = vk::BufferDeviceAddressInfo::default().buffer(buffer);
+            (buffer, usage.contains(by_address).then(|| d.get_buffer_device_address(&info)))
         };
-        // SAFETY: the buffer was just made on this device (Drop destroys it on an error).
-        let requirements = unsafe { gpu.device.get_buffer_memory_requirements(buffer) };
-        let allocation = allocate(allocator, requirements, MemoryLocation::CpuToGpu, true)?;
-        // SAFETY: the allocation was made for this buffer's requirements; bound once.
-        unsafe {
-            (gpu.device).bind_buffer_memory(buffer, allocation.memory(), allocation.offset())
-        }
-        .vk("vkBindBufferMemory")?;
-        out.allocation = Some(allocation);
-        Ok(out)
-    }
-
-    /// A buffer holding `data`.
-    pub fn with_data<T: Pod>(
-        gpu: &Gpu,
-        allocator: &SharedAllocator,
-        data: &[T],
-        usage: vk::BufferUsageFlags,
-    ) -> Result<Self> {
-        let mut buffer = Self::new(gpu, allocator, std::mem::size_of_val(data) as u64, usage)?;
-        buffer.write(0, data)?;
-        Ok(buffer)
+        Ok(HostBuffer { buffer, address: address.unwrap_or(0), bound })
     }
 
     fn mapped(&mut self) -> Result<&mut [u8]> {
-        (self.allocation.as_mut())
-            .and_then(|a| a.mapped_slice_mut())
-            .ok_or_else(|| "a host buffer that is not mapped".into())
+        let allocation = self.bound.allocation.as_mut();
+        Ok(allocation.and_then(|a| a.mapped_slice_mut()).ok_or("unmapped")?)
     }
 
-    /// Copies `data` to byte `offset`. Only while no pending submission reads the bytes: the
-    /// engine writes a frame slot's buffers after waiting for that slot's fence. Host-coherent
-    /// memory written before `vkQueueSubmit` is visible to the submitted work without a
-    /// barrier (the submission is a host memory dependency).
-    pub fn write<T: Pod>(&mut self, offset: u64, data: &[T]) -> Result<()> {
+    /// Copies `data` to the start, while no submission uses the buffer: written before
+    /// `vkQueueSubmit`, coherent memory is visible to the submission without a barrier.
+    pub fn write<T: Pod>(&mut self, data: &[T]) -> Result<()> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
-        let at = offset as usize..offset as usize + bytes.len();
-        let size = self.size;
-        (self.mapped()?.get_mut(at))
-            .ok_or_else(|| format!("writing {} bytes at {offset} into {size}", bytes.len()))?
-            .copy_from_slice(bytes);
+        self.mapped()?.get_mut(..bytes.len()).ok_or("past the end")?.copy_from_slice(bytes);
         Ok(())
     }
 
-    /// Reads `count` values from the start, after the GPU's writes were made available to
-    /// the host (a barrier to HOST_READ) and the submission's fence was waited on.
+    /// Reads `count` values from the start, after a barrier to HOST_READ and the fence.
     pub fn read<T: Pod>(&mut self, count: usize) -> Result<Vec<T>> {
-        let bytes = count * std::mem::size_of::<T>();
-        let size = self.size;
-        let mapped = (self.mapped()?.get(..bytes))
-            .ok_or_else(|| format!("reading {bytes} bytes from {size}"))?;
-        Ok(bytemuck::pod_collect_to_vec(mapped))
+        let bytes = self.mapped()?.get(..count * size_of::<T>()).ok_or("past the end")?;
+        Ok(bytemuck::pod_collect_to_vec(bytes))
     }
 
-    /// The buffer's device address (it must have SHADER_DEVICE_ADDRESS usage).
+    /// The device address (0 without SHADER_DEVICE_ADDRESS usage).
     pub fn address(&self) -> u64 {
-        let info = vk::BufferDeviceAddressInfo::default().buffer(self.buffer);
-        // SAFETY: every buffer the engine asks the address of was made with SHADER_DEVICE_ADDRESS
-        // usage, in memory of an allocator with device addresses on.
-        unsafe { self.device.get_buffer_device_address(&info) }
+        self.address
     }
 }
 
-impl Drop for HostBuffer {
-    fn drop(&mut self) {
-        // SAFETY: the engine drops its buffers after waiting for the frames that use them.
-        unsafe { self.device.destroy_buffer(self.buffer, None) };
-        free(&self.allocator, self.allocation.take());
-    }
-}
+/// Layout, stages and accesses: one side of an image barrier.
+pub type State = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
 
-/// A 2D image in device-local memory with one view.
+/// A 2D image in device-local memory with a view of all of it.
 pub struct Image {
-    device: ash::Device,
-    allocator: SharedAllocator,
     pub image: vk::Image,
-    allocation: Option<Allocation>,
     pub view: vk::ImageView,
-    pub format: vk::Format,
-    pub aspect: vk::ImageAspectFlags,
+    range: vk::ImageSubresourceRange,
+    _bound: Bound,
 }
 
 impl Image {
+    /// Errors if the device cannot use `format` with `features` (what `usage` needs).
     pub fn new(
-        gpu: &Gpu,
-        allocator: &SharedAllocator,
-        (format, usage): (vk::Format, vk::ImageUsageFlags),
-        (width, height): (u32, u32),
+        memory: &Memory,
+        format: vk::Format,
+        usage: Usage,
+        size: (u32, u32),
     ) -> Result<Self> {
-        let aspect = if format == DEPTH_FORMAT {
-            vk::ImageAspectFlags::DEPTH
-        } else {
-            vk::ImageAspectFlags::COLOR
-        };
-        let info = vk::ImageCreateInfo::default()
-            .image_type(vk::ImageType::TYPE_2D)
-            .format(format)
-            .extent(vk::Extent3D {
-                width,
-                height,
-                depth: 1,
-            })
-            .mip_levels(1)
-            .array_layers(1)
-            .samples(vk::SampleCountFlags::TYPE_1)
-            .usage(usage);
-        // SAFETY: Engine::new checked the device supports the attachment formats for these
-        // uses, and R32 storage formats are written by every device; `info` is a local.
-        let image = unsafe { gpu.device.create_image(&info, None) }.vk("vkCreateImage")?;
-        let mut out = Image {
-            device: gpu.device.clone(),
-            allocator: allocator.clone(),
-            image,
-            allocation: None,
-            view: vk::ImageView::null(),
-            format,
-            aspect,
-        };
-        // SAFETY: the image was just made on this device (Drop destroys it on an error).
-        let requirements = unsafe { gpu.device.get_image_memory_requirements(image) };
-        let allocation = allocate(allocator, requirements, MemoryLocation::GpuOnly, false)?;
-        let view = vk::ImageViewCreateInfo::default()
-            .image(image)
-            .view_type(vk::ImageViewType::TYPE_2D)
-            .format(format)
-            .subresource_range(range(aspect));
-        // SAFETY: the allocation was made for this image's requirements and is bound once; the
-        // view's format and aspect are the image's own.
+        let ((usage, features), (width, height)) = (usage, size);
+        let depth = format == vk::Format::D32_SFLOAT;
+        let aspect = if depth { vk::ImageAspectFlags::DEPTH } else { vk::ImageAspectFlags::COLOR };
+        let range = vk::ImageSubresourceRange::default().aspect_mask(aspect);
+        let range = range.level_count(1).layer_count(1);
+        let info = vk::ImageCreateInfo::default().image_type(vk::ImageType::TYPE_2D).format(format);
+        let info = info.extent(vk::Extent3D { width, height, depth: 1 }).mip_levels(1);
+        let info = info.array_layers(1).samples(vk::SampleCountFlags::TYPE_1).usage(usage);
+        let view = vk::ImageViewCreateInfo::default().view_type(vk::ImageViewType::TYPE_2D);
+        let view = view.format(format).subresource_range(range);
+        let mut bound = Bound { memory: memory.clone(), allocation: None, handles: <_>::default() };
+        let gpu = &memory.gpu;
+        // SAFETY: the physical device is the instance's and supports the format for `usage`
+        // (checked first); `info` is a local; the memory is allocated for the image's
+        // requirements and bound once; the view has the image's format and aspect. On an
+        // error `bound` destroys what was made.
         unsafe {
-            (gpu.device)
-                .bind_image_memory(image, allocation.memory(), allocation.offset())
-                .vk("vkBindImageMemory")?;
-            out.allocation = Some(allocation);
-            out.view = gpu
-                .device
-                .create_image_view(&view, None)
-                .vk("vkCreateImageView")?;
+            let properties =
+                gpu.instance.get_physical_device_format_properties(gpu.physical, format);
+            if !properties.optimal_tiling_features.contains(features) {
+                return Err(format!("{format:?} cannot be {usage:?} on this device").into());
+            }
+            let image = gpu.device.create_image(&info, None)?;
+            bound.handles.1 = image;
+            let allocation = bound.allocate(gpu.device.get_image_memory_requirements(image))?;
+            gpu.device.bind_image_memory(image, allocation.memory(), allocation.offset())?;
+            bound.handles.2 = gpu.device.create_image_view(&view.image(image), None)?;
         }
-        Ok(out)
+        Ok(Image { image: bound.handles.1, view: bound.handles.2, range, _bound: bound })
     }
 
-    /// A synchronization2 layout transition of the whole image.
-    pub fn barrier(
-        &self,
-        (old, src_stage, src_access): State,
-        (new, dst_stage, dst_access): State,
-    ) -> vk::ImageMemoryBarrier2<'static> {
-        vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(src_stage)
-            .src_access_mask(src_access)
-            .dst_stage_mask(dst_stage)
-            .dst_access_mask(dst_access)
-            .old_layout(old)
-            .new_layout(new)
-            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .image(self.image)
-            .subresource_range(range(self.aspect))
+    /// A layout transition of the whole image, with its memory dependency.
+    pub fn barrier(&self, from: State, to: State) -> vk::ImageMemoryBarrier2<'static> {
+        let barrier = vk::ImageMemoryBarrier2::default().image(self.image).old_layout(from.0);
+        let barrier = barrier.src_stage_mask(from.1).src_access_mask(from.2).new_layout(to.0);
+        let barrier = barrier.dst_stage_mask(to.1).dst_access_mask(to.2);
+        barrier.subresource_range(self.range)
     }
 }
 
-impl Drop for Image {
-    fn drop(&mut self) {
-        // SAFETY: the engine drops its images after waiting for the frames that use them; the
-        // view goes before its image (null ones of a failed `new` are ignored).
-        unsafe {
-            self.device.destroy_image_view(self.view, None);
-            self.device.destroy_image(self.image, None);
-        }
-        free(&self.allocator, self.allocation.take());
-    }
-}
+/// An image's usage and the format features it needs.
+pub type Usage = (vk::ImageUsageFlags, vk::FormatFeatureFlags);
 
-pub(super) fn range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
-    vk::ImageSubresourceRange {
-        aspect_mask: aspect,
-        level_count: 1,
-        layer_count: 1,
-        ..Default::default()
-    }
-}
-
+/// Records one `vkCmdPipelineBarrier2` of `images` and `memory` into `cmd`.
 pub fn pipeline_barrier(
     device: &ash::Device,
     cmd: vk::CommandBuffer,
     images: &[vk::ImageMemoryBarrier2],
     memory: &[vk::MemoryBarrier2],
 ) {
-    let dependency = vk::DependencyInfo::default()
-        .image_memory_barriers(images)
-        .memory_barriers(memory);
-    // SAFETY: every caller passes its slot's command buffer, recording outside any rendering, and
-    // barriers of its own images and buffers; `dependency` lives through the call.
-    unsafe { device.cmd_pipeline_barrier2(cmd, &dependency) };
-}
-
-/// Attaches the Vulkan call to an error code.
-pub(super) trait VkCheck<T> {
-    fn vk(self, call: &str) -> Result<T>;
-}
-
-impl<T> VkCheck<T> for std::result::Result<T, vk::Result> {
-    fn vk(self, call: &str) -> Result<T> {
-        self.map_err(|e| format!("{call}: {e}").into())
-    }
+    let dependency = vk::DependencyInfo::default().image_memory_barriers(images);
+    // SAFETY: every caller passes a command buffer it is recording, outside rendering, and
+    // barriers of its own images; `dependency` lives through the call.
+    unsafe { device.cmd_pipeline_barrier2(cmd, &dependency.memory_barriers(memory)) };
 }
