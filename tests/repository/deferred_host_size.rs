@@ -10,8 +10,9 @@ use std::path::{Path, PathBuf};
 
 const TARGET_LINES: usize = 800;
 const TARGET_UNSAFE_BLOCKS: usize = 20;
-/// 2026-12-07: 2,481 lines and 50 `unsafe` blocks before the rewrite, 1,269 and 19 after.
-const LINES_TODAY: usize = 1_269;
+/// 2026-12-07: 2,481 lines and 50 `unsafe` blocks before the rewrite, 1,666 and 19 after
+/// (formatted as the rest of the workspace).
+const LINES_TODAY: usize = 1_666;
 
 /// Every `.rs` file under `dir` (its `build.rs` included), skipping build output.
 fn rust_files(dir: &Path) -> Vec<PathBuf> {

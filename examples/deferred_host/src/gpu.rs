@@ -50,9 +50,18 @@ impl Gpu {
                 Ok::<_, Error>((physical, family, device, queue, requirements.features))
             };
             let made = DeviceRequirements::choose_device(&instance).map_err(Error::from);
-            made.and_then(make).inspect_err(|_| instance.destroy_instance(None))?
+            made.and_then(make)
+                .inspect_err(|_| instance.destroy_instance(None))?
         };
-        Ok(Gpu { entry, instance, physical, device, queue_family, queue, enabled })
+        Ok(Gpu {
+            entry,
+            instance,
+            physical,
+            device,
+            queue_family,
+            queue,
+            enabled,
+        })
     }
 
     /// Destroys the device and the instance.

@@ -17,23 +17,41 @@ fn main() -> deferred::Result<()> {
     let (world, width, height) = (deferred::World::demo(), 320, 240);
     // The still meshes never change in place: their static layers are kept.
     let (shadow_size, keep_static_layer, receivers_move) = ((512, 512), true, true);
-    let settings =
-        deferred::Settings { width, height, shadow_size, keep_static_layer, receivers_move };
+    let settings = deferred::Settings {
+        width,
+        height,
+        shadow_size,
+        keep_static_layer,
+        receivers_move,
+    };
     let frame = {
         let mut engine = deferred::Engine::new(&gpu, &world, settings)?;
-        engine.render(&world, 0..4, &|f| f == 3)?.pop().ok_or("frame 3 was not kept")?
+        engine
+            .render(&world, 0..4, &|f| f == 3)?
+            .pop()
+            .ok_or("frame 3 was not kept")?
     }; // The engine waits for its frames and frees everything (the library's objects too).
     for (light, counts) in frame.counters.iter().enumerate() {
-        println!("light {light}: N_f = {}, N_r = {}", counts.node_count, counts.range_count);
+        println!(
+            "light {light}: N_f = {}, N_r = {}",
+            counts.node_count, counts.range_count
+        );
     }
     // Linear radiance to sRGB.
     let encode = |v: f32| {
         let v = v.clamp(0.0, 1.0);
-        let s = if v <= 0.003_130_8 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 };
+        let s = if v <= 0.003_130_8 {
+            12.92 * v
+        } else {
+            1.055 * v.powf(1.0 / 2.4) - 0.055
+        };
         (s * 255.0).round() as u8
     };
-    let rgb: Vec<u8> =
-        frame.radiance.iter().flat_map(|p| p[..3].iter().map(|&v| encode(v))).collect();
+    let rgb: Vec<u8> = frame
+        .radiance
+        .iter()
+        .flat_map(|p| p[..3].iter().map(|&v| encode(v)))
+        .collect();
     std::fs::create_dir_all("out")?;
     let path = "out/deferred_host.png";
     image::save_buffer(path, &rgb, width, height, image::ExtendedColorType::Rgb8)?;

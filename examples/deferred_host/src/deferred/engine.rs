@@ -111,9 +111,18 @@ impl<'h> Engine<'h> {
             });
             // The library reads 16-bit indices as whole words: each run starts 4-byte aligned.
             index_bytes.resize(index_bytes.len().next_multiple_of(4), 0);
-            let positions = mesh.vertices.iter().map(|v| Vec3::from(v.position)).collect();
+            let positions = mesh
+                .vertices
+                .iter()
+                .map(|v| Vec3::from(v.position))
+                .collect();
             let first_triangle_id = next_id;
-            meshes.push(MeshSlot { vertex_offset, index_offset, first_triangle_id, positions });
+            meshes.push(MeshSlot {
+                vertex_offset,
+                index_offset,
+                first_triangle_id,
+                positions,
+            });
             next_id += (mesh.indices.count() / 3) as u32;
             vertices.extend_from_slice(bytemuck::cast_slice(&mesh.vertices));
         }
@@ -124,14 +133,26 @@ impl<'h> Engine<'h> {
             let mut buffer = HostBuffer::new(&memory, bytes.len() as u64, usage)?;
             buffer.write(bytes).map(|()| buffer)
         };
-        let (vertices, indices) =
-            (upload(&vertices, U::empty())?, upload(&index_bytes, U::INDEX_BUFFER)?);
+        let (vertices, indices) = (
+            upload(&vertices, U::empty())?,
+            upload(&index_bytes, U::INDEX_BUFFER)?,
+        );
         let pipelines = Pipelines::new(&gpu.device, gpu.queue_family)?;
         let slot = |_| new_slot(&memory, &pipelines, &settings, lights);
         let slots = (0..FRAMES_IN_FLIGHT).map(slot).collect::<Result<_>>()?;
         let geometry = (vertices, indices, meshes);
         let (shadows, submissions, _memory) = (Vec::new(), 0, memory);
-        Ok(Engine { gpu, settings, pipelines, geometry, slots, shadows, submissions, ctx, _memory })
+        Ok(Engine {
+            gpu,
+            settings,
+            pipelines,
+            geometry,
+            slots,
+            shadows,
+            submissions,
+            ctx,
+            _memory,
+        })
     }
 
     /// The library's context (device information, validation messages).
@@ -155,7 +176,12 @@ fn new_slot(memory: &Memory, p: &Pipelines, settings: &Settings, lights: usize) 
     let size = (settings.width, settings.height);
     use vk::{BufferUsageFlags as B, FormatFeatureFlags as F, ImageUsageFlags as U};
     let image = |format, (usage, feature): Usage| {
-        Image::new(memory, format, (usage | U::SAMPLED, feature | F::SAMPLED_IMAGE), size)
+        Image::new(
+            memory,
+            format,
+            (usage | U::SAMPLED, feature | F::SAMPLED_IMAGE),
+            size,
+        )
     };
     let depth = (U::DEPTH_STENCIL_ATTACHMENT, F::DEPTH_STENCIL_ATTACHMENT);
     let uses = [depth, (U::COLOR_ATTACHMENT, F::COLOR_ATTACHMENT)];
@@ -170,10 +196,18 @@ fn new_slot(memory: &Memory, p: &Pipelines, settings: &Settings, lights: usize) 
     let output = HostBuffer::new(memory, pixels * (16 + 4 * lights as u64), usage)?;
     // Depth, normal, albedo, mask 0 and mask 1 (light 0's again with one light).
     let (read, general) = (vk::ImageLayout::READ_ONLY_OPTIMAL, vk::ImageLayout::GENERAL);
-    let images = [(&gbuffer[0], read), (&gbuffer[1], read), (&gbuffer[2], read)];
-    let images = images.into_iter().chain([(&masks[0], general), (&masks[lights - 1], general)]);
+    let images = [
+        (&gbuffer[0], read),
+        (&gbuffer[1], read),
+        (&gbuffer[2], read),
+    ];
+    let images = images
+        .into_iter()
+        .chain([(&masks[0], general), (&masks[lights - 1], general)]);
     let info = |(image, layout): (&Image, _)| {
-        [vk::DescriptorImageInfo::default().image_view(image.view).image_layout(layout)]
+        [vk::DescriptorImageInfo::default()
+            .image_view(image.view)
+            .image_layout(layout)]
     };
     let infos: Vec<_> = images.map(info).collect();
     let alloc = vk::CommandBufferAllocateInfo::default().command_buffer_count(1);
@@ -189,7 +223,9 @@ fn new_slot(memory: &Memory, p: &Pipelines, settings: &Settings, lights: usize) 
         let sampled = vk::DescriptorType::SAMPLED_IMAGE;
         let writes: Vec<_> = (infos.iter().enumerate())
             .map(|(binding, info)| {
-                let write = vk::WriteDescriptorSet::default().dst_set(set).image_info(info);
+                let write = vk::WriteDescriptorSet::default()
+                    .dst_set(set)
+                    .image_info(info);
                 write.dst_binding(binding as u32).descriptor_type(sampled)
             })
             .collect();

@@ -29,11 +29,15 @@ impl Engine<'_> {
     /// Waits for the slot's frame (if any), checks its shadows, and reads it back if kept.
     fn retire(&mut self, slot: usize, keep: Keep) -> Result<Option<FrameOutput>> {
         let s = &mut self.slots[slot];
-        let Some(frame) = s.pending.take() else { return Ok(None) };
+        let Some(frame) = s.pending.take() else {
+            return Ok(None);
+        };
         // SAFETY: the fence was submitted with the slot's frame; once it signalled, that
         // submission and every earlier one completed: what the library dropped may go.
         unsafe {
-            self.gpu.device.wait_for_fences(&[s.fence], true, u64::MAX)?;
+            self.gpu
+                .device
+                .wait_for_fences(&[s.fence], true, u64::MAX)?;
             self.ctx.collect(s.submission);
         }
         for (light, (_, shadow)) in self.shadows.iter_mut().enumerate() {
@@ -49,15 +53,30 @@ impl Engine<'_> {
             let (node_count, range_count, ranges_direct) =
                 (c.node_count, c.range_count, c.ranges_direct);
             let range_capacity = c.range_capacity;
-            counters.push(MapCounts { node_count, range_count, range_capacity, ranges_direct });
+            counters.push(MapCounts {
+                node_count,
+                range_count,
+                range_capacity,
+                ranges_direct,
+            });
         }
         let pixels = (self.settings.width * self.settings.height) as usize;
         let values: Vec<f32> = s.output.read(pixels * (4 + s.masks.len()))?;
         let (radiance, masks) = values.split_at(4 * pixels);
-        let radiance = radiance.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect();
+        let radiance = radiance
+            .chunks_exact(4)
+            .map(|p| [p[0], p[1], p[2], p[3]])
+            .collect();
         let masks = masks.chunks_exact(pixels).map(<[f32]>::to_vec).collect();
         let static_layer_drawn = s.layer_drawn.clone();
-        Ok(Some(FrameOutput { frame, slot, counters, radiance, masks, static_layer_drawn }))
+        Ok(Some(FrameOutput {
+            frame,
+            slot,
+            counters,
+            radiance,
+            masks,
+            static_layer_drawn,
+        }))
     }
 
     /// Writes the idle slot's constants, records frame `frame` and submits it.
@@ -66,18 +85,41 @@ impl Engine<'_> {
         self.submissions += 1;
         self.ctx.begin_frame(self.submissions);
         self.slots[slot].submission = self.submissions;
-        let Settings { width, height, shadow_size: map_size, keep_static_layer: keep, .. } =
-            self.settings;
-        let static_layer = if keep { StaticLayer::Kept } else { StaticLayer::Redrawn };
+        let Settings {
+            width,
+            height,
+            shadow_size: map_size,
+            keep_static_layer: keep,
+            ..
+        } = self.settings;
+        let static_layer = if keep {
+            StaticLayer::Kept
+        } else {
+            StaticLayer::Redrawn
+        };
         // The mask on; the engine's shading reads each map's header (compute).
         let (frames_in_flight, lookup_stages) = (FRAMES_IN_FLIGHT as u32, S::COMPUTE_SHADER);
         for (at, light) in world.lights.iter().enumerate() {
-            if self.shadows.get(at).is_none_or(|(made_for, _)| made_for != light) {
+            if self
+                .shadows
+                .get(at)
+                .is_none_or(|(made_for, _)| made_for != light)
+            {
                 let new = ShadowSettings::new(light.engine_light());
-                let settings = ShadowSettings { map_size, static_layer, mask: true, ..new };
-                let settings = ShadowSettings { frames_in_flight, lookup_stages, ..settings };
+                let settings = ShadowSettings {
+                    map_size,
+                    static_layer,
+                    mask: true,
+                    ..new
+                };
+                let settings = ShadowSettings {
+                    frames_in_flight,
+                    lookup_stages,
+                    ..settings
+                };
                 self.shadows.truncate(at);
-                self.shadows.push((*light, LightShadow::new(&self.ctx, settings)?));
+                self.shadows
+                    .push((*light, LightShadow::new(&self.ctx, settings)?));
             }
         }
         let view_proj = world.camera.view_proj(width as f32 / height as f32);
@@ -85,7 +127,13 @@ impl Engine<'_> {
         let (eye, ambient) = (world.camera.eye.extend(1.0), Vec4::splat(world.ambient));
         let inv_view_proj = view_proj.inverse();
         // The slot is idle (retired), so the CPU may overwrite what its last frame read.
-        let constants = FrameConstants { view_proj, inv_view_proj, eye, info, ambient };
+        let constants = FrameConstants {
+            view_proj,
+            inv_view_proj,
+            eye,
+            info,
+            ambient,
+        };
         self.slots[slot].constants.write(&[constants])?;
         let (cmd, fence, gpu) = (self.slots[slot].cmd, self.slots[slot].fence, self.gpu);
         let begin = vk::CommandBufferBeginInfo::default();

@@ -53,21 +53,48 @@ pub(super) struct Pipelines {
 
 impl Pipelines {
     pub(super) fn new(device: &ash::Device, queue_family: u32) -> Result<Self> {
-        let mut p = Pipelines { device: Some(device.clone()), ..Default::default() };
+        let mut p = Pipelines {
+            device: Some(device.clone()),
+            ..Default::default()
+        };
         use {shaderc::ShaderKind as K, vk::ShaderStageFlags as Stage};
         let spirv = [
-            compile("gbuffer.vert", include_str!("../../glsl/gbuffer.vert"), K::Vertex)?,
-            compile("gbuffer.frag", include_str!("../../glsl/gbuffer.frag"), K::Fragment)?,
-            compile("shade.comp", include_str!("../../glsl/shade.comp"), K::Compute)?,
+            compile(
+                "gbuffer.vert",
+                include_str!("../../glsl/gbuffer.vert"),
+                K::Vertex,
+            )?,
+            compile(
+                "gbuffer.frag",
+                include_str!("../../glsl/gbuffer.frag"),
+                K::Fragment,
+            )?,
+            compile(
+                "shade.comp",
+                include_str!("../../glsl/shade.comp"),
+                K::Compute,
+            )?,
         ];
         let binding = vk::DescriptorSetLayoutBinding::default().descriptor_count(1);
         let binding = binding.descriptor_type(vk::DescriptorType::SAMPLED_IMAGE);
         let bindings = [0, 1, 2, 3, 4].map(|b| binding.binding(b).stage_flags(Stage::COMPUTE));
         let (ty, n) = (vk::DescriptorType::SAMPLED_IMAGE, FRAMES_IN_FLIGHT as u32);
-        let sizes = [vk::DescriptorPoolSize { ty, descriptor_count: 5 * n }];
+        let sizes = [vk::DescriptorPoolSize {
+            ty,
+            descriptor_count: 5 * n,
+        }];
         let draw = Stage::VERTEX | Stage::FRAGMENT;
-        let push = |stage_flags, size| [vk::PushConstantRange { stage_flags, offset: 0, size }];
-        let pushes = [push(draw, size_of::<DrawConstants>() as u32), push(Stage::COMPUTE, 40)];
+        let push = |stage_flags, size| {
+            [vk::PushConstantRange {
+                stage_flags,
+                offset: 0,
+                size,
+            }]
+        };
+        let pushes = [
+            push(draw, size_of::<DrawConstants>() as u32),
+            push(Stage::COMPUTE, 40),
+        ];
         let vertices = vk::PipelineVertexInputStateCreateInfo::default(); // pulled by address
         let triangles = vk::PrimitiveTopology::TRIANGLE_LIST;
         let assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(triangles);
@@ -79,7 +106,9 @@ impl Pipelines {
         let multisample = vk::PipelineMultisampleStateCreateInfo::default();
         let multisample = multisample.rasterization_samples(samples);
         let depth = vk::PipelineDepthStencilStateCreateInfo::default().depth_test_enable(true);
-        let depth = depth.depth_write_enable(true).depth_compare_op(vk::CompareOp::LESS);
+        let depth = depth
+            .depth_write_enable(true)
+            .depth_compare_op(vk::CompareOp::LESS);
         let rgba = vk::ColorComponentFlags::RGBA;
         let blend = [vk::PipelineColorBlendAttachmentState::default().color_write_mask(rgba); 4];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend);
@@ -111,7 +140,9 @@ impl Pipelines {
                 p.command_pool = device.create_command_pool(&pool, None)?;
                 let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
                 p.set_layout = device.create_descriptor_set_layout(&info, None)?;
-                let info = vk::DescriptorPoolCreateInfo::default().max_sets(n).pool_sizes(&sizes);
+                let info = vk::DescriptorPoolCreateInfo::default()
+                    .max_sets(n)
+                    .pool_sizes(&sizes);
                 p.descriptor_pool = device.create_descriptor_pool(&info, None)?;
                 let sets = [[].as_slice(), &[p.set_layout]];
                 for ((layout, sets), push) in p.layouts.iter_mut().zip(sets).zip(&pushes) {
@@ -120,16 +151,23 @@ impl Pipelines {
                         device.create_pipeline_layout(&info.push_constant_ranges(push), None)?;
                 }
                 let info = vk::GraphicsPipelineCreateInfo::default().stages(&stages);
-                let info = info.vertex_input_state(&vertices).input_assembly_state(&assembly);
+                let info = info
+                    .vertex_input_state(&vertices)
+                    .input_assembly_state(&assembly);
                 let info = info.viewport_state(&viewport).rasterization_state(&raster);
-                let info = info.multisample_state(&multisample).depth_stencil_state(&depth);
+                let info = info
+                    .multisample_state(&multisample)
+                    .depth_stencil_state(&depth);
                 let info = info.color_blend_state(&blend).dynamic_state(&dynamic);
                 let info = [info.layout(p.layouts[0]).push_next(&mut formats)];
-                p.gbuffer =
-                    device.create_graphics_pipelines(cache, &info, None).map_err(|e| e.1)?[0];
+                p.gbuffer = device
+                    .create_graphics_pipelines(cache, &info, None)
+                    .map_err(|e| e.1)?[0];
                 let info = vk::ComputePipelineCreateInfo::default().layout(p.layouts[1]);
                 let info = [info.stage(stage(Stage::COMPUTE, comp?))];
-                p.shade = device.create_compute_pipelines(cache, &info, None).map_err(|e| e.1)?[0];
+                p.shade = device
+                    .create_compute_pipelines(cache, &info, None)
+                    .map_err(|e| e.1)?[0];
                 Ok(())
             })();
             for module in modules.into_iter().flatten() {
@@ -163,15 +201,24 @@ impl Drop for Pipelines {
 /// and the engine's own `frame.glsl`.
 fn compile(name: &str, source: &str, kind: shaderc::ShaderKind) -> Result<Vec<u32>> {
     let mut options = shaderc::CompileOptions::new()?;
-    options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_2 as u32);
+    options.set_target_env(
+        shaderc::TargetEnv::Vulkan,
+        shaderc::EnvVersion::Vulkan1_2 as u32,
+    );
     options.set_include_callback(|requested, _, _, _| {
         let content = match requested {
             "motion_shadows.glsl" => GLSL_INCLUDE,
             "frame.glsl" => include_str!("../../glsl/frame.glsl"),
             _ => return Err(format!("no header {requested}")),
         };
-        Ok(shaderc::ResolvedInclude { resolved_name: requested.into(), content: content.into() })
+        Ok(shaderc::ResolvedInclude {
+            resolved_name: requested.into(),
+            content: content.into(),
+        })
     });
     let compiler = shaderc::Compiler::new()?;
-    Ok(compiler.compile_into_spirv(source, kind, name, "main", Some(&options))?.as_binary().into())
+    Ok(compiler
+        .compile_into_spirv(source, kind, name, "main", Some(&options))?
+        .as_binary()
+        .into())
 }

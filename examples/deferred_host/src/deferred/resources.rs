@@ -27,7 +27,10 @@ impl Memory {
             allocation_sizes,
         };
         let allocator = Arc::new(Mutex::new(alloc::Allocator::new(&desc)?));
-        Ok(Memory { gpu: gpu.clone(), allocator })
+        Ok(Memory {
+            gpu: gpu.clone(),
+            allocator,
+        })
     }
 }
 
@@ -42,7 +45,11 @@ struct Bound {
 impl Bound {
     fn allocate(&mut self, requirements: vk::MemoryRequirements) -> Result<&alloc::Allocation> {
         let host = self.handles.1 == vk::Image::null(); // buffers are mapped, images local
-        let location = if host { MemoryLocation::CpuToGpu } else { MemoryLocation::GpuOnly };
+        let location = if host {
+            MemoryLocation::CpuToGpu
+        } else {
+            MemoryLocation::GpuOnly
+        };
         let scheme = alloc::AllocationScheme::GpuAllocatorManaged;
         let desc = alloc::AllocationCreateDesc {
             name: "engine",
@@ -51,7 +58,11 @@ impl Bound {
             linear: host,
             allocation_scheme: scheme,
         };
-        let mut allocator = self.memory.allocator.lock().map_err(|_| "a poisoned allocator")?;
+        let mut allocator = self
+            .memory
+            .allocator
+            .lock()
+            .map_err(|_| "a poisoned allocator")?;
         Ok(self.allocation.insert(allocator.allocate(&desc)?))
     }
 }
@@ -83,9 +94,18 @@ pub struct HostBuffer {
 
 impl HostBuffer {
     pub fn new(memory: &Memory, size: u64, usage: vk::BufferUsageFlags) -> Result<Self> {
-        let mut bound = Bound { memory: memory.clone(), allocation: None, handles: <_>::default() };
-        let info = vk::BufferCreateInfo::default().size(size.max(4)).usage(usage);
-        let (d, by_address) = (&memory.gpu.device, vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS);
+        let mut bound = Bound {
+            memory: memory.clone(),
+            allocation: None,
+            handles: <_>::default(),
+        };
+        let info = vk::BufferCreateInfo::default()
+            .size(size.max(4))
+            .usage(usage);
+        let (d, by_address) = (
+            &memory.gpu.device,
+            vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS,
+        );
         // SAFETY: `info` is a local; the memory is allocated for the buffer's requirements
         // and bound once; the address is asked only with SHADER_DEVICE_ADDRESS usage, of an
         // allocator with device addresses on. On an error `bound` destroys what was made.
@@ -95,27 +115,44 @@ impl HostBuffer {
             let allocation = bound.allocate(d.get_buffer_memory_requirements(buffer))?;
             d.bind_buffer_memory(buffer, allocation.memory(), allocation.offset())?;
             let info = vk::BufferDeviceAddressInfo::default().buffer(buffer);
-            (buffer, usage.contains(by_address).then(|| d.get_buffer_device_address(&info)))
+            (
+                buffer,
+                usage
+                    .contains(by_address)
+                    .then(|| d.get_buffer_device_address(&info)),
+            )
         };
-        Ok(HostBuffer { buffer, address: address.unwrap_or(0), bound })
+        Ok(HostBuffer {
+            buffer,
+            address: address.unwrap_or(0),
+            bound,
+        })
     }
 
     fn mapped(&mut self) -> Result<&mut [u8]> {
         let allocation = self.bound.allocation.as_mut();
-        Ok(allocation.and_then(|a| a.mapped_slice_mut()).ok_or("unmapped")?)
+        Ok(allocation
+            .and_then(|a| a.mapped_slice_mut())
+            .ok_or("unmapped")?)
     }
 
     /// Copies `data` to the start, while no submission uses the buffer: written before
     /// `vkQueueSubmit`, coherent memory is visible to the submission without a barrier.
     pub fn write<T: Pod>(&mut self, data: &[T]) -> Result<()> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
-        self.mapped()?.get_mut(..bytes.len()).ok_or("past the end")?.copy_from_slice(bytes);
+        self.mapped()?
+            .get_mut(..bytes.len())
+            .ok_or("past the end")?
+            .copy_from_slice(bytes);
         Ok(())
     }
 
     /// Reads `count` values from the start, after a barrier to HOST_READ and the fence.
     pub fn read<T: Pod>(&mut self, count: usize) -> Result<Vec<T>> {
-        let bytes = self.mapped()?.get(..count * size_of::<T>()).ok_or("past the end")?;
+        let bytes = self
+            .mapped()?
+            .get(..count * size_of::<T>())
+            .ok_or("past the end")?;
         Ok(bytemuck::pod_collect_to_vec(bytes))
     }
 
@@ -146,39 +183,70 @@ impl Image {
     ) -> Result<Self> {
         let ((usage, features), (width, height)) = (usage, size);
         let depth = format == vk::Format::D32_SFLOAT;
-        let aspect = if depth { vk::ImageAspectFlags::DEPTH } else { vk::ImageAspectFlags::COLOR };
+        let aspect = if depth {
+            vk::ImageAspectFlags::DEPTH
+        } else {
+            vk::ImageAspectFlags::COLOR
+        };
         let range = vk::ImageSubresourceRange::default().aspect_mask(aspect);
         let range = range.level_count(1).layer_count(1);
-        let info = vk::ImageCreateInfo::default().image_type(vk::ImageType::TYPE_2D).format(format);
-        let info = info.extent(vk::Extent3D { width, height, depth: 1 }).mip_levels(1);
-        let info = info.array_layers(1).samples(vk::SampleCountFlags::TYPE_1).usage(usage);
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(format);
+        let info = info
+            .extent(vk::Extent3D {
+                width,
+                height,
+                depth: 1,
+            })
+            .mip_levels(1);
+        let info = info
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .usage(usage);
         let view = vk::ImageViewCreateInfo::default().view_type(vk::ImageViewType::TYPE_2D);
         let view = view.format(format).subresource_range(range);
-        let mut bound = Bound { memory: memory.clone(), allocation: None, handles: <_>::default() };
+        let mut bound = Bound {
+            memory: memory.clone(),
+            allocation: None,
+            handles: <_>::default(),
+        };
         let gpu = &memory.gpu;
         // SAFETY: the physical device is the instance's and supports the format for `usage`
         // (checked first); `info` is a local; the memory is allocated for the image's
         // requirements and bound once; the view has the image's format and aspect. On an
         // error `bound` destroys what was made.
         unsafe {
-            let properties =
-                gpu.instance.get_physical_device_format_properties(gpu.physical, format);
+            let properties = gpu
+                .instance
+                .get_physical_device_format_properties(gpu.physical, format);
             if !properties.optimal_tiling_features.contains(features) {
                 return Err(format!("{format:?} cannot be {usage:?} on this device").into());
             }
             let image = gpu.device.create_image(&info, None)?;
             bound.handles.1 = image;
             let allocation = bound.allocate(gpu.device.get_image_memory_requirements(image))?;
-            gpu.device.bind_image_memory(image, allocation.memory(), allocation.offset())?;
+            gpu.device
+                .bind_image_memory(image, allocation.memory(), allocation.offset())?;
             bound.handles.2 = gpu.device.create_image_view(&view.image(image), None)?;
         }
-        Ok(Image { image: bound.handles.1, view: bound.handles.2, range, _bound: bound })
+        Ok(Image {
+            image: bound.handles.1,
+            view: bound.handles.2,
+            range,
+            _bound: bound,
+        })
     }
 
     /// A layout transition of the whole image, with its memory dependency.
     pub fn barrier(&self, from: State, to: State) -> vk::ImageMemoryBarrier2<'static> {
-        let barrier = vk::ImageMemoryBarrier2::default().image(self.image).old_layout(from.0);
-        let barrier = barrier.src_stage_mask(from.1).src_access_mask(from.2).new_layout(to.0);
+        let barrier = vk::ImageMemoryBarrier2::default()
+            .image(self.image)
+            .old_layout(from.0);
+        let barrier = barrier
+            .src_stage_mask(from.1)
+            .src_access_mask(from.2)
+            .new_layout(to.0);
         let barrier = barrier.dst_stage_mask(to.1).dst_access_mask(to.2);
         barrier.subresource_range(self.range)
     }

@@ -110,7 +110,10 @@ impl Light {
                 far,
             } => {
                 let light = motion_shadows::Light::directional(direction, center, half_extent);
-                light.distance(distance).intensity(irradiance).depth_range(near, far)
+                light
+                    .distance(distance)
+                    .intensity(irradiance)
+                    .depth_range(near, far)
             }
         }
     }
@@ -130,11 +133,21 @@ pub fn cuboid(half: Vec3) -> (Vec<Vertex>, Vec<u16>) {
     let (mut vertices, mut indices) = (Vec::new(), Vec::new());
     // (normal, u, v) with u x v = normal.
     let (x, y, z) = (Vec3::X, Vec3::Y, Vec3::Z);
-    let faces = [(x, -z, y), (-x, z, y), (y, x, -z), (-y, x, z), (z, x, y), (-z, -x, y)];
+    let faces = [
+        (x, -z, y),
+        (-x, z, y),
+        (y, x, -z),
+        (-y, x, z),
+        (z, x, y),
+        (-z, -x, y),
+    ];
     for (n, u, v) in faces {
         let (base, c, u, v) = (vertices.len() as u16, n * half, u * half, v * half);
         for p in [c - u - v, c + u - v, c + u + v, c - u + v] {
-            vertices.push(Vertex { position: p.to_array(), normal: n.to_array() });
+            vertices.push(Vertex {
+                position: p.to_array(),
+                normal: n.to_array(),
+            });
         }
         indices.extend([0, 1, 2, 0, 2, 3].map(|i| base + i));
     }
@@ -158,12 +171,28 @@ pub fn ground_mesh() -> Mesh {
 /// A flat grid in the xz plane facing +y: `cells` x `cells` quads over [-half, half]^2.
 pub fn ground_grid(half: f32, cells: u32) -> (Vec<Vertex>, Vec<u32>) {
     let (n, step, normal) = (cells + 1, 2.0 * half / cells as f32, [0.0, 1.0, 0.0]);
-    let at = |i: u32| [-half + (i % n) as f32 * step, 0.0, -half + (i / n) as f32 * step];
-    let vertices = (0..n * n).map(|i| Vertex { position: at(i), normal }).collect();
+    let at = |i: u32| {
+        [
+            -half + (i % n) as f32 * step,
+            0.0,
+            -half + (i / n) as f32 * step,
+        ]
+    };
+    let vertices = (0..n * n)
+        .map(|i| Vertex {
+            position: at(i),
+            normal,
+        })
+        .collect();
     // a = (x0, z0), b = a + n = (x0, z1), c = d + n = (x1, z1), d = (x1, z0): (a, b, c) and
     // (a, c, d) are counter-clockwise seen from +y.
     let cells = (0..cells).flat_map(|row| (0..cells).map(move |col| row * n + col));
-    (vertices, cells.flat_map(|a| [a, a + n, a + 1 + n, a, a + 1 + n, a + 1]).collect())
+    (
+        vertices,
+        cells
+            .flat_map(|a| [a, a + n, a + 1 + n, a, a + 1 + n, a + 1])
+            .collect(),
+    )
 }
 
 impl World {
@@ -173,27 +202,69 @@ impl World {
         let mesh = |name: &str, half, albedo, transform: Transform| {
             let (vertices, indices) = cuboid(half);
             let (name, indices) = (name.into(), MeshIndices::U16(indices));
-            Mesh { name, vertices, indices, albedo, closed: true, transform }
+            Mesh {
+                name,
+                vertices,
+                indices,
+                albedo,
+                closed: true,
+                transform,
+            }
         };
         let at = |x, y, z| DMat4::from_translation(glam::DVec3::new(x, y, z));
         let flying =
             Box::new(move |f| at(1.2 * f - 3.0, 1.5, 0.6) * DMat4::from_rotation_y(0.35 * f));
         let (eye, target, up) = (Vec3::new(0.0, 7.5, 8.5), Vec3::new(0.2, 0.0, -0.6), Vec3::Y);
-        let camera = Camera { eye, target, up, fov_y_deg: 45.0, near: 0.1, far: 50.0 };
+        let camera = Camera {
+            eye,
+            target,
+            up,
+            fov_y_deg: 45.0,
+            near: 0.1,
+            far: 50.0,
+        };
         let (position, direction) = (Vec3::new(-3.0, 7.5, -3.5), Vec3::new(3.3, -7.5, 4.0));
         let (cone_half_angle_deg, intensity, near, far) = (38.0, 110.0, 1.0, 30.0);
-        let spot = Light::Spot { position, direction, cone_half_angle_deg, intensity, near, far };
+        let spot = Light::Spot {
+            position,
+            direction,
+            cone_half_angle_deg,
+            intensity,
+            near,
+            far,
+        };
         let (direction, center, half_extent, distance) =
             (Vec3::new(0.45, -1.0, 0.3), Vec3::ZERO, 7.5, 15.0);
         let (irradiance, far) = (0.9, 40.0);
-        let sun =
-            Light::Directional { direction, irradiance, center, half_extent, distance, near, far };
+        let sun = Light::Directional {
+            direction,
+            irradiance,
+            center,
+            half_extent,
+            distance,
+            near,
+            far,
+        };
         let post = Box::new(move |_| at(2.4, 0.8, 1.4));
         let (box_half, post_half) = (Vec3::splat(0.5), Vec3::new(0.3, 0.8, 0.3));
-        let boxes = [("flying box", box_half, Vec3::new(0.8, 0.25, 0.2), flying as Transform)];
+        let boxes = [(
+            "flying box",
+            box_half,
+            Vec3::new(0.8, 0.25, 0.2),
+            flying as Transform,
+        )];
         let boxes =
-            boxes.into_iter().chain([("post", post_half, Vec3::new(0.3, 0.5, 0.8), post as _)]);
-        let meshes = [ground_mesh()].into_iter().chain(boxes.map(|(n, h, a, t)| mesh(n, h, a, t)));
-        World { camera, lights: vec![spot, sun], ambient: 0.04, meshes: meshes.collect() }
+            boxes
+                .into_iter()
+                .chain([("post", post_half, Vec3::new(0.3, 0.5, 0.8), post as _)]);
+        let meshes = [ground_mesh()]
+            .into_iter()
+            .chain(boxes.map(|(n, h, a, t)| mesh(n, h, a, t)));
+        World {
+            camera,
+            lights: vec![spot, sun],
+            ambient: 0.04,
+            meshes: meshes.collect(),
+        }
     }
 }
