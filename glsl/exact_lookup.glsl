@@ -123,8 +123,9 @@ bool ms_exact_static_next(MsMap map, uint texel, uint stop, inout uint r, inout 
 // loop's body costs its whole code per iteration of the SIMD group, taken or not, and the
 // root finding is most of it while most triangles are decided without it.
 //
-// `known_still`: the caller knows p0 == p1 when the shader is compiled (ms_walk_exact_still),
-// so that the moving receivers' loop folds away.
+// `known_still`: the caller knows, when the shader is compiled, that the receiver and the
+// light stand still (ms_walk_exact_still): the moving receivers' loop and the moving ray's
+// terms fold away.
 bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint own, uint stop,
                          bool known_still, inout uint cursor, inout ms_exact_Union shadowed) {
     bool spot = map.light.position.w != 0.0;
@@ -176,7 +177,7 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
             if (id == own) continue;
             vec3 at[3];
             ms_exact_still_triangle(map.triangles, id, at);
-            if (ms_exact_classify(p0, p1, spot, light, s_min, at, at, w.x, w.y, true)
+            if (ms_exact_classify(p0, p1, spot, light, s_min, at, at, w.x, w.y, true, false)
                 == MS_EXACT_ASK) {
                 ms_exact_gather(asked, asked_id, asked_at, asked_w0, asked_w1, id, here, w);
             }
@@ -200,7 +201,8 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
             if (range.id == own || !(w1 > w0)) continue;
             vec3 at0[3], at1[3];
             ms_exact_triangle(map.triangles, range.id, at0, at1);
-            if (ms_exact_classify(p0, p1, spot, light, s_min, at0, at1, w0, w1, false)
+            if (ms_exact_classify(p0, p1, spot, light, s_min, at0, at1, w0, w1, false,
+                                  known_still)
                 == MS_EXACT_ASK) {
                 ms_exact_gather(asked, asked_id, asked_at, asked_w0, asked_w1, range.id, here,
                                 vec2(w0, w1));
@@ -219,7 +221,7 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
             ms_exact_triangle(map.triangles, asked_id[i], at0, at1);
             vec2 iv[MS_EXACT_MAX_INTERVALS];
             int n = ms_exact_shadowed_intervals(p0, p1, spot, light, s_min, at0, at1,
-                                                asked_w0[i], asked_w1[i], iv);
+                                                asked_w0[i], asked_w1[i], known_still, iv);
             ms_loop_iterations += ms_exact_iterations;
             ms_exact_iterations = 0u;
             for (int k = 0; k < n; ++k) ms_exact_union_add(shadowed, iv[k]);

@@ -375,15 +375,19 @@ int ms_exact_general_intervals(ms_exact_Linear corner[3], ms_exact_Linear u, vec
 }
 
 // The shadow ray u and the triangle's corners relative to the receiver moving from p0 to p1,
-// each linear in t (see the top).
+// each linear in t (see the top). `known_still`: the caller knows, when the shader is
+// compiled, that the receiver and the light stand still (p1 == p0): the ray's motion is then
+// a constant 0 (the same -0.0 that p1 - p0 gives), so that the still ray's branches fold.
 void ms_exact_relative(vec3 p0, vec3 p1, bool spot, vec3 light, vec3 t0_corners[3],
-                       vec3 t1_corners[3], out ms_exact_Linear u,
+                       vec3 t1_corners[3], bool known_still, out ms_exact_Linear u,
                        out ms_exact_Linear corner[3]) {
-    vec3 m = p1 - p0;
+    vec3 m = known_still ? vec3(0.0) : p1 - p0;
     if (spot) {
         // A moving light: the ray's end moves with it (a uniform branch; a still light's ray
         // as it was, bit for bit).
-        vec3 ray_motion = ms_exact_light_motion == vec3(0.0) ? -m : ms_exact_light_motion - m;
+        vec3 ray_motion = known_still || ms_exact_light_motion == vec3(0.0)
+            ? -m
+            : ms_exact_light_motion - m;
         u = ms_exact_Linear(light - p0, ray_motion);
     } else {
         u = ms_exact_Linear(-normalize(light), vec3(0.0));
@@ -427,13 +431,14 @@ bool ms_exact_blocks_still_at(vec3 p, bool spot, vec3 light, float s_min, vec3 a
 // moving from p0 (t = 0) to p1 (t = 1): ascending, disjoint, apart; their count (at most
 // MS_EXACT_MAX_INTERVALS). `light`: the spot's position, or the direction a directional
 // light travels (any length); `s_min` from ms_exact_s_min.
+// (`known_still`: see ms_exact_relative.)
 int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s_min,
                                 vec3 t0_corners[3], vec3 t1_corners[3], float w0, float w1,
-                                out vec2 intervals[MS_EXACT_MAX_INTERVALS]) {
+                                bool known_still, out vec2 intervals[MS_EXACT_MAX_INTERVALS]) {
     for (int i = 0; i < MS_EXACT_MAX_INTERVALS; ++i) intervals[i] = vec2(0.0);
     if (!(w1 > w0)) return 0;
     ms_exact_Linear u, corner[3];
-    ms_exact_relative(p0, p1, spot, light, t0_corners, t1_corners, u, corner);
+    ms_exact_relative(p0, p1, spot, light, t0_corners, t1_corners, known_still, u, corner);
     if (ms_exact_relatively_still(u, corner)) {
         if (!ms_exact_blocks_still(u, corner, spot, s_min)) return 0;
         intervals[0] = vec2(w0, w1);
@@ -444,6 +449,13 @@ int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s
                             ms_exact_edge(corner[2], corner[0], u));
     vec4 plane = ms_exact_triple(corner[0], corner[1], corner[2]);
     return ms_exact_general_intervals(corner, u, edges, plane, spot, s_min, w0, w1, intervals);
+}
+
+int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s_min,
+                                vec3 t0_corners[3], vec3 t1_corners[3], float w0, float w1,
+                                out vec2 intervals[MS_EXACT_MAX_INTERVALS]) {
+    return ms_exact_shadowed_intervals(p0, p1, spot, light, s_min, t0_corners, t1_corners, w0,
+                                       w1, false, intervals);
 }
 
 // Whether ms_exact_shadowed_intervals can find anything in [w0, w1], as far as the edge
@@ -457,12 +469,13 @@ int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s
 const int MS_EXACT_NONE = 0;
 const int MS_EXACT_ASK = 1;
 
+// (`known_still`: see ms_exact_relative.)
 int ms_exact_classify(vec3 p0, vec3 p1, bool spot, vec3 light, float s_min,
                       vec3 t0_corners[3], vec3 t1_corners[3], float w0, float w1,
-                      bool with_plane) {
+                      bool with_plane, bool known_still) {
     if (!(w1 > w0)) return MS_EXACT_NONE;
     ms_exact_Linear u, corner[3];
-    ms_exact_relative(p0, p1, spot, light, t0_corners, t1_corners, u, corner);
+    ms_exact_relative(p0, p1, spot, light, t0_corners, t1_corners, known_still, u, corner);
     // Each edge as the triangle walks it, not in the edges' canonical order: only a sign
     // certain by the margin (far above the orders' rounding difference) rejects, so a ray
     // on or near a shared edge is always asked the whole test, which takes that order.
