@@ -40,12 +40,13 @@ layout(constant_id = 1) const bool EXACT = false;
 // start: the stop's test in the walk's loop, even with a budget of 0 at run time, made the
 // default frame's mask 1.3x slower on lavapipe, folded away here.
 layout(constant_id = 2) const bool FOLLOW_UP = false;
-// Round 0 of an exact mask on a device with follow-up rounds, under a still light (the host
-// picks it only there: under a moving one nothing stands still relative to it): receivers
-// standing still take their one texel's walk (ms_walk_exact_still), moving ones go to round 1
-// from their start. llvmpipe runs a branch's code (masked) for every SIMD group that reaches
-// it, whichever lanes take it: kept out of this pipeline, the general walk (texel stepping,
-// the moving receivers' loops) costs the still receivers, most of a frame's, nothing.
+// Round 0 of a mask that walks paths (moving receivers, the exact lookup) on a device with
+// follow-up rounds, under a still light (the host picks it only there: under a moving one
+// nothing stands still relative to it): receivers standing still take their one texel's walk
+// (ms_walk_exact_still, ms_walk_moving_still), moving ones go to round 1 from their start.
+// llvmpipe runs a branch's code (masked) for every SIMD group that reaches it, whichever
+// lanes take it: kept out of this pipeline, the general walk (texel stepping, the moving
+// receivers' loops) costs the still receivers, most of a frame's, nothing.
 layout(constant_id = 3) const bool STILL_FIRST = false;
 
 // MASK_* flags (MASK_HAS_IDS: read the triangle-id image), from src/technique/gpu_constants.rs.
@@ -236,7 +237,13 @@ void main() {
         }
         // (A moving light: the path's end seen as the t = 1 view sees it, light_motion.glsl.)
         vec3 p1 = ms_light_frame_end(tested.light, pc.map, p0 + motion);
-        ms_walk_moving(tested, p0, p1, n, own, FOLLOW_UP ? pc.loop_budget : 0u, walk);
+        if (!STILL_FIRST) {
+            ms_walk_moving(tested, p0, p1, n, own, FOLLOW_UP ? pc.loop_budget : 0u, walk);
+        } else if (motion == vec3(0.0)) {
+            ms_walk_moving_still(tested, p0, n, own, walk);
+        } else {
+            to_round_1 = true;
+        }
     } else {
         float lit = ms_lit_fraction(tested, p, n, own);
         imageStore(mask, pixel, vec4(lit));

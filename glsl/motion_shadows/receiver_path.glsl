@@ -204,6 +204,36 @@ void ms_walk_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own, uint budget,
     ms_walk_end(walk, budget, stopped, path.t, path.texel, lit, min(lit, 1.0));
 }
 
+// ms_walk_moving, from its start without a loop budget, for a receiver that stands still at
+// p0 under a still light, known when the shader is compiled: its one texel, with the same
+// values (the path's ends, depths and window computed by the same expressions on equal
+// inputs) and so the same answer bit for bit, without the texel stepping, whose code llvmpipe
+// runs (masked) for every SIMD group that reaches it. The visibility mask's first round on a
+// device with follow-up rounds (STILL_FIRST), which leaves moving receivers to them.
+void ms_walk_moving_still(MsMap map, vec3 p0, vec3 n, uint own, inout MsWalk walk) {
+    MsLight light = map.light;
+    vec3 q0 = ms_offset_receiver(light, p0, n);
+    MsLightPath path;
+    walk.state = MS_WALK_DONE;
+    walk.sum = 1.0;
+    if (!ms_path_start(light, map.size, q0, q0, path)) return;
+    float lit = 1.0 - (path.hi - path.lo);
+    float depth0 = -(light.view * vec4(q0, 1.0)).z;
+    if (path.t < path.hi) {
+        ++ms_loop_iterations;
+        uvec2 at = uvec2(path.texel);
+        float t = path.t;
+        // Where ms_path_advance leaves a path that does not move: when it leaves the view.
+        float exit = clamp(path.hi, t, path.hi);
+        float da = ms_tested_depth(light, map.size, at, mix(q0, q0, t), n, mix(depth0, depth0, t));
+        float db = ms_tested_depth(light, map.size, at, mix(q0, q0, exit), n,
+                                   mix(depth0, depth0, exit));
+        lit += ms_texel_lit_span(map, at.y * map.size.x + at.x, vec2(t, exit), vec2(da, db), own);
+        ++walk.walked;
+    }
+    walk.sum = min(lit, 1.0);
+}
+
 float ms_lit_fraction_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own) {
     MsWalk walk = ms_walk_start();
     ms_walk_moving(map, p0, p1, n, own, 0u, walk);

@@ -105,8 +105,10 @@ pub(super) fn mask_position_flag(inputs: &MaskInputs) -> u32 {
 
 /// Where the follow-up rounds' pipelines start among the pass's variants.
 const FOLLOW_UP_VARIANTS: usize = 4;
-/// Where the exact masks' STILL_FIRST first rounds start (standing, then moving receivers).
-const STILL_FIRST_VARIANTS: usize = 8;
+/// The STILL_FIRST first rounds: exact masks (receivers standing, then moving), then the
+/// depth-line mask with moving receivers.
+const STILL_FIRST_EXACT: usize = 8;
+const STILL_FIRST_DEPTH_LINE_MOVING: usize = 10;
 
 /// The visibility-mask pass. Immutable after creation.
 ///
@@ -146,9 +148,9 @@ impl VisibilityMaskPass {
             ("visibility_mask.comp", shaders::VISIBILITY_MASK_COMP),
             // (MOVING, EXACT, FOLLOW_UP, STILL_FIRST): receivers standing still or moving,
             // against a map built for the depth-line test or for the exact lookup; the first
-            // dispatch, then the follow-up rounds' (variant + FOLLOW_UP_VARIANTS); an exact
-            // mask's first dispatch that leaves its moving receivers to the follow-up rounds
-            // (STILL_FIRST_VARIANTS + MOVING).
+            // dispatch, then the follow-up rounds' (variant + FOLLOW_UP_VARIANTS); first
+            // dispatches that leave moving receivers to the follow-up rounds
+            // (STILL_FIRST_EXACT + MOVING, STILL_FIRST_DEPTH_LINE_MOVING).
             &[
                 &[0, 0, 0, 0],
                 &[1, 0, 0, 0],
@@ -160,6 +162,7 @@ impl VisibilityMaskPass {
                 &[1, 1, 1, 0],
                 &[0, 1, 0, 1],
                 &[1, 1, 0, 1],
+                &[1, 0, 0, 1],
             ],
         )?;
         Ok(Self {
@@ -310,11 +313,15 @@ impl VisibilityMaskPass {
         // Only walks along a path stop and go on (moving receivers, the exact lookup).
         let walks = inputs.motion.is_some() || exact;
         let rounds = if walks { bindings.queue.rounds() } else { 0 };
-        // An exact mask's first round without its moving receivers where follow-up rounds
-        // take them (a device with a loop limit), under a still light (under a moving one
-        // nothing stands still relative to it).
-        let first = if exact && rounds > 0 && !map.recorded_for_moving_light() {
-            STILL_FIRST_VARIANTS + usize::from(inputs.motion.is_some())
+        // A first round without the moving receivers where follow-up rounds take them (a
+        // device with a loop limit; rounds only where paths are walked), under a still light
+        // (under a moving one nothing stands still relative to it).
+        let first = if rounds > 0 && !map.recorded_for_moving_light() {
+            if exact {
+                STILL_FIRST_EXACT + usize::from(inputs.motion.is_some())
+            } else {
+                STILL_FIRST_DEPTH_LINE_MOVING
+            }
         } else {
             variant
         };
