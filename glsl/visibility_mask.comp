@@ -219,9 +219,13 @@ void main() {
             tested.light.bias.x = 0.0;
             tested.light.bias.w = 1.0;
         }
-        // (A moving light: the path's end seen as the t = 1 view sees it, light_motion.glsl.)
+        // (A moving light: the path's end seen as the t = 1 view sees it, and under a turning
+        // one the normal turned with it, light_motion.glsl.)
         vec3 p1 = ms_light_frame_end(tested.light, pc.map, p0 + motion);
-        ms_walk_moving(tested, p0, p1, n, own, FOLLOW_UP ? pc.loop_budget : 0u, walk);
+        mat3 turn;
+        bool turns = ms_light_turns(tested.light, pc.map, turn);
+        ms_walk_moving_turned(tested, p0, p1, n, turns, turn, own,
+                              FOLLOW_UP ? pc.loop_budget : 0u, walk);
     } else {
         float lit = ms_lit_fraction(tested, p, n, own);
         imageStore(mask, pixel, vec4(lit));

@@ -203,12 +203,14 @@ pub fn check_moving_light_forward(scene: &Scene, settings: &RenderSettings) -> R
 }
 
 /// Refuses a moving light for the deferred frame's settings that do not take one yet. Taken:
-/// the temporal map's mask (`--method temporal`, either lookup) and TSM's and plain's
-/// (each map drawn and read with the light at its time, a turning one's too), with moving
-/// receivers. Refused, named: standing receivers (`--static-receivers`: under a moving light
-/// no receiver stands still in the light's frame) and a light that turns in the temporal
-/// mask (only a translating light's frame keeps the receivers' normals).
+/// the temporal map's mask (`--method temporal`; with the exact lookup a translating light
+/// only) and TSM's and plain's (each map drawn and read with the light at its time, a turning
+/// one's too), with moving receivers. Refused, named: standing receivers
+/// (`--static-receivers`: under a moving light no receiver stands still in the light's frame)
+/// and a turning light with the exact lookup (its conservative collection holds for a
+/// translating light only: `LightView::refuse_turning`).
 pub fn check_moving_light_deferred(scene: &Scene, deferred: &DeferredSettings) -> Result<()> {
+    use motion_shadows::technique::Lookup;
     if !deferred.moving_receivers {
         return refuse_moving_light(
             scene,
@@ -218,15 +220,14 @@ pub fn check_moving_light_deferred(scene: &Scene, deferred: &DeferredSettings) -
             ),
         );
     }
-    if light_turns(scene) && deferred.method == DeferredMethod::Temporal {
-        // Its receivers' normals (offset, plane test) are not turned with the light's frame:
-        // mask RMSE 0.022 on moving-light carried and turned 20 degrees (0.0094 at 5), against
-        // 0.0013 carried only (96x72, 1024x1024 map, in the cone). TSM-64's maps, each drawn
-        // and read with the light at its time, hold 0.0059 either way (plane test).
+    if light_turns(scene)
+        && deferred.method == DeferredMethod::Temporal
+        && deferred.lookup == Lookup::Exact
+    {
         return refuse_moving_light(
             scene,
-            "a turning light (its t1 direction) in the temporal deferred mask (--method \
-             temporal; tsm and plain take it)",
+            "a turning light (its t1 direction) in the temporal deferred mask with --lookup exact \
+             (the depth-line lookup, tsm and plain take it)",
         );
     }
     Ok(())
