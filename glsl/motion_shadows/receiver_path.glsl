@@ -154,7 +154,8 @@ void ms_walk_end(inout MsWalk walk, uint budget, bool stopped, float t, ivec2 te
 // turn's axis (by cos(a / 2) at mid-shutter for a turn a), which tips planes the other way.
 vec3 ms_turned_normal(mat3 turn, vec3 n, float t) {
     mat3 l = mat3(1.0) + t * (turn - mat3(1.0));
-    return normalize(cross(l[1], l[2]) * n.x + cross(l[2], l[0]) * n.y + cross(l[0], l[1]) * n.z);
+    return normalize(cross(l[1], l[2]) * n.x + cross(l[2], l[0]) * n.y
+                     + cross(l[0], l[1]) * n.z);
 }
 
 // The fraction of the shutter [0, 1] during which a receiver moving linearly from p0 (at

@@ -252,7 +252,7 @@ pub(super) fn hard_with(b: &mut Bench, params: &HardParams) -> Result<()> {
             // in the notes, no row (the other scenes' rows are as before).
             if let Err(e) = check_moving_light_forward(&scene, &settings) {
                 b.report.notes.push(format!(
-                    "{name}: {} not measured, it refuses the scene's turning light: {e}",
+                    "{name}: {} not measured, it does not take the scene's turning light: {e}",
                     row.name()
                 ));
                 continue;

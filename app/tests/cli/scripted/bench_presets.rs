@@ -372,8 +372,8 @@ fn quick_hard_preset_measures_every_method_on_every_hard_scene() {
             row.split(',').nth(2).unwrap().parse().unwrap()
         };
         let (temporal, plain) = (rmse("temporal"), rmse("plain"));
-        // (Not under hard-turning-light's turning sun at this quick size: temporal 0.0156,
-        // plain 0.0131, lavapipe 2026-12-07; docs/src/results.md.)
+        // (Not under hard-turning-light's turning sun at this quick size: temporal 0.0135,
+        // plain 0.0120, lavapipe 2026-12-07; docs/src/results.md.)
         assert!(
             (temporal <= plain || scene == "turning-light") && temporal < 0.03,
             "{name}: temporal RMSE {temporal}, plain {plain}: {csv}"
