@@ -156,9 +156,10 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "view ran");
     assert!(stderr.contains("a turning light"), "{stderr}");
-    // The temporal deferred mask: not with the box sliding across the turn (the map's blend
-    // of the two ends misplaces it), nor with the exact lookup; with the depth-line lookup
-    // over still geometry (its receivers' normals turned with the light's frame:
+    // The temporal deferred mask: not with the light carried and the box sliding across the
+    // turn (the map's blend of the two ends misplaces them), nor with the exact lookup, nor
+    // under a turning sun; with the depth-line lookup under a spot turning in place over
+    // still geometry (its receivers' normals turned with the light's frame:
     // `moving_light_deferred_turn` in the gpu binary).
     fn deferred_args(path: &std::path::Path) -> Vec<&str> {
         let mut args = vec!["render", "--frame", "deferred", "--scene-file"];
@@ -171,11 +172,14 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{args:?} ran");
     assert!(
-        stderr.contains("a turning light") && stderr.contains("moving across the turn"),
+        stderr.contains("a turning light") && stderr.contains("across the turn"),
         "{stderr}"
     );
     for object in &mut file.objects {
         object.t1 = None;
+    }
+    if let LightFile::Spot { t1: Some(end), .. } = &mut file.light {
+        end.position = None;
     }
     let still_path = dir.join("turning-over-still.json");
     std::fs::write(&still_path, scene_to_json(&file)).unwrap();
@@ -194,6 +198,18 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
         stderr.contains("a turning light") && stderr.contains("--lookup exact"),
         "{stderr}"
     );
+    let mut args = vec![
+        "render",
+        "--frame",
+        "deferred",
+        "--scene",
+        "hard-turning-light",
+    ];
+    args.extend(&SMALL[..4]);
+    let out = motion_shadows(&args, &dir);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} ran");
+    assert!(stderr.contains("a turning directional light"), "{stderr}");
     // The forward frame's exact lookup with a light that turns (a translating one it takes).
     let mut args = vec!["render", "--lookup", "exact", "--scene-file"];
     args.push(path.to_str().unwrap());
