@@ -235,9 +235,9 @@ pub fn check_moving_light_deferred(scene: &Scene, deferred: &DeferredSettings) -
     }
     if matches!(scene.light, Light::Directional(_)) {
         // Measured on hard-turning-light (128x96, 1024x1024): mask RMSE 0.028 against
-        // TSM-64's 0.014 (0.018 both with the sun still): its map turns about the box's
-        // centre, where points stay in a texel for much of the shutter: likely one depth line
-        // then stands for a plane that turns all that time.
+        // TSM-64's 0.014 (0.018 both with the sun still; 0.017 against 0.012 at 5 degrees):
+        // its map turns about the box's centre; the cause is not established
+        // (docs/src/deferred-frame.md#a-turning-light).
         return refuse_moving_light(
             scene,
             "a turning directional light (its t1 direction) in the temporal deferred mask \
