@@ -7,7 +7,8 @@
 // translating light). A receiver is read the same way: a sample at time t through the map
 // of ms_map_at(map, header, t) (the blend of the two views, the light's position and
 // direction at t), and a moving receiver's path with its t = 1 end moved into the t = 0
-// view's world by ms_light_frame_end (the t = 0 view then sees it where the t = 1 view does).
+// view's world by ms_light_frame_end (the t = 0 view then sees it where the t = 1 view does)
+// and, under a turning light, its normal carried through the same frame (ms_light_turns).
 // For a still light (light.emission.y = 0) both leave everything as it is.
 #ifndef MS_LIGHT_MOTION_GLSL
 #define MS_LIGHT_MOTION_GLSL
@@ -63,6 +64,30 @@ MsMap ms_map_at(MsMap map, uint64_t header, float t) {
 vec3 ms_light_frame_end(MsLight light, uint64_t header, vec3 p1) {
     if (!ms_light_moves(light)) return p1;
     return (ms_light_end(header).frame * vec4(p1, 1.0)).xyz;
+}
+
+// Whether the light turns during the shutter (its direction at t = 1 is not t = 0's: a
+// translating light's is the same, bit for bit), and the rotation that takes a receiver's t = 1
+// point into the t = 0 view's world (`frame`'s), for ms_walk_moving_turned.
+bool ms_light_turns(MsLight light, uint64_t header, out mat3 turn) {
+    turn = mat3(1.0);
+    if (!ms_light_moves(light)) return false;
+    MsLightEnd end = ms_light_end(header);
+    turn = mat3(end.frame);
+    return end.direction.xyz != light.direction.xyz;
+}
+
+// The lit share of the shutter of a receiver moving from p0 (t = 0) to p1 (t = 1), unit
+// normal n, under the map's light, moving or not: its path and its normal in the light's
+// moving frame (ms_light_frame_end, ms_walk_moving_turned).
+float ms_lit_fraction_moving_light(MsMap map, uint64_t header, vec3 p0, vec3 p1, vec3 n,
+                                   uint own) {
+    mat3 turn;
+    bool turns = ms_light_turns(map.light, header, turn);
+    MsWalk walk = ms_walk_start();
+    ms_walk_moving_turned(map, p0, ms_light_frame_end(map.light, header, p1), n, turns, turn,
+                          own, 0u, walk);
+    return walk.sum;
 }
 
 #endif

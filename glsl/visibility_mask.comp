@@ -235,10 +235,14 @@ void main() {
             tested.light.bias.x = 0.0;
             tested.light.bias.w = 1.0;
         }
-        // (A moving light: the path's end seen as the t = 1 view sees it, light_motion.glsl.)
+        // (A moving light: the path's end seen as the t = 1 view sees it, and under a turning
+        // one the normal turned with it, light_motion.glsl.)
         vec3 p1 = ms_light_frame_end(tested.light, pc.map, p0 + motion);
         if (!STILL_FIRST) {
-            ms_walk_moving(tested, p0, p1, n, own, FOLLOW_UP ? pc.loop_budget : 0u, walk);
+            mat3 turn;
+            bool turns = ms_light_turns(tested.light, pc.map, turn);
+            ms_walk_moving_turned(tested, p0, p1, n, turns, turn, own,
+                                  FOLLOW_UP ? pc.loop_budget : 0u, walk);
         } else if (motion == vec3(0.0)) {
             ms_walk_moving_still(tested, p0, n, own, walk);
         } else {

@@ -146,6 +146,18 @@ void ms_walk_end(inout MsWalk walk, uint budget, bool stopped, float t, ivec2 te
     }
 }
 
+// A receiver's normal at time t in the world a turning light's map sees (light_motion.glsl's
+// ms_light_frame_end): that world is the real one taken through (1 - t) I + t F, F the frame
+// from the t = 1 view to the t = 0 view, whose linear part L(t) = (1 - t) I + t turn
+// (turn: F's rotation) carries a plane's normal n to L(t)^-T n, here as its cofactor matrix
+// times n (the same direction), unit. Not the blend of n and turn n: L(t) shrinks across the
+// turn's axis (by cos(a / 2) at mid-shutter for a turn a), which tips planes the other way.
+vec3 ms_turned_normal(mat3 turn, vec3 n, float t) {
+    mat3 l = mat3(1.0) + t * (turn - mat3(1.0));
+    return normalize(cross(l[1], l[2]) * n.x + cross(l[2], l[0]) * n.y
+                     + cross(l[0], l[1]) * n.z);
+}
+
 // The fraction of the shutter [0, 1] during which a receiver moving linearly from p0 (at
 // t = 0) to p1 (at t = 1), unit normal n (on the side facing the light; taken as constant),
 // on triangle `own`, sees the light: each range tested where the point is when it holds.
@@ -159,12 +171,19 @@ void ms_walk_end(inout MsWalk walk, uint budget, bool stopped, float t, ivec2 te
 // so every range shadows it during one interval (ms_texel_lit_span). Time spent outside the
 // light's view is lit. The cost is one list walk per texel crossed. Walked from `walk` (see
 // MsWalk) until done or, with a loop `budget` (0: none), stopped between two texels.
-void ms_walk_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own, uint budget,
-                    inout MsWalk walk) {
+//
+// Under a light that turns (`turns`), p1 is the receiver's t = 1 point taken into the t = 0
+// view's world (ms_light_frame_end) and `turn` the rotation that took it there: the normal is
+// carried through the same frame (ms_turned_normal at each end of every texel's window), for
+// the offset at t = 1 and the plane test; a still or translating light passes false.
+void ms_walk_moving_turned(MsMap map, vec3 p0, vec3 p1, vec3 n, bool turns, mat3 turn,
+                           uint own, uint budget, inout MsWalk walk) {
     MsLight light = map.light;
     // The normal offset is linear in the point's light depth, so the offset point moves
-    // linearly too.
-    vec3 q0 = ms_offset_receiver(light, p0, n), q1 = ms_offset_receiver(light, p1, n);
+    // linearly too (under a turning light, from the offset along n to the offset along the
+    // turned normal: off a line by a fraction of the offset's own length).
+    vec3 q0 = ms_offset_receiver(light, p0, n);
+    vec3 q1 = ms_offset_receiver(light, p1, turns ? turn * n : n);
     MsLightPath path;
     if (!ms_path_start(light, map.size, q0, q1, path)) {
         walk.state = MS_WALK_DONE;
@@ -189,8 +208,11 @@ void ms_walk_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own, uint budget,
         uvec2 at = uvec2(path.texel);
         float t = path.t, exit;
         bool inside = ms_path_advance(path, map.size, exit);
-        float da = ms_tested_depth(light, map.size, at, mix(q0, q1, t), n, mix(depth0, depth1, t));
-        float db = ms_tested_depth(light, map.size, at, mix(q0, q1, exit), n,
+        vec3 na = turns ? ms_turned_normal(turn, n, t) : n;
+        vec3 nb = turns ? ms_turned_normal(turn, n, exit) : n;
+        float da = ms_tested_depth(light, map.size, at, mix(q0, q1, t), na,
+                                   mix(depth0, depth1, t));
+        float db = ms_tested_depth(light, map.size, at, mix(q0, q1, exit), nb,
                                    mix(depth0, depth1, exit));
         lit += ms_texel_lit_span(map, at.y * map.size.x + at.x, vec2(t, exit), vec2(da, db), own);
         ++walk.walked;
@@ -232,6 +254,12 @@ void ms_walk_moving_still(MsMap map, vec3 p0, vec3 n, uint own, inout MsWalk wal
         ++walk.walked;
     }
     walk.sum = min(lit, 1.0);
+}
+
+// The walk under a still or translating light (the receiver's normal as it is all shutter).
+void ms_walk_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own, uint budget,
+                    inout MsWalk walk) {
+    ms_walk_moving_turned(map, p0, p1, n, false, mat3(1.0), own, budget, walk);
 }
 
 float ms_lit_fraction_moving(MsMap map, vec3 p0, vec3 p1, vec3 n, uint own) {

@@ -18,6 +18,7 @@ pub mod range_ceiling;
 mod receiver;
 pub mod stats;
 pub mod times;
+pub mod turning_light;
 pub mod upload;
 
 use crate::error::{Error, Result};

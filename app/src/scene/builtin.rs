@@ -39,6 +39,7 @@ pub const BUILTIN_NAMES: &[&str] = &[
     "hard-deforming",
     "hard-small-cubes",
     "hard-static-silhouette",
+    "hard-turning-light",
 ];
 
 /// Parameters of the procedural scenes (only `random-cubes` uses them; the hard scenes are

@@ -28,6 +28,7 @@ mod moving_camera;
 mod moving_camera_deferred;
 mod moving_light;
 mod moving_light_deferred_tsm;
+mod moving_light_deferred_turn;
 mod moving_light_exact;
 mod range_bound;
 mod range_storage;

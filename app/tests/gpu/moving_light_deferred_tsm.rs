@@ -18,9 +18,9 @@ use motion_shadows_app::scene::{
     BuiltinOptions, DirectionalLight, DirectionalPose, Light, Scene, builtin,
 };
 
-const SIZE: (u32, u32) = (96, 72);
+pub(crate) const SIZE: (u32, u32) = (96, 72);
 
-fn settings() -> RenderSettings {
+pub(crate) fn settings() -> RenderSettings {
     RenderSettings {
         width: SIZE.0,
         height: SIZE.1,
@@ -32,7 +32,7 @@ fn settings() -> RenderSettings {
     }
 }
 
-fn deferred(method: DeferredMethod) -> DeferredSettings {
+pub(crate) fn deferred(method: DeferredMethod) -> DeferredSettings {
     DeferredSettings {
         method,
         camera_time: 0.5,
@@ -42,7 +42,7 @@ fn deferred(method: DeferredMethod) -> DeferredSettings {
 
 /// `moving-light` as built (its flashlight carried 2 units), or with the light held at its
 /// t = 0 pose.
-fn scene(carried: bool) -> Scene {
+pub(crate) fn scene(carried: bool) -> Scene {
     let mut scene = builtin("moving-light", &BuiltinOptions::default()).unwrap();
     if !carried {
         let Light::Spot(light) = &mut scene.light else {
@@ -57,7 +57,7 @@ fn scene(carried: bool) -> Scene {
 /// light then at every time; for one turning by a few degrees about the points held at both
 /// ends, nearly so) and that face the light: elsewhere the truth counts shadows the
 /// cone never lights, while a map (a square around the cone) counts time outside it as lit.
-fn held_in_cone(scene: &Scene, truth: &DeferredResult) -> Vec<bool> {
+pub(crate) fn held_in_cone(scene: &Scene, truth: &DeferredResult) -> Vec<bool> {
     let points = deferred_truth(scene, SIZE.0, SIZE.1, 0.5, (1024, 1024), &mut |_| {}).unwrap();
     let Light::Spot(light) = &scene.light else {
         panic!("spot expected")
@@ -139,10 +139,8 @@ fn tsm_maps_under_a_carried_light_take_the_light_at_each_map_s_time() {
 /// preset's turn) over `moving-light`'s posts and box: every shadow swings. Each of TSM's maps
 /// is drawn and read with the light at its time, whose view is the blend of the two ends'
 /// (`ms_light_at`, as the forward frame's maps): not the turned light's own view, but a map
-/// and its lookup share it. Bound: the translating light's (above). The temporal mask stays
-/// refused with a turning light (the CLI test; measured there 0.022 on the flashlight carried
-/// and turned 20 degrees against 0.0013 carried only: its receivers' normal offset and plane
-/// test are set in the t = 0 light's frame).
+/// and its lookup share it. Bound: the translating light's (above). The temporal mask under a
+/// turning light: `moving_light_deferred_turn`.
 #[test]
 fn tsm_maps_take_a_turning_light() {
     let ctx = context();

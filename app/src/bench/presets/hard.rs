@@ -8,6 +8,7 @@ use crate::chart::{Table, fmt_num};
 use crate::compare::{Rgb8Image, rmse, side_by_side};
 use crate::error::Result;
 use crate::output::{RadianceImage, auto_exposure};
+use crate::render::upload::check_moving_light_forward;
 use crate::render::{Method, RenderSettings};
 use crate::scene::{BuiltinOptions, HARD_NAMES};
 use motion_shadows::technique::{Lookup, PrismConstruction, ShadowFilter};
@@ -247,6 +248,15 @@ pub(super) fn hard_with(b: &mut Bench, params: &HardParams) -> Result<()> {
         let mut errors = Vec::new();
         for (k, &row) in methods.iter().enumerate() {
             let settings = params.row_settings(row, b);
+            // A method that does not take the scene's moving light (hard-turning-light): said
+            // in the notes, no row (the other scenes' rows are as before).
+            if let Err(e) = check_moving_light_forward(&scene, &settings) {
+                b.report.notes.push(format!(
+                    "{name}: {} not measured, it does not take the scene's turning light: {e}",
+                    row.name()
+                ));
+                continue;
+            }
             let Some(m) = b.measure_once(&format!("{name}: {}", row.name()), &scene, &settings)
             else {
                 continue;

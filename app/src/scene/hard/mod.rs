@@ -18,6 +18,7 @@ mod rotating_triangle;
 mod small_cubes;
 mod static_silhouette;
 mod thin_fast;
+mod turning_light;
 
 use glam::{Quat, Vec3};
 
@@ -36,6 +37,7 @@ pub const HARD_NAMES: &[&str] = &[
     "hard-deforming",
     "hard-small-cubes",
     "hard-static-silhouette",
+    "hard-turning-light",
 ];
 
 /// The hard scene `name`, or `None` when there is none of that name.
@@ -50,6 +52,7 @@ pub(super) fn hard_scene(name: &str) -> Option<SceneFile> {
         "hard-deforming" => deforming::scene(),
         "hard-small-cubes" => small_cubes::scene(),
         "hard-static-silhouette" => static_silhouette::scene(),
+        "hard-turning-light" => turning_light::scene(),
         _ => return None,
     })
 }
@@ -151,6 +154,25 @@ pub(super) mod check {
         distinct.iter().sum::<Vec3>() / distinct.len() as f32
     }
 
+    /// The light at t = 0 and at t = 1 (a still light twice): a moving light's casters must
+    /// be lit, and their shadows on the ground, at both ends.
+    pub fn light_ends(light: &Light) -> [Light; 2] {
+        let mut end = light.clone();
+        match &mut end {
+            Light::Spot(s) => {
+                if let Some(pose) = s.t1.take() {
+                    (s.position, s.direction) = (pose.position, pose.direction);
+                }
+            }
+            Light::Directional(d) => {
+                if let Some(pose) = d.t1.take() {
+                    (d.direction, d.center) = (pose.direction, pose.center);
+                }
+            }
+        }
+        [light.clone(), end]
+    }
+
     /// Where the light through `p` meets the ground plane y = 0.
     pub fn shadow_on_ground(light: &Light, p: Vec3) -> Vec3 {
         let ray = match light {
@@ -232,10 +254,14 @@ mod tests {
             assert_eq!(ground.t0, ground.t1);
             let mut count = 0;
             for m in casters(&s) {
-                for &p in m.t0.iter().chain(&m.t1) {
+                for (&p, light) in
+                    m.t0.iter()
+                        .chain(&m.t1)
+                        .flat_map(|p| light_ends(&s.light).map(|l| (p, l)))
+                {
                     assert!(p.y >= 0.0, "{name}: {} below the ground at {p}", m.name);
-                    assert!(in_light(&s.light, p), "{name}: {} unlit at {p}", m.name);
-                    let hit = shadow_on_ground(&s.light, p);
+                    assert!(in_light(&light, p), "{name}: {} unlit at {p}", m.name);
+                    let hit = shadow_on_ground(&light, p);
                     assert!(
                         hit.x > lo.x && hit.x < hi.x && hit.z > lo.z && hit.z < hi.z,
                         "{name}: {}'s shadow off the ground at {hit}",

@@ -309,7 +309,12 @@ fn quick_hard_preset_measures_every_method_on_every_hard_scene() {
         "deforming",
         "small-cubes",
         "static-silhouette",
+        "turning-light",
     ];
+    // What refuses hard-turning-light's turning sun (the preset says so in its notes).
+    let refused_turning = ["temporal-exact", "coverage"];
+    let measured =
+        |scene: &str, method: &str| scene != "turning-light" || !refused_turning.contains(&method);
     let methods = [
         "temporal",
         "temporal-paper-prisms",
@@ -326,10 +331,23 @@ fn quick_hard_preset_measures_every_method_on_every_hard_scene() {
         "scene,method,rmse,rmse_moving,rmse_static,frame_ms"
     );
     // The truth is the ray tracer: every method (and the papers' prisms) is measured.
-    assert_eq!(lines.len(), 1 + scenes.len() * methods.len(), "{csv}");
+    assert_eq!(
+        lines.len(),
+        1 + scenes.len() * methods.len() - refused_turning.len(),
+        "{csv}"
+    );
     for scene in scenes {
         let name = format!("hard-{scene}");
         for method in &methods {
+            if !measured(scene, method) {
+                assert!(
+                    !lines
+                        .iter()
+                        .any(|l| l.starts_with(&format!("{name},{method},"))),
+                    "{csv}"
+                );
+                continue;
+            }
             let row = lines
                 .iter()
                 .find(|l| l.starts_with(&format!("{name},{method},")))
@@ -354,16 +372,20 @@ fn quick_hard_preset_measures_every_method_on_every_hard_scene() {
             row.split(',').nth(2).unwrap().parse().unwrap()
         };
         let (temporal, plain) = (rmse("temporal"), rmse("plain"));
+        // (Not under hard-turning-light's turning sun at this quick size: temporal 0.0135,
+        // plain 0.0120, lavapipe 2026-12-07; docs/src/results.md.)
         assert!(
-            temporal <= plain && temporal < 0.03,
+            (temporal <= plain || scene == "turning-light") && temporal < 0.03,
             "{name}: temporal RMSE {temporal}, plain {plain}: {csv}"
         );
         // The exact lookup tests each sample's ray as the ray tracer does (issue 35's target).
-        let exact = rmse("temporal-exact");
-        assert!(
-            exact <= 0.0005,
-            "{name}: temporal-exact RMSE {exact}: {csv}"
-        );
+        if measured(scene, "temporal-exact") {
+            let exact = rmse("temporal-exact");
+            assert!(
+                exact <= 0.0005,
+                "{name}: temporal-exact RMSE {exact}: {csv}"
+            );
+        }
         let png = image::open(out.join(format!("hard-{scene}.png"))).expect("a decodable PNG");
         assert!(png.width() >= 4 * 64, "{scene}: {}", png.width());
     }
@@ -373,7 +395,22 @@ fn quick_hard_preset_measures_every_method_on_every_hard_scene() {
     let report = &summary["reports"][0];
     assert_eq!(report["preset"], "hard");
     // Against an exact truth, three targets per scene: the temporal RMSE <= 0.005 and <= the
-    // reference's, the exact lookup's <= 0.0005.
-    assert_eq!(report["ratios"].as_array().unwrap().len(), 3 * scenes.len());
+    // reference's, the exact lookup's <= 0.0005 (not on hard-turning-light, which it refuses).
+    assert_eq!(
+        report["ratios"].as_array().unwrap().len(),
+        3 * scenes.len() - 1
+    );
+    // Each method that refuses the turning sun is named in the notes, not left out silently.
+    let notes = report["notes"].as_array().unwrap();
+    for method in refused_turning {
+        assert!(
+            notes.iter().any(|n| {
+                let n = n.as_str().unwrap();
+                n.starts_with(&format!("hard-turning-light: {method} not measured"))
+                    && n.contains("turning light")
+            }),
+            "{method}: {notes:?}"
+        );
+    }
     std::fs::remove_dir_all(&out).ok();
 }
