@@ -375,9 +375,9 @@ int ms_exact_general_intervals(ms_exact_Linear corner[3], ms_exact_Linear u, vec
 }
 
 // The shadow ray u and the triangle's corners relative to the receiver moving from p0 to p1,
-// each linear in t (see the top). `known_still`: the caller knows, when the shader is
-// compiled, that the receiver and the light stand still (p1 == p0): the ray's motion is then
-// a constant 0 (the same -0.0 that p1 - p0 gives), so that the still ray's branches fold.
+// each linear in t (see the top). `known_still`: the receiver and the light stand still, as
+// known when compiled: the ray's motion is the constant -0.0 that -(p1 - p0) gives then, so
+// the still ray's branches fold.
 void ms_exact_relative(vec3 p0, vec3 p1, bool spot, vec3 light, vec3 t0_corners[3],
                        vec3 t1_corners[3], bool known_still, out ms_exact_Linear u,
                        out ms_exact_Linear corner[3]) {
@@ -385,9 +385,8 @@ void ms_exact_relative(vec3 p0, vec3 p1, bool spot, vec3 light, vec3 t0_corners[
     if (spot) {
         // A moving light: the ray's end moves with it (a uniform branch; a still light's ray
         // as it was, bit for bit).
-        vec3 ray_motion = known_still || ms_exact_light_motion == vec3(0.0)
-            ? -m
-            : ms_exact_light_motion - m;
+        vec3 ray_motion =
+            known_still || ms_exact_light_motion == vec3(0.0) ? -m : ms_exact_light_motion - m;
         u = ms_exact_Linear(light - p0, ray_motion);
     } else {
         u = ms_exact_Linear(-normalize(light), vec3(0.0));
