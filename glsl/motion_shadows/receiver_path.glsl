@@ -158,6 +158,19 @@ vec3 ms_turned_normal(mat3 turn, vec3 n, float t) {
                      + cross(l[0], l[1]) * n.z);
 }
 
+// The lit time of texel `at` over the window w of a path: the offset receiver moving from q0
+// to q1 (light depths `depths` at its ends), unit normals na and nb at the window's ends. One
+// function for ms_walk_moving_turned and ms_walk_moving_still, so that a still receiver's walk
+// computes the general walk's values with the same expressions.
+float ms_path_texel_lit(MsMap map, uvec2 at, vec3 q0, vec3 q1, vec2 depths, vec3 na, vec3 nb,
+                        vec2 w, uint own) {
+    float da = ms_tested_depth(map.light, map.size, at, mix(q0, q1, w.x), na,
+                               mix(depths.x, depths.y, w.x));
+    float db = ms_tested_depth(map.light, map.size, at, mix(q0, q1, w.y), nb,
+                               mix(depths.x, depths.y, w.y));
+    return ms_texel_lit_span(map, at.y * map.size.x + at.x, w, vec2(da, db), own);
+}
+
 // The fraction of the shutter [0, 1] during which a receiver moving linearly from p0 (at
 // t = 0) to p1 (at t = 1), unit normal n (on the side facing the light; taken as constant),
 // on triangle `own`, sees the light: each range tested where the point is when it holds.
@@ -210,11 +223,8 @@ void ms_walk_moving_turned(MsMap map, vec3 p0, vec3 p1, vec3 n, bool turns, mat3
         bool inside = ms_path_advance(path, map.size, exit);
         vec3 na = turns ? ms_turned_normal(turn, n, t) : n;
         vec3 nb = turns ? ms_turned_normal(turn, n, exit) : n;
-        float da = ms_tested_depth(light, map.size, at, mix(q0, q1, t), na,
-                                   mix(depth0, depth1, t));
-        float db = ms_tested_depth(light, map.size, at, mix(q0, q1, exit), nb,
-                                   mix(depth0, depth1, exit));
-        lit += ms_texel_lit_span(map, at.y * map.size.x + at.x, vec2(t, exit), vec2(da, db), own);
+        lit += ms_path_texel_lit(map, at, q0, q1, vec2(depth0, depth1), na, nb, vec2(t, exit),
+                                 own);
         ++walk.walked;
         path.t = exit;
         // Past the map's border by rounding only: the sliver left is counted lit, as outside.
@@ -247,10 +257,7 @@ void ms_walk_moving_still(MsMap map, vec3 p0, vec3 n, uint own, inout MsWalk wal
         float t = path.t;
         // Where ms_path_advance leaves a path that does not move: when it leaves the view.
         float exit = clamp(path.hi, t, path.hi);
-        float da = ms_tested_depth(light, map.size, at, mix(q0, q0, t), n, mix(depth0, depth0, t));
-        float db = ms_tested_depth(light, map.size, at, mix(q0, q0, exit), n,
-                                   mix(depth0, depth0, exit));
-        lit += ms_texel_lit_span(map, at.y * map.size.x + at.x, vec2(t, exit), vec2(da, db), own);
+        lit += ms_path_texel_lit(map, at, q0, q0, vec2(depth0), n, n, vec2(t, exit), own);
         ++walk.walked;
     }
     walk.sum = min(lit, 1.0);
