@@ -367,7 +367,9 @@ bool ms_exact_blocks_at(vec3 p, vec3 u, vec3 at0[3], vec3 at1[3], float t, bool 
                             vec4(ms_exact_edge_still(c[1], c[2], u), vec3(0.0)),
                             vec4(ms_exact_edge_still(c[2], c[0], u), vec3(0.0)));
     vec4 plane = vec4(ms_exact_det(c[0], c[1], c[2]), vec3(0.0));
-    return ms_exact_blocks(edges, plane, spot, s_min, 0.0);
+    float r = max(max(length(c[0]), length(c[1])), length(c[2]));
+    return ms_exact_blocks(edges, plane, spot,
+                           ms_exact_s_from(plane, r, length(p), 0.0, 1.0, s_min), 0.0);
 }
 
 // Whether a receiver at p at time t (its position then), on triangle `own` (MS_NO_TRIANGLE

@@ -33,6 +33,12 @@
 // 1e-4 d from the receiver: 1 mm at 10 units). Directional: u is a unit vector, so the
 // epsilon is relative to the scene's size that the caller hands over (as the ray tracer does).
 // The range ends at s = 1 for a spot light (its position) and nowhere for a directional one.
+// The epsilon guards against one thing only, a receiver on the triangle's plane to within
+// rounding (its own surface's coplanar neighbours): a receiver that lies off the triangle's
+// plane all window long by more than the rounding of its coordinates (ms_exact_s_from) is
+// blocked from the ray tracer's epsilon on (MS_EXACT_OFF_PLANE_SHARE of it), so a caster that
+// touches or nearly touches it (a wall's foot, the next facet past a silhouette) shadows it as
+// in the truth, instead of letting light through over the first 1e-4 of the segment.
 // Nothing else is a tolerance: a cubic's roots are bracketed as narrowly as f32 resolves t, a
 // quadratic's (and a cubic's turning points) come from the stable quadratic formula, and the
 // certain-sign early outs only skip work that would find nothing.
@@ -53,6 +59,14 @@
 // 3 edges x 3 roots + 2 bounds x 3 roots.
 #define MS_EXACT_MAX_EVENTS 15
 #define MS_EXACT_SELF_EPSILON 1e-4
+// A receiver certainly off a triangle's plane takes this share of the epsilon: 1e-7, the ray
+// tracer's (app/src/raytrace/shade.rs, SHADOW_EPSILON).
+#define MS_EXACT_OFF_PLANE_SHARE 1e-3
+// Off the plane means |det(A', B', C')| above this share of r^2 (r + m) (r: the corners'
+// reach from the receiver, m: the receiver's distance from the origin): a distance from the
+// plane of at least ~16 units of f32 rounding of the coordinates (2^-24 m), where a receiver on
+// the plane (its own surface's neighbours) lies within a few.
+#define MS_EXACT_OFF_PLANE (64.0 / 16777216.0)
 // Roots are bracketed to this width in t (~4 ulps of t near 1).
 #define MS_EXACT_ROOT_WIDTH 4.8e-7
 // A triangle is rejected without root finding when two of its edge functions have opposite
@@ -280,6 +294,15 @@ float ms_exact_s_min(bool spot, float scene_size) {
 }
 
 // Whether the ray meets the triangle at time t, from the edge polynomials and the plane's.
+// The start of the range of s for one triangle over [w0, w1] (plane: det(A', B', C')): the
+// ray tracer's epsilon where the receiver lies off the triangle's plane by more than rounding
+// all window long, s_min (ms_exact_s_min) where it may lie on it.
+float ms_exact_s_from(vec4 plane, float r, float m, float w0, float w1, float s_min) {
+    float margin = MS_EXACT_OFF_PLANE * r * r * (r + m);
+    bool off_plane = ms_exact_certain_sign(plane, w0, w1, margin) != 0;
+    return off_plane ? s_min * MS_EXACT_OFF_PLANE_SHARE : s_min;
+}
+
 bool ms_exact_blocks(vec4 edges[3], vec4 plane, bool spot, float s_min, float t) {
     float x = ms_exact_eval(edges[0], t);
     float y = ms_exact_eval(edges[1], t);
@@ -317,13 +340,14 @@ bool ms_exact_edges_disagree(vec4 edges[3], float r, float ray, float w0, float 
 }
 
 int ms_exact_general_intervals(ms_exact_Linear corner[3], ms_exact_Linear u, vec4 edges[3],
-                               vec4 plane, bool spot, float s_min, float w0, float w1,
-                               inout vec2 intervals[MS_EXACT_MAX_INTERVALS]) {
+                               vec4 plane, bool spot, float s_min, float m, float w0,
+                               float w1, inout vec2 intervals[MS_EXACT_MAX_INTERVALS]) {
     // Two edge functions of opposite signs over the whole window: never a hit.
     float r, ray;
     ms_exact_sizes(corner, u, r, ray);
     int edge_sign[3];
     if (ms_exact_edges_disagree(edges, r, ray, w0, w1, edge_sign)) return 0;
+    s_min = ms_exact_s_from(plane, r, m, w0, w1, s_min);
 
     vec4 sum = edges[0] + edges[1] + edges[2];
     float events[MS_EXACT_MAX_EVENTS];
@@ -405,15 +429,18 @@ bool ms_exact_relatively_still(ms_exact_Linear u, ms_exact_Linear corner[3]) {
         && corner[2].b == vec3(0.0);
 }
 
-// The test where ms_exact_relatively_still holds: on the constants alone.
+// The test where ms_exact_relatively_still holds: on the constants alone (m: the receiver's
+// distance from the origin, for ms_exact_s_from).
 bool ms_exact_blocks_still(ms_exact_Linear u, ms_exact_Linear corner[3], bool spot,
-                           float s_min) {
+                           float s_min, float m) {
     vec3 c[3] = vec3[3](corner[0].a, corner[1].a, corner[2].a);
     vec4 edges[3] = vec4[3](vec4(ms_exact_edge_still(c[0], c[1], u.a), vec3(0.0)),
                             vec4(ms_exact_edge_still(c[1], c[2], u.a), vec3(0.0)),
                             vec4(ms_exact_edge_still(c[2], c[0], u.a), vec3(0.0)));
     vec4 plane = vec4(ms_exact_det(c[0], c[1], c[2]), vec3(0.0));
-    return ms_exact_blocks(edges, plane, spot, s_min, 0.0);
+    float r = max(max(length(c[0]), length(c[1])), length(c[2]));
+    return ms_exact_blocks(edges, plane, spot, ms_exact_s_from(plane, r, m, 0.0, 1.0, s_min),
+                           0.0);
 }
 
 // ms_exact_blocks_still for a receiver at p and a triangle with corners `at` that both stand
@@ -422,7 +449,7 @@ bool ms_exact_blocks_still_at(vec3 p, bool spot, vec3 light, float s_min, vec3 a
     ms_exact_Linear u = ms_exact_Linear(spot ? light - p : -normalize(light), vec3(0.0));
     ms_exact_Linear corner[3];
     for (int i = 0; i < 3; ++i) corner[i] = ms_exact_Linear(at[i] - p, vec3(0.0));
-    return ms_exact_blocks_still(u, corner, spot, s_min);
+    return ms_exact_blocks_still(u, corner, spot, s_min, length(p));
 }
 
 // The intervals of [w0, w1] (within the shutter [0, 1]) during which the triangle with
@@ -438,8 +465,10 @@ int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s
     if (!(w1 > w0)) return 0;
     ms_exact_Linear u, corner[3];
     ms_exact_relative(p0, p1, spot, light, t0_corners, t1_corners, known_still, u, corner);
+    // The receiver's distance from the origin, which its coordinates' rounding is relative to.
+    float m = max(length(p0), length(p1));
     if (ms_exact_relatively_still(u, corner)) {
-        if (!ms_exact_blocks_still(u, corner, spot, s_min)) return 0;
+        if (!ms_exact_blocks_still(u, corner, spot, s_min, m)) return 0;
         intervals[0] = vec2(w0, w1);
         return 1;
     }
@@ -447,7 +476,8 @@ int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s
                             ms_exact_edge(corner[1], corner[2], u),
                             ms_exact_edge(corner[2], corner[0], u));
     vec4 plane = ms_exact_triple(corner[0], corner[1], corner[2]);
-    return ms_exact_general_intervals(corner, u, edges, plane, spot, s_min, w0, w1, intervals);
+    return ms_exact_general_intervals(corner, u, edges, plane, spot, s_min, m, w0, w1,
+                                      intervals);
 }
 
 int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s_min,
@@ -487,16 +517,18 @@ int ms_exact_classify(vec3 p0, vec3 p1, bool spot, vec3 light, float s_min,
     if (ms_exact_edges_disagree(edges, r, ray, w0, w1, edge_sign)) return MS_EXACT_NONE;
     if (with_plane) {
         // The edges alone test the shadow ray's whole line: a triangle the line meets behind
-        // the receiver (s < s_min: the surface it stands on) or, for a spot light, beyond the
-        // light (s > 1) blocks nothing. s = det(A', B', C') / E: where E has a certain sign
-        // all window long and so has det - s0 E at a bound s0, s stays on one side of s0
-        // (the margins: the general test's).
+        // the receiver (s below the lowest start the whole test may take, ms_exact_s_from's
+        // off-plane one) or, for a spot light, beyond the light (s > 1) blocks nothing.
+        // s = det(A', B', C') / E: where E has a certain sign all window long and so has
+        // det - s0 E at a bound s0, s stays on one side of s0 (the margins: the general
+        // test's).
         vec4 sum = edges[0] + edges[1] + edges[2];
         int e = ms_exact_certain_sign(sum, w0, w1, 3.0 * MS_EXACT_CERTAIN * r * r * ray);
         if (e != 0) {
             vec4 plane = ms_exact_triple(corner[0], corner[1], corner[2]);
             float margin = MS_EXACT_CERTAIN * r * r * (r + 3.0 * ray * max(s_min, 1.0));
-            if (e * ms_exact_certain_sign(plane - s_min * sum, w0, w1, margin) < 0) {
+            float s_lowest = s_min * MS_EXACT_OFF_PLANE_SHARE;
+            if (e * ms_exact_certain_sign(plane - s_lowest * sum, w0, w1, margin) < 0) {
                 return MS_EXACT_NONE;
             }
             if (spot && e * ms_exact_certain_sign(plane - sum, w0, w1, margin) > 0) {
