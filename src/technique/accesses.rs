@@ -196,17 +196,19 @@ impl PassAccesses {
     }
 
     /// Every first access together: the destination of one global barrier before the pass.
-    pub fn first(&self) -> Access {
+    pub fn first(&self) -> AccessData {
         self.uses
             .iter()
             .fold(Access::NONE, |a, u| a.and(u.first.into()))
+            .into()
     }
 
     /// Every last access together: the source of one global barrier after the pass.
-    pub fn last(&self) -> Access {
+    pub fn last(&self) -> AccessData {
         self.uses
             .iter()
             .fold(Access::NONE, |a, u| a.and(u.last.into()))
+            .into()
     }
 }
 

@@ -91,14 +91,14 @@ fn run(ctx: &Context, host: bool, skip: bool, light: &LightView) -> Counters {
             let mut earlier = Access::NONE;
             for frame in 0..2 {
                 if host && !(skip && frame == 1) {
-                    memory_barrier(device, cmd, earlier, c.first());
+                    memory_barrier(device, cmd, earlier, c.first().into());
                 }
                 collection.record(device, cmd, &list, light, &map, None)?;
                 if host {
-                    memory_barrier(device, cmd, c.last(), g.first());
+                    memory_barrier(device, cmd, c.last().into(), g.first().into());
                 }
                 generation.record(device, cmd, &map);
-                earlier = g.last();
+                earlier = g.last().into();
             }
             if host {
                 // The readback waits for compute writes itself; the host's exit barrier.
