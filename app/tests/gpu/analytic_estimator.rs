@@ -2,7 +2,9 @@
 //! receiver that stays put during the shutter takes the exact lit fraction from its texel's
 //! ranges, so its shadow term has no time noise at all.
 
-use crate::support::gpu::{assert_no_validation_messages, context, mesh, render, scene};
+use crate::support::gpu::{
+    assert_no_validation_messages, context, mesh, render, render_with, renderer, scene,
+};
 use glam::{Vec2, Vec3};
 use motion_shadows::gpu::{Context, OneShot};
 use motion_shadows::technique::{
@@ -61,7 +63,8 @@ fn ground_view_scene() -> Scene {
 fn analytic_shadows_of_static_receivers_do_not_depend_on_time() {
     let ctx = context();
     let s = ground_view_scene();
-    let at_time = |estimator, t: f32, seed| fixed_time_image(&ctx, &s, estimator, t, seed);
+    let passes = Passes::new(&ctx);
+    let at_time = |estimator, t: f32, seed| fixed_time_image(&ctx, &passes, &s, estimator, t, seed);
     let times = [0.0, 0.13, 0.37, 0.5, 0.71, 0.99];
     for seed in [1, 7] {
         let (first, static_pixels) = at_time(ShadowEstimator::Analytic, times[0], seed);
@@ -92,10 +95,29 @@ fn analytic_shadows_of_static_receivers_do_not_depend_on_time() {
     assert_no_validation_messages(&ctx);
 }
 
+/// The passes [`fixed_time_image`] records, made once for its 14 images (their pipelines
+/// took lavapipe longer to make than the images to render).
+struct Passes {
+    collection: CollectionPass,
+    generation: GenerationPass,
+    lighting: LightingPass,
+}
+
+impl Passes {
+    fn new(ctx: &Context) -> Self {
+        Self {
+            collection: CollectionPass::new(ctx).unwrap(),
+            generation: GenerationPass::new(ctx).unwrap(),
+            lighting: LightingPass::new(ctx).unwrap(),
+        }
+    }
+}
+
 /// One sample per pixel, all at time `t`; returns the radiance and which pixels see only
 /// static triangles.
 fn fixed_time_image(
     ctx: &Context,
+    passes: &Passes,
     s: &Scene,
     estimator: ShadowEstimator,
     t: f32,
@@ -112,9 +134,11 @@ fn fixed_time_image(
         estimator,
         filter: Default::default(),
     };
-    let collection = CollectionPass::new(ctx).unwrap();
-    let generation = GenerationPass::new(ctx).unwrap();
-    let lighting = LightingPass::new(ctx).unwrap();
+    let Passes {
+        collection,
+        generation,
+        lighting,
+    } = passes;
     let target = LightingTarget::new(ctx, SIZE.0, SIZE.1, 1, 1).unwrap();
     let map = TemporalShadowMap::new(ctx, 256, 256, 1 << 18, 1 << 17).unwrap();
     OneShot::new(ctx)
@@ -154,6 +178,7 @@ fn fixed_time_image(
 #[test]
 fn analytic_at_one_spp_beats_sampled_at_sixteen_on_static_receivers() {
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     let s = ground_view_scene();
     let settings = |method, spp, estimator| RenderSettings {
         width: SIZE.0,
@@ -178,8 +203,13 @@ fn analytic_at_one_spp_beats_sampled_at_sixteen_on_static_receivers() {
         truth.moving_coverage.iter().all(|&m| m == 0.0),
         "the view must see static receivers only"
     );
-    let rmse = |spp, estimator| {
-        let image = render(&ctx, &s, &settings(Method::Temporal, spp, estimator)).image;
+    let mut rmse = |spp, estimator| {
+        let image = render_with(
+            &mut renderer,
+            &s,
+            &settings(Method::Temporal, spp, estimator),
+        )
+        .image;
         if let Ok(dir) = std::env::var("MOTION_SHADOWS_TEST_IMAGES") {
             let e = motion_shadows_app::output::auto_exposure(&truth.image);
             let dir = std::path::Path::new(&dir);
@@ -219,6 +249,7 @@ fn analytic_at_one_spp_beats_sampled_at_sixteen_on_static_receivers() {
 #[test]
 fn analytic_at_one_spp_beats_sampled_at_sixteen_on_builtin_static_views() {
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     // docs/examples holds both views as scene files (the built-in scenes exported, cameras
     // moved), so that `compare --scene-file` reproduces the README's images of them.
     let view = |file: &str| {
@@ -253,8 +284,13 @@ fn analytic_at_one_spp_beats_sampled_at_sixteen_on_builtin_static_views() {
             "{}: the view must see static receivers only",
             s.name
         );
-        let rmse = |spp, estimator, filter| {
-            let image = render(&ctx, s, &settings(Method::Temporal, spp, estimator, filter)).image;
+        let mut rmse = |spp, estimator, filter| {
+            let image = render_with(
+                &mut renderer,
+                s,
+                &settings(Method::Temporal, spp, estimator, filter),
+            )
+            .image;
             error_stats(&image, &truth.image, None).unwrap().rmse
         };
         let analytic_1 = rmse(1, ShadowEstimator::Analytic, Unfiltered);

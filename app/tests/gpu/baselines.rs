@@ -3,7 +3,7 @@
 //! and shows none of TSM's self-shadow artifacts; both converge as spp grows.
 
 use crate::support::gpu::{
-    assert_no_validation_messages, context, mesh, overhead_spot, render, scene,
+    assert_no_validation_messages, context, mesh, overhead_spot, render_with, renderer, scene,
 };
 use glam::{Vec2, Vec3};
 use motion_shadows_app::output::RadianceImage;
@@ -69,8 +69,16 @@ fn settings(method: Method, spp: u32) -> RenderSettings {
 #[test]
 fn reference_converges_with_slices() {
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     let s = sliding_block();
-    let reference = |slices| render(&ctx, &s, &settings(Method::Reference { slices }, 1)).image;
+    let mut reference = |slices| {
+        render_with(
+            &mut renderer,
+            &s,
+            &settings(Method::Reference { slices }, 1),
+        )
+        .image
+    };
     let truth = reference(1024);
     let e4 = rmse(&reference(4), &truth, None);
     let e64 = rmse(&reference(64), &truth, None);
@@ -85,10 +93,21 @@ fn reference_converges_with_slices() {
 #[test]
 fn static_reference_equals_an_ordinary_shadow_map() {
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     let mut s = sliding_block();
     s.meshes[1].t1 = s.meshes[1].t0.clone();
-    let reference = render(&ctx, &s, &settings(Method::Reference { slices: 16 }, 1)).image;
-    let plain = render(&ctx, &s, &settings(Method::Plain { time: 0.5 }, 16)).image;
+    let reference = render_with(
+        &mut renderer,
+        &s,
+        &settings(Method::Reference { slices: 16 }, 1),
+    )
+    .image;
+    let plain = render_with(
+        &mut renderer,
+        &s,
+        &settings(Method::Plain { time: 0.5 }, 16),
+    )
+    .image;
     let worst = reference
         .rgb
         .iter()
@@ -105,10 +124,11 @@ fn static_reference_equals_an_ordinary_shadow_map() {
 #[test]
 fn tsm_with_one_map_and_no_motion_is_an_ordinary_shadow_map() {
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     let mut s = sliding_block();
     s.meshes[1].t1 = s.meshes[1].t0.clone();
-    let tsm = render(&ctx, &s, &settings(Method::Tsm, 1)).image;
-    let plain = render(&ctx, &s, &settings(Method::Plain { time: 0.5 }, 1)).image;
+    let tsm = render_with(&mut renderer, &s, &settings(Method::Tsm, 1)).image;
+    let plain = render_with(&mut renderer, &s, &settings(Method::Plain { time: 0.5 }, 1)).image;
     let pixels = (tsm.width * tsm.height) as usize;
     let differ = (0..pixels)
         .filter(|&i| (0..3).any(|c| tsm.rgb[3 * i + c] != plain.rgb[3 * i + c]))
@@ -126,6 +146,7 @@ fn tsm_with_one_map_and_no_motion_is_an_ordinary_shadow_map() {
 #[test]
 fn temporal_beats_tsm_on_cubes_toward_light() {
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     let s = builtin("cubes-toward-light", &BuiltinOptions::default()).unwrap();
     let at = |method, spp| RenderSettings {
         width: 160,
@@ -135,12 +156,12 @@ fn temporal_beats_tsm_on_cubes_toward_light() {
         method,
         ..RenderSettings::default()
     };
-    let reference = render(&ctx, &s, &at(Method::Reference { slices: 256 }, 1));
+    let reference = render_with(&mut renderer, &s, &at(Method::Reference { slices: 256 }, 1));
     let mask: Vec<bool> = reference.moving_coverage.iter().map(|&c| c > 0.5).collect();
     let moving_pixels = mask.iter().filter(|&&m| m).count();
     assert!(moving_pixels > 300, "{moving_pixels} moving-object pixels");
-    let temporal = render(&ctx, &s, &at(Method::Temporal, 8)).image;
-    let tsm = render(&ctx, &s, &at(Method::Tsm, 8)).image;
+    let temporal = render_with(&mut renderer, &s, &at(Method::Temporal, 8)).image;
+    let tsm = render_with(&mut renderer, &s, &at(Method::Tsm, 8)).image;
     let (e_temporal, e_tsm) = (
         rmse(&temporal, &reference.image, None),
         rmse(&tsm, &reference.image, None),
@@ -189,15 +210,21 @@ fn temporal_beats_tsm_on_cubes_toward_light() {
 #[test]
 fn temporal_converges_with_spp() {
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     let s = sliding_block();
-    let truth = render(&ctx, &s, &settings(Method::Reference { slices: 1024 }, 1)).image;
+    let truth = render_with(
+        &mut renderer,
+        &s,
+        &settings(Method::Reference { slices: 1024 }, 1),
+    )
+    .image;
     let e4 = rmse(
-        &render(&ctx, &s, &settings(Method::Temporal, 4)).image,
+        &render_with(&mut renderer, &s, &settings(Method::Temporal, 4)).image,
         &truth,
         None,
     );
     let e64 = rmse(
-        &render(&ctx, &s, &settings(Method::Temporal, 64)).image,
+        &render_with(&mut renderer, &s, &settings(Method::Temporal, 64)).image,
         &truth,
         None,
     );

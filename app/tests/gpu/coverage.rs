@@ -2,8 +2,8 @@
 //! marked covered unless one triangle is its nearest occluder all frame long.
 
 use crate::support::gpu::{
-    assert_no_validation_messages, context, mesh, overhead_directional, overhead_spot, render,
-    scene, square, translated,
+    assert_no_validation_messages, context, mesh, overhead_directional, overhead_spot, render_with,
+    renderer, scene, square, translated,
 };
 use glam::{Quat, Vec2, Vec3};
 use motion_shadows_app::render::{Method, RenderResult, RenderSettings};
@@ -25,9 +25,10 @@ fn settings(method: Method) -> RenderSettings {
 }
 
 fn both(ctx: &motion_shadows::gpu::Context, s: &Scene) -> (RenderResult, RenderResult) {
+    let mut renderer = renderer(ctx);
     (
-        render(ctx, s, &settings(Method::Temporal)),
-        render(ctx, s, &settings(Method::Coverage)),
+        render_with(&mut renderer, s, &settings(Method::Temporal)),
+        render_with(&mut renderer, s, &settings(Method::Coverage)),
     )
 }
 
@@ -212,6 +213,7 @@ fn a_covering_triangle_moving_in_depth_is_reset_by_what_it_passes() {
 #[test]
 fn random_cubes_store_fewer_ranges_and_render_the_same() {
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     let options = motion_shadows_app::scene::BuiltinOptions {
         cube_count: 1000,
         ..Default::default()
@@ -226,8 +228,8 @@ fn random_cubes_store_fewer_ranges_and_render_the_same() {
         static_layer: false,
         ..RenderSettings::default()
     };
-    let temporal = render(&ctx, &s, &at(Method::Temporal));
-    let coverage = render(&ctx, &s, &at(Method::Coverage));
+    let temporal = render_with(&mut renderer, &s, &at(Method::Temporal));
+    let coverage = render_with(&mut renderer, &s, &at(Method::Coverage));
     let (with, without) = (
         coverage.stats.ranges,
         coverage.stats.ranges_without_coverage,
@@ -260,6 +262,7 @@ fn random_cubes_store_fewer_ranges_and_render_the_same() {
 #[test]
 fn a_surface_sinking_under_its_own_marks_stays_lit() {
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     let ground0: Vec<Vec3> = translated(&plane_mesh(Vec2::splat(12.0), 8), Vec3::Y * 2.0);
     let ground1 = translated(&ground0, Vec3::NEG_Y * 2.0);
     let s = scene(
@@ -267,7 +270,7 @@ fn a_surface_sinking_under_its_own_marks_stays_lit() {
         overhead_directional(8.0),
         vec![mesh("ground", ground0, ground1, false)],
     );
-    let result = render(&ctx, &s, &settings(Method::Coverage));
+    let result = render_with(&mut renderer, &s, &settings(Method::Coverage));
     let stats = &result.stats;
     assert!(
         stats.ranges < stats.ranges_without_coverage,

@@ -5,7 +5,7 @@
 //! (`tests/gpu/deferred_host.rs`), with which this file shares
 //! `test-support/src/deferred_host.rs`.
 
-use crate::support::gpu::{assert_no_validation_messages, context, render};
+use crate::support::gpu::{assert_no_validation_messages, context, render_with, renderer};
 use crate::support::host::Host;
 use crate::support::sampling::{CameraRays, hits, pixel_key, pixel_sample};
 use ash::vk;
@@ -238,6 +238,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
     }
 
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     let ambient = world.ambient * GROUND_ALBEDO as f32;
     for frame in &frames[2..] {
         let mut per_light = Vec::new();
@@ -254,7 +255,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
                 receiver: ReceiverTest::Offset,
                 ..RenderSettings::default()
             };
-            let result = render(&ctx, &scene, &settings);
+            let result = render_with(&mut renderer, &scene, &settings);
             let diffs = compare_light(&world, frame, light, &result.image.rgb);
             let what = format!(
                 "frame {} (slot {}), light {light}, temporal 64 spp",
@@ -321,7 +322,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
         ..RenderSettings::default()
     };
     let start = std::time::Instant::now();
-    let reference = render(&ctx, &scene, &settings);
+    let reference = render_with(&mut renderer, &scene, &settings);
     let what = format!(
         "frame 3, light 0, reference 256 slices ({:.1} s)",
         start.elapsed().as_secs_f64()
@@ -357,6 +358,7 @@ fn glsl_include_in_a_host_shader_agrees_with_the_library_lighting_pass() {
     let ground_first_id = engine.first_triangle_id(0);
 
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     let ambient = f64::from(world.ambient) * GROUND_ALBEDO;
     for light in 0..world.lights.len() {
         let scene = app_scene(&world, 3, light);
@@ -371,7 +373,7 @@ fn glsl_include_in_a_host_shader_agrees_with_the_library_lighting_pass() {
             receiver: ReceiverTest::Offset,
             ..RenderSettings::default()
         };
-        let result = render(&ctx, &scene, &settings);
+        let result = render_with(&mut renderer, &scene, &settings);
         let rays = camera_rays(&scene);
         let casters: Vec<(Vec<Vec3>, Vec<Vec3>)> = scene.meshes[1..]
             .iter()

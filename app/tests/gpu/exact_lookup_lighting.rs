@@ -9,7 +9,7 @@
 //! analytic estimator, against the exact lit shares of the same samples' points.
 
 use crate::support::frame::render_draws;
-use crate::support::gpu::{assert_no_validation_messages, context, render};
+use crate::support::gpu::{assert_no_validation_messages, context, render_with, renderer};
 use crate::support::ray_traced::rmse_against_the_ray_tracer;
 use glam::{DVec3, Vec2, Vec3};
 use motion_shadows::technique::sampling::{pixel_key, pixel_sample};
@@ -139,12 +139,13 @@ fn settings(shadow: u32, lookup: Lookup) -> RenderSettings {
 #[test]
 fn the_forward_exact_lookup_matches_the_ray_tracer_at_fine_and_coarse_maps() {
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     for (name, light) in lights() {
         let scene = block_and_flying_casters(light);
         for shadow in [512, 64] {
-            let rmse = |lookup| {
+            let mut rmse = |lookup| {
                 let s = settings(shadow, lookup);
-                let r: RenderResult = render(&ctx, &scene, &s);
+                let r: RenderResult = render_with(&mut renderer, &scene, &s);
                 assert_eq!(r.stats.method, s.method_name());
                 // For a look at the frames: MOTION_SHADOWS_TEST_IMAGES=DIR.
                 if let Ok(dir) = std::env::var("MOTION_SHADOWS_TEST_IMAGES") {
@@ -237,6 +238,7 @@ fn analytic_expectation(scene: &Scene, s: &RenderSettings) -> RadianceImage {
 #[test]
 fn the_forward_exact_lookup_with_the_analytic_estimator_takes_exact_lit_shares() {
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     for (name, light) in lights() {
         let scene = block_and_flying_casters(light);
         for shadow in [512, 64] {
@@ -246,8 +248,8 @@ fn the_forward_exact_lookup_with_the_analytic_estimator_takes_exact_lit_shares()
             };
             let analytic = settings(ShadowEstimator::Analytic);
             let expected = analytic_expectation(&scene, &analytic);
-            let rmse = |s: &RenderSettings| {
-                let image = render(&ctx, &scene, s).image;
+            let mut rmse = |s: &RenderSettings| {
+                let image = render_with(&mut renderer, &scene, s).image;
                 error_stats(&image, &expected, None)
                     .expect("images of one size")
                     .rmse

@@ -8,7 +8,7 @@
 //! ignored the light's motion (the still light's image against the moving light's truth) is
 //! far off, so the bound can tell.
 
-use crate::support::gpu::{assert_no_validation_messages, context, render};
+use crate::support::gpu::{assert_no_validation_messages, context, render, render_with, renderer};
 use motion_shadows_app::compare::error_stats;
 use motion_shadows_app::render::{Method, RenderResult, RenderSettings};
 use motion_shadows_app::scene::{BuiltinOptions, Light, Scene, SpotPose, builtin};
@@ -51,11 +51,12 @@ fn truth(scene: &Scene) -> RenderResult {
 #[test]
 fn a_carried_light_renders_like_the_ray_tracer() {
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     let moving = scene(Some(glam::Vec3::X));
     let still = scene(None);
     let (moving_truth, still_truth) = (truth(&moving), truth(&still));
-    let moving_map = render(&ctx, &moving, &settings(Method::Temporal));
-    let still_map = render(&ctx, &still, &settings(Method::Temporal));
+    let moving_map = render_with(&mut renderer, &moving, &settings(Method::Temporal));
+    let still_map = render_with(&mut renderer, &still, &settings(Method::Temporal));
     let rmse = |image, truth| error_stats(image, truth, None).unwrap().rmse;
     let moving_error = rmse(&moving_map.image, &moving_truth.image);
     let still_error = rmse(&still_map.image, &still_truth.image);
@@ -176,12 +177,13 @@ fn the_mask_under_a_carried_light_agrees_with_the_exact_truth() {
 #[test]
 fn ordinary_maps_take_the_light_at_each_layer_s_time() {
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     let (moving, still) = (scene(Some(glam::Vec3::X)), scene(None));
     let (moving_truth, still_truth) = (truth(&moving), truth(&still));
     let rmse = |image: &_, truth: &_| error_stats(image, truth, None).unwrap().rmse;
     for method in [Method::Reference { slices: 32 }, Method::Tsm] {
-        let moving_map = render(&ctx, &moving, &settings(method));
-        let still_map = render(&ctx, &still, &settings(method));
+        let moving_map = render_with(&mut renderer, &moving, &settings(method));
+        let still_map = render_with(&mut renderer, &still, &settings(method));
         let moving_error = rmse(&moving_map.image, &moving_truth.image);
         let still_error = rmse(&still_map.image, &still_truth.image);
         let ignored = rmse(&still_map.image, &moving_truth.image);

@@ -4,7 +4,7 @@
 //! and casters are both static and moving. The lists are the oracle (their construction is
 //! checked against CPU models in exact_prisms.rs, generation.rs and analytic.rs).
 
-use crate::support::gpu::{assert_no_validation_messages, context, render};
+use crate::support::gpu::{assert_no_validation_messages, context, render_with, renderer};
 use crate::support::ray_traced::rmse_against_the_ray_tracer;
 use motion_shadows::technique::{ShadowEstimator, ShadowFilter};
 use motion_shadows_app::render::{Method, ReceiverTest, RenderSettings};
@@ -26,6 +26,7 @@ fn settings(static_layer: bool) -> RenderSettings {
 #[test]
 fn the_static_layer_renders_what_the_lists_render() {
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     let variants = [
         (
             "sampled",
@@ -68,8 +69,8 @@ fn the_static_layer_renders_what_the_lists_render() {
                 receiver,
                 ..settings(static_layer)
             };
-            let lists = render(&ctx, &scene, &at(false));
-            let layer = render(&ctx, &scene, &at(true));
+            let lists = render_with(&mut renderer, &scene, &at(false));
+            let layer = render_with(&mut renderer, &scene, &at(true));
             assert_eq!(lists.stats.static_layer_bytes, 0);
             assert_eq!(layer.stats.static_layer_bytes, 256 * 256 * 8);
             assert!(

@@ -10,7 +10,7 @@
 //! the prisms); the bound comes from the same quad moved down so that it never reaches the
 //! light (nothing special happens there): the crossing quad must agree as well as it does.
 
-use crate::support::gpu::{assert_no_validation_messages, context, render};
+use crate::support::gpu::{assert_no_validation_messages, context, render_with, renderer};
 use motion_shadows_app::compare::error_stats;
 use motion_shadows_app::render::{Method, RenderSettings};
 use motion_shadows_app::scene::{Scene, parse_scene_json};
@@ -48,6 +48,7 @@ fn scene(lo: f32, hi: f32) -> Scene {
 #[test]
 fn a_quad_sweeping_through_the_light_renders_like_the_ray_tracer() {
     let ctx = context();
+    let mut renderer = renderer(&ctx);
     let settings = |method| RenderSettings {
         width: 160,
         height: 120,
@@ -57,11 +58,11 @@ fn a_quad_sweeping_through_the_light_renders_like_the_ray_tracer() {
         method,
         ..RenderSettings::default()
     };
-    let rmse = |s: &Scene| {
+    let mut rmse = |s: &Scene| {
         let truth =
             motion_shadows_app::raytrace::render(s, &settings(Method::Raytrace), &mut |_| {})
                 .unwrap();
-        let temporal = render(&ctx, s, &settings(Method::Temporal));
+        let temporal = render_with(&mut renderer, s, &settings(Method::Temporal));
         if let Ok(dir) = std::env::var("MOTION_SHADOWS_TEST_IMAGES") {
             let dir = std::path::Path::new(&dir);
             std::fs::create_dir_all(dir).unwrap();

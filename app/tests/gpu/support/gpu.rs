@@ -10,10 +10,26 @@ use motion_shadows_app::scene::{Camera, DirectionalLight, Light, Mesh, Scene, Sp
 
 pub use super::device::{assert_no_validation_messages, context};
 
+/// `scene` on a renderer of its own (its pipelines made for this frame alone).
 pub fn render(ctx: &Context, scene: &Scene, settings: &RenderSettings) -> RenderResult {
-    let mut renderer = Renderer::new(ctx).expect("renderer");
-    motion_shadows_app::frame::render(Some(&mut renderer), scene, settings, &mut |_| {})
-        .expect("render")
+    render_with(&mut renderer(ctx), scene, settings)
+}
+
+/// A renderer for a test's frames. Made once per test and passed to [`render_with`]: making
+/// the passes' pipelines and the first frame's variants takes lavapipe about 1.5 s, three to
+/// six times a small frame (a fresh renderer renders what a reused one does:
+/// `lighting::a_reused_renderer_renders_like_a_fresh_one`).
+pub fn renderer(ctx: &Context) -> Renderer<'_> {
+    Renderer::new(ctx).expect("renderer")
+}
+
+/// `scene` on `renderer`, whose pipelines earlier frames made.
+pub fn render_with(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    settings: &RenderSettings,
+) -> RenderResult {
+    motion_shadows_app::frame::render(Some(renderer), scene, settings, &mut |_| {}).expect("render")
 }
 
 /// The temporal shadow map of `scene` at `shadow_size` (the camera image is a token 8x8),
