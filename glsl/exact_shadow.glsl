@@ -1,8 +1,7 @@
 // The exact shadow test of one receiver against one moving triangle, over a window of the
 // shutter, in f32: the building block of the exact lookups (issue 35; docs/src/exact-lookups.md).
-// Self-contained: no bindings, no buffer references, every name prefixed `ms_exact_`, so that
-// any of the library's shaders can include it. Its f64 original is the ray tracer's
-// app/src/raytrace/shutter.rs, whose structure it follows.
+// Self-contained (no bindings or buffer references, names prefixed `ms_exact_`); its f64
+// original is the ray tracer's app/src/raytrace/shutter.rs, whose structure it follows.
 //
 // The receiver moves linearly, P(t) = P0 + t (P1 - P0) (still: P0 == P1); the triangle's
 // corners too, X(t) = X0 + t (X1 - X0). With every vector relative to P(t) (X' = X(t) - P(t),
@@ -16,41 +15,24 @@
 // det(A', B', C') - s0 E at a bound s0 of the range, changes sign; between two such times it
 // is asked once, at the midpoint.
 //
-// How many intervals at most: 3 edges and (spot) 2 bounds of s, each a polynomial of degree
-// <= 3, change sign at most 15 times in the window (directional: 3 quadratics and 1 cubic, 9
-// times), cutting it into at most 16 pieces. Shadowed pieces that touch are joined, so two
-// intervals are apart by at least one lit piece: at most 8 intervals (directional: 5), which
-// is MS_EXACT_MAX_INTERVALS; the list can never overflow.
+// At most MS_EXACT_MAX_INTERVALS intervals: 15 sign changes cut the window into 16 pieces, and
+// touching shadowed pieces are joined (the book's "The bound of 8").
 //
-// The one epsilon, MS_EXACT_SELF_EPSILON: the range of s starts there (ms_exact_s_min), so
-// that a receiver is not shadowed by the surface it lies on. The caller leaves out the
-// receiver's own triangle; its coplanar neighbours remain, and a receiver on an edge or corner
-// it shares with them (or, in f32, one rounding off their plane) meets them at s ~ 0: its
-// position is ~2^-24 of the coordinates' size off their plane, crossed ~2^-24 M / sin(angle)
-// along a ray that grazes the surface at that angle. Spot: s is the share of the segment from
-// P(t) to the light, so the epsilon is relative to the receiver's distance to the light, d
-// (keeps such self-hits out down to sin(angle) ~ 1e-3 M / d, loses no blocker farther than
-// 1e-4 d from the receiver: 1 mm at 10 units). Directional: u is a unit vector, so the
-// epsilon is relative to the scene's size that the caller hands over (as the ray tracer does).
-// The range ends at s = 1 for a spot light (its position) and nowhere for a directional one.
-// The epsilon guards against one thing only, a receiver on the triangle's plane to within
-// rounding (its own surface's coplanar neighbours): a receiver that lies off the triangle's
-// plane all window long by more than the rounding of its coordinates (ms_exact_s_from) is
-// blocked from the ray tracer's epsilon on (MS_EXACT_OFF_PLANE_SHARE of it), so a caster that
-// touches or nearly touches it (a wall's foot, the next facet past a silhouette) shadows it as
-// in the truth, instead of letting light through over the first 1e-4 of the segment.
-// Nothing else is a tolerance: a cubic's roots are bracketed as narrowly as f32 resolves t, a
-// quadratic's (and a cubic's turning points) come from the stable quadratic formula, and the
-// certain-sign early outs only skip work that would find nothing.
+// The one epsilon, MS_EXACT_SELF_EPSILON (docs/src/exact-lookups.md, "The one epsilon"): the
+// range of s starts there (ms_exact_s_min), so that a receiver is not shadowed by the surface
+// it lies on: its own triangle the caller leaves out, its coplanar neighbours remain, and a
+// receiver one f32 rounding off their plane meets them at s ~ 0. Spot: s is the share of the
+// segment to the light; directional: u is a unit vector and the epsilon is relative to the
+// scene's size the caller hands over. The range ends at s = 1 for a spot light. A receiver
+// off the triangle's plane by more than rounding all window long (ms_exact_s_from) starts at
+// the ray tracer's epsilon instead, so a caster at its foot shadows it. Nothing else is a
+// tolerance: roots are bracketed as narrowly as f32 resolves t, and the certain-sign early
+// outs only skip work that would find nothing.
 //
-// Ties. A receiver exactly on an edge two triangles share (or its ray through that edge): the
-// edge function of an edge is computed from its two corners in one canonical order (the
-// smaller corner data first), then negated for the triangle that walks the edge the other
-// way, with `precise` arithmetic, so both triangles see exactly opposite values (and the same
-// roots): where it is 0 both take the ray, where it is not, one of them does (watertight, as
-// Woop et al.'s test of the ray tracer): no light passes between a closed mesh's triangles.
-// A triangle edge-on to the ray (E == 0 at that time) does not block: it has no area (the
-// tracer's rule); in a closed mesh its neighbours cover the ray.
+// Ties: an edge's function is computed from its two corners in one canonical order and
+// negated for the triangle that walks the edge the other way (`precise`), so the two
+// triangles sharing an edge see exactly opposite values: one of them takes a ray through it
+// (watertight). A triangle edge-on to the ray (E == 0) does not block, as in the tracer.
 
 #ifndef MS_EXACT_SHADOW_GLSL
 #define MS_EXACT_SHADOW_GLSL
@@ -59,35 +41,26 @@
 // 3 edges x 3 roots + 2 bounds x 3 roots.
 #define MS_EXACT_MAX_EVENTS 15
 #define MS_EXACT_SELF_EPSILON 1e-4
-// A receiver certainly off a triangle's plane takes this share of the epsilon: 1e-7, the ray
-// tracer's (app/src/raytrace/shade.rs, SHADOW_EPSILON).
+// Off a triangle's plane: this share of the epsilon, 1e-7, the ray tracer's SHADOW_EPSILON.
 #define MS_EXACT_OFF_PLANE_SHARE 1e-3
-// Off the plane means |det(A', B', C')| above this share of r^2 (r + m) (r: the corners'
-// reach from the receiver, m: the receiver's distance from the origin): a distance from the
-// plane of at least ~16 units of f32 rounding of the coordinates (2^-24 m), where a receiver on
-// the plane (its own surface's neighbours) lies within a few.
+// Off the plane: |det(A', B', C')| above this times r^2 (r + m) (r: the corners' reach from
+// the receiver, m: its distance from the origin), ~16 f32 roundings of the coordinates.
 #define MS_EXACT_OFF_PLANE (64.0 / 16777216.0)
 // Roots are bracketed to this width in t (~4 ulps of t near 1).
 #define MS_EXACT_ROOT_WIDTH 4.8e-7
-// A triangle is rejected without root finding when two of its edge functions have opposite
-// signs over the whole shutter by more than this share of their largest possible term (the
-// f32 rounding of the coefficients is ~1e-6 of it).
+// Certain signs (early outs without root finding) are by more than this share of the largest
+// possible term (f32 rounding of the coefficients: ~1e-6 of it).
 #define MS_EXACT_CERTAIN 1e-5
 // The union of several triangles' intervals holds this many disjoint ones at most.
 #define MS_EXACT_UNION_CAPACITY 8
 
-// The iterations this invocation's loops below have run (those whose counts depend on the
-// data; loops of a constant count are unrolled): a device that leaves a shader's loops after a
-// fixed count of iterations, all loops together (lavapipe's loop limiter), runs out there
-// first, so a caller that must stop in time counts them (exact_lookup.glsl's walk).
+// The iterations this invocation's data-dependent loops below have run: a caller that must
+// stop before lavapipe's loop limiter cuts its loops counts them (exact_lookup.glsl's walk).
 uint ms_exact_iterations = 0u;
 
-// A light that moves during the shutter (issue 38; a translating one: the exact lookup refuses
-// a turning light): how far it moves, L(1) - L(0), a spot's position or a directional light's
-// eye (whose motion only moves the map's frame). The caller sets it before asking (the mask:
-// from the map's MsLightEnd, light_motion.glsl); 0, a still light's, leaves every value and
-// cost as it was. A spot's shadow ray L(t) - P(t) = (L0 - P0) + t ((L1 - L0) - (P1 - P0))
-// stays linear in t, so every polynomial keeps its degree (edges and plane: cubics).
+// A translating light's motion L(1) - L(0) (issue 38; the exact lookup refuses a turning one),
+// set by the caller before asking (the mask: from the map's MsLightEnd); 0 for a still light.
+// A spot's ray L(t) - P(t) stays linear in t, so every polynomial keeps its degree.
 vec3 ms_exact_light_motion = vec3(0.0);
 
 // A vector linear in t: a + t b.
@@ -294,9 +267,8 @@ float ms_exact_s_min(bool spot, float scene_size) {
 }
 
 // Whether the ray meets the triangle at time t, from the edge polynomials and the plane's.
-// The start of the range of s for one triangle over [w0, w1] (plane: det(A', B', C')): the
-// ray tracer's epsilon where the receiver lies off the triangle's plane by more than rounding
-// all window long, s_min (ms_exact_s_min) where it may lie on it.
+// The start of s for one triangle over [w0, w1] (plane: det(A', B', C')): the ray tracer's
+// epsilon off the plane by more than rounding all window long, else s_min (ms_exact_s_min).
 float ms_exact_s_from(vec4 plane, float r, float m, float w0, float w1, float s_min) {
     float margin = MS_EXACT_OFF_PLANE * r * r * (r + m);
     bool off_plane = ms_exact_certain_sign(plane, w0, w1, margin) != 0;
@@ -314,8 +286,6 @@ bool ms_exact_blocks(vec4 edges[3], vec4 plane, bool spot, float s_min, float t)
     return s >= s_min && (!spot || s <= 1.0);
 }
 
-// ms_exact_shadowed_intervals's general case: the test's changes found as the polynomials'
-// sign changes in [w0, w1], and the test asked once between consecutive ones.
 // The sizes the certain-sign margins are relative to: the corners' largest reach from the
 // receiver over the shutter (r) and the ray's (ray).
 void ms_exact_sizes(ms_exact_Linear corner[3], ms_exact_Linear u, out float r, out float ray) {
@@ -339,6 +309,8 @@ bool ms_exact_edges_disagree(vec4 edges[3], float r, float ray, float w0, float 
     return positive && negative;
 }
 
+// ms_exact_shadowed_intervals's general case: the test's changes found as the polynomials'
+// sign changes in [w0, w1], and the test asked once between consecutive ones.
 int ms_exact_general_intervals(ms_exact_Linear corner[3], ms_exact_Linear u, vec4 edges[3],
                                vec4 plane, bool spot, float s_min, float m, float w0,
                                float w1, inout vec2 intervals[MS_EXACT_MAX_INTERVALS]) {
@@ -487,14 +459,11 @@ int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s
                                        w1, false, intervals);
 }
 
-// Whether ms_exact_shadowed_intervals can find anything in [w0, w1], as far as the edge
-// functions' certain signs tell without root finding: MS_EXACT_NONE (two of them have
-// opposite signs all window long: the ray passes outside the triangle) or MS_EXACT_ASK (ask
-// the whole test). The cheap half of the test, for callers that gather the triangles left to
-// ask and ask them together: on a device that runs a branch's code whether or not a lane
-// takes it (llvmpipe), a loop whose body holds the whole test pays for its root finding on
-// every triangle, where most are decided here. (A triangle that stands still relative to the
-// receiver is asked too: the whole test answers it on its constants.)
+// Whether ms_exact_shadowed_intervals can find anything in [w0, w1], as far as certain signs
+// tell without root finding: MS_EXACT_NONE (two edge functions of opposite signs all window
+// long) or MS_EXACT_ASK. The cheap half, for callers that gather the triangles left and ask
+// them together: llvmpipe runs a loop body's whole code for every lane, taken or not, so a
+// loop holding the root finding would pay for it on every triangle.
 const int MS_EXACT_NONE = 0;
 const int MS_EXACT_ASK = 1;
 
@@ -540,10 +509,9 @@ int ms_exact_classify(vec3 p0, vec3 p1, bool spot, vec3 light, float s_min,
 }
 
 // The union of several triangles' shadowed intervals: up to MS_EXACT_UNION_CAPACITY disjoint
-// intervals, in no order, held in vector registers (starts s0 s1, ends e0 e1; an empty slot
-// holds MS_EXACT_EMPTY in both). Every operation works on the whole vectors with constant
-// indices: kept as a sorted array (dynamically indexed, copied on every insertion) the union
-// made the exact mask 4x slower on lavapipe, whose arrays with run-time indices live in memory.
+// intervals, in no order, in vector registers (starts s0 s1, ends e0 e1; an empty slot holds
+// MS_EXACT_EMPTY in both), worked on with constant indices: as a sorted array (run-time
+// indices, which lavapipe keeps in memory) the exact mask was 4x slower.
 struct ms_exact_Union {
     vec4 s0;
     vec4 s1;

@@ -24,12 +24,13 @@ pub use access_check::{AccessCheck, ReportedBarrier};
 pub use barrier::{Access, image_barrier, memory_barrier};
 pub use buffer::{Buffer, BufferUsage};
 pub use commands::OneShot;
-// For the research passes' objects that retire raw handles of their own.
-#[cfg(feature = "research")]
+// For the passes' objects that hold the device without a Context (the research passes'
+// retired handles, the image passes' pipelines made at first use).
 pub(crate) use context::Shared;
 pub use context::{Context, ContextOptions, DeviceInfo};
 pub use image::Image;
 pub use image_bindings::{ImageBindingLayout, ImageBindings};
+pub(crate) use pipeline::compute_of_module;
 pub use pipeline::{
     Attachments, Pipeline, ShaderModule, Spirv, attachmentless_pipeline, begin_attachmentless,
     begin_rendering, begin_rendering_colors, compute_pipeline, compute_pipeline_with_sets,

@@ -27,6 +27,8 @@ impl LightingImageOutput {
             ("radiance_to_image.comp", shaders::RADIANCE_TO_IMAGE_COMP),
             &[&[]],
         )?;
+        // Its one pipeline now: `record` has no error to return.
+        pass.pipeline(0)?;
         Ok(Self { pass })
     }
 
@@ -67,7 +69,14 @@ impl LightingImageOutput {
             size: [target.width(), target.height()],
         };
         let size = (target.width(), target.height());
+        let pipeline = self
+            .pass
+            .pipeline(0)
+            .expect("made by LightingImageOutput::new");
         // SAFETY: the caller's contract; the set was just written.
-        unsafe { self.pass.record(device, cmd, 0, bindings, &constants, size) };
+        unsafe {
+            self.pass
+                .record(device, cmd, pipeline, bindings, &constants, size)
+        };
     }
 }

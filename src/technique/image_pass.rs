@@ -1,24 +1,32 @@
 //! What the two passes that touch a host's images share (the visibility mask, the lighting
 //! output): a compute pipeline with one set of image bindings, created only where the device
 //! can write storage images without a format, and one dispatch over an image. A pass may have
-//! several variants of its shader (specialization constants), all made up front.
+//! several variants of its shader (specialization constants); each is made when a record
+//! first needs it.
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Context, ImageBindingLayout, ImageBindings, Pipeline, specialized_compute_pipeline,
+    Context, ImageBindingLayout, ImageBindings, Pipeline, ShaderModule, Shared, compute_of_module,
 };
 use ash::vk;
+use std::sync::{Arc, OnceLock};
 
-/// Compute pipelines over a host's images (one per variant), with their binding layout.
+/// Compute pipelines over a host's images (one per variant, made at first use), with their
+/// binding layout. Made up front, the visibility mask's eleven variants cost a process about
+/// 2 CPU seconds on lavapipe (LLVM compiles each), where a frame uses one to three of them.
 pub(crate) struct ImagePass {
     pub layout: ImageBindingLayout,
-    pub pipelines: Vec<Pipeline>,
+    shared: Arc<Shared>,
+    module: ShaderModule,
+    push_bytes: u32,
+    /// Per variant: its specialization constants, and its pipeline once made.
+    variants: Vec<(Vec<u32>, OnceLock<Pipeline>)>,
 }
 
 impl ImagePass {
     /// `what` names the pass in the error when shaderStorageImageWriteWithoutFormat is not
     /// enabled (one pipeline then writes any output format). Variant i of the pipelines has
-    /// the specialization constants `variants[i]`.
+    /// the specialization constants `variants[i]`. Makes no pipeline yet.
     pub fn new(
         ctx: &Context,
         what: &str,
@@ -32,18 +40,37 @@ impl ImagePass {
                 "{what} needs shaderStorageImageWriteWithoutFormat"
             )));
         }
-        let layout = ImageBindingLayout::new(ctx, bindings)?;
-        let pipelines = variants
-            .iter()
-            .map(|constants| {
-                specialized_compute_pipeline(ctx, &[&layout], push_bytes, name, spirv, constants)
-            })
-            .collect::<Result<_>>()?;
-        Ok(Self { layout, pipelines })
+        Ok(Self {
+            layout: ImageBindingLayout::new(ctx, bindings)?,
+            shared: ctx.shared.clone(),
+            module: ShaderModule::new(ctx, name, spirv)?,
+            push_bytes,
+            variants: variants
+                .iter()
+                .map(|constants| (constants.to_vec(), OnceLock::new()))
+                .collect(),
+        })
     }
 
-    /// Records one dispatch of 8x8 groups of pipeline `variant` over `size` with `bindings`
-    /// (already written) bound as set 0 and `constants` pushed.
+    /// Pipeline `variant`, made now if it was not made before (two threads that both make it
+    /// keep the first one; the other is destroyed).
+    pub fn pipeline(&self, variant: usize) -> Result<&Pipeline> {
+        let (constants, made) = &self.variants[variant];
+        if let Some(pipeline) = made.get() {
+            return Ok(pipeline);
+        }
+        let pipeline = compute_of_module(
+            &self.shared,
+            &[&self.layout],
+            self.push_bytes,
+            &self.module,
+            constants,
+        )?;
+        Ok(made.get_or_init(|| pipeline))
+    }
+
+    /// Records one dispatch of 8x8 groups of `pipeline` (one of [`Self::pipeline`]'s) over
+    /// `size` with `bindings` (already written) bound as set 0 and `constants` pushed.
     ///
     /// # Safety
     /// `cmd` is recording, outside any render pass; `bindings` was made from this pass's
@@ -52,15 +79,14 @@ impl ImagePass {
         &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
-        variant: usize,
+        pipeline: &Pipeline,
         bindings: &ImageBindings,
         constants: &T,
         size: (u32, u32),
     ) {
         // SAFETY: this function's contract (`cmd` recording outside a render pass, `bindings` of
         // this pass's layout with views live until `cmd` completes) is bind's.
-        unsafe { self.bind(device, cmd, variant, bindings) };
-        let pipeline = &self.pipelines[variant];
+        unsafe { self.bind(device, cmd, pipeline, bindings) };
         // SAFETY: the pipeline was just bound in `cmd`, and its layout's push range is the pass's
         // `push_bytes`, the size of T for every caller (the pass's push-constant struct).
         unsafe { pipeline.push(device, cmd, constants) };
@@ -70,7 +96,8 @@ impl ImagePass {
         unsafe { device.cmd_dispatch(cmd, size.0.div_ceil(8), size.1.div_ceil(8), 1) };
     }
 
-    /// Binds pipeline `variant` and `bindings` (already written) as set 0.
+    /// Binds `pipeline` (one of [`Self::pipeline`]'s) and `bindings` (already written) as
+    /// set 0.
     ///
     /// # Safety
     /// As [`Self::record`].
@@ -78,10 +105,9 @@ impl ImagePass {
         &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
-        variant: usize,
+        pipeline: &Pipeline,
         bindings: &ImageBindings,
     ) {
-        let pipeline = &self.pipelines[variant];
         // SAFETY: `cmd` is recording outside a render pass (the contract) and the pipeline is one
         // of this pass's, alive as long as `self`.
         unsafe { pipeline.bind(device, cmd) };
@@ -99,24 +125,23 @@ impl ImagePass {
         };
     }
 
-    /// Records one more dispatch of pipeline `variant`, already bound with its set by
-    /// [`Self::bind`], with `constants` pushed and its group counts read from `args` at
-    /// `offset` (`VkDispatchIndirectCommand`).
+    /// Records one more dispatch of `pipeline`, already bound with its set by [`Self::bind`],
+    /// with `constants` pushed and its group counts read from `args` at `offset`
+    /// (`VkDispatchIndirectCommand`).
     ///
     /// # Safety
     /// As [`Self::record`]; [`Self::bind`] was recorded earlier in `cmd` with the same
-    /// variant, and no other pipeline or set was bound since; `args` has indirect usage,
+    /// pipeline, and no other pipeline or set was bound since; `args` has indirect usage,
     /// holds the command at `offset`, made visible to `DRAW_INDIRECT` reads, and outlives
     /// `cmd`.
     pub unsafe fn record_indirect<T: bytemuck::Pod>(
         &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
-        variant: usize,
+        pipeline: &Pipeline,
         constants: &T,
         (args, offset): (vk::Buffer, u64),
     ) {
-        let pipeline = &self.pipelines[variant];
         // SAFETY: bind recorded this variant earlier in `cmd` and nothing else was bound since (the
         // contract), so the push goes to this pipeline's layout with its own push-constant size.
         unsafe { pipeline.push(device, cmd, constants) };

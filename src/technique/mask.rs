@@ -127,9 +127,13 @@ pub struct VisibilityMaskPass {
 
 impl VisibilityMaskPass {
     /// Creates the pass. Errors when the device lacks the subgroup vote operations in compute
-    /// shaders, or does not have `shaderStorageImageWriteWithout
-    /// Format` enabled (a headless context enables it where supported; a host says so in
-    /// `Context::from_raw`), which lets one pipeline write any of the output formats.
+    /// shaders, or does not have `shaderStorageImageWriteWithoutFormat` enabled (a headless
+    /// context enables it where supported; a host says so in `Context::from_raw`), which lets
+    /// one pipeline write any of the output formats. Makes no pipeline: each of the shader's
+    /// variants (still or moving receivers, depth line or exact, the follow-up rounds') is
+    /// made by the first record that needs it, so that first record takes longer (on
+    /// lavapipe up to about a second per variant; the eleven made up front cost a process
+    /// about 2 CPU seconds).
     pub fn new(ctx: &Context) -> Result<Self> {
         subgroup::check_subgroup_vote(ctx.info().subgroup_vote_in_compute)?;
         let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
@@ -329,6 +333,13 @@ impl VisibilityMaskPass {
             rounds,
             ..constants
         };
+        // Made now where no record made them before (ImagePass: each at first use).
+        let first = self.pass.pipeline(first)?;
+        let follow_up = if rounds > 0 {
+            Some(self.pass.pipeline(variant + FOLLOW_UP_VARIANTS)?)
+        } else {
+            None
+        };
         let counter = bindings.over_budget.raw();
         let check = bindings.over_budget.access_check();
         // No pending command buffer uses the bindings (the contract): whatever used them
@@ -374,23 +385,24 @@ impl VisibilityMaskPass {
                 inputs.size,
             );
             let queue = bindings.queue.buffer().raw();
-            for round in 1..=rounds {
-                // The queue this round reads, its group count and the mask's earlier writes.
-                memory_barrier(
-                    device,
-                    cmd,
-                    Access::COMPUTE_RW,
-                    Access::COMPUTE_RW.and(Access::INDIRECT_READ),
-                );
-                self.pass
-                    .bind(device, cmd, variant + FOLLOW_UP_VARIANTS, &bindings.images);
-                self.pass.record_indirect(
-                    device,
-                    cmd,
-                    variant + FOLLOW_UP_VARIANTS,
-                    &MaskPush { round, ..constants },
-                    (queue, MaskQueue::groups_offset(round)),
-                );
+            if let Some(follow_up) = follow_up {
+                for round in 1..=rounds {
+                    // The queue this round reads, its group count and the mask's earlier writes.
+                    memory_barrier(
+                        device,
+                        cmd,
+                        Access::COMPUTE_RW,
+                        Access::COMPUTE_RW.and(Access::INDIRECT_READ),
+                    );
+                    self.pass.bind(device, cmd, follow_up, &bindings.images);
+                    self.pass.record_indirect(
+                        device,
+                        cmd,
+                        follow_up,
+                        &MaskPush { round, ..constants },
+                        (queue, MaskQueue::groups_offset(round)),
+                    );
+                }
             }
             if self.outer_barriers {
                 let exit = super::own_barriers::mask(bindings).exit;
