@@ -9,9 +9,8 @@ use ash::vk;
 use glam::DVec3;
 use glam::Vec3;
 use motion_shadows::technique::{CameraView, TemporalShadowMap};
-use motion_shadows_deferred_host::deferred::{
-    HostBuffer, Light, Memory, Mesh, MeshIndices, Settings, World, pipeline_barrier,
-};
+use crate::host_memory::{HostBuffer, Memory, pipeline_barrier};
+use motion_shadows_deferred_host::deferred::{Light, Mesh, MeshIndices, Settings, World};
 
 /// The host's debugging probes (`tests/glsl/`): compute shaders a host would write, calling
 /// the library's public include on a map by device address.

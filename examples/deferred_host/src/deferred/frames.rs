@@ -9,7 +9,7 @@ impl Engine<'_> {
     /// limit) is an error after its fence. Returns the frames `keep(frame)` asks for.
     pub fn render(&mut self, world: &World, frames: Range<u32>, keep: Keep) -> Result<Frames> {
         let lights = self.slots[0].masks.len();
-        if world.meshes.len() != self.geometry.2.len() || world.lights.len() != lights {
+        if world.meshes.len() != self.meshes.len() || world.lights.len() != lights {
             return Err("not the meshes and lights the engine was made for".into());
         }
         let mut kept = Vec::new();
@@ -50,9 +50,8 @@ impl Engine<'_> {
         let mut counters = Vec::new();
         for (_, shadow) in &self.shadows {
             let c = shadow.map(s.submission).read_counters()?;
-            let (node_count, range_count, ranges_direct) =
-                (c.node_count, c.range_count, c.ranges_direct);
-            let range_capacity = c.range_capacity;
+            let (node_count, range_count) = (c.node_count, c.range_count);
+            let (range_capacity, ranges_direct) = (c.range_capacity, c.ranges_direct);
             counters.push(MapCounts {
                 node_count,
                 range_count,
@@ -69,14 +68,15 @@ impl Engine<'_> {
             .collect();
         let masks = masks.chunks_exact(pixels).map(<[f32]>::to_vec).collect();
         let static_layer_drawn = s.layer_drawn.clone();
-        Ok(Some(FrameOutput {
+        let output = FrameOutput {
             frame,
             slot,
             counters,
             radiance,
             masks,
             static_layer_drawn,
-        }))
+        };
+        Ok(Some(output))
     }
 
     /// Writes the idle slot's constants, records frame `frame` and submits it.
@@ -89,14 +89,11 @@ impl Engine<'_> {
             width,
             height,
             shadow_size: map_size,
-            keep_static_layer: keep,
+            keep_static_layer,
             ..
         } = self.settings;
-        let static_layer = if keep {
-            StaticLayer::Kept
-        } else {
-            StaticLayer::Redrawn
-        };
+        let static_layer =
+            [StaticLayer::Redrawn, StaticLayer::Kept][usize::from(keep_static_layer)];
         // The mask on; the engine's shading reads each map's header (compute).
         let (frames_in_flight, lookup_stages) = (FRAMES_IN_FLIGHT as u32, S::COMPUTE_SHADER);
         for (at, light) in world.lights.iter().enumerate() {
