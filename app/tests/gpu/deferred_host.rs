@@ -9,7 +9,7 @@ use crate::support::gpu::{assert_no_validation_messages, context, render};
 use crate::support::host::Host;
 use crate::support::sampling::{CameraRays, hits, pixel_key, pixel_sample};
 use ash::vk;
-use deferred::{Engine, FrameOutput, Light, World};
+use deferred::{Engine, FrameOutput, World};
 use glam::{DVec3, Vec3};
 use motion_shadows::technique::{LightingView, TemporalShadowMap};
 use motion_shadows_app::render::upload::camera_view;
@@ -25,7 +25,9 @@ mod truth;
 
 /// Frame `frame` of the host's world as the app's scene lit by light `light` alone: every
 /// mesh de-indexed, its positions at the shutter's ends (frames f - 1 and f) in world space.
-fn app_scene(world: &World, frame: u32, light: usize) -> app::Scene {
+fn app_scene(world: &World, lights: &[HostLight], frame: u32, light: usize) -> app::Scene {
+    // The parameters are those of the light the engine drew with.
+    assert_eq!(lights[light].engine_light(), world.lights[light]);
     let f = frame as f64;
     let c = &world.camera;
     app::Scene {
@@ -39,8 +41,8 @@ fn app_scene(world: &World, frame: u32, light: usize) -> app::Scene {
             far: c.far,
             t1: None,
         },
-        light: match world.lights[light] {
-            Light::Spot {
+        light: match lights[light] {
+            HostLight::Spot {
                 position,
                 direction,
                 cone_half_angle_deg,
@@ -56,7 +58,7 @@ fn app_scene(world: &World, frame: u32, light: usize) -> app::Scene {
                 far,
                 t1: None,
             }),
-            Light::Directional {
+            HostLight::Directional {
                 direction,
                 irradiance,
                 center,
@@ -145,11 +147,12 @@ fn check_agreement(what: &str, diffs: &[(f64, bool)], min_partial: usize) {
 /// radiance at the pixel centre), each with whether the host's value is partial.
 fn compare_light(
     world: &World,
+    lights: &[HostLight],
     host_frame: &FrameOutput,
     light: usize,
     renderer_rgb: &[f32],
 ) -> Vec<(f64, bool)> {
-    let scene = app_scene(world, host_frame.frame, light);
+    let scene = app_scene(world, lights, host_frame.frame, light);
     let rays = camera_rays(&scene);
     let boxes = caster_boxes(world, host_frame.frame, 2.0);
     let mask = &host_frame.masks[light];
@@ -198,7 +201,7 @@ fn compare_light(
 #[test]
 fn host_image_equals_the_standalone_renderer_on_static_receivers() {
     let host = new_host();
-    let world = World::demo();
+    let (world, lights) = (World::demo(), demo_lights());
     // The library reserves each frame's room from the meshes' descriptions: no frame's
     // shadow overflows (`render` errors if one did), so every frame is submitted once.
     let frames = {
@@ -242,7 +245,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
     for frame in &frames[2..] {
         let mut per_light = Vec::new();
         for light in 0..world.lights.len() {
-            let scene = app_scene(&world, frame.frame, light);
+            let scene = app_scene(&world, &lights, frame.frame, light);
             let settings = RenderSettings {
                 width: SIZE.0,
                 height: SIZE.1,
@@ -255,7 +258,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
                 ..RenderSettings::default()
             };
             let result = render(&ctx, &scene, &settings);
-            let diffs = compare_light(&world, frame, light, &result.image.rgb);
+            let diffs = compare_light(&world, &lights, frame, light, &result.image.rgb);
             let what = format!(
                 "frame {} (slot {}), light {light}, temporal 64 spp",
                 frame.frame, frame.slot
@@ -266,7 +269,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
 
         // Both lights together: the host's radiance against the sum of the renderer's
         // single-light images (each of which carries the ambient term once).
-        let scene = app_scene(&world, frame.frame, 0);
+        let scene = app_scene(&world, &lights, frame.frame, 0);
         let rays = camera_rays(&scene);
         let boxes = caster_boxes(&world, frame.frame, 2.0);
         let mut diffs = Vec::new();
@@ -308,7 +311,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
 
     // The brute-force reference, for the last frame's spot light.
     let frame = &frames[3];
-    let scene = app_scene(&world, frame.frame, 0);
+    let scene = app_scene(&world, &lights, frame.frame, 0);
     let settings = RenderSettings {
         width: SIZE.0,
         height: SIZE.1,
@@ -328,7 +331,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
     );
     check_agreement(
         &what,
-        &compare_light(&world, frame, 0, &reference.image.rgb),
+        &compare_light(&world, &lights, frame, 0, &reference.image.rgb),
         150,
     );
 
@@ -349,7 +352,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
 #[test]
 fn glsl_include_in_a_host_shader_agrees_with_the_library_lighting_pass() {
     let host = new_host();
-    let world = World::demo();
+    let (world, lights) = (World::demo(), demo_lights());
     let mut engine = Engine::new(&host, &world, settings()).expect("engine");
     let frames = engine.render(&world, 0..4, &|f| f == 3).expect("frames");
     assert_eq!(frames.len(), 1);
@@ -359,7 +362,7 @@ fn glsl_include_in_a_host_shader_agrees_with_the_library_lighting_pass() {
     let ctx = context();
     let ambient = f64::from(world.ambient) * GROUND_ALBEDO;
     for light in 0..world.lights.len() {
-        let scene = app_scene(&world, 3, light);
+        let scene = app_scene(&world, &lights, 3, light);
         let settings = RenderSettings {
             width: SIZE.0,
             height: SIZE.1,

@@ -102,7 +102,7 @@ impl Engine<'_> {
                 .get(at)
                 .is_none_or(|(made_for, _)| made_for != light)
             {
-                let new = ShadowSettings::new(light.engine_light());
+                let new = ShadowSettings::new(*light);
                 let settings = ShadowSettings {
                     map_size,
                     static_layer,

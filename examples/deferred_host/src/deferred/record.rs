@@ -45,18 +45,8 @@ fn barriers(
 impl Engine<'_> {
     /// Records frame `frame` into its slot's command buffer (recording, outside rendering).
     pub(super) fn record(&mut self, world: &World, slot: usize, frame: u32) -> Result<()> {
-        let Engine {
-            gpu,
-            settings,
-            pipelines: p,
-            meshes,
-            slots,
-            shadows,
-            ctx,
-            submissions,
-            ..
-        } = self;
-        let (device, s, submission) = (&gpu.device, &mut slots[slot], *submissions);
+        let (device, s, p) = (&self.gpu.device, &mut self.slots[slot], &self.pipelines);
+        let (settings, meshes, submission) = (&self.settings, &self.meshes, self.submissions);
         let (cmd, width, height, f) = (s.cmd, settings.width, settings.height, f64::from(frame));
         // Last frame's and this frame's transforms: the shutter's two ends.
         let at = |m: &Mesh, f: f64| (m.transform)(f).as_mat4();
@@ -83,12 +73,7 @@ impl Engine<'_> {
         barriers(device, cmd, &to_attachments, &[]);
         // Cleared to zero, the ids to "no triangle", the depth to the far plane.
         let view = |i: usize| s.gbuffer[i].layer_view(0);
-        let colors = [
-            (view(1), 0),
-            (view(2), 0),
-            (view(3), 0),
-            (view(4), u32::MAX),
-        ];
+        let colors = [1, 2, 3, 4].map(|i| (view(i), if i == 4 { u32::MAX } else { 0 }));
         let rows = |m: Mat4| [m.row(0), m.row(1), m.row(2)];
         // SAFETY: the barrier above moved the attachments (the slot's, of the frame's size) to
         // the layouts rendering uses; the pipeline was made for their formats; each mesh's
@@ -97,17 +82,17 @@ impl Engine<'_> {
             begin_rendering_colors(device, cmd, width, height, Some((view(0), 1.0)), &colors);
             p.gbuffer.bind(device, cmd);
             for ((mesh, m), (t0, t1)) in world.meshes.iter().zip(meshes.iter()).zip(&transforms) {
-                p.gbuffer.push(
-                    device,
-                    cmd,
-                    &DrawConstants {
-                        addresses: [s.constants.device_address(), m.vertices.device_address()],
-                        model: rows(*t1),
-                        previous_model: rows(*t0),
-                        albedo: mesh.albedo,
-                        first_id: m.first_triangle_id,
-                    },
-                );
+                let addresses = [s.constants.device_address(), m.vertices.device_address()];
+                let (model, previous_model) = (rows(*t1), rows(*t0));
+                let (albedo, first_id) = (mesh.albedo, m.first_triangle_id);
+                let push = DrawConstants {
+                    addresses,
+                    model,
+                    previous_model,
+                    albedo,
+                    first_id,
+                };
+                p.gbuffer.push(device, cmd, &push);
                 let index_type = match mesh.indices {
                     MeshIndices::U16(_) => vk::IndexType::UINT16,
                     MeshIndices::U32(_) => vk::IndexType::UINT32,
@@ -230,13 +215,14 @@ impl Engine<'_> {
         let into_reads: Vec<_> = declared.uses.iter().filter_map(into_reads).collect();
         barriers(device, cmd, &into_reads, &[]);
         let mut frames = Vec::new();
-        for ((_, shadow), inputs) in shadows.iter_mut().zip(&inputs) {
+        for ((_, shadow), inputs) in self.shadows.iter_mut().zip(&inputs) {
             // SAFETY: recording outside rendering on the context's graphics+compute queue,
             // after the shadow's earlier frames (one queue, submitted in order); the streams'
             // contract is kept above; the mask's views have the usages its inputs ask and are
             // in the layouts they name (the barrier just recorded).
-            let recorded =
-                unsafe { shadow.record_frame(ctx, cmd, submission, &described, Some(inputs)) };
+            let recorded = unsafe {
+                shadow.record_frame(&self.ctx, cmd, submission, &described, Some(inputs))
+            };
             frames.push(recorded?);
         }
         s.layer_drawn = frames.iter().map(|f| f.static_layer_drawn).collect();
