@@ -85,15 +85,15 @@ impl Engine<'_> {
         self.submissions += 1;
         self.ctx.begin_frame(self.submissions);
         self.slots[slot].submission = self.submissions;
-        let Settings {
-            width,
-            height,
-            shadow_size: map_size,
-            keep_static_layer,
-            ..
-        } = self.settings;
-        let static_layer =
-            [StaticLayer::Redrawn, StaticLayer::Kept][usize::from(keep_static_layer)];
+        let (width, height, map_size) = (
+            self.settings.width,
+            self.settings.height,
+            self.settings.shadow_size,
+        );
+        let static_layer = match self.settings.keep_static_layer {
+            true => StaticLayer::Kept,
+            false => StaticLayer::Redrawn,
+        };
         // The mask on; the engine's shading reads each map's header (compute).
         let (frames_in_flight, lookup_stages) = (FRAMES_IN_FLIGHT as u32, S::COMPUTE_SHADER);
         for (at, light) in world.lights.iter().enumerate() {
@@ -102,17 +102,13 @@ impl Engine<'_> {
                 .get(at)
                 .is_none_or(|(made_for, _)| made_for != light)
             {
-                let new = ShadowSettings::new(*light);
                 let settings = ShadowSettings {
                     map_size,
                     static_layer,
                     mask: true,
-                    ..new
-                };
-                let settings = ShadowSettings {
                     frames_in_flight,
                     lookup_stages,
-                    ..settings
+                    ..ShadowSettings::new(*light)
                 };
                 self.shadows.truncate(at);
                 self.shadows

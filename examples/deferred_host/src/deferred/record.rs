@@ -50,11 +50,6 @@ impl Engine<'_> {
         let (cmd, width, height, f) = (s.cmd, settings.width, settings.height, f64::from(frame));
         // Last frame's and this frame's transforms: the shutter's two ends.
         let at = |m: &Mesh, f: f64| (m.transform)(f).as_mat4();
-        let transforms: Vec<_> = world
-            .meshes
-            .iter()
-            .map(|m| (at(m, f - 1.0), at(m, f)))
-            .collect();
 
         // 1. The G-buffer at t = 1. Its images' last contents were read by the slot's last
         //    frame's compute passes: wait for those, discard the contents.
@@ -75,15 +70,22 @@ impl Engine<'_> {
         let view = |i: usize| s.gbuffer[i].layer_view(0);
         let colors = [1, 2, 3, 4].map(|i| (view(i), if i == 4 { u32::MAX } else { 0 }));
         let rows = |m: Mat4| [m.row(0), m.row(1), m.row(2)];
+        // The meshes, each described once for the shadows as it is drawn: the shadow's draw and
+        // the room reserved come from the same description.
+        let mut described = Vec::new();
         // SAFETY: the barrier above moved the attachments (the slot's, of the frame's size) to
-        // the layouts rendering uses; the pipeline was made for their formats; each mesh's
-        // indices and vertices are its buffers; the push constants are DrawConstants.
+        // the layouts rendering uses; the pipeline was made for their formats; the push
+        // constants are DrawConstants. The streams' contract: each mesh's buffers were made
+        // with storage and device-address usage on the context's device, written before the
+        // first submission and never again, and outlive every frame; its vertices have a
+        // 24-byte stride, its indices are padded to a whole word.
         unsafe {
             begin_rendering_colors(device, cmd, width, height, Some((view(0), 1.0)), &colors);
             p.gbuffer.bind(device, cmd);
-            for ((mesh, m), (t0, t1)) in world.meshes.iter().zip(meshes.iter()).zip(&transforms) {
+            for (mesh, m) in world.meshes.iter().zip(meshes) {
+                let (t0, t1) = (at(mesh, f - 1.0), at(mesh, f));
                 let addresses = [s.constants.device_address(), m.vertices.device_address()];
-                let (model, previous_model) = (rows(*t1), rows(*t0));
+                let (model, previous_model) = (rows(t1), rows(t0));
                 let (albedo, first_id) = (mesh.albedo, m.first_triangle_id);
                 let push = DrawConstants {
                     addresses,
@@ -93,54 +95,46 @@ impl Engine<'_> {
                     first_id,
                 };
                 p.gbuffer.push(device, cmd, &push);
-                let index_type = match mesh.indices {
-                    MeshIndices::U16(_) => vk::IndexType::UINT16,
-                    MeshIndices::U32(_) => vk::IndexType::UINT32,
+                let vertices = PositionStream::from_device_address(addresses[1], 24);
+                let index = IndexStream::from_device_address(m.indices.device_address());
+                let (n, cpu) = (m.positions.len() as u32, &m.positions[..]);
+                let (shape, cpu) = match t0 == t1 {
+                    true => (
+                        ShadowMesh::still(vertices, n).transform(t1),
+                        CpuGeometry::still(cpu),
+                    ),
+                    false => {
+                        let shape = ShadowMesh::moving(vertices, vertices, n).transforms(t0, t1);
+                        (shape, CpuGeometry::moving(cpu, cpu))
+                    }
                 };
+                let (index_type, index, cpu) = match &mesh.indices {
+                    MeshIndices::U16(i) => (
+                        vk::IndexType::UINT16,
+                        Indices::U16(index),
+                        cpu.indices_u16(i),
+                    ),
+                    MeshIndices::U32(i) => (
+                        vk::IndexType::UINT32,
+                        Indices::U32(index),
+                        cpu.indices_u32(i),
+                    ),
+                };
+                let count = mesh.indices.count() as u32;
                 device.cmd_bind_index_buffer(cmd, m.indices.raw(), 0, index_type);
-                device.cmd_draw_indexed(cmd, mesh.indices.count() as u32, 1, 0, 0, 0);
+                device.cmd_draw_indexed(cmd, count, 1, 0, 0, 0);
+                let shape = shape
+                    .indexed(index, count / 3)
+                    .cpu(cpu)
+                    .first_triangle_id(first_id);
+                described.push(if mesh.closed { shape.closed() } else { shape });
             }
             device.cmd_end_rendering(cmd);
         }
 
-        // 2. Per light, the library's shadow of the meshes, each described once: the draw and
-        //    the room reserved come from the same description.
-        let mut described = Vec::new();
-        for ((mesh, m), &(t0, t1)) in world.meshes.iter().zip(meshes.iter()).zip(&transforms) {
-            // SAFETY: the streams' contract: the mesh's buffers were made with storage and
-            // device-address usage on the context's device, written before the first
-            // submission and never again, and outlive every frame; its vertices have a 24-byte
-            // stride, its indices are padded to a whole word.
-            let (at, index) = unsafe {
-                let at = PositionStream::from_device_address(m.vertices.device_address(), 24);
-                (
-                    at,
-                    IndexStream::from_device_address(m.indices.device_address()),
-                )
-            };
-            let (n, cpu) = (m.positions.len() as u32, &m.positions[..]);
-            let (shape, cpu) = match t0 == t1 {
-                true => (
-                    ShadowMesh::still(at, n).transform(t1),
-                    CpuGeometry::still(cpu),
-                ),
-                false => (
-                    ShadowMesh::moving(at, at, n).transforms(t0, t1),
-                    CpuGeometry::moving(cpu, cpu),
-                ),
-            };
-            let (index, cpu) = match &mesh.indices {
-                MeshIndices::U16(i) => (Indices::U16(index), cpu.indices_u16(i)),
-                MeshIndices::U32(i) => (Indices::U32(index), cpu.indices_u32(i)),
-            };
-            let shape = shape
-                .indexed(index, (mesh.indices.count() / 3) as u32)
-                .cpu(cpu);
-            let shape = shape.first_triangle_id(m.first_triangle_id);
-            described.push(if mesh.closed { shape.closed() } else { shape });
-        }
-        // The masks' inputs: the G-buffer; moving receivers need the ids too (a turning face's
-        // own triangle would shadow it, and the mask refuses to run without them).
+        // 2. Per light, the library's shadow and mask. The masks' inputs: the G-buffer; moving
+        //    receivers need the ids too (a turning face's own triangle would shadow it, and the
+        //    mask refuses to run without them).
         let read = L::READ_ONLY_OPTIMAL;
         let inv_view_proj = world
             .camera

@@ -168,32 +168,20 @@ impl World {
             far: 50.0,
         };
         let (position, direction) = (Vec3::new(-3.0, 7.5, -3.5), Vec3::new(3.3, -7.5, 4.0));
-        let spot = Light::spot(position, direction)
-            .cone_half_angle(38.0)
-            .intensity(110.0);
-        let spot = spot.depth_range(1.0, 30.0);
+        let spot = Light::spot(position, direction).cone_half_angle(38.0);
+        let spot = spot.intensity(110.0).depth_range(1.0, 30.0);
         let sun = Light::directional(Vec3::new(0.45, -1.0, 0.3), Vec3::ZERO, 7.5).distance(15.0);
         let sun = sun.intensity(0.9).depth_range(1.0, 40.0);
+        let (red, blue) = (Vec3::new(0.8, 0.25, 0.2), Vec3::new(0.3, 0.5, 0.8));
+        let flying_box = mesh("flying box", Vec3::splat(0.5), red, flying);
         let post = Box::new(move |_| at(2.4, 0.8, 1.4));
-        let (box_half, post_half) = (Vec3::splat(0.5), Vec3::new(0.3, 0.8, 0.3));
-        let boxes = [(
-            "flying box",
-            box_half,
-            Vec3::new(0.8, 0.25, 0.2),
-            flying as Transform,
-        )];
-        let boxes =
-            boxes
-                .into_iter()
-                .chain([("post", post_half, Vec3::new(0.3, 0.5, 0.8), post as _)]);
-        let meshes = [ground_mesh()]
-            .into_iter()
-            .chain(boxes.map(|(n, h, a, t)| mesh(n, h, a, t)));
+        let post = mesh("post", Vec3::new(0.3, 0.8, 0.3), blue, post);
+        let meshes = vec![ground_mesh(), flying_box, post];
         World {
             camera,
             lights: vec![spot, sun],
             ambient: 0.04,
-            meshes: meshes.collect(),
+            meshes,
         }
     }
 }
