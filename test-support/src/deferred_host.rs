@@ -21,9 +21,9 @@ pub const SAMPLES_PROBE_COMP: &str = include_str!("../../tests/glsl/host_samples
 pub const MOVING_PROBE_COMP: &str = include_str!("../../tests/glsl/host_moving_probe.comp");
 
 /// A light by its parameters, as the tests' CPU models and the app's scenes take it (the
-/// engine takes the library's `Light`, `engine_light`): a spot (hard cone, 1 / d^2, `intensity` in W/sr) or a directional light
-/// (`irradiance` in W/m^2; its map an orthographic box around `center`). `near`, `far`: the
-/// map's depth range.
+/// engine takes the library's `Light`: `engine_light`): a spot (hard cone, 1 / d^2,
+/// `intensity` in W/sr) or a directional light (`irradiance` in W/m^2; its map an
+/// orthographic box around `center`). `near`, `far`: the map's depth range.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum HostLight {
     Spot {
@@ -79,8 +79,8 @@ impl HostLight {
     }
 }
 
-/// `World::demo()`'s lights by their parameters (`demo_lights_are_the_demo_worlds` in the
-/// app's tests checks them against the demo).
+/// `World::demo()`'s lights by their parameters (the app's tests' `app_scene` checks each
+/// against the light the engine drew with).
 pub fn demo_lights() -> Vec<HostLight> {
     let spot = HostLight::Spot {
         position: Vec3::new(-3.0, 7.5, -3.5),
