@@ -28,13 +28,14 @@ fn main() -> deferred::Result<()> {
         .render(&world, 0..4, &|f| f == 3)?
         .pop()
         .ok_or("no frame 3")?;
-    drop(engine); // waits for its frames and frees everything (the library's objects too)
-    for (light, c) in frame.counters.iter().enumerate() {
+    for light in 0..world.lights.len() {
+        let c = engine.shadow_map(frame.slot, light).read_counters()?;
         println!(
             "light {light}: N_f = {}, N_r = {}",
             c.node_count, c.range_count
         );
     }
+    drop(engine); // waits for its frames and frees everything (the library's objects too)
     // Linear radiance to sRGB.
     let encode = |v: f32| match v.clamp(0.0, 1.0) {
         v if v <= 0.003_130_8 => (12.92 * v * 255.0).round() as u8,

@@ -15,24 +15,13 @@ pub struct Settings {
     pub receivers_move: bool,
 }
 
-/// A map's counts after its frame: fragments and ranges stored, the room for ranges, and 1
-/// where the collection stored ranges directly.
-#[derive(Debug, Clone, Copy)]
-pub struct MapCounts {
-    pub node_count: u32,
-    pub range_count: u32,
-    pub range_capacity: u32,
-    pub ranges_direct: u32,
-}
-
 /// A frame read back after its fence: per pixel its radiance (a = 1 where a surface is) and
-/// per light its mask (the lit share of the shutter); per light its map's counts and whether
-/// it drew the static layer.
+/// per light its mask (the lit share of the shutter) and whether it drew the static layer
+/// (its map's counts: `Engine::shadow_map` of its slot, until the slot's next frame).
 #[derive(Debug, Clone)]
 pub struct FrameOutput {
     pub frame: u32,
     pub slot: usize,
-    pub counters: Vec<MapCounts>,
     pub radiance: Vec<[f32; 4]>,
     pub masks: Vec<Vec<f32>>,
     pub static_layer_drawn: Vec<bool>,

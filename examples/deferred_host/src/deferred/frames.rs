@@ -47,18 +47,6 @@ impl Engine<'_> {
         if !keep(frame) {
             return Ok(None);
         }
-        let mut counters = Vec::new();
-        for (_, shadow) in &self.shadows {
-            let c = shadow.map(s.submission).read_counters()?;
-            let (node_count, range_count) = (c.node_count, c.range_count);
-            let (range_capacity, ranges_direct) = (c.range_capacity, c.ranges_direct);
-            counters.push(MapCounts {
-                node_count,
-                range_count,
-                range_capacity,
-                ranges_direct,
-            });
-        }
         let pixels = (self.settings.width * self.settings.height) as usize;
         let values: Vec<f32> = s.output.read(pixels * (4 + s.masks.len()))?;
         let (radiance, masks) = values.split_at(4 * pixels);
@@ -71,7 +59,6 @@ impl Engine<'_> {
         let output = FrameOutput {
             frame,
             slot,
-            counters,
             radiance,
             masks,
             static_layer_drawn,
