@@ -161,15 +161,15 @@ impl<'h> Engine<'h> {
         let (ctx, s) = (&self.ctx, &self.settings);
         use vk::ImageUsageFlags as U;
         let image =
-            |format, usage| Image::new(ctx, "engine", (s.width, s.height, 1), format, usage);
+            |name, format, usage| Image::new(ctx, name, (s.width, s.height, 1), format, usage);
         let usage = |i| match i {
             0 => U::DEPTH_STENCIL_ATTACHMENT | U::SAMPLED,
             _ => U::COLOR_ATTACHMENT | U::SAMPLED,
         };
-        let gbuffer = (0..5).map(|i| image(FORMATS[i], usage(i)));
+        let gbuffer = (0..5).map(|i| image("g-buffer", FORMATS[i], usage(i)));
         let gbuffer = gbuffer.collect::<motion_shadows::Result<Vec<_>>>()?;
         // The masks: a lit share per pixel, a format every device writes as a storage image.
-        let mask = |_| image(vk::Format::R32_SFLOAT, U::STORAGE | U::SAMPLED);
+        let mask = |_| image("mask", vk::Format::R32_SFLOAT, U::STORAGE | U::SAMPLED);
         let masks = (0..lights)
             .map(mask)
             .collect::<motion_shadows::Result<Vec<_>>>()?;
