@@ -3,15 +3,14 @@
 //! standalone renderer).
 
 use crate::host::Host;
+use crate::host_memory::{HostBuffer, Memory, pipeline_barrier};
 use crate::sampling::CameraRays;
 use crate::test_shader::compile_compute;
 use ash::vk;
 use glam::DVec3;
 use glam::Vec3;
-use motion_shadows::technique::{CameraView, TemporalShadowMap};
-use motion_shadows_deferred_host::deferred::{
-    HostBuffer, Light, Memory, Mesh, MeshIndices, Settings, World, pipeline_barrier,
-};
+use motion_shadows::technique::{CameraView, LightKind, TemporalShadowMap};
+use motion_shadows_deferred_host::deferred::{Light, Mesh, MeshIndices, Settings, World};
 
 /// The host's debugging probes (`tests/glsl/`): compute shaders a host would write, calling
 /// the library's public include on a map by device address.
@@ -20,6 +19,88 @@ pub const PROBE_COMP: &str = include_str!("../../tests/glsl/host_probe.comp");
 pub const SAMPLES_PROBE_COMP: &str = include_str!("../../tests/glsl/host_samples_probe.comp");
 /// A receiver moving between two points (two queries per invocation).
 pub const MOVING_PROBE_COMP: &str = include_str!("../../tests/glsl/host_moving_probe.comp");
+
+/// A light by its parameters, as the tests' CPU models and the app's scenes take it (the
+/// engine takes the library's `Light`: `engine_light`): a spot (hard cone, 1 / d^2,
+/// `intensity` in W/sr) or a directional light (`irradiance` in W/m^2; its map an
+/// orthographic box around `center`). `near`, `far`: the map's depth range.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum HostLight {
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        cone_half_angle_deg: f32,
+        intensity: f32,
+        near: f32,
+        far: f32,
+    },
+    Directional {
+        direction: Vec3,
+        irradiance: f32,
+        center: Vec3,
+        half_extent: f32,
+        distance: f32,
+        near: f32,
+        far: f32,
+    },
+}
+
+impl HostLight {
+    /// The library's description of the light (what its shadow is made for).
+    pub fn engine_light(&self) -> motion_shadows::Light {
+        match *self {
+            HostLight::Spot {
+                position,
+                direction,
+                cone_half_angle_deg: cone,
+                intensity,
+                near,
+                far,
+            } => {
+                let light = motion_shadows::Light::spot(position, direction).cone_half_angle(cone);
+                light.intensity(intensity).depth_range(near, far)
+            }
+            HostLight::Directional {
+                direction,
+                irradiance,
+                center,
+                half_extent,
+                distance,
+                near,
+                far,
+            } => {
+                let light = motion_shadows::Light::directional(direction, center, half_extent);
+                light
+                    .distance(distance)
+                    .intensity(irradiance)
+                    .depth_range(near, far)
+            }
+        }
+    }
+}
+
+/// `World::demo()`'s lights by their parameters (the app's tests' `app_scene` checks each
+/// against the light the engine drew with).
+pub fn demo_lights() -> Vec<HostLight> {
+    let spot = HostLight::Spot {
+        position: Vec3::new(-3.0, 7.5, -3.5),
+        direction: Vec3::new(3.3, -7.5, 4.0),
+        cone_half_angle_deg: 38.0,
+        intensity: 110.0,
+        near: 1.0,
+        far: 30.0,
+    };
+    let sun = HostLight::Directional {
+        direction: Vec3::new(0.45, -1.0, 0.3),
+        irradiance: 0.9,
+        center: Vec3::ZERO,
+        half_extent: 7.5,
+        distance: 15.0,
+        near: 1.0,
+        far: 40.0,
+    };
+    vec![spot, sun]
+}
 
 pub const SIZE: (u32, u32) = (160, 120);
 pub const SHADOW: (u32, u32) = (256, 256);
@@ -105,13 +186,13 @@ pub fn ground_point(rays: &CameraRays, x: f32, y: f32, half: f64) -> Option<DVec
 /// edge (grazing light, the spot's cone within `cone_margin` in cosine), where a pixel's
 /// area or a float ulp decides.
 pub fn ground_direct(light: &Light, p: DVec3, albedo: f64, cone_margin: f64) -> Option<f64> {
-    let view = light.engine_light().view(SHADOW).expect("light view");
-    let (to_light, dist2, emission) = match *light {
-        Light::Spot { intensity, .. } => {
+    let view = light.view(SHADOW).expect("light view");
+    let (to_light, dist2, emission) = match view.kind {
+        LightKind::Spot { intensity, .. } => {
             let d = view.position.as_dvec3() - p;
             (d, d.length_squared(), f64::from(intensity))
         }
-        Light::Directional { irradiance, .. } => {
+        LightKind::Directional { irradiance } => {
             (-view.direction.as_dvec3(), 1.0, f64::from(irradiance))
         }
     };
@@ -120,7 +201,7 @@ pub fn ground_direct(light: &Light, p: DVec3, albedo: f64, cone_margin: f64) -> 
     if cos_theta < 0.05 {
         return None;
     }
-    if let motion_shadows::technique::LightKind::Spot { cos_cone, .. } = view.kind {
+    if let LightKind::Spot { cos_cone, .. } = view.kind {
         let cos_axis = (-l).dot(view.direction.as_dvec3());
         if (cos_axis - f64::from(cos_cone)).abs() < cone_margin {
             return None;
@@ -205,10 +286,7 @@ pub struct ProbePush {
 /// Lit-fraction queries (time -1, own id none, normal up) at the centres of the shadow-map
 /// texels of the row through ground depth `z`, on the ground, for the probe shader.
 pub fn lit_fraction_queries_along_texel_row(world: &World, z: f64) -> Vec<Query> {
-    let light = world.lights[0]
-        .engine_light()
-        .view(SHADOW)
-        .expect("light view");
+    let light = world.lights[0].view(SHADOW).expect("light view");
     let view_proj = (light.proj * light.view).as_dmat4();
     let to_world = view_proj.inverse();
     let row = {

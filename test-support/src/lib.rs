@@ -8,6 +8,7 @@ pub mod coverage_oracle;
 pub mod deferred_host;
 pub mod gpu;
 pub mod host;
+pub mod host_memory;
 pub mod prism_model;
 pub mod rng;
 pub mod sampling;

@@ -7,7 +7,7 @@
 //! `test-support/src/deferred_host.rs`.
 
 use crate::support::host::Host;
-use deferred::{Camera, Engine, FrameOutput, Light, Mesh, MeshIndices, Settings, Vertex, World};
+use deferred::{Camera, Engine, FrameOutput, Mesh, MeshIndices, Settings, Vertex, World};
 use glam::{DMat4, DVec3, Vec3};
 
 use motion_shadows_deferred_host::deferred;
@@ -39,15 +39,18 @@ fn square_world() -> (World, f64, f64) {
             near: 0.1,
             far: 50.0,
         },
-        lights: vec![Light::Directional {
-            direction: Vec3::NEG_Y,
-            irradiance: 2.0,
-            center: Vec3::ZERO,
-            half_extent: 6.0,
-            distance: 10.0,
-            near: 0.5,
-            far: 20.0,
-        }],
+        lights: vec![
+            HostLight::Directional {
+                direction: Vec3::NEG_Y,
+                irradiance: 2.0,
+                center: Vec3::ZERO,
+                half_extent: 6.0,
+                distance: 10.0,
+                near: 0.5,
+                far: 20.0,
+            }
+            .engine_light(),
+        ],
         ambient: 0.05,
         meshes: vec![
             deferred::ground_mesh(),
@@ -371,12 +374,15 @@ fn a_kept_static_layer_renders_what_a_redrawn_one_renders() {
     let host = new_host();
     let world = World::demo();
     let mut moved = World::demo();
-    for light in &mut moved.lights {
-        match light {
-            Light::Spot { position, .. } => *position += Vec3::new(0.3, 0.0, -0.2),
-            Light::Directional { direction, .. } => *direction += Vec3::new(0.05, 0.0, 0.0),
-        }
-    }
+    moved.lights = (demo_lights().into_iter())
+        .map(|mut light| {
+            match &mut light {
+                HostLight::Spot { position, .. } => *position += Vec3::new(0.3, 0.0, -0.2),
+                HostLight::Directional { direction, .. } => *direction += Vec3::new(0.05, 0.0, 0.0),
+            }
+            light.engine_light()
+        })
+        .collect();
     let engine = |keep: bool| {
         let mut s = settings();
         s.keep_static_layer = keep;

@@ -9,7 +9,7 @@ use crate::support::gpu::{assert_no_validation_messages, context, render_with, r
 use crate::support::host::Host;
 use crate::support::sampling::{CameraRays, hits, pixel_key, pixel_sample};
 use ash::vk;
-use deferred::{Engine, FrameOutput, Light, World};
+use deferred::{Engine, FrameOutput, World};
 use glam::{DVec3, Vec3};
 use motion_shadows::technique::{LightingView, TemporalShadowMap};
 use motion_shadows_app::render::upload::camera_view;
@@ -25,7 +25,9 @@ mod truth;
 
 /// Frame `frame` of the host's world as the app's scene lit by light `light` alone: every
 /// mesh de-indexed, its positions at the shutter's ends (frames f - 1 and f) in world space.
-fn app_scene(world: &World, frame: u32, light: usize) -> app::Scene {
+fn app_scene(world: &World, lights: &[HostLight], frame: u32, light: usize) -> app::Scene {
+    // The parameters are those of the light the engine drew with.
+    assert_eq!(lights[light].engine_light(), world.lights[light]);
     let f = frame as f64;
     let c = &world.camera;
     app::Scene {
@@ -39,8 +41,8 @@ fn app_scene(world: &World, frame: u32, light: usize) -> app::Scene {
             far: c.far,
             t1: None,
         },
-        light: match world.lights[light] {
-            Light::Spot {
+        light: match lights[light] {
+            HostLight::Spot {
                 position,
                 direction,
                 cone_half_angle_deg,
@@ -56,7 +58,7 @@ fn app_scene(world: &World, frame: u32, light: usize) -> app::Scene {
                 far,
                 t1: None,
             }),
-            Light::Directional {
+            HostLight::Directional {
                 direction,
                 irradiance,
                 center,
@@ -145,11 +147,12 @@ fn check_agreement(what: &str, diffs: &[(f64, bool)], min_partial: usize) {
 /// radiance at the pixel centre), each with whether the host's value is partial.
 fn compare_light(
     world: &World,
+    lights: &[HostLight],
     host_frame: &FrameOutput,
     light: usize,
     renderer_rgb: &[f32],
 ) -> Vec<(f64, bool)> {
-    let scene = app_scene(world, host_frame.frame, light);
+    let scene = app_scene(world, lights, host_frame.frame, light);
     let rays = camera_rays(&scene);
     let boxes = caster_boxes(world, host_frame.frame, 2.0);
     let mask = &host_frame.masks[light];
@@ -198,10 +201,10 @@ fn compare_light(
 #[test]
 fn host_image_equals_the_standalone_renderer_on_static_receivers() {
     let host = new_host();
-    let world = World::demo();
+    let (world, lights) = (World::demo(), demo_lights());
     // The library reserves each frame's room from the meshes' descriptions: no frame's
     // shadow overflows (`render` errors if one did), so every frame is submitted once.
-    let frames = {
+    let (frames, counters) = {
         let mut engine = Engine::new(&host, &world, settings()).expect("engine");
         let frames = engine.render(&world, 0..4, &|_| true).expect("frames");
         assert_eq!(
@@ -209,7 +212,19 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
             Vec::<String>::new(),
             "a from_raw context has no messenger of its own"
         );
-        frames
+        // Each slot's maps hold the slot's last frame (1, 2 and 3): their counts.
+        let counts = |f: &FrameOutput| -> Vec<_> {
+            (0..world.lights.len())
+                .map(|l| {
+                    engine
+                        .shadow_map(f.slot, l)
+                        .read_counters()
+                        .expect("counts")
+                })
+                .collect()
+        };
+        let counters: Vec<_> = frames[1..].iter().map(counts).collect();
+        (frames, counters)
     };
     assert_eq!(
         frames.iter().map(|f| (f.frame, f.slot)).collect::<Vec<_>>(),
@@ -217,18 +232,17 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
             .map(|f| (f, f as usize % deferred::FRAMES_IN_FLIGHT))
             .collect::<Vec<_>>()
     );
-    for frame in &frames {
+    for (frame, counters) in frames[1..].iter().zip(&counters) {
         eprintln!(
             "frame {} (slot {}): N_f / N_r per light: {:?}",
             frame.frame,
             frame.slot,
-            frame
-                .counters
+            counters
                 .iter()
                 .map(|c| (c.node_count, c.range_count))
                 .collect::<Vec<_>>()
         );
-        for c in &frame.counters {
+        for c in counters {
             // The maps collect ranges directly (the exact construction with the static
             // layer): no node is stored, so the node count is no capacity's concern.
             assert_eq!(c.ranges_direct, 1);
@@ -243,7 +257,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
     for frame in &frames[2..] {
         let mut per_light = Vec::new();
         for light in 0..world.lights.len() {
-            let scene = app_scene(&world, frame.frame, light);
+            let scene = app_scene(&world, &lights, frame.frame, light);
             let settings = RenderSettings {
                 width: SIZE.0,
                 height: SIZE.1,
@@ -256,7 +270,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
                 ..RenderSettings::default()
             };
             let result = render_with(&mut renderer, &scene, &settings);
-            let diffs = compare_light(&world, frame, light, &result.image.rgb);
+            let diffs = compare_light(&world, &lights, frame, light, &result.image.rgb);
             let what = format!(
                 "frame {} (slot {}), light {light}, temporal 64 spp",
                 frame.frame, frame.slot
@@ -267,7 +281,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
 
         // Both lights together: the host's radiance against the sum of the renderer's
         // single-light images (each of which carries the ambient term once).
-        let scene = app_scene(&world, frame.frame, 0);
+        let scene = app_scene(&world, &lights, frame.frame, 0);
         let rays = camera_rays(&scene);
         let boxes = caster_boxes(&world, frame.frame, 2.0);
         let mut diffs = Vec::new();
@@ -309,7 +323,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
 
     // The brute-force reference, for the last frame's spot light.
     let frame = &frames[3];
-    let scene = app_scene(&world, frame.frame, 0);
+    let scene = app_scene(&world, &lights, frame.frame, 0);
     let settings = RenderSettings {
         width: SIZE.0,
         height: SIZE.1,
@@ -329,7 +343,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
     );
     check_agreement(
         &what,
-        &compare_light(&world, frame, 0, &reference.image.rgb),
+        &compare_light(&world, &lights, frame, 0, &reference.image.rgb),
         150,
     );
 
@@ -350,7 +364,7 @@ fn host_image_equals_the_standalone_renderer_on_static_receivers() {
 #[test]
 fn glsl_include_in_a_host_shader_agrees_with_the_library_lighting_pass() {
     let host = new_host();
-    let world = World::demo();
+    let (world, lights) = (World::demo(), demo_lights());
     let mut engine = Engine::new(&host, &world, settings()).expect("engine");
     let frames = engine.render(&world, 0..4, &|f| f == 3).expect("frames");
     assert_eq!(frames.len(), 1);
@@ -361,7 +375,7 @@ fn glsl_include_in_a_host_shader_agrees_with_the_library_lighting_pass() {
     let mut renderer = renderer(&ctx);
     let ambient = f64::from(world.ambient) * GROUND_ALBEDO;
     for light in 0..world.lights.len() {
-        let scene = app_scene(&world, 3, light);
+        let scene = app_scene(&world, &lights, 3, light);
         let settings = RenderSettings {
             width: SIZE.0,
             height: SIZE.1,

@@ -9,18 +9,17 @@
 // library's visibility mask wrote; each light is read from its map's header (the library's
 // include: `ms_load_light`). The radiance and the masks go to the slot's readback
 // buffer by device address (an engine would present or post-process instead).
-#extension GL_EXT_samplerless_texture_functions : require
 #include "motion_shadows.glsl"
 #include "frame.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 0) uniform texture2D depth_image;
-layout(set = 0, binding = 1) uniform texture2D normal_image;
-layout(set = 0, binding = 2) uniform texture2D albedo_image;
+layout(set = 0, binding = 0) uniform sampler2D depth_image;
+layout(set = 0, binding = 1) uniform sampler2D normal_image;
+layout(set = 0, binding = 2) uniform sampler2D albedo_image;
 // One binding per light: indexing an array of images by a variable needs a device feature.
-layout(set = 0, binding = 3) uniform texture2D mask0;
-layout(set = 0, binding = 4) uniform texture2D mask1;
+layout(set = 0, binding = 3) uniform sampler2D mask0;
+layout(set = 0, binding = 4) uniform sampler2D mask1;
 
 layout(buffer_reference, std430, buffer_reference_align = 16) writeonly buffer Radiance {
     vec4 v[];

@@ -1,25 +1,25 @@
 //! A small deferred engine that uses motion-shadows as a renderer would, written from the
 //! README and the book (docs/src/integration.md). It owns its device (`crate::gpu`), its
-//! gpu-allocator (shared with the library), buffers, images, pipelines and GLSL (`glsl/`),
-//! and a frame loop with three frames in flight. Per light a `LightShadow` records the shadow
-//! into the engine's command buffers from the meshes described once (`motion_shadows::Mesh`,
-//! with the CPU copy the room is reserved from). Frame f, in slot f % 3 (its own command
-//! buffer, fence, images and buffers): the G-buffer at shutter time 1 (depth, normal, albedo,
-//! world motion over the shutter, triangle ids); per light `record_frame` (the map's
-//! collection and generation, then the mask, which follows each receiver along its motion);
-//! the shading, albedo / pi * sum(E cos falloff mask) + ambient with each light read from its
-//! map's header; after the fence, `ctx.collect` and `finish_frame`. Reading order: `world`,
-//! `engine`, `frames`, `record`, `pipelines`, `resources`.
+//! gpu-allocator (shared with the library, whose thin layer `research::gpu` makes the
+//! engine's buffers, images and pipelines on it), its GLSL (`glsl/`) and a frame loop with
+//! three frames in flight. Per light a `LightShadow` records the shadow into the engine's
+//! command buffers from the meshes described once (`motion_shadows::Mesh`, with the CPU copy
+//! the room is reserved from). Frame f, in slot f % 3: the G-buffer at shutter time 1
+//! (depth, normal, albedo, world motion, triangle ids); per light `record_frame` (the map,
+//! then the mask, which follows each receiver along its motion); the shading, albedo / pi *
+//! sum(E cos falloff mask) + ambient with each light read from its map's header; after the
+//! fence, `ctx.collect` and `finish_frame`. Reading order: `world`, `engine`, `frames`,
+//! `record`.
 
 use crate::gpu::Gpu;
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, Mat4, UVec4, Vec3, Vec4};
-use motion_shadows::TriangleIdImage;
-use motion_shadows::{AccessData, GLSL_INCLUDE, PassAccesses, Resource, ResourceUse};
-use motion_shadows::{Context, CpuGeometry, IndexStream, Indices, LightShadow, MaskInputs};
-use motion_shadows::{Mesh as ShadowMesh, MotionImage, NormalEncoding, NormalImage};
-use motion_shadows::{PositionStream, ShadowSettings, StaticLayer, TemporalShadowMap};
+use motion_shadows::research::gpu::{Buffer, BufferUsage, Image, ImageBindings, Pipeline};
+use motion_shadows::{AccessData, Context, CpuGeometry, IndexStream, Indices, LightShadow};
+use motion_shadows::{GLSL_INCLUDE, MaskInputs, MotionImage, NormalEncoding, NormalImage};
+use motion_shadows::{Mesh as ShadowMesh, PassAccesses, PositionStream, Resource};
+use motion_shadows::{ShadowSettings, StaticLayer, TemporalShadowMap, TriangleIdImage};
 use std::ops::Range;
 use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
 
@@ -38,10 +38,8 @@ mod engine;
 mod frames;
 mod pipelines;
 mod record;
-mod resources;
 mod world;
 
 pub use engine::*;
 use pipelines::*;
-pub use resources::*;
 pub use world::*;

@@ -12,8 +12,7 @@
 use motion_shadows_deferred_host::{deferred, gpu::Gpu};
 
 fn main() -> deferred::Result<()> {
-    let validation = std::env::var("MOTION_SHADOWS_VALIDATION").is_ok_and(|v| v == "1");
-    let gpu = Gpu::new(validation)?;
+    let gpu = Gpu::new(std::env::var("MOTION_SHADOWS_VALIDATION").is_ok_and(|v| v == "1"))?;
     let (world, width, height) = (deferred::World::demo(), 320, 240);
     // The still meshes never change in place: their static layers are kept.
     let (shadow_size, keep_static_layer, receivers_move) = ((512, 512), true, true);
@@ -24,28 +23,23 @@ fn main() -> deferred::Result<()> {
         keep_static_layer,
         receivers_move,
     };
-    let frame = {
-        let mut engine = deferred::Engine::new(&gpu, &world, settings)?;
-        engine
-            .render(&world, 0..4, &|f| f == 3)?
-            .pop()
-            .ok_or("frame 3 was not kept")?
-    }; // The engine waits for its frames and frees everything (the library's objects too).
-    for (light, counts) in frame.counters.iter().enumerate() {
+    let mut engine = deferred::Engine::new(&gpu, &world, settings)?;
+    let frame = engine
+        .render(&world, 0..4, &|f| f == 3)?
+        .pop()
+        .ok_or("no frame 3")?;
+    for light in 0..world.lights.len() {
+        let c = engine.shadow_map(frame.slot, light).read_counters()?;
         println!(
             "light {light}: N_f = {}, N_r = {}",
-            counts.node_count, counts.range_count
+            c.node_count, c.range_count
         );
     }
+    drop(engine); // waits for its frames and frees everything (the library's objects too)
     // Linear radiance to sRGB.
-    let encode = |v: f32| {
-        let v = v.clamp(0.0, 1.0);
-        let s = if v <= 0.003_130_8 {
-            12.92 * v
-        } else {
-            1.055 * v.powf(1.0 / 2.4) - 0.055
-        };
-        (s * 255.0).round() as u8
+    let encode = |v: f32| match v.clamp(0.0, 1.0) {
+        v if v <= 0.003_130_8 => (12.92 * v * 255.0).round() as u8,
+        v => ((1.055 * v.powf(1.0 / 2.4) - 0.055) * 255.0).round() as u8,
     };
     let rgb: Vec<u8> = frame
         .radiance
@@ -55,10 +49,8 @@ fn main() -> deferred::Result<()> {
     std::fs::create_dir_all("out")?;
     let path = "out/deferred_host.png";
     image::save_buffer(path, &rgb, width, height, image::ExtendedColorType::Rgb8)?;
-    println!(
-        "frames 0 to 3 at {width}x{height}, {} in flight: wrote {path}",
-        deferred::FRAMES_IN_FLIGHT
-    );
+    let in_flight = deferred::FRAMES_IN_FLIGHT;
+    println!("frames 0 to 3 at {width}x{height}, {in_flight} in flight: wrote {path}");
     // SAFETY: the engine, and with it everything made on the device, is gone.
     unsafe { gpu.destroy() };
     Ok(())

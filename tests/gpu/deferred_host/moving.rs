@@ -8,6 +8,7 @@ use super::{
     MOVING_PROBE_COMP, Query, SHADOW, SIDE, Shape, interval_frame, interval_world,
     lit_fraction_queries_along_texel_row, new_host, probe, run_probe, settings, square_world,
 };
+use crate::support::deferred_host::HostLight;
 use crate::support::host::Host;
 use glam::{DMat4, DVec3, Vec3};
 use motion_shadows::technique::TemporalShadowMap;
@@ -42,7 +43,7 @@ fn square_over_ground(light: Light, at: impl Fn(f64) -> DVec3 + 'static) -> Worl
 }
 
 fn spot_over_ground() -> Light {
-    Light::Spot {
+    HostLight::Spot {
         position: Vec3::new(0.0, 6.0, 0.0),
         direction: Vec3::NEG_Y,
         cone_half_angle_deg: 60.0,
@@ -50,6 +51,7 @@ fn spot_over_ground() -> Light {
         near: 0.5,
         far: 20.0,
     }
+    .engine_light()
 }
 
 /// The world's map of frame 1, whose shutter runs from frame 0 (t = 0) to frame 1.

@@ -1,6 +1,7 @@
 //! The lighting pass writing into an image the host made.
 
 use super::*;
+use crate::support::host_memory;
 
 /// The papers' lighting pass written into a host's own storage image
 /// (`LightingImageOutput`) holds exactly the radiance the lighting target reads back, on the
@@ -54,14 +55,14 @@ fn lighting_pass_writes_into_a_host_image() {
         let target = LightingTarget::new(&ctx, size.0, size.1, 4, 16).unwrap();
         let map = TemporalShadowMap::new(&ctx, size.0, size.1, 1 << 16, 1 << 15).unwrap();
         // The allocator goes with the image's and the buffer's last handle on it.
-        let memory = deferred::Memory::new(&host).unwrap();
+        let memory = host_memory::Memory::new(&host).unwrap();
         let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
         let features = vk::FormatFeatureFlags::STORAGE_IMAGE | vk::FormatFeatureFlags::TRANSFER_SRC;
         let format = vk::Format::R32G32B32A32_SFLOAT;
-        let image = deferred::Image::new(&memory, format, (usage, features), size).unwrap();
+        let image = host_memory::Image::new(&memory, format, (usage, features), size).unwrap();
         let pixels = (size.0 * size.1) as u64;
         let usage = vk::BufferUsageFlags::TRANSFER_DST;
-        let mut readback = deferred::HostBuffer::new(&memory, pixels * 16, usage).unwrap();
+        let mut readback = host_memory::HostBuffer::new(&memory, pixels * 16, usage).unwrap();
         let device = &host.device;
         host.record_and_wait(|cmd| {
             use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
@@ -85,7 +86,7 @@ fn lighting_pass_writes_into_a_host_image() {
                     )
                     .unwrap();
                 target.record_readback(device, cmd);
-                deferred::pipeline_barrier(
+                host_memory::pipeline_barrier(
                     device,
                     cmd,
                     &[image.barrier(
@@ -95,7 +96,7 @@ fn lighting_pass_writes_into_a_host_image() {
                     &[],
                 );
                 output.record(device, cmd, &mut bindings, &target, image.view);
-                deferred::pipeline_barrier(
+                host_memory::pipeline_barrier(
                     device,
                     cmd,
                     &[image.barrier(
@@ -128,7 +129,7 @@ fn lighting_pass_writes_into_a_host_image() {
                     .src_access_mask(A::TRANSFER_WRITE)
                     .dst_stage_mask(S::HOST)
                     .dst_access_mask(A::HOST_READ)];
-                deferred::pipeline_barrier(device, cmd, &[], &to_host);
+                host_memory::pipeline_barrier(device, cmd, &[], &to_host);
             }
         })
         .unwrap();

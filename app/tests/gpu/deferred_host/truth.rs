@@ -3,8 +3,9 @@
 //! of each G-buffer point moving with its triangle (`render_truth`), which shares no code with
 //! the shadow map, the mask or the host's G-buffer.
 
-use super::deferred::{self, Camera, Engine, Light, Mesh, MeshIndices, Vertex, World};
+use super::deferred::{self, Camera, Engine, Mesh, MeshIndices, Vertex, World};
 use super::{SHADOW, SIZE, app_scene, new_host, settings};
+use crate::support::deferred_host::HostLight;
 use glam::{DMat4, DVec3, Vec3};
 use motion_shadows_app::compare::mask_error;
 use motion_shadows_app::raytrace::deferred::render_truth;
@@ -24,6 +25,18 @@ fn sliding_box(name: &str, half: Vec3, at: impl Fn(f64) -> DVec3 + 'static) -> M
         albedo: Vec3::splat(0.7),
         closed: true,
         transform: Box::new(move |f| DMat4::from_translation(at(f))),
+    }
+}
+
+fn sliding_light() -> HostLight {
+    HostLight::Directional {
+        direction: Vec3::new(0.3, -1.0, 0.2),
+        irradiance: 3.0,
+        center: Vec3::ZERO,
+        half_extent: 8.0,
+        distance: 12.0,
+        near: 0.5,
+        far: 30.0,
     }
 }
 
@@ -47,15 +60,7 @@ fn sliding_platform() -> World {
             near: 0.1,
             far: 100.0,
         },
-        lights: vec![Light::Directional {
-            direction: Vec3::new(0.3, -1.0, 0.2),
-            irradiance: 3.0,
-            center: Vec3::ZERO,
-            half_extent: 8.0,
-            distance: 12.0,
-            near: 0.5,
-            far: 30.0,
-        }],
+        lights: vec![sliding_light().engine_light()],
         ambient: 0.05,
         meshes: vec![
             deferred::ground_mesh(),
@@ -87,7 +92,7 @@ fn sliding_platform() -> World {
 #[test]
 fn host_masks_with_moving_receivers_match_the_exact_truth() {
     let host = new_host();
-    let world = sliding_platform();
+    let (world, world_lights) = (sliding_platform(), [sliding_light()]);
     let frame = {
         let mut engine = Engine::new(&host, &world, settings()).expect("engine");
         let mut frames = engine
@@ -107,7 +112,7 @@ fn host_masks_with_moving_receivers_match_the_exact_truth() {
         moving_receivers: true,
         ..DeferredSettings::default()
     };
-    let scene = app_scene(&world, frame.frame, 0);
+    let scene = app_scene(&world, &world_lights, frame.frame, 0);
     let truth = render_truth(&scene, &render, &deferred, &mut |_| {}).expect("truth");
     let mask = &frame.masks[0];
     let error = mask_error(mask, &truth.lit, &truth.facing);
@@ -123,6 +128,18 @@ fn host_masks_with_moving_receivers_match_the_exact_truth() {
     assert!(error.rmse < 0.04, "{error:?}");
     assert!(far_share < 0.02, "{far} pixels far off");
     assert_eq!(host.validation_messages(), Vec::<String>::new());
+}
+
+fn tumbling_light() -> HostLight {
+    HostLight::Directional {
+        direction: Vec3::new(-0.4, -1.0, -0.3),
+        irradiance: 3.0,
+        center: Vec3::ZERO,
+        half_extent: 5.0,
+        distance: 10.0,
+        near: 0.5,
+        far: 30.0,
+    }
 }
 
 /// Ground (12 x 12) and a unit cube centred 1.2 above it, tumbling 30 degrees about the x
@@ -141,15 +158,7 @@ fn tumbling_box() -> World {
             near: 0.1,
             far: 50.0,
         },
-        lights: vec![Light::Directional {
-            direction: Vec3::new(-0.4, -1.0, -0.3),
-            irradiance: 3.0,
-            center: Vec3::ZERO,
-            half_extent: 5.0,
-            distance: 10.0,
-            near: 0.5,
-            far: 30.0,
-        }],
+        lights: vec![tumbling_light().engine_light()],
         ambient: 0.05,
         meshes: vec![
             deferred::ground_mesh(),
@@ -179,7 +188,7 @@ fn tumbling_box() -> World {
 #[test]
 fn host_masks_of_a_tumbling_box_match_the_exact_truth() {
     let host = new_host();
-    let world = tumbling_box();
+    let (world, world_lights) = (tumbling_box(), [tumbling_light()]);
     let frame = {
         let mut engine = Engine::new(&host, &world, settings()).expect("engine");
         let mut frames = engine
@@ -199,7 +208,7 @@ fn host_masks_of_a_tumbling_box_match_the_exact_truth() {
         moving_receivers: true,
         ..DeferredSettings::default()
     };
-    let scene = app_scene(&world, frame.frame, 0);
+    let scene = app_scene(&world, &world_lights, frame.frame, 0);
     let truth = render_truth(&scene, &render, &deferred, &mut |_| {}).expect("truth");
     let mask = &frame.masks[0];
     let error = mask_error(mask, &truth.lit, &truth.facing);

@@ -6,4 +6,4 @@ pub mod frame;
 pub mod gpu;
 pub mod ray_traced;
 pub use motion_shadows_test_support::gpu as device;
-pub use motion_shadows_test_support::{deferred_host, host, rng, sampling};
+pub use motion_shadows_test_support::{deferred_host, host, host_memory, rng, sampling};

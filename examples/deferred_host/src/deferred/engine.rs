@@ -1,6 +1,8 @@
-//! The engine: its settings and outputs, its geometry, its frame slots, setup and teardown.
+//! The engine: its settings and outputs, its meshes, its frame slots, setup and teardown.
 
 use super::*;
+use motion_shadows::gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use std::sync::{Arc, Mutex};
 
 /// `keep_static_layer`: keep each map's static layer (the still meshes never change in
 /// place). `receivers_move`: give the mask the G-buffer's motion (off: receivers stand still).
@@ -13,34 +15,23 @@ pub struct Settings {
     pub receivers_move: bool,
 }
 
-/// A map's counts after its frame: fragments and ranges stored, the room for ranges, and 1
-/// where the collection stored ranges directly.
-#[derive(Debug, Clone, Copy)]
-pub struct MapCounts {
-    pub node_count: u32,
-    pub range_count: u32,
-    pub range_capacity: u32,
-    pub ranges_direct: u32,
-}
-
 /// A frame read back after its fence: per pixel its radiance (a = 1 where a surface is) and
-/// per light its mask (the lit share of the shutter); per light its map's counts and whether
-/// it drew the static layer.
+/// per light its mask (the lit share of the shutter) and whether it drew the static layer
+/// (its map's counts: `Engine::shadow_map` of its slot, until the slot's next frame).
 #[derive(Debug, Clone)]
 pub struct FrameOutput {
     pub frame: u32,
     pub slot: usize,
-    pub counters: Vec<MapCounts>,
     pub radiance: Vec<[f32; 4]>,
     pub masks: Vec<Vec<f32>>,
     pub static_layer_drawn: Vec<bool>,
 }
 
-/// A mesh in the engine's buffers (byte offsets), its first global triangle id (meshes' ids
-/// never overlap) and its positions, the CPU copy the room is reserved from.
+/// A mesh's vertex and index buffers (read in place by the shadow pass too), its first
+/// global triangle id (meshes' ids never overlap) and the CPU copy the room is reserved from.
 pub(super) struct MeshSlot {
-    pub(super) vertex_offset: u64,
-    pub(super) index_offset: u64,
+    pub(super) vertices: Buffer,
+    pub(super) indices: Buffer,
     pub(super) first_triangle_id: u32,
     pub(super) positions: Vec<Vec3>,
 }
@@ -50,30 +41,30 @@ pub(super) struct MeshSlot {
 pub(super) struct Slot {
     pub(super) cmd: vk::CommandBuffer,
     pub(super) fence: vk::Fence,
-    pub(super) set: vk::DescriptorSet,
+    pub(super) bindings: ImageBindings,
     pub(super) pending: Option<u32>,
     pub(super) submission: u64,
-    pub(super) constants: HostBuffer,
-    pub(super) output: HostBuffer,
+    pub(super) constants: Buffer,
+    pub(super) output: Buffer,
     pub(super) gbuffer: Vec<Image>,
     pub(super) masks: Vec<Image>,
     pub(super) layer_drawn: Vec<bool>,
 }
 
-/// The deferred engine. Its fields drop in order: the library's objects before the context,
-/// every allocation (the engine's and the context's) before the allocator (last).
+/// The deferred engine. Its fields drop after its Drop waited for the device: the library's
+/// objects and the engine's buffers and images (allocations of the engine's allocator, which
+/// goes with the context's last object).
 pub struct Engine<'h> {
     pub(super) gpu: &'h Gpu,
     pub(super) settings: Settings,
     pub(super) pipelines: Pipelines,
-    /// The vertex and index buffers, and where each mesh lies in them.
-    pub(super) geometry: (HostBuffer, HostBuffer, Vec<MeshSlot>),
+    pub(super) meshes: Vec<MeshSlot>,
     pub(super) slots: Vec<Slot>,
     /// Per light: the light its shadow was made for (one that moved gets a new shadow).
     pub(super) shadows: Vec<(Light, LightShadow)>,
     pub(super) submissions: u64,
     pub(super) ctx: Context,
-    _memory: Memory,
+    pool: vk::CommandPool,
 }
 
 impl<'h> Engine<'h> {
@@ -83,8 +74,17 @@ impl<'h> Engine<'h> {
         if lights == 0 || lights > MAX_LIGHTS {
             return Err(format!("{lights} lights: the engine shades 1 to {MAX_LIGHTS}").into());
         }
-        let (memory, g) = (Memory::new(gpu)?, gpu);
-        let (device, allocator) = (g.device.clone(), memory.allocator.clone());
+        let g = gpu;
+        // The engine's allocator, with device addresses (the library reads buffers by address).
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: g.instance.clone(),
+            device: g.device.clone(),
+            physical_device: g.physical,
+            debug_settings: Default::default(),
+            buffer_device_address: true,
+            allocation_sizes: Default::default(),
+        })?;
+        let (device, allocator) = (g.device.clone(), Arc::new(Mutex::new(allocator)));
         // SAFETY: Gpu made the device from `physical` of `instance` for Vulkan 1.3, with a
         // graphics+compute queue of `queue_family` and the features in `enabled`; the
         // allocator is the device's, with device addresses on. The Gpu outlives the engine,
@@ -101,58 +101,44 @@ impl<'h> Engine<'h> {
                 allocator,
             )
         }?;
-        let (mut vertices, mut index_bytes, mut meshes, mut next_id) = (vec![], vec![], vec![], 0);
+        let (mut meshes, mut next_id) = (Vec::new(), 0);
         for mesh in &world.meshes {
-            let vertex_offset = vertices.len() as u64;
-            let index_offset = index_bytes.len() as u64;
-            index_bytes.extend_from_slice(match &mesh.indices {
-                MeshIndices::U16(i) => bytemuck::cast_slice::<u16, u8>(i),
-                MeshIndices::U32(i) => bytemuck::cast_slice(i),
-            });
-            // The library reads 16-bit indices as whole words: each run starts 4-byte aligned.
-            index_bytes.resize(index_bytes.len().next_multiple_of(4), 0);
-            let positions = mesh
-                .vertices
-                .iter()
-                .map(|v| Vec3::from(v.position))
-                .collect();
-            let first_triangle_id = next_id;
+            let mut indices = match &mesh.indices {
+                MeshIndices::U16(i) => bytemuck::cast_slice::<u16, u8>(i).to_vec(),
+                MeshIndices::U32(i) => bytemuck::cast_slice(i).to_vec(),
+            };
+            // The library reads 16-bit indices as whole words.
+            indices.resize(indices.len().next_multiple_of(4), 0);
+            let usage = BufferUsage::HostToDevice;
             meshes.push(MeshSlot {
-                vertex_offset,
-                index_offset,
-                first_triangle_id,
-                positions,
+                vertices: Buffer::with_data(&ctx, "vertices", usage, &mesh.vertices)?,
+                indices: Buffer::with_data(&ctx, "indices", usage, &indices)?,
+                first_triangle_id: next_id,
+                positions: mesh.vertices.iter().map(|v| v.position.into()).collect(),
             });
             next_id += (mesh.indices.count() / 3) as u32;
-            vertices.extend_from_slice(bytemuck::cast_slice(&mesh.vertices));
         }
-        // The rasterizer's index buffer is the shadow pass's index stream too.
-        use vk::BufferUsageFlags as U;
-        let upload = |bytes: &[u8], usage| -> Result<HostBuffer> {
-            let usage = usage | U::STORAGE_BUFFER | U::SHADER_DEVICE_ADDRESS;
-            let mut buffer = HostBuffer::new(&memory, bytes.len() as u64, usage)?;
-            buffer.write(bytes).map(|()| buffer)
-        };
-        let (vertices, indices) = (
-            upload(&vertices, U::empty())?,
-            upload(&index_bytes, U::INDEX_BUFFER)?,
-        );
-        let pipelines = Pipelines::new(&gpu.device, gpu.queue_family)?;
-        let slot = |_| new_slot(&memory, &pipelines, &settings, lights);
-        let slots = (0..FRAMES_IN_FLIGHT).map(slot).collect::<Result<_>>()?;
-        let geometry = (vertices, indices, meshes);
-        let (shadows, submissions, _memory) = (Vec::new(), 0, memory);
-        Ok(Engine {
+        let pipelines = Pipelines::new(&ctx)?;
+        let info = vk::CommandPoolCreateInfo::default().queue_family_index(g.queue_family);
+        let info = info.flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: `info` is a local; the pool is destroyed by the engine's Drop.
+        let pool = unsafe { g.device.create_command_pool(&info, None) }?;
+        let mut engine = Engine {
             gpu,
             settings,
             pipelines,
-            geometry,
-            slots,
-            shadows,
-            submissions,
+            meshes,
+            slots: Vec::new(),
+            shadows: Vec::new(),
+            submissions: 0,
             ctx,
-            _memory,
-        })
+            pool,
+        };
+        for _ in 0..FRAMES_IN_FLIGHT {
+            let slot = engine.new_slot(lights)?;
+            engine.slots.push(slot);
+        }
+        Ok(engine)
     }
 
     /// The library's context (device information, validation messages).
@@ -162,100 +148,79 @@ impl<'h> Engine<'h> {
 
     /// Global id of mesh `mesh`'s first triangle.
     pub fn first_triangle_id(&self, mesh: usize) -> u32 {
-        self.geometry.2[mesh].first_triangle_id
+        self.meshes[mesh].first_triangle_id
     }
 
     /// Light `light`'s map in slot `slot`, holding that slot's last frame.
     pub fn shadow_map(&self, slot: usize, light: usize) -> &TemporalShadowMap {
         self.shadows[light].1.map(self.slots[slot].submission)
     }
-}
 
-/// A frame slot: its G-buffer, masks, buffers, command buffer, descriptor set and fence.
-fn new_slot(memory: &Memory, p: &Pipelines, settings: &Settings, lights: usize) -> Result<Slot> {
-    let size = (settings.width, settings.height);
-    use vk::{BufferUsageFlags as B, FormatFeatureFlags as F, ImageUsageFlags as U};
-    let image = |format, (usage, feature): Usage| {
-        Image::new(
-            memory,
-            format,
-            (usage | U::SAMPLED, feature | F::SAMPLED_IMAGE),
-            size,
-        )
-    };
-    let depth = (U::DEPTH_STENCIL_ATTACHMENT, F::DEPTH_STENCIL_ATTACHMENT);
-    let uses = [depth, (U::COLOR_ATTACHMENT, F::COLOR_ATTACHMENT)];
-    let gbuffer = (0..5).map(|i| image(FORMATS[i], uses[i.min(1)]));
-    let gbuffer = gbuffer.collect::<Result<Vec<_>>>()?;
-    // The masks: a lit share per pixel, a format every device writes as a storage image.
-    let mask = |_| image(vk::Format::R32_SFLOAT, (U::STORAGE, F::STORAGE_IMAGE));
-    let masks = (0..lights).map(mask).collect::<Result<Vec<_>>>()?;
-    let usage = B::STORAGE_BUFFER | B::SHADER_DEVICE_ADDRESS;
-    let constants = HostBuffer::new(memory, size_of::<FrameConstants>() as u64, usage)?;
-    let pixels = u64::from(size.0) * u64::from(size.1);
-    let output = HostBuffer::new(memory, pixels * (16 + 4 * lights as u64), usage)?;
-    // Depth, normal, albedo, mask 0 and mask 1 (light 0's again with one light).
-    let (read, general) = (vk::ImageLayout::READ_ONLY_OPTIMAL, vk::ImageLayout::GENERAL);
-    let images = [
-        (&gbuffer[0], read),
-        (&gbuffer[1], read),
-        (&gbuffer[2], read),
-    ];
-    let images = images
-        .into_iter()
-        .chain([(&masks[0], general), (&masks[lights - 1], general)]);
-    let info = |(image, layout): (&Image, _)| {
-        [vk::DescriptorImageInfo::default()
-            .image_view(image.view)
-            .image_layout(layout)]
-    };
-    let infos: Vec<_> = images.map(info).collect();
-    let alloc = vk::CommandBufferAllocateInfo::default().command_buffer_count(1);
-    let (alloc, layouts) = (alloc.command_pool(p.command_pool), [p.set_layout]);
-    let sets = vk::DescriptorSetAllocateInfo::default().descriptor_pool(p.descriptor_pool);
-    let (sets, device) = (sets.set_layouts(&layouts), &memory.gpu.device);
-    // SAFETY: the engine's pools (its queue family; a set for each of FRAMES_IN_FLIGHT slots),
-    // whose buffers and sets go with them; the set's images are the slot's, kept with it; the
-    // fence, made last, is destroyed by the engine's Drop.
-    let (cmd, set, fence) = unsafe {
-        let cmd = device.allocate_command_buffers(&alloc)?[0];
-        let set = device.allocate_descriptor_sets(&sets)?[0];
-        let sampled = vk::DescriptorType::SAMPLED_IMAGE;
-        let writes: Vec<_> = (infos.iter().enumerate())
-            .map(|(binding, info)| {
-                let write = vk::WriteDescriptorSet::default()
-                    .dst_set(set)
-                    .image_info(info);
-                write.dst_binding(binding as u32).descriptor_type(sampled)
-            })
-            .collect();
-        device.update_descriptor_sets(&writes, &[]);
-        (cmd, set, device.create_fence(&Default::default(), None)?)
-    };
-    let (pending, submission, layer_drawn) = (None, 0, Vec::new());
-    Ok(Slot {
-        cmd,
-        fence,
-        set,
-        pending,
-        submission,
-        constants,
-        output,
-        gbuffer,
-        masks,
-        layer_drawn,
-    })
+    /// A frame slot: its G-buffer, masks, buffers, command buffer, descriptor set and fence.
+    fn new_slot(&self, lights: usize) -> Result<Slot> {
+        let (ctx, s) = (&self.ctx, &self.settings);
+        use vk::ImageUsageFlags as U;
+        let image =
+            |name, format, usage| Image::new(ctx, name, (s.width, s.height, 1), format, usage);
+        let usage = |i| match i {
+            0 => U::DEPTH_STENCIL_ATTACHMENT | U::SAMPLED,
+            _ => U::COLOR_ATTACHMENT | U::SAMPLED,
+        };
+        let gbuffer = (0..5).map(|i| image("g-buffer", FORMATS[i], usage(i)));
+        let gbuffer = gbuffer.collect::<motion_shadows::Result<Vec<_>>>()?;
+        // The masks: a lit share per pixel, a format every device writes as a storage image.
+        let mask = |_| image("mask", vk::Format::R32_SFLOAT, U::STORAGE | U::SAMPLED);
+        let masks = (0..lights)
+            .map(mask)
+            .collect::<motion_shadows::Result<Vec<_>>>()?;
+        let pixels = u64::from(s.width) * u64::from(s.height);
+        let constants = size_of::<FrameConstants>() as u64;
+        let constants = Buffer::new(ctx, "constants", constants, BufferUsage::HostToDevice)?;
+        let bytes = pixels * (16 + 4 * lights as u64);
+        let output = Buffer::new(ctx, "output", bytes, BufferUsage::DeviceToHost)?;
+        let mut bindings = self.pipelines.shade_set.allocate()?;
+        // Depth, normal, albedo, mask 0 and mask 1 (light 0's again with one light).
+        let read = |i: &Image| (i.layer_view(0), L::READ_ONLY_OPTIMAL);
+        let images = [&gbuffer[0], &gbuffer[1], &gbuffer[2]].map(read);
+        let general = |i: &Image| (i.layer_view(0), L::GENERAL);
+        let images = [
+            images.as_slice(),
+            &[general(&masks[0]), general(&masks[lights - 1])],
+        ];
+        let alloc = vk::CommandBufferAllocateInfo::default().command_buffer_count(1);
+        let (alloc, device) = (alloc.command_pool(self.pool), &self.gpu.device);
+        // SAFETY: the set is new (in no command buffer), its images the slot's, kept with it;
+        // the command buffer goes with the engine's pool; the fence, with the engine's Drop.
+        let (cmd, fence) = unsafe {
+            bindings.write(&images.concat());
+            let cmd = device.allocate_command_buffers(&alloc)?[0];
+            (cmd, device.create_fence(&Default::default(), None)?)
+        };
+        Ok(Slot {
+            cmd,
+            fence,
+            bindings,
+            pending: None,
+            submission: 0,
+            constants,
+            output,
+            gbuffer,
+            masks,
+            layer_drawn: Vec::new(),
+        })
+    }
 }
 
 impl Drop for Engine<'_> {
     fn drop(&mut self) {
-        // SAFETY: once the device is idle no frame uses a fence (nor anything the fields drop
-        // next); each fence is destroyed once.
+        // SAFETY: once the device is idle no frame uses a fence, the pool's command buffers,
+        // nor anything the fields drop next; each is destroyed once.
         unsafe {
             let _ = self.gpu.device.device_wait_idle();
             for slot in &self.slots {
                 self.gpu.device.destroy_fence(slot.fence, None);
             }
+            self.gpu.device.destroy_command_pool(self.pool, None);
         }
     }
 }

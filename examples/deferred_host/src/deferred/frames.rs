@@ -9,7 +9,7 @@ impl Engine<'_> {
     /// limit) is an error after its fence. Returns the frames `keep(frame)` asks for.
     pub fn render(&mut self, world: &World, frames: Range<u32>, keep: Keep) -> Result<Frames> {
         let lights = self.slots[0].masks.len();
-        if world.meshes.len() != self.geometry.2.len() || world.lights.len() != lights {
+        if world.meshes.len() != self.meshes.len() || world.lights.len() != lights {
             return Err("not the meshes and lights the engine was made for".into());
         }
         let mut kept = Vec::new();
@@ -47,19 +47,6 @@ impl Engine<'_> {
         if !keep(frame) {
             return Ok(None);
         }
-        let mut counters = Vec::new();
-        for (_, shadow) in &self.shadows {
-            let c = shadow.map(s.submission).read_counters()?;
-            let (node_count, range_count, ranges_direct) =
-                (c.node_count, c.range_count, c.ranges_direct);
-            let range_capacity = c.range_capacity;
-            counters.push(MapCounts {
-                node_count,
-                range_count,
-                range_capacity,
-                ranges_direct,
-            });
-        }
         let pixels = (self.settings.width * self.settings.height) as usize;
         let values: Vec<f32> = s.output.read(pixels * (4 + s.masks.len()))?;
         let (radiance, masks) = values.split_at(4 * pixels);
@@ -69,14 +56,14 @@ impl Engine<'_> {
             .collect();
         let masks = masks.chunks_exact(pixels).map(<[f32]>::to_vec).collect();
         let static_layer_drawn = s.layer_drawn.clone();
-        Ok(Some(FrameOutput {
+        let output = FrameOutput {
             frame,
             slot,
-            counters,
             radiance,
             masks,
             static_layer_drawn,
-        }))
+        };
+        Ok(Some(output))
     }
 
     /// Writes the idle slot's constants, records frame `frame` and submits it.
@@ -85,17 +72,14 @@ impl Engine<'_> {
         self.submissions += 1;
         self.ctx.begin_frame(self.submissions);
         self.slots[slot].submission = self.submissions;
-        let Settings {
-            width,
-            height,
-            shadow_size: map_size,
-            keep_static_layer: keep,
-            ..
-        } = self.settings;
-        let static_layer = if keep {
-            StaticLayer::Kept
-        } else {
-            StaticLayer::Redrawn
+        let (width, height, map_size) = (
+            self.settings.width,
+            self.settings.height,
+            self.settings.shadow_size,
+        );
+        let static_layer = match self.settings.keep_static_layer {
+            true => StaticLayer::Kept,
+            false => StaticLayer::Redrawn,
         };
         // The mask on; the engine's shading reads each map's header (compute).
         let (frames_in_flight, lookup_stages) = (FRAMES_IN_FLIGHT as u32, S::COMPUTE_SHADER);
@@ -105,17 +89,13 @@ impl Engine<'_> {
                 .get(at)
                 .is_none_or(|(made_for, _)| made_for != light)
             {
-                let new = ShadowSettings::new(light.engine_light());
                 let settings = ShadowSettings {
                     map_size,
                     static_layer,
                     mask: true,
-                    ..new
-                };
-                let settings = ShadowSettings {
                     frames_in_flight,
                     lookup_stages,
-                    ..settings
+                    ..ShadowSettings::new(*light)
                 };
                 self.shadows.truncate(at);
                 self.shadows

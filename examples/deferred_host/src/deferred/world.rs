@@ -1,6 +1,8 @@
 //! The world: what the engine draws, plain data plus each mesh's transform over time.
 
 use super::*;
+/// The lights are the library's (`motion_shadows::Light`): the shading reads each from its map.
+pub use motion_shadows::Light;
 
 /// A vertex as the engine stores it: 24 bytes, position then normal (object space).
 #[repr(C)]
@@ -58,64 +60,6 @@ impl Camera {
         use glam::camera::rh::{proj::vulkan, view::look_at_mat4};
         let proj = vulkan::perspective(self.fov_y_deg.to_radians(), aspect, self.near, self.far);
         proj * look_at_mat4(self.eye, self.target, self.up)
-    }
-}
-
-/// A light: a spot (hard cone, 1 / d^2, `intensity` in W/sr) or a directional light
-/// (`irradiance` in W/m^2; its map an orthographic box around `center`). `near`, `far`: the
-/// map's depth range.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Light {
-    Spot {
-        position: Vec3,
-        direction: Vec3,
-        cone_half_angle_deg: f32,
-        intensity: f32,
-        near: f32,
-        far: f32,
-    },
-    Directional {
-        direction: Vec3,
-        irradiance: f32,
-        center: Vec3,
-        half_extent: f32,
-        distance: f32,
-        near: f32,
-        far: f32,
-    },
-}
-
-impl Light {
-    /// The library's description of the light (what its shadow is made for).
-    pub fn engine_light(&self) -> motion_shadows::Light {
-        match *self {
-            Light::Spot {
-                position,
-                direction,
-                cone_half_angle_deg: cone,
-                intensity,
-                near,
-                far,
-            } => {
-                let light = motion_shadows::Light::spot(position, direction).cone_half_angle(cone);
-                light.intensity(intensity).depth_range(near, far)
-            }
-            Light::Directional {
-                direction,
-                irradiance,
-                center,
-                half_extent,
-                distance,
-                near,
-                far,
-            } => {
-                let light = motion_shadows::Light::directional(direction, center, half_extent);
-                light
-                    .distance(distance)
-                    .intensity(irradiance)
-                    .depth_range(near, far)
-            }
-        }
     }
 }
 
@@ -224,47 +168,20 @@ impl World {
             far: 50.0,
         };
         let (position, direction) = (Vec3::new(-3.0, 7.5, -3.5), Vec3::new(3.3, -7.5, 4.0));
-        let (cone_half_angle_deg, intensity, near, far) = (38.0, 110.0, 1.0, 30.0);
-        let spot = Light::Spot {
-            position,
-            direction,
-            cone_half_angle_deg,
-            intensity,
-            near,
-            far,
-        };
-        let (direction, center, half_extent, distance) =
-            (Vec3::new(0.45, -1.0, 0.3), Vec3::ZERO, 7.5, 15.0);
-        let (irradiance, far) = (0.9, 40.0);
-        let sun = Light::Directional {
-            direction,
-            irradiance,
-            center,
-            half_extent,
-            distance,
-            near,
-            far,
-        };
+        let spot = Light::spot(position, direction).cone_half_angle(38.0);
+        let spot = spot.intensity(110.0).depth_range(1.0, 30.0);
+        let sun = Light::directional(Vec3::new(0.45, -1.0, 0.3), Vec3::ZERO, 7.5).distance(15.0);
+        let sun = sun.intensity(0.9).depth_range(1.0, 40.0);
+        let (red, blue) = (Vec3::new(0.8, 0.25, 0.2), Vec3::new(0.3, 0.5, 0.8));
+        let flying_box = mesh("flying box", Vec3::splat(0.5), red, flying);
         let post = Box::new(move |_| at(2.4, 0.8, 1.4));
-        let (box_half, post_half) = (Vec3::splat(0.5), Vec3::new(0.3, 0.8, 0.3));
-        let boxes = [(
-            "flying box",
-            box_half,
-            Vec3::new(0.8, 0.25, 0.2),
-            flying as Transform,
-        )];
-        let boxes =
-            boxes
-                .into_iter()
-                .chain([("post", post_half, Vec3::new(0.3, 0.5, 0.8), post as _)]);
-        let meshes = [ground_mesh()]
-            .into_iter()
-            .chain(boxes.map(|(n, h, a, t)| mesh(n, h, a, t)));
+        let post = mesh("post", Vec3::new(0.3, 0.8, 0.3), blue, post);
+        let meshes = vec![ground_mesh(), flying_box, post];
         World {
             camera,
             lights: vec![spot, sun],
             ambient: 0.04,
-            meshes: meshes.collect(),
+            meshes,
         }
     }
 }

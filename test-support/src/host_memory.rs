@@ -1,12 +1,17 @@
-//! Buffers and images in memory from the engine's gpu-allocator, which the library's
-//! context allocates from too.
+//! Buffers and images of the tests' host (the probes' queries and results, a lighting
+//! target), in memory from an allocator of its own on the host's device: what a host engine
+//! writes for its own resources, here without a library context.
 
-use super::*;
+use ash::vk;
+use bytemuck::Pod;
 use motion_shadows::gpu_allocator::{MemoryLocation, vulkan as alloc};
+use motion_shadows_deferred_host::gpu::Gpu;
 use std::sync::{Arc, Mutex};
 
-/// The engine's device and allocator (device addresses on: the library reads the engine's
-/// buffers by address), shared with the library (`Context::from_raw_with_allocator`).
+type Result<T> = std::result::Result<T, Box<dyn std::error::Error + Send + Sync>>;
+
+/// The host's device and an allocator on it (device addresses on: shaders read the buffers
+/// by address).
 #[derive(Clone)]
 pub struct Memory {
     pub gpu: Gpu,
@@ -70,7 +75,7 @@ impl Bound {
 impl Drop for Bound {
     fn drop(&mut self) {
         let (device, (buffer, image, view)) = (&self.memory.gpu.device, self.handles);
-        // SAFETY: the engine drops its buffers and images after the frames that use them;
+        // SAFETY: the tests drop their buffers and images after the frames that use them;
         // the view goes before its image, both before their memory.
         unsafe {
             device.destroy_image_view(view, None);
