@@ -355,21 +355,16 @@ float ms_lit_fraction_exact_moving(MsShadowMap header, vec3 p0, vec3 p1, uint ow
 // of s as the shutter-long test).
 bool ms_exact_blocks_at(vec3 p, vec3 u, vec3 at0[3], vec3 at1[3], float t, bool spot,
                         float s_min) {
-    vec3 c[3];
+    ms_exact_Linear corner[3];
     for (int k = 0; k < 3; ++k) {
         // at0 + t (at1 - at0), not mix(): a corner that does not move is at0 exactly at
         // every time, as in the triangles that share it (the edges' canonical order and
         // values then agree, and no light passes between them).
         precise vec3 at = at0[k] + t * (at1[k] - at0[k]);
-        c[k] = at - p;
+        corner[k] = ms_exact_Linear(at - p, vec3(0.0));
     }
-    vec4 edges[3] = vec4[3](vec4(ms_exact_edge_still(c[0], c[1], u), vec3(0.0)),
-                            vec4(ms_exact_edge_still(c[1], c[2], u), vec3(0.0)),
-                            vec4(ms_exact_edge_still(c[2], c[0], u), vec3(0.0)));
-    vec4 plane = vec4(ms_exact_det(c[0], c[1], c[2]), vec3(0.0));
-    float r = max(max(length(c[0]), length(c[1])), length(c[2]));
-    return ms_exact_blocks(edges, plane, spot,
-                           ms_exact_s_from(plane, r, length(p), 0.0, 1.0, s_min), 0.0);
+    // Frozen at t, triangle and ray stand still: the constants' test.
+    return ms_exact_blocks_still(ms_exact_Linear(u, vec3(0.0)), corner, spot, s_min, length(p));
 }
 
 // Whether a receiver at p at time t (its position then), on triangle `own` (MS_NO_TRIANGLE
