@@ -40,11 +40,13 @@ pub struct Camera {
     pub far: f32,
 }
 
+#[derive(Debug, Clone)]
 pub enum Light {
     Spot(SpotLight),
     Directional(DirectionalLight),
 }
 
+#[derive(Debug, Clone)]
 pub struct SpotLight {
     pub position: Vec3,
     pub direction: Vec3,
@@ -55,6 +57,7 @@ pub struct SpotLight {
     pub far: f32,
 }
 
+#[derive(Debug, Clone)]
 pub struct DirectionalLight {
     pub direction: Vec3,
     pub irradiance: f32,

@@ -22,18 +22,16 @@ use motion_shadows::technique::NO_TRIANGLE;
 /// the epsilon's 1e-4 x 8, the map's width).
 #[test]
 fn a_wall_shadows_the_ground_from_its_foot() {
-    let slanting_sun = || {
-        Light::Directional(DirectionalLight {
-            direction: Vec3::new(1.0, -2.0, 0.0).normalize(),
-            irradiance: 3.0,
-            center: Vec3::ZERO,
-            half_extent: HALF_EXTENT,
-            distance: 10.0,
-            near: 0.5,
-            far: 20.0,
-        })
-    };
-    let spot = || overhead_spot(SPOT_HEIGHT, SPOT_CONE_DEG);
+    let slanting_sun = Light::Directional(DirectionalLight {
+        direction: Vec3::new(1.0, -2.0, 0.0).normalize(),
+        irradiance: 3.0,
+        center: Vec3::ZERO,
+        half_extent: HALF_EXTENT,
+        distance: 10.0,
+        near: 0.5,
+        far: 20.0,
+    });
+    let spot = overhead_spot(SPOT_HEIGHT, SPOT_CONE_DEG);
     let wall = {
         let (a, b) = (Vec3::new(1.0, 0.0, -1.0), Vec3::new(1.0, 1.0, -1.0));
         let (c, d) = (Vec3::new(1.0, 1.0, 1.0), Vec3::new(1.0, 0.0, 1.0));
@@ -41,13 +39,11 @@ fn a_wall_shadows_the_ground_from_its_foot() {
     };
     // Past the wall: above the off-plane margin (~2e-5 here, the sliding wall's reach
     // included), inside 1e-4 of the ray.
-    let lights: [(&dyn Fn() -> Light, [f32; 2]); 2] =
-        [(&spot, [5e-5, 8e-5]), (&slanting_sun, [1e-4, 2e-4])];
-    for (light, hairs) in lights {
+    for (light, hairs) in [(spot, [5e-5, 8e-5]), (slanting_sun, [1e-4, 2e-4])] {
         for slide in [Vec3::ZERO, Vec3::Z * 0.5] {
             let s = scene(
                 "wall",
-                light(),
+                light.clone(),
                 vec![mesh("wall", wall.clone(), translated(&wall, slide), false)],
             );
             let mut receivers = Vec::new();
