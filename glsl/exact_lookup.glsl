@@ -125,9 +125,11 @@ bool ms_exact_static_next(MsMap map, uint texel, uint stop, inout uint r, inout 
 //
 // `known_still`: the caller knows, when the shader is compiled, that the receiver and the
 // light stand still (ms_walk_exact_still): the moving receivers' loop and the moving ray's
-// terms fold away.
+// terms fold away. `static_only` (with known_still, also known when compiled): the walk ends
+// with the static names, and the loops of the ranges fold away (ms_walk_exact_still).
 bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint own, uint stop,
-                         bool known_still, inout uint cursor, inout ms_exact_Union shadowed) {
+                         bool known_still, bool static_only, inout uint cursor,
+                         inout ms_exact_Union shadowed) {
     bool spot = map.light.position.w != 0.0;
     vec3 light = spot ? map.light.position.xyz : map.light.direction.xyz;
     float s_min = ms_exact_s_min(spot, ms_exact_scene_size(map));
@@ -166,6 +168,7 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
                 if (ms_exact_union_covers(shadowed, w.x, w.y)) return true;
             }
         }
+        if (static_only) break;
         // Against a moving receiver, the cheap half first (ms_exact_classify): counted on
         // game-level, 99% of the static names a moving receiver asked found nothing. A loop of
         // its own, so that a group of still receivers runs none of its code.
@@ -281,8 +284,8 @@ void ms_walk_exact(MsMap map, vec3 p0, vec3 p1, uint own, uint budget, inout MsW
         float t = path.t, exit;
         ivec2 here = path.texel;
         bool inside = ms_path_advance(path, map.size, exit);
-        if (!ms_exact_texel_walk(map, at, p0, p1, vec2(t, exit), own, stop, false, cursor,
-                                 texel_union)) {
+        if (!ms_exact_texel_walk(map, at, p0, p1, vec2(t, exit), own, stop, false, false,
+                                 cursor, texel_union)) {
             // Within the texel: its next invocation goes on there, with the union so far.
             path.t = t;
             path.texel = here;
@@ -309,25 +312,37 @@ void ms_walk_exact(MsMap map, vec3 p0, vec3 p1, uint own, uint budget, inout MsW
 // STILL_FIRST round 0, which leaves moving receivers to round 1): beside the general walk in
 // one shader, even behind a subgroupAll branch, it measured slower than the general walk
 // alone on lavapipe.
-void ms_walk_exact_still(MsMap map, vec3 p, uint own, inout MsWalk walk,
+//
+// `static_only` (known when compiled; a map with static name lists): the texel's static
+// names alone. False, the walk not done, where the texel names moving triangles too (ranges)
+// and no static one blocks the receiver: the general walk (round 1) then asks them all. The
+// loops of the ranges hold the cheap half of the moving test, which llvmpipe runs for every
+// SIMD group (taken or not), while on game-level 2% of the receivers have a range in their
+// texel. Otherwise true, the walk done.
+bool ms_walk_exact_still(MsMap map, vec3 p, uint own, bool static_only, inout MsWalk walk,
                          inout ms_exact_Union texel_union) {
     MsLightPath path;
     walk.state = MS_WALK_DONE;
     walk.sum = 1.0;
-    if (map.triangles == 0UL || !ms_path_start(map.light, map.size, p, p, path)) return;
+    if (map.triangles == 0UL || !ms_path_start(map.light, map.size, p, p, path)) return true;
     texel_union = ms_exact_union_empty();
     uint cursor = MS_EXACT_CURSOR_START;
     ++ms_loop_iterations;
     uint at = uint(path.texel.y) * map.size.x + uint(path.texel.x);
     // The window ms_path_advance gives a path that does not move: the time it is in view.
     float exit = clamp(path.hi, path.t, path.hi);
-    ms_exact_texel_walk(map, at, p, p, vec2(path.t, exit), own, 0xffffffffu, true, cursor,
-                        texel_union);
+    ms_exact_texel_walk(map, at, p, p, vec2(path.t, exit), own, 0xffffffffu, true,
+                        static_only, cursor, texel_union);
+    if (static_only && !ms_exact_union_covers(texel_union, path.t, exit)
+        && MsUints(map.range_heads).v[at] != MS_END_OF_LIST) {
+        return false;
+    }
     // 0 + the texel's share, as the general walk adds it (the same float).
     float shadowed = 0.0;
     shadowed += min(ms_exact_union_length(texel_union), exit - path.t);
     walk.sum = 1.0 - min(shadowed, 1.0);
     walk.walked = ms_loop_iterations;
+    return true;
 }
 
 float ms_lit_fraction_exact_moving(MsMap map, vec3 p0, vec3 p1, uint own) {

@@ -48,6 +48,11 @@ layout(constant_id = 2) const bool FOLLOW_UP = false;
 // lanes take it: kept out of this pipeline, the general walk (texel stepping, the moving
 // receivers' loops) costs the still receivers, most of a frame's, nothing.
 layout(constant_id = 3) const bool STILL_FIRST = false;
+// With STILL_FIRST, an exact mask over a map with static name lists (the static layer): a
+// receiver standing still walks its texel's static names alone and goes to round 1 where the
+// texel names moving triangles too and no static one blocks it (ms_walk_exact_still). Without
+// static names every triangle is a range: round 0 walks them.
+layout(constant_id = 4) const bool STATIC_NAMES_FIRST = false;
 
 // MASK_* flags (MASK_HAS_IDS: read the triangle-id image), from src/technique/gpu_constants.rs.
 #include "gpu_constants.glsl"
@@ -220,7 +225,7 @@ void main() {
             ms_walk_exact(tested, p0, p0 + motion, own, FOLLOW_UP ? pc.loop_budget : 0u, walk,
                           carried);
         } else if (motion == vec3(0.0)) {
-            ms_walk_exact_still(tested, p0, own, walk, carried);
+            to_round_1 = !ms_walk_exact_still(tested, p0, own, STATIC_NAMES_FIRST, walk, carried);
         } else {
             to_round_1 = true;
         }

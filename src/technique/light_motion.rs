@@ -41,6 +41,8 @@ pub struct LightEnd {
 pub(super) const RECORDED_EXACT: u8 = 1;
 /// ... a moving light.
 pub(super) const RECORDED_MOVING_LIGHT: u8 = 2;
+/// ... static name lists (the exact lookup with the static layer).
+pub(super) const RECORDED_STATIC_NAMES: u8 = 4;
 
 impl TemporalShadowMap {
     /// Whether the last recorded collection built the map for a moving light

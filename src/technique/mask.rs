@@ -106,9 +106,11 @@ pub(super) fn mask_position_flag(inputs: &MaskInputs) -> u32 {
 /// Where the follow-up rounds' pipelines start among the pass's variants.
 const FOLLOW_UP_VARIANTS: usize = 4;
 /// The STILL_FIRST first rounds: exact masks (receivers standing, then moving), then the
-/// depth-line mask with moving receivers.
+/// depth-line mask with moving receivers, then the exact masks over maps with static name
+/// lists (STATIC_NAMES_FIRST).
 const STILL_FIRST_EXACT: usize = 8;
 const STILL_FIRST_DEPTH_LINE_MOVING: usize = 10;
+const STILL_FIRST_EXACT_STATIC_NAMES: usize = 11;
 
 /// The visibility-mask pass. Immutable after creation.
 ///
@@ -150,11 +152,13 @@ impl VisibilityMaskPass {
             ],
             MaskPush::BYTES,
             ("visibility_mask.comp", shaders::VISIBILITY_MASK_COMP),
-            // (MOVING, EXACT, FOLLOW_UP, STILL_FIRST): receivers standing still or moving,
-            // against a map built for the depth-line test or for the exact lookup; the first
-            // dispatch, then the follow-up rounds' (variant + FOLLOW_UP_VARIANTS); first
-            // dispatches that leave moving receivers to the follow-up rounds
-            // (STILL_FIRST_EXACT + MOVING, STILL_FIRST_DEPTH_LINE_MOVING).
+            // (MOVING, EXACT, FOLLOW_UP, STILL_FIRST, STATIC_NAMES_FIRST): receivers standing
+            // still or moving, against a map built for the depth-line test or for the exact
+            // lookup; the first dispatch, then the follow-up rounds' (variant +
+            // FOLLOW_UP_VARIANTS); first dispatches that leave moving receivers to the
+            // follow-up rounds (STILL_FIRST_EXACT + MOVING, STILL_FIRST_DEPTH_LINE_MOVING),
+            // and with them the still ones whose texel names moving triangles, over a map with
+            // static name lists (STILL_FIRST_EXACT_STATIC_NAMES + MOVING).
             &[
                 &[0, 0, 0, 0],
                 &[1, 0, 0, 0],
@@ -167,6 +171,8 @@ impl VisibilityMaskPass {
                 &[0, 1, 0, 1],
                 &[1, 1, 0, 1],
                 &[1, 0, 0, 1],
+                &[0, 1, 0, 1, 1],
+                &[1, 1, 0, 1, 1],
             ],
         )?;
         Ok(Self {
@@ -321,7 +327,9 @@ impl VisibilityMaskPass {
         // device with a loop limit; rounds only where paths are walked), under a still light
         // (under a moving one nothing stands still relative to it).
         let first = if rounds > 0 && !map.recorded_for_moving_light() {
-            if exact {
+            if exact && map.recorded_static_names() {
+                STILL_FIRST_EXACT_STATIC_NAMES + usize::from(inputs.motion.is_some())
+            } else if exact {
                 STILL_FIRST_EXACT + usize::from(inputs.motion.is_some())
             } else {
                 STILL_FIRST_DEPTH_LINE_MOVING

@@ -9,7 +9,7 @@ use super::draws::DrawList;
 use super::gpu_types::{
     Counters, DRAW_STATIC, DrawRecord, MAX_LIST_NODES, ShadowMapHeader, TriangleRecord,
 };
-use super::light_motion::RECORDED_EXACT;
+use super::light_motion::{RECORDED_EXACT, RECORDED_STATIC_NAMES};
 use super::path_buffers::PathBuffers;
 use super::pruning::Pruning;
 use super::range_ceiling::{HostDraw, RangeCeiling};
@@ -434,6 +434,12 @@ impl TemporalShadowMap {
         } else {
             Lookup::DepthLine
         }
+    }
+
+    /// Whether the last recorded collection kept the static triangles in the static name
+    /// lists ([`Self::uses_static_names`]; false before any).
+    pub(crate) fn recorded_static_names(&self) -> bool {
+        self.built_for.load(Ordering::Relaxed) & RECORDED_STATIC_NAMES != 0
     }
 
     /// Triangle ids the map's triangle records have room for (0 without records).

@@ -14,8 +14,13 @@ impl TemporalShadowMap {
         coverage: Option<&CoverageMap>,
     ) {
         let sorted = self.sorts_ranges(light, coverage);
+        let static_names = if self.uses_static_names(light, coverage) {
+            RECORDED_STATIC_NAMES
+        } else {
+            0
+        };
         self.built_for
-            .store(light.recorded_flags(), Ordering::Relaxed);
+            .store(light.recorded_flags() | static_names, Ordering::Relaxed);
         let header = ShadowMapHeader {
             light: light.gpu(),
             size: UVec4::new(self.width, self.height, sorted as u32 * MS_SORTED_RANGES, 0),
