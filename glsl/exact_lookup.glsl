@@ -59,6 +59,11 @@ float ms_exact_scene_size(MsMap map) {
     return map.light.bias.z * float(max(map.size.x, map.size.y));
 }
 
+// A turning light (issue 38), set by the caller as ms_exact_light_motion is: MsLightEnd's
+// frame, which takes a receiver's t = 1 point into the t = 0 view's world (ms_walk_exact).
+bool ms_exact_light_turning = false;
+mat4 ms_exact_light_frame = mat4(1.0);
+
 // Where in a texel's list the exact walk goes on (MsWalk.cursor): from the list's start, or
 // from a static name (its index + 1, flagged) or a range (its index + 1) of it.
 const uint MS_EXACT_CURSOR_START = 0u;
@@ -254,10 +259,15 @@ bool ms_exact_texel_walk(MsMap map, uint texel, vec3 p0, vec3 p1, vec2 w, uint o
 // frame, its t = 1 end moved by the light's motion the other way (the t = 0 view then sees
 // the receiver at each time where the light at that time does: ms_light_frame_end's frame
 // for a translation); the shadow rays are tested in the world, toward the light at each time.
+// A turning light (ms_exact_light_turning): the t = 1 end taken through ms_exact_light_frame
+// (MsLightEnd's frame); for a receiver standing still the blended view then sees it at each
+// time where the walk does, and the blended view of a still point is linear in t.
 void ms_walk_exact(MsMap map, vec3 p0, vec3 p1, uint own, uint budget, inout MsWalk walk,
                    inout ms_exact_Union texel_union) {
     MsLightPath path;
-    vec3 p1_in_frame = ms_exact_light_motion == vec3(0.0) ? p1 : p1 - ms_exact_light_motion;
+    vec3 p1_in_frame = ms_exact_light_turning ? (ms_exact_light_frame * vec4(p1, 1.0)).xyz
+        : ms_exact_light_motion == vec3(0.0)  ? p1
+                                              : p1 - ms_exact_light_motion;
     if (map.triangles == 0UL || !ms_path_start(map.light, map.size, p0, p1_in_frame, path)) {
         walk.state = MS_WALK_DONE;
         walk.sum = 1.0;

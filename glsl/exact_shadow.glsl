@@ -58,10 +58,12 @@
 // stop before lavapipe's loop limiter cuts its loops counts them (exact_lookup.glsl's walk).
 uint ms_exact_iterations = 0u;
 
-// A translating light's motion L(1) - L(0) (issue 38; the exact lookup refuses a turning one),
-// set by the caller before asking (the mask: from the map's MsLightEnd); 0 for a still light.
-// A spot's ray L(t) - P(t) stays linear in t, so every polynomial keeps its degree.
+// A moving light (issue 38), set by the caller before asking (the mask, from the map's
+// MsLightEnd; 0 for a still light): a spot's motion L(1) - L(0), its ray L(t) - P(t) linear in
+// t; a directional light's turn D(1) - D(0) (unit ends), its ray -((1 - t) D(0) + t D(1))
+// linear too, s then in units of a ray up to cos(a / 2) short. Polynomials keep their degree.
 vec3 ms_exact_light_motion = vec3(0.0);
+vec3 ms_exact_light_turn = vec3(0.0);
 
 // A vector linear in t: a + t b.
 struct ms_exact_Linear {
@@ -385,7 +387,7 @@ void ms_exact_relative(vec3 p0, vec3 p1, bool spot, vec3 light, vec3 t0_corners[
             known_still || ms_exact_light_motion == vec3(0.0) ? -m : ms_exact_light_motion - m;
         u = ms_exact_Linear(light - p0, ray_motion);
     } else {
-        u = ms_exact_Linear(-normalize(light), vec3(0.0));
+        u = ms_exact_Linear(-normalize(light), -ms_exact_light_turn);
     }
     for (int i = 0; i < 3; ++i) {
         corner[i] = ms_exact_Linear(t0_corners[i] - p0, (t1_corners[i] - t0_corners[i]) - m);
@@ -428,8 +430,7 @@ bool ms_exact_blocks_still_at(vec3 p, bool spot, vec3 light, float s_min, vec3 a
 // corners t0_corners at t = 0 and t1_corners at t = 1 blocks the shadow ray of the receiver
 // moving from p0 (t = 0) to p1 (t = 1): ascending, disjoint, apart; their count (at most
 // MS_EXACT_MAX_INTERVALS). `light`: the spot's position, or the direction a directional
-// light travels (any length); `s_min` from ms_exact_s_min.
-// (`known_still`: see ms_exact_relative.)
+// light travels (any length); `s_min` from ms_exact_s_min; `known_still`: ms_exact_relative.
 int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s_min,
                                 vec3 t0_corners[3], vec3 t1_corners[3], float w0, float w1,
                                 bool known_still, out vec2 intervals[MS_EXACT_MAX_INTERVALS]) {
@@ -466,7 +467,6 @@ int ms_exact_shadowed_intervals(vec3 p0, vec3 p1, bool spot, vec3 light, float s
 // loop holding the root finding would pay for it on every triangle.
 const int MS_EXACT_NONE = 0;
 const int MS_EXACT_ASK = 1;
-
 // (`known_still`: see ms_exact_relative.)
 int ms_exact_classify(vec3 p0, vec3 p1, bool spot, vec3 light, float s_min,
                       vec3 t0_corners[3], vec3 t1_corners[3], float w0, float w1,

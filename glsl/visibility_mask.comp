@@ -219,7 +219,19 @@ void main() {
         // test's own loops too (its roots, its sort). A moving (translating) light: its
         // motion, for the rays toward it and the walk in its frame (exact_shadow.glsl).
         if (ms_light_moves(tested.light)) {
-            ms_exact_light_motion = ms_light_end(pc.map).position.xyz - tested.light.position.xyz;
+            MsLightEnd end = ms_light_end(pc.map);
+            ms_exact_light_motion = end.position.xyz - tested.light.position.xyz;
+            // A turning light (the host takes it only over still geometry, and a spot only
+            // turning in place: LightView::refuse_turning_exact): a sun's ray turns with it,
+            // and the walk takes the receiver through the turned frame.
+            ms_exact_light_turning = end.direction.xyz != tested.light.direction.xyz;
+            if (ms_exact_light_turning) {
+                ms_exact_light_frame = end.frame;
+                if (tested.light.position.w == 0.0) {
+                    ms_exact_light_turn =
+                        normalize(end.direction.xyz) - normalize(tested.light.direction.xyz);
+                }
+            }
         }
         if (!STILL_FIRST) {
             ms_walk_exact(tested, p0, p0 + motion, own, FOLLOW_UP ? pc.loop_budget : 0u, walk,

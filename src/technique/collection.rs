@@ -312,7 +312,7 @@ impl CollectionPass {
         }
         map.check_prepared_for(light, coverage)?;
         if light.lookup == Lookup::Exact {
-            light.refuse_turning("the exact lookup (Lookup::Exact)")?;
+            light.refuse_turning_exact(draws.records())?;
         }
         if coverage.is_some() {
             light.refuse_moving("the coverage map")?;

@@ -16,7 +16,7 @@
 //! position under the turned view at t, and differs from it by a term in t (1 - t) that
 //! grows with the turn (see docs/src/scene-format.md, "A moving light").
 
-use super::gpu_types::GpuLightEnd;
+use super::gpu_types::{DRAW_STATIC, DrawRecord, GpuLightEnd};
 use super::shadow_map::TemporalShadowMap;
 use super::view::{LightView, Lookup};
 use glam::camera::rh::view::look_at_mat4;
@@ -143,17 +143,37 @@ impl LightView {
         self.end.is_some_and(|end| end.direction != self.direction)
     }
 
-    /// Refused with [`crate::Error::InvalidArgument`] naming `what` where this light turns:
-    /// the exact lookup takes a translating light only. Its conservative collection bounds a
-    /// triangle's swept shadow by the hull of its corners' two projections, which holds where
-    /// each point's position in the light's view moves linearly (a translating light: the
-    /// view's rotation stays, X(t) - L(t) is linear); the blend of two turned views is not a
-    /// view, and a point's image under it leaves that hull.
-    pub(crate) fn refuse_turning(&self, what: &str) -> crate::Result<()> {
-        if self.is_turning() {
+    /// Refused with [`crate::Error::InvalidArgument`] where this light turns in a way the exact
+    /// lookup cannot follow, over the draws `records`. The conservative collection bounds a
+    /// triangle's swept shadow by the hull of its corners' two projections (t = 0's by the
+    /// t = 0 view, t = 1's by the t = 1 view), and the lookups read the map through the blend of
+    /// the two views. A still point's image under the blend is the blend of its two images, in
+    /// that hull; a moving point's is off it by `t (1 - t) (V1 - V0) (p1 - p0)`, so every draw
+    /// must be static ([`super::Draw::is_static`]). The blended view's centre is a spot's
+    /// position only while the spot turns in place (carried, it leaves it by
+    /// `t (1 - t) (V0 L1 + V1 L0)`); a directional light's ray stays the blended view's own
+    /// direction (docs/src/exact-lookups.md#a-turning-light).
+    pub(crate) fn refuse_turning_exact(&self, records: &[DrawRecord]) -> crate::Result<()> {
+        let Some(end) = self.end.filter(|_| self.is_turning()) else {
+            return Ok(());
+        };
+        if self.is_spot() && end.position != self.position {
+            return Err(crate::Error::InvalidArgument(
+                "the exact lookup (Lookup::Exact) takes a turning spot light only turning in \
+                 place (LightView::end with another position too): use the depth-line lookup"
+                    .into(),
+            ));
+        }
+        if let Some(moving) = records
+            .iter()
+            .find(|r| r.flags() & DRAW_STATIC == 0 && r.triangle_count > 0)
+        {
             return Err(crate::Error::InvalidArgument(format!(
-                "{what} does not take a turning light (LightView::end with another \
-                 direction) yet: only a translating one, or use the depth-line lookup"
+                "the exact lookup (Lookup::Exact) takes a turning light (LightView::end with \
+                 another direction) only over static draws; the draw of triangle ids {} .. {} \
+                 moves: use the depth-line lookup",
+                moving.first_id,
+                moving.first_id as u64 + moving.triangle_count as u64
             )));
         }
         Ok(())
@@ -186,23 +206,51 @@ mod tests {
         LightView::spot(position, direction, 30.0, 1.0, 0.5, 20.0, (64, 64))
     }
 
+    /// A draw record of `triangles` triangles from id `first`, static or moving.
+    fn record(first: u32, triangles: u32, is_static: bool) -> DrawRecord {
+        let flags = if is_static { DRAW_STATIC } else { 0 };
+        DrawRecord {
+            first_id: first,
+            triangle_count: triangles,
+            albedo_flags: glam::Vec4::new(0.0, 0.0, 0.0, flags as f32),
+            ..DrawRecord::default()
+        }
+    }
+
     #[test]
-    fn only_a_light_whose_direction_changes_turns() {
+    fn the_exact_lookup_takes_a_turning_light_over_static_draws_a_spot_turning_in_place() {
         let d = Vec3::new(0.2, -1.0, 0.1);
         let light = spot(Vec3::new(0.0, 5.0, 0.0), d);
         assert!(!light.is_turning());
+        let still = [record(0, 4, true), record(4, 2, true)];
+        let one_moves = [record(0, 4, true), record(4, 2, false)];
         let carried = light.moving_to(Vec3::new(3.0, 5.0, 0.0), d).unwrap();
         assert!(carried.is_moving() && !carried.is_turning());
-        assert!(carried.refuse_turning("the exact lookup").is_ok());
+        assert!(carried.refuse_turning_exact(&one_moves).is_ok());
         let turned = light
             .moving_to(Vec3::new(0.0, 5.0, 0.0), Vec3::new(0.5, -1.0, 0.1))
             .unwrap();
         assert!(turned.is_turning());
-        let refused = turned.refuse_turning("the exact lookup").unwrap_err();
+        assert!(turned.refuse_turning_exact(&still).is_ok());
+        let refused = turned.refuse_turning_exact(&one_moves).unwrap_err();
         assert!(
-            refused.to_string().contains("the exact lookup"),
+            refused.to_string().contains("ids 4 .. 6 moves"),
             "{refused}"
         );
+        let turned_and_carried = light
+            .moving_to(Vec3::new(3.0, 5.0, 0.0), Vec3::new(0.5, -1.0, 0.1))
+            .unwrap();
+        let refused = turned_and_carried.refuse_turning_exact(&still).unwrap_err();
+        assert!(
+            refused.to_string().contains("turning in place"),
+            "{refused}"
+        );
+        let sun = LightView::directional(d, 1.0, Vec3::ZERO, 10.0, 20.0, 1.0, 40.0, (64, 64));
+        let turning_sun = sun
+            .moving_to(Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.5, -1.0, 0.1))
+            .unwrap();
+        assert!(turning_sun.refuse_turning_exact(&still).is_ok());
+        assert!(turning_sun.refuse_turning_exact(&one_moves).is_err());
     }
 
     #[test]

@@ -191,11 +191,8 @@ pub fn check_moving_light_forward(scene: &Scene, settings: &RenderSettings) -> R
     if settings.method != Method::Temporal {
         return Ok(());
     }
-    if settings.lookup == Lookup::Exact && light_turns(scene) {
-        return refuse_moving_light(
-            scene,
-            "a turning light (its t1 direction) with --method temporal --lookup exact",
-        );
+    if settings.lookup == Lookup::Exact {
+        check_turning_exact(scene)?;
     }
     if settings.shadow_estimator == ShadowEstimator::Analytic {
         return refuse_moving_light(scene, "--method temporal --shadow-estimator analytic");
@@ -227,11 +224,7 @@ pub fn check_moving_light_deferred(scene: &Scene, deferred: &DeferredSettings) -
         return Ok(());
     }
     if deferred.lookup == Lookup::Exact {
-        return refuse_moving_light(
-            scene,
-            "a turning light (its t1 direction) in the temporal deferred mask with --lookup exact \
-             (the depth-line lookup, tsm and plain take it)",
-        );
+        return check_turning_exact(scene);
     }
     if matches!(scene.light, Light::Directional(_)) {
         // Measured on hard-turning-light (128x96, 1024x1024): mask RMSE 0.028 against
@@ -257,6 +250,38 @@ pub fn check_moving_light_deferred(scene: &Scene, deferred: &DeferredSettings) -
                  misplaces it by up to {misplaced:.4} at mid-shutter; tsm and plain take it, \
                  and the temporal mask a spot turning over still geometry or along its turn's \
                  axis)"
+            ),
+        );
+    }
+    Ok(())
+}
+
+/// Refuses, named, a turning light the exact lookup (`--lookup exact`) cannot follow
+/// (`LightView::refuse_turning_exact`): one over geometry that moves (the map's blend of the
+/// two views misplaces a moving point), and a turning spot that is carried too (the blend's
+/// centre leaves the light). A turning sun or a spot turning in place over still geometry is
+/// taken ([exact lookups](docs/src/exact-lookups.md#a-turning-light)).
+fn check_turning_exact(scene: &Scene) -> Result<()> {
+    if !light_turns(scene) {
+        return Ok(());
+    }
+    if let Light::Spot(s) = &scene.light
+        && s.t1.is_some_and(|end| end.position != s.position)
+    {
+        return refuse_moving_light(
+            scene,
+            "a turning spot light carried during the shutter (its t1 direction and position) \
+             with --lookup exact (it takes a spot turning in place, or a turning sun, over \
+             still geometry)",
+        );
+    }
+    if let Some(mesh) = scene.meshes.iter().find(|m| m.t0 != m.t1) {
+        return refuse_moving_light(
+            scene,
+            &format!(
+                "a turning light (its t1 direction) over geometry that moves (mesh {:?}) with \
+                 --lookup exact (it takes a turning light over still geometry)",
+                mesh.name
             ),
         );
     }
