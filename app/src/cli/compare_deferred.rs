@@ -9,6 +9,7 @@ use crate::compare::{Rgb8Image, mask_error, same_surface, side_by_side};
 use crate::output::{StagedFiles, auto_exposure, write_rgb8_png};
 use crate::raytrace::deferred::{check_truth_memory, render_truth};
 use crate::render::deferred::{DeferredMethod, DeferredSettings};
+use crate::render::upload::check_moving_light_deferred;
 use crate::render::{RenderSettings, Renderer};
 use crate::scene::{builtin, load_scene_file};
 use anyhow::Context as _;
@@ -74,6 +75,19 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             &builtin_options(&args.random),
         )?,
     };
+    // A method that does not take the scene's light motion (a turning light, say) is reported
+    // as refused, with its reason, and the others are measured.
+    let mut refused = Vec::new();
+    runs.retain(|run| match check_moving_light_deferred(&scene, run) {
+        Ok(()) => true,
+        Err(e) => {
+            refused.push((run.name(), e.to_string()));
+            false
+        }
+    });
+    if runs.is_empty() {
+        anyhow::bail!("every method refuses the scene: {}", refused[0].1);
+    }
     let stem = format!("{}-deferred-compare", scene.name);
     let names = [format!("{stem}.png"), format!("{stem}-masks.png")];
     let staged = StagedFiles::prepare(&args.out, &names)
@@ -131,7 +145,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     }
     let files = commit_outputs(staged, bar)?;
 
-    let rows: Vec<_> = results
+    let mut rows: Vec<_> = results
         .iter()
         .map(|r| {
             let e = mask_error(&r.lit, &truth.lit, &truth.facing);
@@ -146,9 +160,23 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
                 "rmse_same_surface": s.rmse,
                 "pixels_same_surface": s.pixels,
                 "shadow_and_mask_ms": r.shadow_and_mask_ms,
+                "refused": null,
             })
         })
         .collect();
+    rows.extend(refused.iter().map(|(method, reason)| {
+        serde_json::json!({
+            "method": method,
+            "rmse": null,
+            "rmse_shadowed": null,
+            "pixels": null,
+            "shadowed_pixels": null,
+            "rmse_same_surface": null,
+            "pixels_same_surface": null,
+            "shadow_and_mask_ms": null,
+            "refused": reason,
+        })
+    }));
     if args.json {
         let value = serde_json::json!({
             "scene": scene.name,
@@ -171,6 +199,11 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             "method", "RMSE", "RMSE (shadowed)", "RMSE (same surface)", "shadow pass + mask ms"
         );
         for row in &rows {
+            if let Some(reason) = row["refused"].as_str() {
+                let method = row["method"].as_str().unwrap_or("");
+                println!("  {method:<14} refused: {reason}");
+                continue;
+            }
             println!(
                 "  {:<14} {:>9.5} {:>16.5} {:>20.5} {:>22.2}",
                 row["method"].as_str().unwrap_or(""),

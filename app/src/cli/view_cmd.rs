@@ -94,7 +94,8 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         crate::render::upload::refuse_moving_light(&scene, viewer)?;
         crate::render::camera_motion::refuse_moving_camera(&scene, viewer)?;
     }
-    // Every method the method key reaches (a turning light: the exact mask refuses it).
+    // Every method the method key reaches (a turning light: the depth-line mask refuses a sun,
+    // the exact mask one over moving geometry).
     let mut shown = method;
     loop {
         crate::render::upload::check_moving_light_deferred(&scene, &shown.deferred(&deferred))?;

@@ -201,14 +201,13 @@ pub fn check_moving_light_forward(scene: &Scene, settings: &RenderSettings) -> R
 }
 
 /// Refuses a moving light for the deferred frame's settings that do not take one yet. Taken:
-/// the temporal map's mask (`--method temporal`; with the exact lookup a translating light
-/// only) and TSM's and plain's (each map drawn and read with the light at its time, a turning
-/// one's too), with moving receivers. Refused, named: standing receivers
-/// (`--static-receivers`: under a moving light no receiver stands still in the light's frame)
-/// a turning light with the exact lookup (its conservative collection holds for a
-/// translating light only: `LightView::refuse_turning`), a turning directional light, and a
-/// turning spot carried, or over geometry moving, across the turn
-/// (`turning_light::turn_misplacement`).
+/// the temporal map's mask (`--method temporal`; with the exact lookup a translating light,
+/// or a turning one over still geometry: [`check_turning_exact`]) and TSM's and plain's (each
+/// map drawn and read with the light at its time, a turning one's too), with moving
+/// receivers. Refused, named: standing receivers (`--static-receivers`: under a moving light
+/// no receiver stands still in the light's frame), what the exact lookup cannot follow, and
+/// with the depth-line lookup a turning directional light and a turning spot carried, or over
+/// geometry moving, across the turn (`turning_light::turn_misplacement`).
 pub fn check_moving_light_deferred(scene: &Scene, deferred: &DeferredSettings) -> Result<()> {
     use motion_shadows::technique::Lookup;
     if !deferred.moving_receivers {

@@ -157,10 +157,11 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
     assert!(!out.status.success(), "view ran");
     assert!(stderr.contains("a turning light"), "{stderr}");
     // The temporal deferred mask: not with the light carried and the box sliding across the
-    // turn (the map's blend of the two ends misplaces them), nor with the exact lookup, nor
-    // under a turning sun; with the depth-line lookup under a spot turning in place over
-    // still geometry (its receivers' normals turned with the light's frame:
-    // `moving_light_deferred_turn` in the gpu binary).
+    // turn (the map's blend of the two ends misplaces them), nor under a turning sun with the
+    // depth-line lookup; under a spot turning in place over still geometry with both lookups
+    // (the depth line's receivers' normals turned with the light's frame:
+    // `moving_light_deferred_turn` in the gpu binary; the exact lookup's rays:
+    // `moving_light_exact`), but with the exact lookup not over geometry that moves.
     fn deferred_args(path: &std::path::Path) -> Vec<&str> {
         let mut args = vec!["render", "--frame", "deferred", "--scene-file"];
         args.push(path.to_str().unwrap());
@@ -192,10 +193,29 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
     );
     args.extend(["--lookup", "exact"]);
     let out = motion_shadows(&args, &dir);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut box_slides = file.clone();
+    let sliding = box_slides
+        .objects
+        .iter_mut()
+        .find(|o| o.name.contains("box"))
+        .expect("moving-light has a box");
+    let mut slid = sliding.t0.clone().expect("the box is placed");
+    slid.translation = slid.translation.map(|at| at + glam::Vec3::X);
+    sliding.t1 = Some(slid);
+    let sliding_path = dir.join("turning-over-a-sliding-box.json");
+    std::fs::write(&sliding_path, scene_to_json(&box_slides)).unwrap();
+    let mut args = deferred_args(&sliding_path);
+    args.extend(["--lookup", "exact"]);
+    let out = motion_shadows(&args, &dir);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{args:?} ran");
     assert!(
-        stderr.contains("a turning light") && stderr.contains("--lookup exact"),
+        stderr.contains("over geometry that moves") && stderr.contains("--lookup exact"),
         "{stderr}"
     );
     let mut args = vec![
@@ -210,7 +230,8 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{args:?} ran");
     assert!(stderr.contains("a turning directional light"), "{stderr}");
-    // The forward frame's exact lookup with a light that turns (a translating one it takes).
+    // The forward frame's exact lookup with a spot that turns and is carried (a translating
+    // one it takes, and one turning in place over still geometry).
     let mut args = vec!["render", "--lookup", "exact", "--scene-file"];
     args.push(path.to_str().unwrap());
     args.extend(SMALL);
@@ -218,7 +239,7 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{args:?} ran");
     assert!(
-        stderr.contains("a turning light") && stderr.contains("--lookup exact"),
+        stderr.contains("a turning spot light carried") && stderr.contains("--lookup exact"),
         "{stderr}"
     );
     // The viewer's stochastic frame, before it opens a window (its deferred frame takes the
@@ -234,6 +255,67 @@ fn what_does_not_take_a_moving_light_refuses_it_by_name() {
         stderr.contains("light moves") && stderr.contains("the viewer's stochastic frame"),
         "{stderr}"
     );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `compare --frame deferred --lookup exact` on `hard-turning-light` (a sun turning 20
+/// degrees over still posts): the depth-line mask refuses the turning sun and is reported as
+/// refused, with its reason, while the exact mask, TSM and plain are measured against the
+/// truth; the exact mask matches it (its accuracy in detail: `moving_light_exact` in the gpu
+/// binary).
+#[test]
+fn the_deferred_comparison_reports_a_refused_method_and_measures_the_others() {
+    let dir = temp_dir("turning-compare");
+    let args = [
+        "compare",
+        "--frame",
+        "deferred",
+        "--scene",
+        "hard-turning-light",
+        "--lookup",
+        "exact",
+        "--tsm-maps",
+        "2",
+        "--width",
+        "48",
+        "--height",
+        "36",
+        "--shadow-size",
+        "256x256",
+        "--json",
+    ];
+    let run = motion_shadows(&args, &dir);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&run.stdout).expect("json");
+    let row = |name: &str| {
+        json["methods"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["method"] == name)
+            .unwrap_or_else(|| panic!("no {name} row: {json}"))
+            .clone()
+    };
+    let temporal = row("temporal");
+    assert!(
+        temporal["refused"]
+            .as_str()
+            .is_some_and(|r| r.contains("a turning directional light")),
+        "{temporal}"
+    );
+    assert!(temporal["rmse"].is_null(), "{temporal}");
+    let exact = row("temporal-exact");
+    assert!(exact["refused"].is_null(), "{exact}");
+    let rmse = exact["rmse"].as_f64().unwrap();
+    assert!(
+        rmse <= 1e-3,
+        "the exact mask's RMSE against the truth: {rmse}"
+    );
+    assert!(row("tsm-2")["rmse"].as_f64().is_some(), "{json}");
     std::fs::remove_dir_all(&dir).ok();
 }
 
