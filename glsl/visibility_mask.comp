@@ -218,7 +218,9 @@ void main() {
         // The same per-lane budget as the depth lines': ms_loop_iterations counts the exact
         // test's own loops too (its roots, its sort). A moving (translating) light: its
         // motion, for the rays toward it and the walk in its frame (exact_shadow.glsl).
-        if (ms_light_moves(tested.light)) {
+        // (Never in a STILL_FIRST round, which the host picks under a still light only: folded
+        // away there, since llvmpipe would load the pose for every SIMD group, taken or not.)
+        if (!STILL_FIRST && ms_light_moves(tested.light)) {
             MsLightEnd end = ms_light_end(pc.map);
             ms_exact_light_motion = end.position.xyz - tested.light.position.xyz;
             // A turning light (the host takes it only over still geometry, and a spot only
