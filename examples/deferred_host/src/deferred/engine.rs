@@ -49,6 +49,8 @@ pub(super) struct Slot {
     pub(super) gbuffer: Vec<Image>,
     pub(super) masks: Vec<Image>,
     pub(super) layer_drawn: Vec<bool>,
+    /// What the slot's last frame used its images for (where it left them).
+    pub(super) last: PassAccesses,
 }
 
 /// The deferred engine. Its fields drop after its Drop waited for the device: the library's
@@ -207,6 +209,7 @@ impl<'h> Engine<'h> {
             gbuffer,
             masks,
             layer_drawn: Vec::new(),
+            last: PassAccesses::default(),
         })
     }
 }
