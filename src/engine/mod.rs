@@ -4,6 +4,7 @@
 //! command buffer and, after the frame's fence, [`LightShadow::finish_frame`]. The book's
 //! integration page (`docs/src/integration.md`) walks through a frame.
 
+mod device;
 mod frame;
 mod host_barrier;
 mod light;
