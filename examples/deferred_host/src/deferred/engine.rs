@@ -62,8 +62,8 @@ pub struct Engine<'h> {
     pub(super) pipelines: Pipelines,
     pub(super) meshes: Vec<MeshSlot>,
     pub(super) slots: Vec<Slot>,
-    /// Per light: the light its shadow was made for (one that moved gets a new shadow).
-    pub(super) shadows: Vec<(Light, LightShadow)>,
+    /// One per light, with the mask on.
+    pub(super) shadows: Vec<LightShadow>,
     pub(super) submissions: u64,
     pub(super) ctx: Context,
     pool: vk::CommandPool,
@@ -120,6 +120,24 @@ impl<'h> Engine<'h> {
             });
             next_id += (mesh.indices.count() / 3) as u32;
         }
+        let static_layer = match settings.keep_static_layer {
+            true => StaticLayer::Kept,
+            false => StaticLayer::Redrawn,
+        };
+        // One shadow per light, the mask on; the engine's shading reads each map's header
+        // (compute). A light that moves gets new maps (`LightShadow::set_light`).
+        let mut shadows = Vec::new();
+        for light in &world.lights {
+            let settings = ShadowSettings {
+                map_size: settings.shadow_size,
+                static_layer,
+                mask: true,
+                frames_in_flight: FRAMES_IN_FLIGHT as u32,
+                lookup_stages: S::COMPUTE_SHADER,
+                ..ShadowSettings::new(*light)
+            };
+            shadows.push(LightShadow::new(&ctx, settings)?);
+        }
         let pipelines = Pipelines::new(&ctx)?;
         let info = vk::CommandPoolCreateInfo::default().queue_family_index(g.queue_family);
         let info = info.flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
@@ -131,7 +149,7 @@ impl<'h> Engine<'h> {
             pipelines,
             meshes,
             slots: Vec::new(),
-            shadows: Vec::new(),
+            shadows,
             submissions: 0,
             ctx,
             pool,
@@ -155,7 +173,7 @@ impl<'h> Engine<'h> {
 
     /// Light `light`'s map in slot `slot`, holding that slot's last frame.
     pub fn shadow_map(&self, slot: usize, light: usize) -> &TemporalShadowMap {
-        self.shadows[light].1.map(self.slots[slot].submission)
+        self.shadows[light].map(self.slots[slot].submission)
     }
 
     /// A frame slot: its G-buffer, masks, buffers, command buffer, descriptor set and fence.

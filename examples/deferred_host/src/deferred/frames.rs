@@ -40,7 +40,7 @@ impl Engine<'_> {
                 .wait_for_fences(&[s.fence], true, u64::MAX)?;
             self.ctx.collect(s.submission);
         }
-        for (light, (_, shadow)) in self.shadows.iter_mut().enumerate() {
+        for (light, shadow) in self.shadows.iter_mut().enumerate() {
             let finished = shadow.finish_frame(&self.ctx, s.submission);
             finished.map_err(|e| format!("frame {frame}, light {light}: {e}"))?;
         }
@@ -72,36 +72,10 @@ impl Engine<'_> {
         self.submissions += 1;
         self.ctx.begin_frame(self.submissions);
         self.slots[slot].submission = self.submissions;
-        let (width, height, map_size) = (
-            self.settings.width,
-            self.settings.height,
-            self.settings.shadow_size,
-        );
-        let static_layer = match self.settings.keep_static_layer {
-            true => StaticLayer::Kept,
-            false => StaticLayer::Redrawn,
-        };
-        // The mask on; the engine's shading reads each map's header (compute).
-        let (frames_in_flight, lookup_stages) = (FRAMES_IN_FLIGHT as u32, S::COMPUTE_SHADER);
-        for (at, light) in world.lights.iter().enumerate() {
-            if self
-                .shadows
-                .get(at)
-                .is_none_or(|(made_for, _)| made_for != light)
-            {
-                let settings = ShadowSettings {
-                    map_size,
-                    static_layer,
-                    mask: true,
-                    frames_in_flight,
-                    lookup_stages,
-                    ..ShadowSettings::new(*light)
-                };
-                self.shadows.truncate(at);
-                self.shadows
-                    .push((*light, LightShadow::new(&self.ctx, settings)?));
-            }
+        for (shadow, light) in self.shadows.iter_mut().zip(&world.lights) {
+            shadow.set_light(&self.ctx, *light)?;
         }
+        let (width, height) = (self.settings.width, self.settings.height);
         let view_proj = world.camera.view_proj(width as f32 / height as f32);
         let info = UVec4::new(width, height, world.lights.len() as u32, 0);
         let (eye, ambient) = (world.camera.eye.extend(1.0), Vec4::splat(world.ambient));

@@ -145,7 +145,7 @@ impl Engine<'_> {
         // SAFETY: as the first barrier; the G-buffer is where the draws left it.
         unsafe { HostBarrier::between(&draws, &declared, &images).record(device, cmd) };
         let mut frames = Vec::new();
-        for ((_, shadow), inputs) in self.shadows.iter_mut().zip(&inputs) {
+        for (shadow, inputs) in self.shadows.iter_mut().zip(&inputs) {
             // SAFETY: recording outside rendering on the context's graphics+compute queue,
             // after the shadow's earlier frames (one queue, submitted in order); the streams'
             // contract is kept above; the mask's views have the usages its inputs ask and are
