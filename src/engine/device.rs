@@ -1,10 +1,26 @@
 //! A host's own device made with what the library asks for: the queue, the extensions and the
 //! feature chain every host writes the same way, and the features to hand `Context::from_raw`
-//! (which must be the ones the device was made with).
+//! (which must be the ones the device was made with); and the gpu-allocator a host shares
+//! with the library, with the one setting the library depends on.
 
 use crate::error::{Result, VkContext};
-use crate::gpu::{DeviceFeatures, DeviceRequirements};
+use crate::gpu::{Context, DeviceFeatures, DeviceRequirements};
 use ash::vk;
+use gpu_allocator::vulkan::Allocator;
+use std::sync::{Arc, Mutex};
+
+impl Context {
+    /// A gpu-allocator on `device` as the library needs one (device addresses on: the
+    /// library's buffers are read by address), for a host that makes its own memory from it
+    /// too and hands it to [`Context::from_raw_with_allocator`].
+    pub fn new_allocator(
+        instance: &ash::Instance,
+        physical: vk::PhysicalDevice,
+        device: &ash::Device,
+    ) -> Result<Arc<Mutex<Allocator>>> {
+        crate::gpu::new_allocator(instance, physical, device)
+    }
+}
 
 impl DeviceRequirements {
     /// Creates a device on `physical` with one queue of `family` and these requirements'

@@ -218,16 +218,15 @@ fn a_device_made_from_the_requirements_is_accepted_with_what_they_enable() {
         "the features it was made with"
     );
     assert!(enabled.missing_required().is_empty());
+    // The library's buffers on an allocator made for it: read by address.
+    let allocator = Context::new_allocator(&host.instance, physical, &device).expect("allocator");
     // SAFETY: the device was made from `physical` of the host's instance with `queue` of
-    // `family` and the features in `enabled`; it outlives the context (dropped first).
+    // `family` and the features in `enabled`; it outlives the context (dropped first); the
+    // allocator is the device's.
     let ctx = unsafe {
-        Context::from_raw(
-            &host.instance,
-            physical,
-            device.clone(),
-            family,
-            queue,
-            &enabled,
+        let (instance, device) = (&host.instance, device.clone());
+        Context::from_raw_with_allocator(
+            instance, physical, device, family, queue, &enabled, allocator,
         )
     }
     .expect("the context accepts the device");

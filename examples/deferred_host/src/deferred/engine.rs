@@ -1,8 +1,6 @@
 //! The engine: its settings and outputs, its meshes, its frame slots, setup and teardown.
 
 use super::*;
-use motion_shadows::gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
-use std::sync::{Arc, Mutex};
 
 /// `keep_static_layer`: keep each map's static layer (the still meshes never change in
 /// place). `receivers_move`: give the mask the G-buffer's motion (off: receivers stand still).
@@ -77,22 +75,15 @@ impl<'h> Engine<'h> {
             return Err(format!("{lights} lights: the engine shades 1 to {MAX_LIGHTS}").into());
         }
         let g = gpu;
-        // The engine's allocator, with device addresses (the library reads buffers by address).
-        let allocator = Allocator::new(&AllocatorCreateDesc {
-            instance: g.instance.clone(),
-            device: g.device.clone(),
-            physical_device: g.physical,
-            debug_settings: Default::default(),
-            buffer_device_address: true,
-            allocation_sizes: Default::default(),
-        })?;
-        let (device, allocator) = (g.device.clone(), Arc::new(Mutex::new(allocator)));
+        // The engine's allocator, which the library allocates from too.
+        let allocator = Context::new_allocator(&g.instance, g.physical, &g.device)?;
         // SAFETY: Gpu made the device from `physical` of `instance` for Vulkan 1.3, with a
         // graphics+compute queue of `queue_family` and the features in `enabled`; the
         // allocator is the device's, with device addresses on. The Gpu outlives the engine,
         // which waits for its frames before the context drops.
         let ctx = unsafe {
-            let (physical, family, queue) = (g.physical, g.queue_family, g.queue);
+            let (device, physical, family, queue) =
+                (g.device.clone(), g.physical, g.queue_family, g.queue);
             Context::from_raw_with_allocator(
                 &g.instance,
                 physical,
