@@ -50,10 +50,7 @@ impl Engine<'_> {
         let pixels = (self.settings.width * self.settings.height) as usize;
         let values: Vec<f32> = s.output.read(pixels * (4 + s.masks.len()))?;
         let (radiance, masks) = values.split_at(4 * pixels);
-        let radiance = radiance
-            .chunks_exact(4)
-            .map(|p| [p[0], p[1], p[2], p[3]])
-            .collect();
+        let radiance = bytemuck::cast_slice(radiance).to_vec();
         let masks = masks.chunks_exact(pixels).map(<[f32]>::to_vec).collect();
         let static_layer_drawn = s.layer_drawn.clone();
         let output = FrameOutput {

@@ -32,22 +32,21 @@ impl Engine<'_> {
         let draws = PassAccesses::host_images(&[view(0)], depth_layout, data(tests, depth), true);
         let colors = PassAccesses::host_images(&[1, 2, 3, 4].map(view), color_layout, color, true);
         let draws = draws.and(&colors);
-        // SAFETY: recording outside rendering; the images are the slot's, where its last
-        // frame's declared uses left them.
-        unsafe { HostBarrier::between(&s.last, &draws, &images).record(device, cmd) };
         // Cleared to zero, the ids to "no triangle", the depth to the far plane.
         let colors = [1, 2, 3, 4].map(|i| (view(i), if i == 4 { u32::MAX } else { 0 }));
         let rows = |m: Mat4| [m.row(0), m.row(1), m.row(2)];
         // The meshes, each described once for the shadows as it is drawn: the shadow's draw and
         // the room reserved come from the same description.
         let mut described = Vec::new();
-        // SAFETY: the barrier above moved the attachments (the slot's, of the frame's size) to
-        // the layouts rendering uses; the pipeline was made for their formats; the push
+        // SAFETY: recording outside rendering; the images are the slot's, where its last
+        // frame's declared uses left them, and the barrier moves the attachments (of the
+        // frame's size) to the layouts rendering uses; the pipeline was made for their formats; the push
         // constants are DrawConstants. The streams' contract: each mesh's buffers were made
         // with storage and device-address usage on the context's device, written before the
         // first submission and never again, and outlive every frame; its vertices have a
         // 24-byte stride, its indices are padded to a whole word.
         unsafe {
+            HostBarrier::between(&s.last, &draws, &images).record(device, cmd);
             begin_rendering_colors(device, cmd, width, height, Some((view(0), 1.0)), &colors);
             p.gbuffer.bind(device, cmd);
             for (mesh, m) in world.meshes.iter().zip(meshes) {
@@ -162,9 +161,11 @@ impl Engine<'_> {
         let masks = frames.iter().flat_map(|f| f.mask.as_ref());
         let written = masks.fold(PassAccesses::default(), |all, m| all.and(m));
         let reads = frames.iter().fold(shading, |all, f| all.and(&f.lookups));
-        // SAFETY: as the first barrier; the masks' images are in the layouts they declared.
-        unsafe { HostBarrier::between(&written, &reads, &images).record(device, cmd) };
+        let into_shading = HostBarrier::between(&written, &reads, &images);
         s.last = written.and(&reads);
+        // 4. The output, read by the host after the fence.
+        let write = data(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE);
+        let to_host = HostBarrier::memory(write, data(S::HOST, A::HOST_READ));
         let (output, pixels) = (
             s.output.device_address(),
             u64::from(width) * u64::from(height),
@@ -177,23 +178,21 @@ impl Engine<'_> {
             maps[0],
             maps[1],
         ];
-        // SAFETY: the shading's layout holds the slot's set (its images, in the layouts the
-        // set names since the barrier above) and 40 bytes of push constants, `push`'s size;
+        // SAFETY: recording outside rendering; the masks' images are in the layouts they
+        // declared. The shading's layout holds the slot's set (its images, in the layouts the
+        // set names after `into_shading`) and 40 bytes of push constants, `push`'s size;
         // 8x8 groups cover the image (the shader returns past its edges), writing the slot's
         // output buffer, which holds the radiance and every mask, by address.
         unsafe {
+            into_shading.record(device, cmd);
             p.shade.bind(device, cmd);
             // The mask bound its own set 0 on the compute bind point: bind ours.
             let (compute, set) = (vk::PipelineBindPoint::COMPUTE, [s.bindings.raw()]);
             device.cmd_bind_descriptor_sets(cmd, compute, p.shade.layout(), 0, &set, &[]);
             p.shade.push(device, cmd, &push);
             device.cmd_dispatch(cmd, width.div_ceil(8), height.div_ceil(8), 1);
+            to_host.record(device, cmd);
         }
-        // 4. The output, read by the host after the fence.
-        let write = data(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE);
-        let to_host = HostBarrier::memory(write, data(S::HOST, A::HOST_READ));
-        // SAFETY: recording outside rendering.
-        unsafe { to_host.record(device, cmd) };
         Ok(())
     }
 }
