@@ -88,9 +88,8 @@ pub mod research;
 #[doc(hidden)]
 pub mod technique;
 
-pub use engine::{
-    CpuGeometry, Light, LightShadow, Mesh, MeshBound, ShadowFrame, ShadowSettings, StaticLayer,
-};
+pub use engine::{CpuGeometry, HostBarrier, HostImage, Light, LightShadow, Mesh, MeshBound};
+pub use engine::{ShadowFrame, ShadowSettings, StaticLayer};
 pub use error::{Error, Result};
 pub use gpu::{Context, DeviceFeatures, DeviceRequirements};
 pub use technique::{

@@ -4,7 +4,9 @@
 //! command buffer and, after the frame's fence, [`LightShadow::finish_frame`]. The book's
 //! integration page (`docs/src/integration.md`) walks through a frame.
 
+mod device;
 mod frame;
+mod host_barrier;
 mod light;
 mod mesh;
 mod mesh_room;
@@ -12,6 +14,7 @@ mod settings;
 mod shadow;
 
 pub use frame::ShadowFrame;
+pub use host_barrier::{HostBarrier, HostImage};
 pub use light::Light;
 pub use mesh::{CpuGeometry, Mesh, MeshBound};
 pub use settings::{ShadowSettings, StaticLayer};

@@ -125,6 +125,25 @@ impl LightShadow {
         &self.settings
     }
 
+    /// Moves the shadow to `light` (nothing when it is the light it has): new maps and
+    /// passes for the same settings, as [`Self::new`] makes them (a kept static layer is
+    /// redrawn; a [`Self::with_mask_loop_budget`] is not carried over). The old ones are
+    /// dropped as the context drops objects: they wait for the frames told to
+    /// [`Context::begin_frame`] so far, so a host in the middle of frames in flight calls it
+    /// between frames, as it would drop any of the library's objects.
+    pub fn set_light(&mut self, ctx: &Context, light: super::Light) -> Result<()> {
+        if light != self.settings.light {
+            *self = Self::new(
+                ctx,
+                ShadowSettings {
+                    light,
+                    ..self.settings
+                },
+            )?;
+        }
+        Ok(())
+    }
+
     /// The light as the passes see it (from [`ShadowSettings::light`] and the map's size).
     pub fn light_view(&self) -> &LightView {
         &self.light

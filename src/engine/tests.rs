@@ -170,3 +170,95 @@ fn light_settings_that_do_not_apply_are_refused() {
     assert!(message(spot.depth_range(0.0, 5.0).view((64, 64))).contains("near depth"));
     assert!(message(spot.depth_range(2.0, 1.0).view((64, 64))).contains("depth range"));
 }
+
+/// A host's barrier between two declared passes: its images move from the layout the earlier
+/// pass left them in (or from UNDEFINED when it did not use them) into the later pass's,
+/// waiting for the earlier use's last accesses; an image kept in its layout, or one the host
+/// did not name, gets no transition; the memory dependency joins every access of both.
+#[test]
+fn host_barriers_move_each_named_image_into_its_declared_layout() {
+    use super::{HostBarrier, HostImage};
+    use crate::technique::{AccessData, PassAccesses};
+    use ash::vk::{self, AccessFlags2 as A, Handle, ImageLayout as L, PipelineStageFlags2 as S};
+    let range = vk::ImageSubresourceRange::default()
+        .layer_count(1)
+        .level_count(1);
+    let image = |n: u64| HostImage {
+        image: vk::Image::from_raw(n),
+        view: vk::ImageView::from_raw(100 + n),
+        range,
+    };
+    let (depth, mask, kept, unnamed) = (image(1), image(2), image(3), image(4));
+    let access = |stages, access| AccessData { stages, access };
+    let sampled = access(S::COMPUTE_SHADER, A::SHADER_SAMPLED_READ);
+    let before = PassAccesses::host_images(
+        &[depth.view, kept.view],
+        L::READ_ONLY_OPTIMAL,
+        sampled,
+        false,
+    );
+    let tests = access(S::LATE_FRAGMENT_TESTS, A::DEPTH_STENCIL_ATTACHMENT_WRITE);
+    let storage = access(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE);
+    let after = PassAccesses::host_images(&[depth.view], L::DEPTH_ATTACHMENT_OPTIMAL, tests, true)
+        .and(&PassAccesses::host_images(
+            &[mask.view, unnamed.view],
+            L::GENERAL,
+            storage,
+            true,
+        ))
+        .and(&PassAccesses::host_images(
+            &[kept.view],
+            L::READ_ONLY_OPTIMAL,
+            sampled,
+            false,
+        ));
+    let barrier = HostBarrier::between(&before, &after, &[depth, mask, kept]);
+    let got: Vec<_> = barrier
+        .images
+        .iter()
+        .map(|b| {
+            (
+                b.image,
+                b.old_layout,
+                b.new_layout,
+                b.src_access_mask,
+                b.dst_stage_mask,
+            )
+        })
+        .collect();
+    let want = [
+        (
+            depth.image,
+            L::READ_ONLY_OPTIMAL,
+            L::DEPTH_ATTACHMENT_OPTIMAL,
+            A::SHADER_SAMPLED_READ,
+            S::LATE_FRAGMENT_TESTS,
+        ),
+        (
+            mask.image,
+            L::UNDEFINED,
+            L::GENERAL,
+            A::SHADER_SAMPLED_READ,
+            S::COMPUTE_SHADER,
+        ),
+    ];
+    assert_eq!(got, want);
+    assert_eq!(barrier.images[0].subresource_range.layer_count, 1);
+    let memory = (barrier.memory.src_stage_mask, barrier.memory.dst_stage_mask);
+    assert_eq!(
+        memory,
+        (
+            S::COMPUTE_SHADER,
+            S::LATE_FRAGMENT_TESTS | S::COMPUTE_SHADER
+        )
+    );
+    let access = (
+        barrier.memory.src_access_mask,
+        barrier.memory.dst_access_mask,
+    );
+    let written = A::DEPTH_STENCIL_ATTACHMENT_WRITE | A::SHADER_STORAGE_WRITE;
+    assert_eq!(
+        access,
+        (A::SHADER_SAMPLED_READ, written | A::SHADER_SAMPLED_READ)
+    );
+}

@@ -9,6 +9,7 @@ mod barrier;
 mod buffer;
 mod commands;
 mod context;
+pub(crate) use context::new_allocator;
 mod debug;
 mod device_select;
 mod image;

@@ -8,6 +8,7 @@
 use crate::support::host::Host;
 use motion_shadows::Error;
 use motion_shadows::ash::vk;
+use motion_shadows::glam::Vec3;
 use motion_shadows::gpu::{
     Context, ContextOptions, DeviceFeatures, DeviceRequirements, TimestampQueries,
 };
@@ -191,5 +192,51 @@ fn a_host_chooses_the_device_the_library_would() {
         "what for_device lists"
     );
     drop(headless);
+    host.assert_clean_teardown();
+}
+
+/// A host that lets the library make its device (`create_device`) gets one a context accepts,
+/// with the features the requirements listed (the optional ones included) reported as
+/// enabled, and its queue of the chosen family; validation stays silent.
+#[test]
+fn a_device_made_from_the_requirements_is_accepted_with_what_they_enable() {
+    let host = Host::new(true)
+        .unwrap_or_else(|e| panic!("GPU tests need a Vulkan device and the validation layer: {e}"));
+    // SAFETY: the host's instance is live and was created for Vulkan 1.3.
+    let (physical, family, requirements) =
+        unsafe { DeviceRequirements::choose_device(&host.instance) }.expect("a device");
+    let listed = requirements.features;
+    // SAFETY: `physical` is the device chosen on the host's instance, with what for_device
+    // accepted there.
+    let (device, queue, enabled) =
+        unsafe { requirements.create_device(&host.instance, physical, family) }.expect("device");
+    let optional =
+        |f: &DeviceFeatures| (f.host_query_reset(), f.storage_image_write_without_format());
+    assert_eq!(
+        optional(&enabled),
+        optional(&listed),
+        "the features it was made with"
+    );
+    assert!(enabled.missing_required().is_empty());
+    // The library's buffers on an allocator made for it: read by address.
+    let allocator = Context::new_allocator(&host.instance, physical, &device).expect("allocator");
+    // SAFETY: the device was made from `physical` of the host's instance with `queue` of
+    // `family` and the features in `enabled`; it outlives the context (dropped first); the
+    // allocator is the device's.
+    let ctx = unsafe {
+        let (instance, device) = (&host.instance, device.clone());
+        Context::from_raw_with_allocator(
+            instance, physical, device, family, queue, &enabled, allocator,
+        )
+    }
+    .expect("the context accepts the device");
+    // Its pipelines (geometry shaders, 64-bit atomics, ...) made on the device: validation
+    // would report a feature they use that the device was made without.
+    let light = motion_shadows::Light::spot(Vec3::new(0.0, 8.0, 0.0), Vec3::NEG_Y);
+    let settings = motion_shadows::ShadowSettings::new(light.depth_range(0.5, 20.0));
+    let shadow = motion_shadows::LightShadow::new(&ctx, settings).expect("a shadow");
+    drop((shadow, ctx));
+    // SAFETY: the context, the only user of the device, is gone.
+    unsafe { device.destroy_device(None) };
     host.assert_clean_teardown();
 }

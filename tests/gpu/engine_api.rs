@@ -357,3 +357,71 @@ fn the_lookup_stages_setting_narrows_the_declared_lookups() {
     }
     assert_no_validation_messages(&ctx);
 }
+
+/// `set_light` with the light the shadow has keeps its maps (the kept static layer is not
+/// redrawn); with another light the maps are new: the next frame redraws the layer and
+/// stores what a shadow made for that light stores.
+#[test]
+fn a_moved_light_gets_new_maps_and_the_same_light_keeps_them() {
+    let ctx = context();
+    let scene = Scene::new(&ctx);
+    let kept = ShadowSettings {
+        static_layer: StaticLayer::Kept,
+        ..settings()
+    };
+    let meshes = [scene.ground(), scene.cube().bound(scene.box_bound())];
+    let mut shadow = LightShadow::new(&ctx, kept).expect("shadow");
+    let counts = |shadow: &LightShadow, f| {
+        let c = shadow.map(f).read_counters().expect("counters");
+        (c.node_count, c.range_count)
+    };
+    for f in 1..=2 {
+        shadow.set_light(&ctx, kept.light).expect("the same light");
+        frame(&ctx, &mut shadow, f, &meshes).expect("frame");
+        shadow.finish_frame(&ctx, f).expect("complete frame");
+    }
+    assert_eq!(
+        shadow.map(2).static_layer_builds(),
+        1,
+        "the same light keeps the layer"
+    );
+    // New maps are new buffers: the old ones are not freed before the next collect.
+    let address = shadow.map(2).header_address();
+    shadow.set_light(&ctx, kept.light).expect("the same light");
+    assert_eq!(shadow.map(2).header_address(), address, "the same maps");
+    let before = counts(&shadow, 2);
+    let moved = Light::spot(Vec3::new(-1.5, 7.0, 0.5), Vec3::NEG_Y)
+        .cone_half_angle(40.0)
+        .depth_range(0.5, 20.0);
+    shadow.set_light(&ctx, moved).expect("a moved light");
+    assert_eq!(shadow.settings().light, moved);
+    assert_ne!(shadow.map(3).header_address(), address, "new maps");
+    frame(&ctx, &mut shadow, 3, &meshes).expect("frame 3");
+    shadow.finish_frame(&ctx, 3).expect("complete frame");
+    assert_eq!(
+        shadow.map(3).static_layer_builds(),
+        1,
+        "new maps draw their layer"
+    );
+    let mut fresh = LightShadow::new(
+        &ctx,
+        ShadowSettings {
+            light: moved,
+            ..kept
+        },
+    )
+    .expect("shadow");
+    frame(&ctx, &mut fresh, 3, &meshes).expect("fresh frame");
+    fresh.finish_frame(&ctx, 3).expect("complete frame");
+    assert_ne!(
+        counts(&shadow, 3),
+        before,
+        "the moved light's shadow differs"
+    );
+    assert_eq!(
+        counts(&shadow, 3),
+        counts(&fresh, 3),
+        "as a shadow made for the moved light"
+    );
+    assert_no_validation_messages(&ctx);
+}

@@ -12,8 +12,10 @@ const TARGET_LINES: usize = 800;
 const TARGET_UNSAFE_BLOCKS: usize = 20;
 /// 2026-12-07: 2,481 lines and 50 `unsafe` blocks before the rewrite, 1,666 and 19 after
 /// (formatted as the rest of the workspace); 2026-12-08: 1,124 and 15 (buffers, images,
-/// pipelines and the shading's set from `research::gpu`, the library's `Light`).
-const LINES_TODAY: usize = 1_124;
+/// pipelines and the shading's set from `research::gpu`, the library's `Light`); 1,024 and 15
+/// (from the engine API: its barriers `HostBarrier`'s, its device `create_device`'s, its
+/// allocator `Context::new_allocator`'s, its moved lights `LightShadow::set_light`'s).
+const LINES_TODAY: usize = 1_024;
 
 /// Every `.rs` file under `dir` (its `build.rs` included), skipping build output.
 fn rust_files(dir: &Path) -> Vec<PathBuf> {

@@ -18,7 +18,7 @@ use glam::{DMat4, Mat4, UVec4, Vec3, Vec4};
 use motion_shadows::research::gpu::{Buffer, BufferUsage, Image, ImageBindings, Pipeline};
 use motion_shadows::{AccessData, Context, CpuGeometry, IndexStream, Indices, LightShadow};
 use motion_shadows::{GLSL_INCLUDE, MaskInputs, MotionImage, NormalEncoding, NormalImage};
-use motion_shadows::{Mesh as ShadowMesh, PassAccesses, PositionStream, Resource};
+use motion_shadows::{Mesh as ShadowMesh, PassAccesses, PositionStream};
 use motion_shadows::{ShadowSettings, StaticLayer, TemporalShadowMap, TriangleIdImage};
 use std::ops::Range;
 use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};

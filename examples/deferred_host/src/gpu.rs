@@ -1,7 +1,7 @@
 //! The engine's own Vulkan instance and device, made with what the library asks for
 //! (`DeviceRequirements::choose_device` picks the device and says what to enable).
 
-use crate::deferred::{Error, Result};
+use crate::deferred::Result;
 use ash::vk;
 use motion_shadows::{DeviceFeatures, DeviceRequirements};
 
@@ -27,7 +27,7 @@ impl Gpu {
         let layers = [c"VK_LAYER_KHRONOS_validation".as_ptr()];
         let layers = if validation { &layers[..] } else { &[] };
         let info = vk::InstanceCreateInfo::default().application_info(&app);
-        let (info, priorities) = (info.enabled_layer_names(layers), [1.0f32]);
+        let info = info.enabled_layer_names(layers);
         // SAFETY: loading the loader runs its initialization, and `entry` is kept in the Gpu
         // while the instance lives; `info` and what it points at are locals.
         let (entry, instance) = unsafe {
@@ -35,23 +35,13 @@ impl Gpu {
             let instance = entry.create_instance(&info, None)?;
             (entry, instance)
         };
-        // SAFETY: the instance is live and made for Vulkan 1.3; the chosen device has every
-        // feature its requirements chain in; `info` and its chain are locals. On an error
-        // nothing else was made on the instance, so it goes at once.
-        let (physical, queue_family, device, queue, enabled) = unsafe {
-            let make = |(physical, family, mut requirements): (_, u32, DeviceRequirements)| {
-                let queue = vk::DeviceQueueCreateInfo::default().queue_family_index(family);
-                let queues = [queue.queue_priorities(&priorities)];
-                let extensions = requirements.extension_names();
-                let info = vk::DeviceCreateInfo::default().queue_create_infos(&queues);
-                let info = requirements.chain(info.enabled_extension_names(&extensions));
-                let device = instance.create_device(physical, &info, None)?;
-                let queue = device.get_device_queue(family, 0);
-                Ok::<_, Error>((physical, family, device, queue, requirements.features))
-            };
-            let made = DeviceRequirements::choose_device(&instance).map_err(Error::from);
-            made.and_then(make)
-                .inspect_err(|_| instance.destroy_instance(None))?
+        // SAFETY: the instance is live and made for Vulkan 1.3; the device is the one chosen
+        // on it, with what its requirements enable. On an error nothing else was made on the
+        // instance, so it goes at once.
+        let (physical, queue_family, (device, queue, enabled)) = unsafe {
+            let made = DeviceRequirements::choose_device(&instance);
+            let made = made.and_then(|(p, f, r)| Ok((p, f, r.create_device(&instance, p, f)?)));
+            made.inspect_err(|_| instance.destroy_instance(None))?
         };
         Ok(Gpu {
             entry,

@@ -42,7 +42,7 @@ pub struct Context {
 }
 
 /// A gpu-allocator of the library's own on `device`.
-fn new_allocator(
+pub(crate) fn new_allocator(
     instance: &ash::Instance,
     physical: vk::PhysicalDevice,
     device: &ash::Device,

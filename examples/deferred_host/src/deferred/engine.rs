@@ -1,8 +1,6 @@
 //! The engine: its settings and outputs, its meshes, its frame slots, setup and teardown.
 
 use super::*;
-use motion_shadows::gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
-use std::sync::{Arc, Mutex};
 
 /// `keep_static_layer`: keep each map's static layer (the still meshes never change in
 /// place). `receivers_move`: give the mask the G-buffer's motion (off: receivers stand still).
@@ -49,6 +47,8 @@ pub(super) struct Slot {
     pub(super) gbuffer: Vec<Image>,
     pub(super) masks: Vec<Image>,
     pub(super) layer_drawn: Vec<bool>,
+    /// What the slot's last frame used its images for (where it left them).
+    pub(super) last: PassAccesses,
 }
 
 /// The deferred engine. Its fields drop after its Drop waited for the device: the library's
@@ -60,8 +60,8 @@ pub struct Engine<'h> {
     pub(super) pipelines: Pipelines,
     pub(super) meshes: Vec<MeshSlot>,
     pub(super) slots: Vec<Slot>,
-    /// Per light: the light its shadow was made for (one that moved gets a new shadow).
-    pub(super) shadows: Vec<(Light, LightShadow)>,
+    /// One per light, with the mask on.
+    pub(super) shadows: Vec<LightShadow>,
     pub(super) submissions: u64,
     pub(super) ctx: Context,
     pool: vk::CommandPool,
@@ -75,22 +75,15 @@ impl<'h> Engine<'h> {
             return Err(format!("{lights} lights: the engine shades 1 to {MAX_LIGHTS}").into());
         }
         let g = gpu;
-        // The engine's allocator, with device addresses (the library reads buffers by address).
-        let allocator = Allocator::new(&AllocatorCreateDesc {
-            instance: g.instance.clone(),
-            device: g.device.clone(),
-            physical_device: g.physical,
-            debug_settings: Default::default(),
-            buffer_device_address: true,
-            allocation_sizes: Default::default(),
-        })?;
-        let (device, allocator) = (g.device.clone(), Arc::new(Mutex::new(allocator)));
+        // The engine's allocator, which the library allocates from too.
+        let allocator = Context::new_allocator(&g.instance, g.physical, &g.device)?;
         // SAFETY: Gpu made the device from `physical` of `instance` for Vulkan 1.3, with a
         // graphics+compute queue of `queue_family` and the features in `enabled`; the
         // allocator is the device's, with device addresses on. The Gpu outlives the engine,
         // which waits for its frames before the context drops.
         let ctx = unsafe {
-            let (physical, family, queue) = (g.physical, g.queue_family, g.queue);
+            let (device, physical, family, queue) =
+                (g.device.clone(), g.physical, g.queue_family, g.queue);
             Context::from_raw_with_allocator(
                 &g.instance,
                 physical,
@@ -118,6 +111,24 @@ impl<'h> Engine<'h> {
             });
             next_id += (mesh.indices.count() / 3) as u32;
         }
+        let static_layer = match settings.keep_static_layer {
+            true => StaticLayer::Kept,
+            false => StaticLayer::Redrawn,
+        };
+        // One shadow per light, the mask on; the engine's shading reads each map's header
+        // (compute). A light that moves gets new maps (`LightShadow::set_light`).
+        let mut shadows = Vec::new();
+        for light in &world.lights {
+            let settings = ShadowSettings {
+                map_size: settings.shadow_size,
+                static_layer,
+                mask: true,
+                frames_in_flight: FRAMES_IN_FLIGHT as u32,
+                lookup_stages: S::COMPUTE_SHADER,
+                ..ShadowSettings::new(*light)
+            };
+            shadows.push(LightShadow::new(&ctx, settings)?);
+        }
         let pipelines = Pipelines::new(&ctx)?;
         let info = vk::CommandPoolCreateInfo::default().queue_family_index(g.queue_family);
         let info = info.flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
@@ -129,7 +140,7 @@ impl<'h> Engine<'h> {
             pipelines,
             meshes,
             slots: Vec::new(),
-            shadows: Vec::new(),
+            shadows,
             submissions: 0,
             ctx,
             pool,
@@ -153,7 +164,7 @@ impl<'h> Engine<'h> {
 
     /// Light `light`'s map in slot `slot`, holding that slot's last frame.
     pub fn shadow_map(&self, slot: usize, light: usize) -> &TemporalShadowMap {
-        self.shadows[light].1.map(self.slots[slot].submission)
+        self.shadows[light].map(self.slots[slot].submission)
     }
 
     /// A frame slot: its G-buffer, masks, buffers, command buffer, descriptor set and fence.
@@ -207,6 +218,7 @@ impl<'h> Engine<'h> {
             gbuffer,
             masks,
             layer_drawn: Vec::new(),
+            last: PassAccesses::default(),
         })
     }
 }

@@ -40,7 +40,7 @@ impl Engine<'_> {
                 .wait_for_fences(&[s.fence], true, u64::MAX)?;
             self.ctx.collect(s.submission);
         }
-        for (light, (_, shadow)) in self.shadows.iter_mut().enumerate() {
+        for (light, shadow) in self.shadows.iter_mut().enumerate() {
             let finished = shadow.finish_frame(&self.ctx, s.submission);
             finished.map_err(|e| format!("frame {frame}, light {light}: {e}"))?;
         }
@@ -50,10 +50,7 @@ impl Engine<'_> {
         let pixels = (self.settings.width * self.settings.height) as usize;
         let values: Vec<f32> = s.output.read(pixels * (4 + s.masks.len()))?;
         let (radiance, masks) = values.split_at(4 * pixels);
-        let radiance = radiance
-            .chunks_exact(4)
-            .map(|p| [p[0], p[1], p[2], p[3]])
-            .collect();
+        let radiance = bytemuck::cast_slice(radiance).to_vec();
         let masks = masks.chunks_exact(pixels).map(<[f32]>::to_vec).collect();
         let static_layer_drawn = s.layer_drawn.clone();
         let output = FrameOutput {
@@ -72,36 +69,10 @@ impl Engine<'_> {
         self.submissions += 1;
         self.ctx.begin_frame(self.submissions);
         self.slots[slot].submission = self.submissions;
-        let (width, height, map_size) = (
-            self.settings.width,
-            self.settings.height,
-            self.settings.shadow_size,
-        );
-        let static_layer = match self.settings.keep_static_layer {
-            true => StaticLayer::Kept,
-            false => StaticLayer::Redrawn,
-        };
-        // The mask on; the engine's shading reads each map's header (compute).
-        let (frames_in_flight, lookup_stages) = (FRAMES_IN_FLIGHT as u32, S::COMPUTE_SHADER);
-        for (at, light) in world.lights.iter().enumerate() {
-            if self
-                .shadows
-                .get(at)
-                .is_none_or(|(made_for, _)| made_for != light)
-            {
-                let settings = ShadowSettings {
-                    map_size,
-                    static_layer,
-                    mask: true,
-                    frames_in_flight,
-                    lookup_stages,
-                    ..ShadowSettings::new(*light)
-                };
-                self.shadows.truncate(at);
-                self.shadows
-                    .push((*light, LightShadow::new(&self.ctx, settings)?));
-            }
+        for (shadow, light) in self.shadows.iter_mut().zip(&world.lights) {
+            shadow.set_light(&self.ctx, *light)?;
         }
+        let (width, height) = (self.settings.width, self.settings.height);
         let view_proj = world.camera.view_proj(width as f32 / height as f32);
         let info = UVec4::new(width, height, world.lights.len() as u32, 0);
         let (eye, ambient) = (world.camera.eye.extend(1.0), Vec4::splat(world.ambient));

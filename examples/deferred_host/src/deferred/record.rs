@@ -2,45 +2,8 @@
 //! shading, and the engine's barriers between them, from the declared accesses.
 
 use super::*;
-use motion_shadows::ResourceUse;
 use motion_shadows::research::gpu::begin_rendering_colors;
-
-/// An image's layout, stages and accesses: one side of a barrier.
-type State = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
-
-/// A layout transition of the whole image, with its memory dependency.
-fn transition(image: &Image, from: State, to: State) -> vk::ImageMemoryBarrier2<'static> {
-    let barrier = vk::ImageMemoryBarrier2::default().image(image.raw());
-    let barrier = barrier
-        .subresource_range(image.layers_range(0, 1))
-        .old_layout(from.0);
-    let barrier = barrier.src_stage_mask(from.1).src_access_mask(from.2);
-    barrier
-        .new_layout(to.0)
-        .dst_stage_mask(to.1)
-        .dst_access_mask(to.2)
-}
-
-/// A global memory dependency: `from` made visible to `to`.
-fn memory(from: AccessData, to: AccessData) -> [vk::MemoryBarrier2<'static>; 1] {
-    let barrier = vk::MemoryBarrier2::default().src_stage_mask(from.stages);
-    let barrier = barrier
-        .src_access_mask(from.access)
-        .dst_stage_mask(to.stages);
-    [barrier.dst_access_mask(to.access)]
-}
-
-/// Records one `vkCmdPipelineBarrier2` of `images` and `memory` into `cmd`.
-fn barriers(
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    images: &[vk::ImageMemoryBarrier2],
-    memory: &[vk::MemoryBarrier2],
-) {
-    let dependency = vk::DependencyInfo::default().image_memory_barriers(images);
-    // SAFETY: `cmd` is the frame's, recording outside rendering; the images are the slot's.
-    unsafe { device.cmd_pipeline_barrier2(cmd, &dependency.memory_barriers(memory)) };
-}
+use motion_shadows::{HostBarrier, HostImage};
 
 impl Engine<'_> {
     /// Records frame `frame` into its slot's command buffer (recording, outside rendering).
@@ -51,35 +14,39 @@ impl Engine<'_> {
         // Last frame's and this frame's transforms: the shutter's two ends.
         let at = |m: &Mesh, f: f64| (m.transform)(f).as_mat4();
 
-        // 1. The G-buffer at t = 1. Its images' last contents were read by the slot's last
-        //    frame's compute passes: wait for those, discard the contents.
-        let after_reads: State = (L::UNDEFINED, S::COMPUTE_SHADER, A::NONE);
-        let tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
-        let depth_rw = A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE;
-        let depth = (L::DEPTH_ATTACHMENT_OPTIMAL, tests, depth_rw);
-        let color = (
-            L::COLOR_ATTACHMENT_OPTIMAL,
-            S::COLOR_ATTACHMENT_OUTPUT,
-            A::COLOR_ATTACHMENT_WRITE,
-        );
-        let written = |i| if i == 0 { depth } else { color };
-        let to_attachments = |(i, g): (usize, &Image)| transition(g, after_reads, written(i));
-        let to_attachments: Vec<_> = s.gbuffer.iter().enumerate().map(to_attachments).collect();
-        barriers(device, cmd, &to_attachments, &[]);
-        // Cleared to zero, the ids to "no triangle", the depth to the far plane.
+        // 1. The G-buffer at t = 1, declared as the library's passes are: the barriers between
+        //    the frame's passes (and from the slot's last frame) come from the declarations.
         let view = |i: usize| s.gbuffer[i].layer_view(0);
+        let host_image = |i: &Image| HostImage {
+            image: i.raw(),
+            view: i.layer_view(0),
+            range: i.layers_range(0, 1),
+        };
+        let images: Vec<_> = s.gbuffer.iter().chain(&s.masks).map(host_image).collect();
+        let data = |stages, access| AccessData { stages, access };
+        let tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
+        let depth = A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE;
+        let color = data(S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
+        let (depth_layout, color_layout) =
+            (L::DEPTH_ATTACHMENT_OPTIMAL, L::COLOR_ATTACHMENT_OPTIMAL);
+        let draws = PassAccesses::host_images(&[view(0)], depth_layout, data(tests, depth), true);
+        let colors = PassAccesses::host_images(&[1, 2, 3, 4].map(view), color_layout, color, true);
+        let draws = draws.and(&colors);
+        // Cleared to zero, the ids to "no triangle", the depth to the far plane.
         let colors = [1, 2, 3, 4].map(|i| (view(i), if i == 4 { u32::MAX } else { 0 }));
         let rows = |m: Mat4| [m.row(0), m.row(1), m.row(2)];
         // The meshes, each described once for the shadows as it is drawn: the shadow's draw and
         // the room reserved come from the same description.
         let mut described = Vec::new();
-        // SAFETY: the barrier above moved the attachments (the slot's, of the frame's size) to
-        // the layouts rendering uses; the pipeline was made for their formats; the push
+        // SAFETY: recording outside rendering; the images are the slot's, where its last
+        // frame's declared uses left them, and the barrier moves the attachments (of the
+        // frame's size) to the layouts rendering uses; the pipeline was made for their formats; the push
         // constants are DrawConstants. The streams' contract: each mesh's buffers were made
         // with storage and device-address usage on the context's device, written before the
         // first submission and never again, and outlive every frame; its vertices have a
         // 24-byte stride, its indices are padded to a whole word.
         unsafe {
+            HostBarrier::between(&s.last, &draws, &images).record(device, cmd);
             begin_rendering_colors(device, cmd, width, height, Some((view(0), 1.0)), &colors);
             p.gbuffer.bind(device, cmd);
             for (mesh, m) in world.meshes.iter().zip(meshes) {
@@ -165,51 +132,19 @@ impl Engine<'_> {
             }
         };
         let inputs: Vec<_> = s.masks.iter().map(mask_inputs).collect();
-        // The shading's own uses: depth, normal, albedo and masks sampled by compute.
-        let sampled = AccessData {
-            stages: S::COMPUTE_SHADER,
-            access: A::SHADER_SAMPLED_READ,
-        };
-        let reads = s.gbuffer[..3].iter().map(|i| (i, read));
-        let reads = reads.chain(s.masks.iter().map(|i| (i, L::GENERAL)));
-        let read_use = |(i, layout): (&Image, _)| ResourceUse {
-            resource: Resource::ImageView {
-                view: i.layer_view(0),
-                layout,
-            },
-            first: sampled,
-            last: sampled,
-            writes: false,
-        };
-        let shading = PassAccesses {
-            uses: reads.map(read_use).collect(),
-        };
-        // Each image the masks and the shading use, from where it is (G-buffer written, masks
-        // discarded) into its declared layout, before its declared first accesses.
+        // The shading's own uses: depth, normal, albedo and masks sampled by compute. Each
+        // image the masks and the shading use goes into its declared layout.
+        let sampled = data(S::COMPUTE_SHADER, A::SHADER_SAMPLED_READ);
+        let shading = PassAccesses::host_images(&[0, 1, 2].map(view), read, sampled, false);
+        let masks: Vec<_> = s.masks.iter().map(|i| i.layer_view(0)).collect();
+        let masks = PassAccesses::host_images(&masks, L::GENERAL, sampled, false);
+        let shading = shading.and(&masks);
         let mask_uses = |all: PassAccesses, i: &MaskInputs| all.and(&i.image_accesses());
         let declared = inputs.iter().fold(shading.clone(), mask_uses);
-        let now = |view| match s.gbuffer.iter().position(|i| i.layer_view(0) == view) {
-            Some(i) => Some((&s.gbuffer[i], written(i))),
-            None => Some((
-                s.masks.iter().find(|i| i.layer_view(0) == view)?,
-                after_reads,
-            )),
-        };
-        let into_reads = |u: &ResourceUse| match u.resource {
-            Resource::ImageView { view, layout } => {
-                let (image, from) = now(view)?;
-                Some(transition(
-                    image,
-                    from,
-                    (layout, u.first.stages, u.first.access),
-                ))
-            }
-            _ => None,
-        };
-        let into_reads: Vec<_> = declared.uses.iter().filter_map(into_reads).collect();
-        barriers(device, cmd, &into_reads, &[]);
+        // SAFETY: as the first barrier; the G-buffer is where the draws left it.
+        unsafe { HostBarrier::between(&draws, &declared, &images).record(device, cmd) };
         let mut frames = Vec::new();
-        for ((_, shadow), inputs) in self.shadows.iter_mut().zip(&inputs) {
+        for (shadow, inputs) in self.shadows.iter_mut().zip(&inputs) {
             // SAFETY: recording outside rendering on the context's graphics+compute queue,
             // after the shadow's earlier frames (one queue, submitted in order); the streams'
             // contract is kept above; the mask's views have the usages its inputs ask and are
@@ -224,14 +159,13 @@ impl Engine<'_> {
         // 3. The shading (each light read from its map's header), after the masks' declared
         //    last accesses; the generation's closing barrier made the maps readable.
         let masks = frames.iter().flat_map(|f| f.mask.as_ref());
-        let written = masks
-            .fold(PassAccesses::default(), |all, m| all.and(m))
-            .last();
-        let reads = frames
-            .iter()
-            .fold(shading, |all, f| all.and(&f.lookups))
-            .first();
-        barriers(device, cmd, &[], &memory(written, reads));
+        let written = masks.fold(PassAccesses::default(), |all, m| all.and(m));
+        let reads = frames.iter().fold(shading, |all, f| all.and(&f.lookups));
+        let into_shading = HostBarrier::between(&written, &reads, &images);
+        s.last = written.and(&reads);
+        // 4. The output, read by the host after the fence.
+        let write = data(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE);
+        let to_host = HostBarrier::memory(write, data(S::HOST, A::HOST_READ));
         let (output, pixels) = (
             s.output.device_address(),
             u64::from(width) * u64::from(height),
@@ -244,28 +178,21 @@ impl Engine<'_> {
             maps[0],
             maps[1],
         ];
-        // SAFETY: the shading's layout holds the slot's set (its images, in the layouts the
-        // set names since the barrier above) and 40 bytes of push constants, `push`'s size;
+        // SAFETY: recording outside rendering; the masks' images are in the layouts they
+        // declared. The shading's layout holds the slot's set (its images, in the layouts the
+        // set names after `into_shading`) and 40 bytes of push constants, `push`'s size;
         // 8x8 groups cover the image (the shader returns past its edges), writing the slot's
         // output buffer, which holds the radiance and every mask, by address.
         unsafe {
+            into_shading.record(device, cmd);
             p.shade.bind(device, cmd);
             // The mask bound its own set 0 on the compute bind point: bind ours.
             let (compute, set) = (vk::PipelineBindPoint::COMPUTE, [s.bindings.raw()]);
             device.cmd_bind_descriptor_sets(cmd, compute, p.shade.layout(), 0, &set, &[]);
             p.shade.push(device, cmd, &push);
             device.cmd_dispatch(cmd, width.div_ceil(8), height.div_ceil(8), 1);
+            to_host.record(device, cmd);
         }
-        // 4. The output, read by the host after the fence.
-        let shader_write = AccessData {
-            stages: S::COMPUTE_SHADER,
-            access: A::SHADER_STORAGE_WRITE,
-        };
-        let host_read = AccessData {
-            stages: S::HOST,
-            access: A::HOST_READ,
-        };
-        barriers(device, cmd, &[], &memory(shader_write, host_read));
         Ok(())
     }
 }
