@@ -20,7 +20,7 @@ pub(super) struct Passes {
 }
 
 /// The pass in `slot`, made there first if it is empty.
-fn made<'s, T>(slot: &'s mut Option<T>, make: impl FnOnce() -> Result<T>) -> Result<&'s mut T> {
+fn made<T>(slot: &mut Option<T>, make: impl FnOnce() -> Result<T>) -> Result<&mut T> {
     if slot.is_none() {
         *slot = Some(make()?);
     }
