@@ -228,10 +228,11 @@ impl Renderer<'_> {
             // rendering; the map fits (built above); the G-buffer was drawn in an earlier
             // submission and left in its read layouts; the mask image is in GENERAL.
             unsafe {
-                this.collection
+                this.passes
+                    .collection(this.ctx)?
                     .record(device, cmd, draws, light, map, None)?;
                 ts.mark(cmd, "collection");
-                this.generation.record(device, cmd, map);
+                this.passes.generation(this.ctx)?.record(device, cmd, map);
                 ts.mark(cmd, "generation");
                 let mask_pass = &this.deferred_passes_made().mask;
                 mask_pass.record(device, cmd, &mut bindings, inputs, map)?;

@@ -298,7 +298,9 @@ impl Renderer<'_> {
             }
         }
         // The cover rule's pipelines compiled here, not in the timed pass.
-        self.generation.prepare(settings.pruning)?;
+        self.passes
+            .generation(self.ctx)?
+            .prepare(settings.pruning)?;
         let coverage = if with_coverage {
             if inputs.draws.id_end() >= MAX_COVERAGE_TRIANGLES as u64 {
                 return Err(Error::InvalidArgument(format!(
@@ -327,7 +329,7 @@ impl Renderer<'_> {
                     let FrameInputs { draws, light } = inputs;
                     // SAFETY: as below; the timed pass clears the lists again.
                     unsafe {
-                        this.collection.record(
+                        this.passes.collection(this.ctx)?.record(
                             this.ctx.device(),
                             cmd,
                             draws,
@@ -352,14 +354,22 @@ impl Renderer<'_> {
                 // SAFETY: a OneShot command buffer of this context, recording, outside
                 // rendering; the draw list was uploaded in an earlier submission.
                 unsafe {
-                    this.collection
-                        .record(device, cmd, draws, light, &map, coverage.as_deref())?;
+                    this.passes.collection(this.ctx)?.record(
+                        device,
+                        cmd,
+                        draws,
+                        light,
+                        &map,
+                        coverage.as_deref(),
+                    )?;
                     ts.mark(cmd, "collection");
                     if let Some(cover) = &coverage {
-                        this.coverage.record(device, cmd, draws, light, &map, cover);
+                        this.passes
+                            .coverage(this.ctx)?
+                            .record(device, cmd, draws, light, &map, cover);
                         ts.mark(cmd, "coverage");
                     }
-                    this.generation.record(device, cmd, &map);
+                    this.passes.generation(this.ctx)?.record(device, cmd, &map);
                 }
                 // SAFETY: the OneShot's recording command buffer after the frame's passes; `ts`
                 // outlives its execution (run_timed waits for the OneShot).
@@ -435,14 +445,24 @@ impl Renderer<'_> {
             let device = this.ctx.device();
             // SAFETY: as in `temporal_shadow`.
             unsafe {
-                this.plain
-                    .record_render(device, cmd, inputs.draws, inputs.light, &maps, times)
+                this.passes.plain(this.ctx)?.record_render(
+                    device,
+                    cmd,
+                    inputs.draws,
+                    inputs.light,
+                    &maps,
+                    times,
+                )
             };
             // SAFETY: the OneShot's recording command buffer after the maps' rendering; `ts`
             // outlives its execution (run_timed waits).
             unsafe { ts.mark(cmd, label) };
             // SAFETY: the same command buffer, after the maps' rendering.
-            unsafe { this.plain.record_copy_out(device, cmd, &maps) };
+            unsafe {
+                this.passes
+                    .plain(this.ctx)?
+                    .record_copy_out(device, cmd, &maps)
+            };
             // SAFETY: the same command buffer after the copy; `ts` outlives its execution.
             unsafe { ts.mark(cmd, MAP_COPY_PASS) };
             Ok(())
@@ -477,17 +497,21 @@ impl Renderer<'_> {
                 // slice's samples in the same command buffer.
                 unsafe {
                     if first == 0 {
-                        this.lighting.record_clear(device, cmd, view, target);
+                        this.passes
+                            .lighting(this.ctx)?
+                            .record_clear(device, cmd, view, target);
                     }
                     for slice in first..last {
                         let t = times[slice as usize];
-                        this.plain.record(device, cmd, draws, light, &map, &[t]);
+                        this.passes
+                            .plain(this.ctx)?
+                            .record(device, cmd, draws, light, &map, &[t]);
                         let samples = Samples {
                             first: slice,
                             count: 1,
                             fixed_time: Some(t),
                         };
-                        this.lighting.record_samples(
+                        this.passes.lighting(this.ctx)?.record_samples(
                             device,
                             cmd,
                             draws,

@@ -13,6 +13,7 @@ mod empty_map;
 mod frame;
 mod mask_walks;
 mod methods;
+mod passes;
 pub mod range_bound;
 pub mod range_ceiling;
 mod receiver;
@@ -27,8 +28,7 @@ use crate::scene::Scene;
 pub use frame::forward_light;
 use motion_shadows::gpu::{Context, OneShot, TimestampQueries};
 use motion_shadows::technique::{
-    CollectionPass, CoveragePass, DrawList, GenerationPass, LightView, LightingPass,
-    LightingTarget, LightingView, Lookup, MAX_SAMPLES_PER_CHUNK, PlainShadowPass,
+    DrawList, LightView, LightingTarget, LightingView, Lookup, MAX_SAMPLES_PER_CHUNK,
     PrismConstruction, Pruning, RangeStorage, ShadowEstimator, ShadowFilter, TemporalShadowMap,
 };
 pub use receiver::ReceiverTest;
@@ -268,14 +268,10 @@ pub struct RenderResult {
     pub shadow_map: Option<TemporalShadowMap>,
 }
 
-/// The passes, created once and reused across frames.
+/// The passes, each made by the first frame that needs it and reused across frames.
 pub struct Renderer<'a> {
     ctx: &'a Context,
-    collection: CollectionPass,
-    generation: GenerationPass,
-    coverage: CoveragePass,
-    lighting: LightingPass,
-    plain: PlainShadowPass,
+    passes: passes::Passes,
     /// Taken out while a submission records into it (the closure borrows the renderer).
     timestamps: Option<TimestampQueries>,
     /// Made by the first deferred frame.
@@ -286,11 +282,7 @@ impl<'a> Renderer<'a> {
     pub fn new(ctx: &'a Context) -> Result<Self> {
         Ok(Self {
             ctx,
-            collection: CollectionPass::new(ctx)?,
-            generation: GenerationPass::new(ctx)?,
-            coverage: CoveragePass::new(ctx)?,
-            lighting: LightingPass::new(ctx)?,
-            plain: PlainShadowPass::new(ctx)?,
+            passes: passes::Passes::default(),
             timestamps: Some(TimestampQueries::new(ctx, 16)?),
             deferred: None,
         })
@@ -315,11 +307,13 @@ impl<'a> Renderer<'a> {
                 "the ray tracer runs on the CPU: raytrace::render".to_owned(),
             ));
         }
-        let start = Instant::now();
         settings.validate()?;
         scene.validate()?;
         upload::check_moving_light_forward(scene, settings)?;
         camera_motion::check_moving_camera_forward(scene, settings)?;
+        // A refused frame makes no pass; a frame's clock never counted making them.
+        self.passes.make_for(self.ctx, settings.method)?;
+        let start = Instant::now();
         let frame = self.prepare_frame(scene, settings, progress)?;
         let mut passes = Vec::new();
         let target = frame.lighting_target(self.ctx, settings)?;
@@ -369,8 +363,15 @@ impl<'a> Renderer<'a> {
             // SAFETY: a OneShot command buffer of this context, recording, outside
             // rendering; the shadow source was recorded in an earlier submission.
             unsafe {
-                this.lighting
-                    .record(device, cmd, draws, view, shadow, target, Some(ts))
+                this.passes.lighting(this.ctx)?.record(
+                    device,
+                    cmd,
+                    draws,
+                    view,
+                    shadow,
+                    target,
+                    Some(ts),
+                )
             }?;
             // SAFETY: the same command buffer, after the frame's passes.
             unsafe { target.record_readback(device, cmd) };
