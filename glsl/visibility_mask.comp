@@ -216,8 +216,8 @@ void main() {
         // A map built for the exact lookup (Lookup::Exact): the receiver's own shadow ray
         // against the triangles named along its path; no normal, offset or bias.
         // The same per-lane budget as the depth lines': ms_loop_iterations counts the exact
-        // test's own loops too (its roots, its sort). A moving (translating) light: its
-        // motion, for the rays toward it and the walk in its frame (exact_shadow.glsl).
+        // test's own loops too (its roots, its sort). A moving light: its motion (and turn),
+        // for the rays toward it and the walk in its frame (exact_shadow.glsl).
         // (Never in a STILL_FIRST round, which the host picks under a still light only: folded
         // away there, since llvmpipe would load the pose for every SIMD group, taken or not.)
         if (!STILL_FIRST && ms_light_moves(tested.light)) {
